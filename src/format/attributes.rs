@@ -1,0 +1,271 @@
+//! The `holo.*` header attributes of spec §4: their names, EXR types, and the
+//! translation between them and [`Geometry`]. Reading reports the attribute
+//! and the type it should have had.
+
+use std::collections::HashMap;
+
+use exr::meta::attribute::{AttributeValue, Text};
+use exr::math::Vec2;
+
+use crate::geometry::{ColourChannel, Geometry, Parallax, ViewSpacing, Views};
+
+/// Format version written by this library.
+pub const VERSION: (i32, i32) = (1, 0);
+
+/// Attribute names (spec §4, table 1).
+pub mod name {
+    #![allow(missing_docs)]
+    pub const VERSION: &str = "holo.version";
+    pub const PARALLAX: &str = "holo.parallax";
+    pub const HOLOLINES: &str = "holo.hololines";
+    pub const EMITTERS: &str = "holo.emitters";
+    pub const VIEWS: &str = "holo.views";
+    pub const HOLOLINE_PITCH: &str = "holo.hololinePitch";
+    pub const HOLOLINE_TOP_Y: &str = "holo.hololineTopY";
+    pub const EMITTER_PITCH: &str = "holo.emitterPitch";
+    pub const EMITTER_LEFT_X: &str = "holo.emitterLeftX";
+    pub const EMITTER_Z: &str = "holo.emitterZ";
+    pub const VIEWER_DISTANCE: &str = "holo.viewerDistance";
+    pub const VIEWER_HEIGHT: &str = "holo.viewerHeight";
+    pub const VIEW_SPACING: &str = "holo.viewSpacing";
+    pub const VIEW_FIRST: &str = "holo.viewFirst";
+    pub const VIEW_LAST: &str = "holo.viewLast";
+    pub const VIEW_ANGLES: &str = "holo.viewAngles";
+    pub const WAVELENGTH_PREFIX: &str = "holo.wavelength.";
+    pub const RADIOMETRY: &str = "holo.radiometry";
+    pub const SCALE: &str = "holo.scale";
+    pub const UNIT: &str = "holo.unit";
+    pub const FRAME: &str = "holo.frame";
+    pub const FRAME_COUNT: &str = "holo.frameCount";
+    pub const DIGEST: &str = "holo.digest";
+    pub const SOURCE: &str = "holo.source";
+}
+
+/// Every attribute name this version defines (wavelengths by prefix).
+pub fn is_known(attribute: &str) -> bool {
+    use name::*;
+    [
+        VERSION, PARALLAX, HOLOLINES, EMITTERS, VIEWS, HOLOLINE_PITCH, HOLOLINE_TOP_Y, EMITTER_PITCH, EMITTER_LEFT_X,
+        EMITTER_Z, VIEWER_DISTANCE, VIEWER_HEIGHT, VIEW_SPACING, VIEW_FIRST, VIEW_LAST, VIEW_ANGLES, RADIOMETRY, SCALE,
+        UNIT, FRAME, FRAME_COUNT, DIGEST, SOURCE,
+    ]
+    .contains(&attribute)
+        || attribute.strip_prefix(WAVELENGTH_PREFIX).is_some_and(|c| crate::geometry::CHANNEL_NAMES.contains(&c))
+}
+
+/// How to turn stored values into radiance (spec §5).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Radiometry {
+    /// Always `linear` in version 1.
+    pub encoding: String,
+    /// Radiance = sample × scale.
+    pub scale: f64,
+    /// Unit of `sample × scale`: `relative`, or `W/(sr m^2)`.
+    pub unit: String,
+}
+
+impl Default for Radiometry {
+    fn default() -> Self {
+        Radiometry { encoding: "linear".into(), scale: 1.0, unit: "relative".into() }
+    }
+}
+
+pub(crate) fn text(s: &str) -> AttributeValue {
+    AttributeValue::Text(Text::new_or_panic(ascii_only(s)))
+}
+
+/// Attribute text must be ASCII (spec §4); anything else is replaced by `?`.
+pub fn ascii_only(s: &str) -> String {
+    s.chars().map(|c| if c.is_ascii() && c != '\0' { c } else { '?' }).collect()
+}
+
+/// The geometry and radiometry attributes shared by every part of a file.
+pub fn geometry_attributes(g: &Geometry, radiometry: &Radiometry) -> HashMap<Text, AttributeValue> {
+    use name::*;
+    let mut a = HashMap::new();
+    let mut put = |k: &str, v: AttributeValue| {
+        a.insert(Text::new_or_panic(k), v);
+    };
+    put(VERSION, AttributeValue::IntVec2(Vec2(VERSION_TUPLE.0, VERSION_TUPLE.1)));
+    put(PARALLAX, text(match g.parallax {
+        Parallax::Horizontal => "horizontal",
+        Parallax::Full => "full",
+    }));
+    put(HOLOLINES, AttributeValue::I32(g.hololines as i32));
+    put(EMITTERS, AttributeValue::I32(g.emitters as i32));
+    put(VIEWS, AttributeValue::I32(g.views.count as i32));
+    put(HOLOLINE_PITCH, AttributeValue::F64(g.hololine_pitch_m));
+    put(HOLOLINE_TOP_Y, AttributeValue::F64(g.hololine_top_y_m));
+    put(EMITTER_PITCH, AttributeValue::F64(g.emitter_pitch_m));
+    put(EMITTER_LEFT_X, AttributeValue::F64(g.emitter_left_x_m));
+    put(EMITTER_Z, AttributeValue::F64(g.emitter_z_m));
+    put(VIEWER_DISTANCE, AttributeValue::F64(g.viewer_distance_m));
+    put(VIEWER_HEIGHT, AttributeValue::F64(g.viewer_height_m));
+    put(VIEW_SPACING, text(g.views.spacing.name()));
+    put(VIEW_FIRST, AttributeValue::F64(g.views.first_theta_rad));
+    put(VIEW_LAST, AttributeValue::F64(g.views.last_theta_rad));
+    if let ViewSpacing::Explicit(list) = &g.views.spacing {
+        let joined: Vec<String> = list.iter().map(|t| format!("{t:e}")).collect();
+        put(VIEW_ANGLES, text(&joined.join(" ")));
+    }
+    for c in &g.channels {
+        put(&format!("{WAVELENGTH_PREFIX}{}", c.name), AttributeValue::F64(c.wavelength_m));
+    }
+    put(RADIOMETRY, text(&radiometry.encoding));
+    put(SCALE, AttributeValue::F64(radiometry.scale));
+    put(UNIT, text(&radiometry.unit));
+    a
+}
+
+const VERSION_TUPLE: (i32, i32) = VERSION;
+
+/// Typed look-ups into a header's attributes; each failure is one sentence.
+pub struct Attributes<'a> {
+    map: HashMap<&'a str, &'a AttributeValue>,
+}
+
+fn type_name(v: &AttributeValue) -> String {
+    String::from_utf8_lossy(v.kind_name()).into_owned()
+}
+
+impl<'a> Attributes<'a> {
+    /// Merge several attribute maps (later ones win).
+    pub fn new(maps: &[&'a HashMap<Text, AttributeValue>]) -> Self {
+        let mut map = HashMap::new();
+        for m in maps {
+            for (k, v) in m.iter() {
+                if let Ok(k) = std::str::from_utf8(k.as_slice()) {
+                    map.insert(k, v);
+                }
+            }
+        }
+        Attributes { map }
+    }
+    /// All attribute names starting with `holo.`.
+    pub fn holo_names(&self) -> Vec<&'a str> {
+        let mut v: Vec<&str> = self.map.keys().copied().filter(|k| k.starts_with("holo.")).collect();
+        v.sort();
+        v
+    }
+    /// Whether the attribute is present.
+    pub fn has(&self, k: &str) -> bool {
+        self.map.contains_key(k)
+    }
+    fn get(&self, k: &str) -> Result<&'a AttributeValue, String> {
+        self.map.get(k).copied().ok_or_else(|| format!("required attribute {k} is missing"))
+    }
+    fn wrong(k: &str, want: &str, got: &AttributeValue) -> String {
+        format!("attribute {k} has type {}; the spec requires {want}", type_name(got))
+    }
+    /// An `int` attribute.
+    pub fn int(&self, k: &str) -> Result<i32, String> {
+        match self.get(k)? {
+            AttributeValue::I32(x) => Ok(*x),
+            other => Err(Self::wrong(k, "int", other)),
+        }
+    }
+    /// A `double` attribute (a `float` is accepted and widened).
+    pub fn double(&self, k: &str) -> Result<f64, String> {
+        match self.get(k)? {
+            AttributeValue::F64(x) => Ok(*x),
+            AttributeValue::F32(x) => Ok(f64::from(*x)),
+            other => Err(Self::wrong(k, "double", other)),
+        }
+    }
+    /// A `string` attribute.
+    pub fn string(&self, k: &str) -> Result<String, String> {
+        match self.get(k)? {
+            AttributeValue::Text(t) => Ok(String::from_utf8_lossy(t.as_slice()).into_owned()),
+            other => Err(Self::wrong(k, "string", other)),
+        }
+    }
+    /// A `v2i` attribute.
+    pub fn v2i(&self, k: &str) -> Result<(i32, i32), String> {
+        match self.get(k)? {
+            AttributeValue::IntVec2(v) => Ok((v.0, v.1)),
+            other => Err(Self::wrong(k, "v2i", other)),
+        }
+    }
+    /// An optional attribute: `Ok(None)` when absent.
+    pub fn optional<T>(&self, k: &str, f: impl Fn(&Self, &str) -> Result<T, String>) -> Result<Option<T>, String> {
+        if self.has(k) {
+            f(self, k).map(Some)
+        } else {
+            Ok(None)
+        }
+    }
+
+    /// The geometry, given the colour suffixes found in the channel list
+    /// (already in R, G, B, Y order).
+    pub fn geometry(&self, colours: &[String]) -> Result<Geometry, String> {
+        use name::*;
+        let count = |k: &str| -> Result<usize, String> {
+            let n = self.int(k)?;
+            usize::try_from(n).map_err(|_| format!("attribute {k} is {n}; it must not be negative"))
+        };
+        let parallax = match self.string(PARALLAX)?.as_str() {
+            "horizontal" => Parallax::Horizontal,
+            "full" => Parallax::Full,
+            other => return Err(format!("attribute {PARALLAX} is {other:?}; it must be \"horizontal\" or \"full\"")),
+        };
+        let view_count = count(VIEWS)?;
+        let spacing = match self.string(VIEW_SPACING)?.as_str() {
+            "tan" => ViewSpacing::Tan,
+            "sin" => ViewSpacing::Sin,
+            "angle" => ViewSpacing::Angle,
+            "explicit" => {
+                let list = self.string(VIEW_ANGLES)?;
+                let parsed: Result<Vec<f64>, _> = list.split_ascii_whitespace().map(str::parse::<f64>).collect();
+                ViewSpacing::Explicit(
+                    parsed.map_err(|_| format!("attribute {VIEW_ANGLES} is not a list of decimal numbers"))?,
+                )
+            }
+            other => {
+                return Err(format!(
+                    "attribute {VIEW_SPACING} is {other:?}; it must be \"tan\", \"sin\", \"angle\" or \"explicit\""
+                ))
+            }
+        };
+        let mut channels = Vec::new();
+        for c in colours {
+            channels.push(ColourChannel { name: c.clone(), wavelength_m: self.double(&format!("{WAVELENGTH_PREFIX}{c}"))? });
+        }
+        Ok(Geometry {
+            parallax,
+            hololines: count(HOLOLINES)?,
+            emitters: count(EMITTERS)?,
+            views: Views {
+                count: view_count,
+                first_theta_rad: self.double(VIEW_FIRST)?,
+                last_theta_rad: self.double(VIEW_LAST)?,
+                spacing,
+            },
+            hololine_pitch_m: self.double(HOLOLINE_PITCH)?,
+            hololine_top_y_m: self.double(HOLOLINE_TOP_Y)?,
+            emitter_pitch_m: self.double(EMITTER_PITCH)?,
+            emitter_left_x_m: self.double(EMITTER_LEFT_X)?,
+            emitter_z_m: self.double(EMITTER_Z)?,
+            viewer_distance_m: self.double(VIEWER_DISTANCE)?,
+            viewer_height_m: self.double(VIEWER_HEIGHT)?,
+            channels,
+        })
+    }
+
+    /// The radiometry (spec §5); absent attributes take their defaults.
+    pub fn radiometry(&self) -> Result<Radiometry, String> {
+        use name::*;
+        let d = Radiometry::default();
+        let r = Radiometry {
+            encoding: self.optional(RADIOMETRY, Self::string)?.unwrap_or(d.encoding),
+            scale: self.optional(SCALE, Self::double)?.unwrap_or(d.scale),
+            unit: self.optional(UNIT, Self::string)?.unwrap_or(d.unit),
+        };
+        if r.encoding != "linear" {
+            return Err(format!("attribute {RADIOMETRY} is {:?}; version 1 defines only \"linear\"", r.encoding));
+        }
+        if !(r.scale.is_finite() && r.scale > 0.0) {
+            return Err(format!("attribute {SCALE} is {}; it must be finite and positive", r.scale));
+        }
+        Ok(r)
+    }
+}

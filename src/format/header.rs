@@ -1,0 +1,373 @@
+//! From EXR headers to [`FileInfo`]: every header rule of the spec checked,
+//! every problem collected (so `validate` can list them all), nothing
+//! allocated from a declared size before it is checked against the limits.
+
+use std::path::{Path, PathBuf};
+
+use exr::meta::attribute::SampleType as ExrSampleType;
+use exr::meta::header::Header;
+use exr::meta::{BlockDescription, MetaData};
+use serde::Serialize;
+
+use super::attributes::{name, Attributes, Radiometry, VERSION};
+use super::channels::{parse_channel_name, view_digits};
+use super::digest::is_well_formed;
+use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SAMPLES_PER_FRAME, MAX_SIDE};
+use crate::geometry::{Geometry, CHANNEL_NAMES};
+use crate::Error;
+
+/// A rectangle of pixels: `x` emitters, `y` hololines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Window {
+    /// First emitter.
+    pub x: usize,
+    /// First hololine.
+    pub y: usize,
+    /// Emitters covered.
+    pub width: usize,
+    /// Hololines covered.
+    pub height: usize,
+}
+
+/// One frame (one EXR part) of a file.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FrameInfo {
+    /// Frame number (`holo.frame`).
+    pub number: i64,
+    /// `sha256:…` digest of the samples, when the file has one.
+    pub digest: Option<String>,
+    /// The region that holds samples; outside it every sample is zero.
+    pub data_window: Window,
+    /// EXR part index.
+    pub part: usize,
+}
+
+/// Everything the headers of a `.holo` file say.
+#[derive(Clone, Debug, Serialize)]
+pub struct FileInfo {
+    /// The file.
+    pub path: PathBuf,
+    /// Format version (major, minor).
+    pub version: (i32, i32),
+    /// The geometry shared by all frames.
+    pub geometry: Geometry,
+    /// Stored sample type.
+    pub sample_type: SampleType,
+    /// Compression of the pixel data.
+    pub compression: Compression,
+    /// How samples map to radiance.
+    pub radiometry: Radiometry,
+    /// `software` attribute: what wrote the file.
+    pub software: Option<String>,
+    /// `holo.source`: what the content was made from, and how.
+    pub source: Option<String>,
+    /// Frame rate (`framesPerSecond`), as numerator / denominator.
+    pub frames_per_second: Option<(i32, u32)>,
+    /// Frames, in part order.
+    pub frames: Vec<FrameInfo>,
+    /// File size on disk.
+    pub file_bytes: u64,
+    /// `holo.*` attributes this version does not define (ignored).
+    pub unknown_attributes: Vec<String>,
+}
+
+impl FileInfo {
+    /// Bytes the samples would take uncompressed, all frames.
+    pub fn raw_bytes(&self) -> u64 {
+        self.geometry.samples_per_frame() * self.sample_type.bytes() as u64 * self.frames.len() as u64
+    }
+}
+
+/// What parsing the headers found.
+pub(crate) struct Parsed {
+    pub info: Option<FileInfo>,
+    pub problems: Vec<String>,
+    pub warnings: Vec<String>,
+}
+
+/// Read only the headers of a file, as an exr [`MetaData`].
+pub(crate) fn read_meta(path: &Path) -> crate::Result<(MetaData, u64)> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
+    let meta = MetaData::read_from_buffered(std::io::BufReader::new(file), false).map_err(|e| Error::exr(path, e))?;
+    Ok((meta, file_bytes))
+}
+
+/// Open: the headers must have no problem at all.
+pub(crate) fn file_info(path: &Path) -> crate::Result<(FileInfo, MetaData)> {
+    let (meta, file_bytes) = read_meta(path)?;
+    let parsed = parse(path, &meta, file_bytes)?;
+    match (parsed.info, parsed.problems.first()) {
+        (Some(info), None) => Ok((info, meta)),
+        (_, Some(first)) => {
+            let more = parsed.problems.len() - 1;
+            let tail = if more > 0 { format!(" (and {more} more problem(s); run `holo validate`)") } else { String::new() };
+            Err(Error::invalid(path, format!("{first}{tail}")))
+        }
+        (None, None) => Err(Error::invalid(path, "the headers could not be read")),
+    }
+}
+
+/// Check every header rule. Errors only for a newer major version (which a
+/// reader must refuse before looking further, spec §9).
+pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Result<Parsed> {
+    let mut problems = Vec::new();
+    let mut warnings = Vec::new();
+    let headers = &meta.headers;
+    let Some(first) = headers.first() else {
+        return Ok(Parsed { info: None, problems: vec!["the file has no parts".into()], warnings });
+    };
+    let attrs = Attributes::new(&[&first.shared_attributes.other, &first.own_attributes.other]);
+    if attrs.holo_names().is_empty() {
+        problems.push("this is an OpenEXR file but not a .holo file: it has no holo.* attributes".into());
+        return Ok(Parsed { info: None, problems, warnings });
+    }
+    let version = match attrs.v2i(name::VERSION) {
+        Ok(v) => v,
+        Err(e) => {
+            problems.push(e);
+            return Ok(Parsed { info: None, problems, warnings });
+        }
+    };
+    if version.0 > VERSION.0 {
+        return Err(Error::NewerMajorVersion { path: path.into(), major: version.0, minor: version.1, supported: VERSION.0 });
+    }
+    if version.0 < 1 || version.1 < 0 {
+        problems.push(format!("{} is {}.{}; the first version is 1.0", name::VERSION, version.0, version.1));
+    }
+    if version.1 > VERSION.1 {
+        warnings.push(format!(
+            "written with format version {}.{}, newer than this reader's {}.{}; attributes it does not know are ignored",
+            version.0, version.1, VERSION.0, VERSION.1
+        ));
+    }
+    if headers.len() as u64 > MAX_FRAMES {
+        problems.push(format!("the file has {} parts, more than the limit of {MAX_FRAMES}", headers.len()));
+        return Ok(Parsed { info: None, problems, warnings });
+    }
+
+    // Channel list of the first part: colours, views, sample type.
+    let (colours, sample_type) = match channel_list(first) {
+        Ok(x) => x,
+        Err(e) => {
+            problems.push(e);
+            return Ok(Parsed { info: None, problems, warnings });
+        }
+    };
+    let geometry = match attrs.geometry(&colours) {
+        Ok(g) => g,
+        Err(e) => {
+            problems.push(e);
+            return Ok(Parsed { info: None, problems, warnings });
+        }
+    };
+    // Limits before anything is sized from the geometry.
+    for (what, n, limit) in [
+        ("hololine count", geometry.hololines as u64, MAX_SIDE),
+        ("emitter count", geometry.emitters as u64, MAX_SIDE),
+        ("channel count (views × colours)", (geometry.views.count * geometry.channels.len()) as u64, MAX_CHANNELS),
+        ("samples per frame", geometry.samples_per_frame(), MAX_SAMPLES_PER_FRAME),
+    ] {
+        if n > limit {
+            return Err(Error::TooLarge { path: path.into(), what, value: n, limit });
+        }
+    }
+    problems.extend(geometry.problems());
+    check_channels(first, &geometry, &mut problems);
+
+    let radiometry = attrs.radiometry().unwrap_or_else(|e| {
+        problems.push(e);
+        Radiometry::default()
+    });
+    let compression = Compression::from_exr(first.compression).unwrap_or_else(|| {
+        problems.push(format!("compression {} is not one the spec allows", first.compression));
+        Compression::None
+    });
+    if !compression.is_lossless_for(sample_type) {
+        warnings.push(format!("compression {} is lossy for {:?} samples", compression.name(), sample_type));
+    }
+
+    let mut frames = Vec::new();
+    let mut chunk_total: u64 = 0;
+    for (part, header) in headers.iter().enumerate() {
+        chunk_total += header.chunk_count as u64;
+        let here = Attributes::new(&[&header.shared_attributes.other, &header.own_attributes.other]);
+        let prefix = if headers.len() > 1 { format!("part {part}: ") } else { String::new() };
+        if part > 0 {
+            let same = channel_list(header).ok() == Some((colours.clone(), sample_type))
+                && here.geometry(&colours).ok().as_ref() == Some(&geometry);
+            if !same {
+                problems.push(format!("{prefix}geometry or channels differ from part 0; every frame must share them"));
+            }
+            if Compression::from_exr(header.compression) != Some(compression) {
+                problems.push(format!("{prefix}compression differs from part 0"));
+            }
+        }
+        if header.deep {
+            problems.push(format!("{prefix}deep data is not allowed"));
+        }
+        if let BlockDescription::Tiles(t) = header.blocks {
+            if t.level_mode != exr::meta::attribute::LevelMode::Singular {
+                problems.push(format!("{prefix}mip or rip levels are not allowed"));
+            }
+        }
+        let display = header.shared_attributes.display_window;
+        if display.position.0 != 0
+            || display.position.1 != 0
+            || display.size.0 != geometry.emitters
+            || display.size.1 != geometry.hololines
+        {
+            problems.push(format!(
+                "{prefix}display window is {}×{} at ({}, {}); it must be emitters × hololines = {}×{} at (0, 0)",
+                display.size.0, display.size.1, display.position.0, display.position.1, geometry.emitters, geometry.hololines
+            ));
+        }
+        let (dx, dy) = (header.own_attributes.layer_position.0, header.own_attributes.layer_position.1);
+        let (dw, dh) = (header.layer_size.0, header.layer_size.1);
+        let inside = dx >= 0 && dy >= 0 && dx as usize + dw <= geometry.emitters && dy as usize + dh <= geometry.hololines;
+        if !inside {
+            problems.push(format!("{prefix}data window {dw}×{dh} at ({dx}, {dy}) is not inside the display window"));
+        }
+        if header.shared_attributes.pixel_aspect != 1.0 {
+            problems.push(format!("{prefix}pixel aspect ratio is {}; it must be 1", header.shared_attributes.pixel_aspect));
+        }
+        let number = match here.optional(name::FRAME, Attributes::int) {
+            Ok(n) => i64::from(n.unwrap_or(part as i32)),
+            Err(e) => {
+                problems.push(format!("{prefix}{e}"));
+                part as i64
+            }
+        };
+        match here.optional(name::FRAME_COUNT, Attributes::int) {
+            Ok(Some(n)) if n as usize != headers.len() => {
+                problems.push(format!("{prefix}{} is {n} but the file has {} part(s)", name::FRAME_COUNT, headers.len()))
+            }
+            Ok(_) => {}
+            Err(e) => problems.push(format!("{prefix}{e}")),
+        }
+        let digest = match here.optional(name::DIGEST, Attributes::string) {
+            Ok(Some(d)) if is_well_formed(&d) => Some(d),
+            Ok(Some(d)) => {
+                problems.push(format!("{prefix}{} {d:?} is not `sha256:` and 64 hex digits", name::DIGEST));
+                None
+            }
+            Ok(None) => {
+                problems.push(format!("{prefix}required attribute {} is missing", name::DIGEST));
+                None
+            }
+            Err(e) => {
+                problems.push(format!("{prefix}{e}"));
+                None
+            }
+        };
+        frames.push(FrameInfo {
+            number,
+            digest,
+            data_window: Window { x: dx.max(0) as usize, y: dy.max(0) as usize, width: dw, height: dh },
+            part,
+        });
+    }
+    if frames.windows(2).any(|w| w[1].number <= w[0].number) {
+        problems.push("frame numbers (holo.frame) are not strictly increasing from part to part".into());
+    }
+    // The offset tables hold one u64 per chunk; a file smaller than that is
+    // damaged, and its tables must not be allocated.
+    if chunk_total.saturating_mul(8) > file_bytes {
+        problems.push(format!("the headers declare {chunk_total} chunks, more than a {file_bytes}-byte file can hold"));
+    }
+
+    for n in attrs.holo_names() {
+        if !super::attributes::is_known(n) {
+            warnings.push(format!("unknown attribute {n} ignored"));
+        }
+    }
+    let unknown_attributes =
+        attrs.holo_names().into_iter().filter(|n| !super::attributes::is_known(n)).map(String::from).collect();
+    let text = |t: &Option<exr::meta::attribute::Text>| t.as_ref().map(|t| String::from_utf8_lossy(t.as_slice()).into_owned());
+    let info = FileInfo {
+        path: path.into(),
+        version,
+        geometry,
+        sample_type,
+        compression,
+        radiometry,
+        software: text(&first.own_attributes.software_name),
+        source: attrs.optional(name::SOURCE, Attributes::string).unwrap_or_else(|e| {
+            problems.push(e);
+            None
+        }),
+        frames_per_second: first.own_attributes.frames_per_second.map(|r| (r.0, r.1)),
+        frames,
+        file_bytes,
+        unknown_attributes,
+    };
+    Ok(Parsed { info: Some(info), problems, warnings })
+}
+
+/// The colour suffixes (in R, G, B, Y order) and the sample type of a part.
+fn channel_list(header: &Header) -> Result<(Vec<String>, SampleType), String> {
+    let list = &header.channels.list;
+    if list.is_empty() {
+        return Err("the part has no channels".into());
+    }
+    if list.len() as u64 > MAX_CHANNELS {
+        return Err(format!("{} channels, more than the limit of {MAX_CHANNELS}", list.len()));
+    }
+    let sample_type = match list[0].sample_type {
+        ExrSampleType::F16 => SampleType::F16,
+        ExrSampleType::F32 => SampleType::F32,
+        ExrSampleType::U32 => return Err("channels hold UINT samples; the spec allows HALF or FLOAT".into()),
+    };
+    let mut colours = Vec::new();
+    for ch in list {
+        let n = String::from_utf8_lossy(ch.name.as_slice());
+        let Some((_, colour, _)) = parse_channel_name(&n) else {
+            return Err(format!("channel {n:?} is not named v<view>.<colour> (such as v000.R)"));
+        };
+        if !CHANNEL_NAMES.contains(&colour) {
+            return Err(format!("channel {n:?} has colour {colour:?}; allowed are R, G, B and Y"));
+        }
+        if !colours.iter().any(|c: &String| c == colour) {
+            colours.push(colour.to_string());
+        }
+        if ch.sample_type != list[0].sample_type {
+            return Err("channels do not all have the same sample type".into());
+        }
+        if ch.sampling.0 != 1 || ch.sampling.1 != 1 {
+            return Err(format!("channel {n:?} is subsampled; every channel must have sampling 1×1"));
+        }
+    }
+    colours.sort_by_key(|c| CHANNEL_NAMES.iter().position(|n| n == c));
+    Ok((colours, sample_type))
+}
+
+/// The channel list must be exactly views × colours, equal-width view numbers.
+fn check_channels(header: &Header, g: &Geometry, problems: &mut Vec<String>) {
+    let digits = view_digits(g.views.count);
+    let mut seen = vec![false; g.views.count * g.channels.len()];
+    for ch in &header.channels.list {
+        let n = String::from_utf8_lossy(ch.name.as_slice());
+        let Some((v, colour, width)) = parse_channel_name(&n) else { continue };
+        if width != digits {
+            problems.push(format!("channel {n:?}: view numbers must have exactly {digits} digits"));
+            return;
+        }
+        if v >= g.views.count {
+            problems.push(format!("channel {n:?} names view {v} but {} is {}", name::VIEWS, g.views.count));
+            return;
+        }
+        if let Some(c) = g.channel_index(colour) {
+            seen[v * g.channels.len() + c] = true;
+        }
+    }
+    if let Some(i) = seen.iter().position(|s| !s) {
+        let (v, c) = (i / g.channels.len(), i % g.channels.len());
+        problems.push(format!(
+            "channel {} is missing: {} views × {} colour(s) need {} channels",
+            super::channels::channel_name(v, &g.channels[c].name, digits),
+            g.views.count,
+            g.channels.len(),
+            seen.len()
+        ));
+    }
+}

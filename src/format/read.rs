@@ -1,0 +1,230 @@
+//! Reading `.holo` files lazily: [`HoloFile::open`] reads and checks the
+//! headers only; [`HoloFile::read_frame`] and [`HoloFile::read_region`] then
+//! decode only the chunks that hold the frame or region asked for.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use exr::block::chunk::TileCoordinates;
+use exr::block::reader::ChunksReader;
+use exr::block::BlockIndex;
+use exr::meta::MetaData;
+
+use super::channels::ChannelOrder;
+use super::digest::frame_digest;
+use super::header::{file_info, FileInfo};
+use super::{SampleType, MAX_SAMPLES_PER_FRAME};
+use crate::geometry::{Geometry, ViewSpacing};
+use crate::{Error, Modulation, Result};
+
+/// A part of a frame: hololines × emitters × views (all colours).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Region {
+    /// Hololines (rows) to read.
+    pub hololines: Range<usize>,
+    /// Emitters (columns) to read.
+    pub emitters: Range<usize>,
+    /// Views to read.
+    pub views: Range<usize>,
+}
+
+impl Region {
+    /// The whole of a geometry.
+    pub fn all(g: &Geometry) -> Self {
+        Region { hololines: 0..g.hololines, emitters: 0..g.emitters, views: 0..g.views.count }
+    }
+}
+
+/// An open `.holo` file whose headers have been read and checked.
+#[derive(Debug)]
+pub struct HoloFile {
+    info: FileInfo,
+}
+
+/// Read frame 0 of a file whole, checking its digest.
+pub fn read(path: impl AsRef<Path>) -> Result<Modulation> {
+    HoloFile::open(path)?.read_frame(0)
+}
+
+impl HoloFile {
+    /// Read and check the headers; no pixel data is touched.
+    pub fn open(path: impl AsRef<Path>) -> Result<Self> {
+        let (info, _) = file_info(path.as_ref())?;
+        Ok(HoloFile { info })
+    }
+
+    /// What the headers say.
+    pub fn info(&self) -> &FileInfo {
+        &self.info
+    }
+
+    /// The geometry of every frame.
+    pub fn geometry(&self) -> &Geometry {
+        &self.info.geometry
+    }
+
+    /// The path it was opened from.
+    pub fn path(&self) -> &PathBuf {
+        &self.info.path
+    }
+
+    /// Read frame `index` (0-based part order) whole and verify its digest.
+    pub fn read_frame(&self, index: usize) -> Result<Modulation> {
+        let m = self.read_region(index, &Region::all(&self.info.geometry))?;
+        let frame = &self.info.frames[index];
+        if let Some(stored) = &frame.digest {
+            let computed = frame_digest(&m, self.info.sample_type);
+            if &computed != stored {
+                return Err(Error::DigestMismatch {
+                    path: self.info.path.clone(),
+                    frame: index,
+                    stored: stored.clone(),
+                    computed,
+                });
+            }
+        }
+        Ok(m)
+    }
+
+    /// Read one region of frame `index`; only the chunks holding its hololines
+    /// are read and decompressed. The digest cannot be checked on a part.
+    pub fn read_region(&self, index: usize, region: &Region) -> Result<Modulation> {
+        let path = &self.info.path;
+        let g = &self.info.geometry;
+        let frame = self.info.frames.get(index).ok_or_else(|| {
+            Error::Usage(format!("{}: has {} frame(s); there is no frame {index}", path.display(), self.info.frames.len()))
+        })?;
+        let ok = |r: &Range<usize>, n: usize| r.start < r.end && r.end <= n;
+        if !ok(&region.hololines, g.hololines) || !ok(&region.emitters, g.emitters) || !ok(&region.views, g.views.count) {
+            return Err(Error::Usage(format!(
+                "{}: region hololines {:?}, emitters {:?}, views {:?} is empty or outside {}×{}×{}",
+                path.display(),
+                region.hololines,
+                region.emitters,
+                region.views,
+                g.hololines,
+                g.emitters,
+                g.views.count
+            )));
+        }
+        let sub = sub_geometry(g, region);
+        if sub.samples_per_frame() > MAX_SAMPLES_PER_FRAME {
+            return Err(Error::TooLarge {
+                path: path.clone(),
+                what: "samples in the region",
+                value: sub.samples_per_frame(),
+                limit: MAX_SAMPLES_PER_FRAME,
+            });
+        }
+        let mut out = Modulation::zeros(sub)?;
+        let order = ChannelOrder::new(g);
+        let part = frame.part;
+        let dw = frame.data_window;
+        let wanted_rows = region.hololines.clone();
+        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let reader = exr::block::read(std::io::BufReader::new(file), false).map_err(|e| Error::exr(path, e))?;
+        let chunks = reader
+            .filter_chunks(false, |_meta: &MetaData, _tile: TileCoordinates, block: BlockIndex| {
+                let top = dw.y + block.pixel_position.1;
+                block.layer == part
+                    && block.level == exr::math::Vec2(0, 0)
+                    && top < wanted_rows.end
+                    && top + block.pixel_size.1 > wanted_rows.start
+            })
+            .map_err(|e| Error::exr(path, e))?;
+        let mut place = |block: exr::block::UncompressedBlock| -> Result<()> {
+            place_block(&mut out, &block, &order, self.info.sample_type, dw.x, dw.y, region)
+                .map_err(|problem| Error::invalid(path, problem))
+        };
+        match chunks.parallel_decompressor(false) {
+            Ok(mut decompressor) => {
+                while let Some(block) = decompressor.decompress_next_block() {
+                    place(block.map_err(|e| Error::exr(path, e))?)?;
+                }
+            }
+            Err(chunks) => {
+                let mut decompressor = chunks.sequential_decompressor(false);
+                while let Some(block) = decompressor.decompress_next_block() {
+                    place(block.map_err(|e| Error::exr(path, e))?)?;
+                }
+            }
+        }
+        if let Some((c, j, e, v, value, why)) = out.first_bad_sample() {
+            return Err(Error::BadSample {
+                path: path.clone(),
+                frame: index,
+                hololine: region.hololines.start + j,
+                emitter: region.emitters.start + e,
+                view: region.views.start + v,
+                channel: g.channels[c].name.clone(),
+                value,
+                why,
+            });
+        }
+        Ok(out)
+    }
+}
+
+/// The geometry of a region: positions and view angles of what it holds.
+fn sub_geometry(g: &Geometry, r: &Region) -> Geometry {
+    let mut s = g.clone();
+    s.hololines = r.hololines.len();
+    s.emitters = r.emitters.len();
+    s.hololine_top_y_m = g.hololine_y_m(r.hololines.start);
+    s.emitter_left_x_m = g.emitter_x_m(r.emitters.start);
+    s.views.count = r.views.len();
+    s.views.first_theta_rad = g.views.theta_rad(r.views.start);
+    s.views.last_theta_rad = g.views.theta_rad(r.views.end - 1);
+    if let ViewSpacing::Explicit(list) = &g.views.spacing {
+        s.views.spacing = ViewSpacing::Explicit(list[r.views.clone()].to_vec());
+    }
+    s
+}
+
+/// Copy the samples of one decoded block that fall inside the region.
+fn place_block(
+    out: &mut Modulation,
+    block: &exr::block::UncompressedBlock,
+    order: &ChannelOrder,
+    sample_type: SampleType,
+    data_x: usize,
+    data_y: usize,
+    region: &Region,
+) -> std::result::Result<(), String> {
+    let (bx, by) = (block.index.pixel_position.0 + data_x, block.index.pixel_position.1 + data_y);
+    let (w, h) = (block.index.pixel_size.0, block.index.pixel_size.1);
+    let bytes = sample_type.bytes();
+    let expected = w * h * order.len() * bytes;
+    if block.data.len() != expected {
+        return Err(format!("a block holds {} bytes where {expected} were expected", block.data.len()));
+    }
+    let views = out.geometry().views.count;
+    let emitters_out = out.geometry().emitters;
+    let (e_lo, e_hi) = (region.emitters.start.max(bx), region.emitters.end.min(bx + w));
+    let mut at = 0;
+    for line in 0..h {
+        let j = by + line;
+        let row_wanted = region.hololines.contains(&j);
+        for slot in 0..order.len() {
+            let row = &block.data[at..at + w * bytes];
+            at += w * bytes;
+            let (v, c) = order.pair_at(slot);
+            if !row_wanted || !region.views.contains(&v) || e_lo >= e_hi {
+                continue;
+            }
+            let jj = j - region.hololines.start;
+            let vv = v - region.views.start;
+            let start = out.index(c, jj, 0, 0);
+            let dest = &mut out.samples_mut()[start..start + emitters_out * views];
+            for e in e_lo..e_hi {
+                let k = (e - bx) * bytes;
+                let x = match sample_type {
+                    SampleType::F16 => half::f16::from_ne_bytes([row[k], row[k + 1]]).to_f32(),
+                    SampleType::F32 => f32::from_ne_bytes([row[k], row[k + 1], row[k + 2], row[k + 3]]),
+                };
+                dest[(e - region.emitters.start) * views + vv] = x;
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,366 @@
+//! Writing `.holo` files: one EXR part per frame, frames pulled one at a time
+//! from the caller (memory does not grow with the frame count), written beside
+//! the destination and renamed into place only when complete.
+
+use std::borrow::Cow;
+use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+
+use exr::block::{BlockIndex, UncompressedBlock};
+use exr::block::writer::ChunksWriter;
+use exr::math::Vec2;
+use exr::meta::attribute::{ChannelDescription, IntegerBounds, LineOrder, Text};
+use exr::meta::header::{Header, LayerAttributes};
+use exr::meta::BlockDescription;
+use smallvec::SmallVec;
+
+use super::attributes::{self, geometry_attributes, name, Radiometry};
+use super::channels::ChannelOrder;
+use super::digest::{frame_digest, DIGEST_PREFIX};
+use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SIDE};
+use crate::geometry::Geometry;
+use crate::{Error, Modulation, Result};
+
+/// How to write.
+#[derive(Clone, Debug)]
+pub struct WriteOptions {
+    /// Stored sample type (f16 by default).
+    pub sample_type: SampleType,
+    /// Compression (ZIP by default).
+    pub compression: Compression,
+    /// Meaning of the values.
+    pub radiometry: Radiometry,
+    /// Provenance: what the content was made from and how (`holo.source`).
+    pub source: String,
+    /// Frame rate, numerator / denominator.
+    pub frames_per_second: Option<(i32, u32)>,
+    /// `holo.frame` of the first frame; later frames count up from it.
+    pub first_frame_number: i32,
+    /// Replace an existing file at the destination (default: refuse).
+    pub overwrite: bool,
+}
+
+impl Default for WriteOptions {
+    fn default() -> Self {
+        WriteOptions {
+            sample_type: SampleType::F16,
+            compression: Compression::Zip,
+            radiometry: Radiometry::default(),
+            source: String::new(),
+            frames_per_second: None,
+            first_frame_number: 0,
+            overwrite: false,
+        }
+    }
+}
+
+/// What a write did.
+#[derive(Clone, Debug)]
+pub struct WriteReport {
+    /// The file written.
+    pub path: PathBuf,
+    /// Its size.
+    pub file_bytes: u64,
+    /// The digest of each frame.
+    pub digests: Vec<String>,
+    /// Things the user should know (lossy compression, ...).
+    pub warnings: Vec<String>,
+}
+
+/// Write one frame.
+pub fn write(path: impl AsRef<Path>, modulation: &Modulation, options: &WriteOptions) -> Result<WriteReport> {
+    write_frames(path, modulation.geometry(), 1, options, |_| Ok(Cow::Borrowed(modulation)))
+}
+
+/// Write `frame_count` frames, asking `frame(i)` for each in turn.
+///
+/// A single frame's data window is shrunk to the region with non-zero samples
+/// (spec §3.3); with several frames every data window is the display window,
+/// since all headers precede the first frame. Each frame's digest is written
+/// as a placeholder of fixed size and filled in once the frame is known.
+pub fn write_frames<'a>(
+    path: impl AsRef<Path>,
+    geometry: &Geometry,
+    frame_count: usize,
+    options: &WriteOptions,
+    mut frame: impl FnMut(usize) -> Result<Cow<'a, Modulation>>,
+) -> Result<WriteReport> {
+    let path = path.as_ref();
+    check_writable(path, geometry, frame_count, options)?;
+    let mut warnings = Vec::new();
+    if !options.compression.is_lossless_for(options.sample_type) {
+        warnings.push(format!(
+            "compression {} is lossy for {:?} samples: values will not read back exactly",
+            options.compression.name(),
+            options.sample_type
+        ));
+    }
+
+    // One frame: look at it first, so the header can carry its data window and digest.
+    let mut first: Option<Cow<'a, Modulation>> = None;
+    let mut digests = vec![placeholder(); frame_count];
+    let mut windows = vec![full_window(geometry); frame_count];
+    if frame_count == 1 {
+        let m = frame(0)?;
+        check_frame(path, geometry, &m, options, 0)?;
+        digests[0] = frame_digest(&m, options.sample_type);
+        windows[0] = covered_window(&m);
+        first = Some(m);
+    }
+    let headers: Vec<Header> = (0..frame_count).map(|i| part_header(geometry, options, i, frame_count, &windows[i], &digests[i])).collect();
+
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let temp = tempfile::Builder::new()
+        .prefix(&format!(".{file_name}."))
+        .suffix(".partial")
+        .tempfile_in(dir)
+        .map_err(|e| Error::io(dir, e))?;
+
+    let mut failure: Option<Error> = None;
+    let order = ChannelOrder::new(geometry);
+    let written = {
+        let out = BufWriter::with_capacity(1 << 20, temp.as_file());
+        exr::block::write(out, headers.into(), true, |meta, chunk_writer| {
+            for part in 0..frame_count {
+                let m = match first.take() {
+                    Some(m) => m,
+                    None => match frame(part).and_then(|m| check_frame(path, geometry, &m, options, part).map(|_| m)) {
+                        Ok(m) => m,
+                        Err(e) => {
+                            failure = Some(e);
+                            return Err(exr::error::Error::Aborted);
+                        }
+                    },
+                };
+                if frame_count > 1 {
+                    digests[part] = frame_digest(&m, options.sample_type);
+                }
+                let header = &meta.headers[part];
+                let mut compressor = chunk_writer.sequential_blocks_compressor(&meta);
+                // Compress blocks in parallel batches; indices stay in increasing y.
+                let tiles: Vec<_> = header.blocks_increasing_y_order().enumerate().collect();
+                for batch in tiles.chunks(64) {
+                    let chunks: Vec<exr::error::Result<(usize, UncompressedBlock)>> = {
+                        use rayon::prelude::*;
+                        batch
+                            .par_iter()
+                            .map(|(index, tile)| {
+                                let bounds = header.get_absolute_block_pixel_coordinates(tile.location)?;
+                                Ok((*index, block(&m, &order, header, part, bounds, options.sample_type)))
+                            })
+                            .collect()
+                    };
+                    for c in chunks {
+                        let (index, block) = c?;
+                        compressor.compress_block(index, block)?;
+                    }
+                }
+            }
+            Ok(())
+        })
+    };
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    written.map_err(|e| Error::exr(temp.path(), e))?;
+    canonicalize_headers(temp.path(), &digests)?;
+    temp.as_file().sync_all().map_err(|e| Error::io(temp.path(), e))?;
+    let file_bytes = temp.as_file().metadata().map_err(|e| Error::io(temp.path(), e))?.len();
+    let persisted = if options.overwrite { temp.persist(path) } else { temp.persist_noclobber(path) };
+    persisted.map_err(|e| {
+        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
+            Error::Usage(format!("{}: already exists; not overwritten", path.display()))
+        } else {
+            Error::io(path, e.error)
+        }
+    })?;
+    Ok(WriteReport { path: path.to_path_buf(), file_bytes, digests, warnings })
+}
+
+fn check_writable(path: &Path, g: &Geometry, frame_count: usize, options: &WriteOptions) -> Result<()> {
+    let problems = g.problems();
+    if !problems.is_empty() {
+        return Err(Error::Usage(format!("{}: cannot write an invalid geometry: {}", path.display(), problems.join("; "))));
+    }
+    if frame_count == 0 || frame_count as u64 > MAX_FRAMES {
+        return Err(Error::Usage(format!("{}: {frame_count} frames; a file holds 1 to {MAX_FRAMES}", path.display())));
+    }
+    if g.hololines as u64 > MAX_SIDE || g.emitters as u64 > MAX_SIDE || (g.views.count * g.channels.len()) as u64 > MAX_CHANNELS {
+        return Err(Error::Usage(format!("{}: geometry exceeds the format's limits", path.display())));
+    }
+    if !options.overwrite && path.exists() {
+        return Err(Error::Usage(format!("{}: already exists; not overwritten", path.display())));
+    }
+    Ok(())
+}
+
+fn check_frame(path: &Path, g: &Geometry, m: &Modulation, options: &WriteOptions, part: usize) -> Result<()> {
+    if m.geometry() != g {
+        return Err(Error::Usage(format!("{}: frame {part} has a different geometry from the file", path.display())));
+    }
+    let bad = |(c, j, e, v, value, why): (usize, usize, usize, usize, f32, &'static str)| Error::BadSample {
+        path: path.into(),
+        frame: part,
+        hololine: j,
+        emitter: e,
+        view: v,
+        channel: g.channels[c].name.clone(),
+        value,
+        why,
+    };
+    if let Some(b) = m.first_bad_sample() {
+        return Err(bad(b));
+    }
+    if options.sample_type == SampleType::F16 {
+        if let Some(i) = m.samples().iter().position(|x| half::f16::from_f32(*x).is_infinite()) {
+            let vc = g.views.count;
+            let (v, e, j, c) = (i % vc, (i / vc) % g.emitters, (i / vc / g.emitters) % g.hololines, i / vc / g.emitters / g.hololines);
+            return Err(bad((c, j, e, v, m.samples()[i], "too large for f16 (max 65504); write f32")));
+        }
+    }
+    Ok(())
+}
+
+fn placeholder() -> String {
+    format!("{DIGEST_PREFIX}{}", "0".repeat(64))
+}
+
+fn full_window(g: &Geometry) -> IntegerBounds {
+    IntegerBounds::new(Vec2(0, 0), Vec2(g.emitters, g.hololines))
+}
+
+/// The smallest rectangle holding every non-zero sample (1×1 at the origin if none).
+fn covered_window(m: &Modulation) -> IntegerBounds {
+    let g = m.geometry();
+    let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+    for c in 0..g.channels.len() {
+        for j in 0..g.hololines {
+            let line = m.hololine(c, j);
+            for e in 0..g.emitters {
+                if line[e * g.views.count..(e + 1) * g.views.count].iter().any(|x| *x != 0.0) {
+                    x0 = x0.min(e);
+                    x1 = x1.max(e);
+                    y0 = y0.min(j);
+                    y1 = y1.max(j);
+                }
+            }
+        }
+    }
+    if x0 == usize::MAX {
+        return IntegerBounds::new(Vec2(0, 0), Vec2(1, 1));
+    }
+    IntegerBounds::new(Vec2(x0 as i32, y0 as i32), Vec2(x1 - x0 + 1, y1 - y0 + 1))
+}
+
+fn part_header(g: &Geometry, options: &WriteOptions, part: usize, frame_count: usize, window: &IntegerBounds, digest: &str) -> Header {
+    let order = ChannelOrder::new(g);
+    let channels: SmallVec<[ChannelDescription; 5]> =
+        order.names(g).into_iter().map(|n| ChannelDescription::new(Text::new_or_panic(n), options.sample_type.to_exr(), false)).collect();
+    let mut own = LayerAttributes::named(Text::new_or_panic(format!("frame{:05}", part)));
+    own.layer_position = window.position;
+    own.software_name = Some(Text::new_or_panic(format!("holo {}", env!("CARGO_PKG_VERSION"))));
+    own.frames_per_second = options.frames_per_second.map(|(n, d)| (n, d));
+    let mut put = |k: &str, v| {
+        own.other.insert(Text::new_or_panic(k), v);
+    };
+    put(name::FRAME, exr::meta::attribute::AttributeValue::I32(options.first_frame_number + part as i32));
+    put(name::FRAME_COUNT, exr::meta::attribute::AttributeValue::I32(frame_count as i32));
+    put(name::DIGEST, attributes::text(digest));
+    if !options.source.is_empty() {
+        put(name::SOURCE, attributes::text(&options.source));
+    }
+    let mut header = Header::new(own.layer_name.clone().unwrap_or_default(), window.size, channels)
+        .with_encoding(options.compression.to_exr(), BlockDescription::ScanLines, LineOrder::Increasing)
+        .with_display_window(full_window(g))
+        .with_attributes(own);
+    header.shared_attributes.other = geometry_attributes(g, &options.radiometry);
+    header
+}
+
+/// The uncompressed bytes of one block: line by line, channel by channel in
+/// list order, emitter by emitter, native-endian.
+fn block(m: &Modulation, order: &ChannelOrder, header: &Header, part: usize, bounds: IntegerBounds, sample_type: SampleType) -> UncompressedBlock {
+    let g = m.geometry();
+    let (x0, y0) = (header.own_attributes.layer_position.0 as usize, header.own_attributes.layer_position.1 as usize);
+    let (bx, by) = (bounds.position.0 as usize, bounds.position.1 as usize);
+    let (w, h) = (bounds.size.0, bounds.size.1);
+    let views = g.views.count;
+    let mut data = Vec::with_capacity(w * h * order.len() * sample_type.bytes());
+    for line in 0..h {
+        let j = y0 + by + line;
+        for slot in 0..order.len() {
+            let (v, c) = order.pair_at(slot);
+            let samples = m.hololine(c, j);
+            let columns = (x0 + bx..x0 + bx + w).map(|e| samples[e * views + v]);
+            match sample_type {
+                SampleType::F16 => columns.for_each(|x| data.extend_from_slice(&half::f16::from_f32(x).to_ne_bytes())),
+                SampleType::F32 => columns.for_each(|x| data.extend_from_slice(&x.to_ne_bytes())),
+            }
+        }
+    }
+    UncompressedBlock {
+        index: BlockIndex { layer: part, pixel_position: Vec2(bx, by), pixel_size: Vec2(w, h), level: Vec2(0, 0) },
+        data,
+    }
+}
+
+/// Rewrite each header's attributes in name order (OpenEXR's own order; the
+/// `exr` crate writes custom attributes in hash order, which would make bytes
+/// differ from run to run) and fill in the digests. Attribute lengths do not
+/// change, so no offset moves.
+fn canonicalize_headers(path: &Path, digests: &[String]) -> Result<()> {
+    let mut file = std::fs::OpenOptions::new().read(true).write(true).open(path).map_err(|e| Error::io(path, e))?;
+    let limit = 64 * 1024 + digests.len() as u64 * (64 * 1024 + 32 * MAX_CHANNELS);
+    let mut head = Vec::new();
+    Read::by_ref(&mut file).take(limit).read_to_end(&mut head).map_err(|e| Error::io(path, e))?;
+    let internal = |what: &str| Error::invalid(path, format!("internal: {what} while finishing the headers"));
+    if head.len() < 8 {
+        return Err(internal("file too short"));
+    }
+    let multipart = head[5] & 0x10 != 0;
+    let mut at = 8;
+    let mut rewritten = Vec::with_capacity(head.len());
+    rewritten.extend_from_slice(&head[..8]);
+    for part in 0..digests.len() {
+        let mut attributes: Vec<(&[u8], &[u8])> = Vec::new();
+        loop {
+            let name_end = head[at..].iter().position(|b| *b == 0).ok_or_else(|| internal("unterminated name"))? + at;
+            if name_end == at {
+                at += 1;
+                break;
+            }
+            let type_end = head[name_end + 1..].iter().position(|b| *b == 0).ok_or_else(|| internal("unterminated type"))?
+                + name_end
+                + 1;
+            let size_at = type_end + 1;
+            let size = u32::from_le_bytes(head.get(size_at..size_at + 4).ok_or_else(|| internal("short"))?.try_into().unwrap_or_default()) as usize;
+            let end = size_at + 4 + size;
+            if end > head.len() {
+                return Err(internal("attribute runs past the header"));
+            }
+            attributes.push((&head[at..name_end], &head[at..end]));
+            at = end;
+        }
+        attributes.sort_by(|a, b| a.0.cmp(b.0));
+        for (name_bytes, whole) in attributes {
+            if name_bytes == name::DIGEST.as_bytes() {
+                let keep = whole.len() - digests[part].len();
+                rewritten.extend_from_slice(&whole[..keep]);
+                rewritten.extend_from_slice(digests[part].as_bytes());
+            } else {
+                rewritten.extend_from_slice(whole);
+            }
+        }
+        rewritten.push(0);
+    }
+    if multipart {
+        rewritten.push(0);
+    }
+    file.seek(SeekFrom::Start(0)).map_err(|e| Error::io(path, e))?;
+    file.write_all(&rewritten).map_err(|e| Error::io(path, e))?;
+    Ok(())
+}

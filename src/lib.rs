@@ -1,0 +1,20 @@
+//! `holo`: the modulation texture of a holographic stereogram as a standard
+//! file, and the conversions around it.
+//!
+//! Start at [`Geometry`] and [`Modulation`] (the data), then [`format`] (the
+//! `.holo` file, spec/holo-format.md), [`layout`] (display profiles),
+//! [`pattern`] (test patterns) and [`views`] (PNG export and import).
+#![deny(missing_docs)]
+
+mod error;
+pub mod format;
+pub mod geometry;
+pub mod layout;
+mod modulation;
+pub mod pattern;
+pub mod views;
+
+pub use error::{Error, Result};
+pub use format::{read, write, HoloFile, WriteOptions};
+pub use geometry::Geometry;
+pub use modulation::Modulation;

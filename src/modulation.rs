@@ -1,0 +1,139 @@
+//! The modulation texture of one frame in memory: f32 linear radiance, kept
+//! channel by channel in the order (hololine, emitter, view), which is the
+//! order the assembler walks it in.
+
+use crate::geometry::Geometry;
+use crate::{Error, Result};
+
+/// One frame of modulation: `samples[((c·H + j)·E + e)·V + v]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Modulation {
+    geometry: Geometry,
+    samples: Vec<f32>,
+}
+
+impl Modulation {
+    /// All-zero modulation for a geometry (which must be valid).
+    pub fn zeros(geometry: Geometry) -> Result<Self> {
+        check_geometry(&geometry)?;
+        let n = usize::try_from(geometry.samples_per_frame()).map_err(|_| too_big(&geometry))?;
+        Ok(Modulation { samples: vec![0.0; n], geometry })
+    }
+
+    /// Wrap samples in (channel, hololine, emitter, view) order.
+    pub fn from_samples(geometry: Geometry, samples: Vec<f32>) -> Result<Self> {
+        check_geometry(&geometry)?;
+        if samples.len() as u64 != geometry.samples_per_frame() {
+            return Err(Error::Usage(format!(
+                "{} samples given for a geometry of {} samples",
+                samples.len(),
+                geometry.samples_per_frame()
+            )));
+        }
+        Ok(Modulation { geometry, samples })
+    }
+
+    /// Fill every sample from a function of (channel, hololine, emitter, view).
+    pub fn from_fn(geometry: Geometry, mut f: impl FnMut(usize, usize, usize, usize) -> f32) -> Result<Self> {
+        let mut m = Self::zeros(geometry)?;
+        let (h, e, v) = (m.geometry.hololines, m.geometry.emitters, m.geometry.views.count);
+        let mut i = 0;
+        for c in 0..m.geometry.channels.len() {
+            for j in 0..h {
+                for k in 0..e {
+                    for w in 0..v {
+                        m.samples[i] = f(c, j, k, w);
+                        i += 1;
+                    }
+                }
+            }
+        }
+        Ok(m)
+    }
+
+    /// The geometry.
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+    /// All samples, (channel, hololine, emitter, view) order.
+    pub fn samples(&self) -> &[f32] {
+        &self.samples
+    }
+    /// All samples, mutable.
+    pub fn samples_mut(&mut self) -> &mut [f32] {
+        &mut self.samples
+    }
+    /// Give up the samples.
+    pub fn into_samples(self) -> Vec<f32> {
+        self.samples
+    }
+
+    /// Linear index of a sample.
+    #[inline]
+    pub fn index(&self, channel: usize, hololine: usize, emitter: usize, view: usize) -> usize {
+        let g = &self.geometry;
+        ((channel * g.hololines + hololine) * g.emitters + emitter) * g.views.count + view
+    }
+    /// One sample.
+    #[inline]
+    pub fn get(&self, channel: usize, hololine: usize, emitter: usize, view: usize) -> f32 {
+        self.samples[self.index(channel, hololine, emitter, view)]
+    }
+    /// Set one sample.
+    #[inline]
+    pub fn set(&mut self, channel: usize, hololine: usize, emitter: usize, view: usize, value: f32) {
+        let i = self.index(channel, hololine, emitter, view);
+        self.samples[i] = value;
+    }
+    /// The views of one emitter on one hololine.
+    pub fn views_of(&self, channel: usize, hololine: usize, emitter: usize) -> &[f32] {
+        let i = self.index(channel, hololine, emitter, 0);
+        &self.samples[i..i + self.geometry.views.count]
+    }
+    /// All (emitter, view) samples of one hololine: its epipolar-plane image.
+    pub fn hololine(&self, channel: usize, hololine: usize) -> &[f32] {
+        let i = self.index(channel, hololine, 0, 0);
+        &self.samples[i..i + self.geometry.emitters * self.geometry.views.count]
+    }
+
+    /// Smallest and largest sample (0, 0 for an empty texture).
+    pub fn value_range(&self) -> (f32, f32) {
+        self.samples
+            .iter()
+            .fold(None, |acc: Option<(f32, f32)>, &x| Some(acc.map_or((x, x), |(lo, hi)| (lo.min(x), hi.max(x)))))
+            .unwrap_or((0.0, 0.0))
+    }
+
+    /// The first sample that is NaN, infinite or negative, as
+    /// (channel, hololine, emitter, view, value, why).
+    pub fn first_bad_sample(&self) -> Option<(usize, usize, usize, usize, f32, &'static str)> {
+        let i = self.samples.iter().position(|x| !x.is_finite() || *x < 0.0)?;
+        let x = self.samples[i];
+        let g = &self.geometry;
+        let v = i % g.views.count;
+        let e = (i / g.views.count) % g.emitters;
+        let j = (i / (g.views.count * g.emitters)) % g.hololines;
+        let c = i / (g.views.count * g.emitters * g.hololines);
+        let why = if x.is_nan() {
+            "not a number"
+        } else if x.is_infinite() {
+            "infinite"
+        } else {
+            "negative (radiance cannot be)"
+        };
+        Some((c, j, e, v, x, why))
+    }
+}
+
+fn too_big(g: &Geometry) -> Error {
+    Error::Usage(format!("a frame of {} samples does not fit in memory", g.samples_per_frame()))
+}
+
+fn check_geometry(g: &Geometry) -> Result<()> {
+    let problems = g.problems();
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Usage(format!("invalid geometry: {}", problems.join("; "))))
+    }
+}
