@@ -12,6 +12,7 @@ pub mod geometry;
 pub mod layout;
 mod modulation;
 pub mod pattern;
+pub mod report;
 pub mod views;
 
 pub use error::{Error, Result};

@@ -1,1 +1,247 @@
-//! x
+//! Views as pictures: one PNG per view (`view_000.png`, …), `emitters` wide
+//! and `hololines` tall, and back. The tone mapping (README, "Views as
+//! PNG") is: `linear = sample / white`, clamped to [0, 1], encoded with the
+//! sRGB transfer function and quantised to 8 or 16 bits; import inverts it.
+//! A sidecar `holo-views.json` records the geometry and the tone mapping, so
+//! `import-views` can rebuild the file without being told them again.
+
+use std::path::{Path, PathBuf};
+
+use image::{ImageBuffer, Luma, Rgb};
+use serde::{Deserialize, Serialize};
+
+use crate::format::view_digits;
+use crate::{Error, Geometry, Modulation, Result};
+
+/// Name of the sidecar written next to the PNGs.
+pub const SIDECAR: &str = "holo-views.json";
+
+/// How samples become pixel values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ToneMapping {
+    /// The sample value shown as full white.
+    pub white: f32,
+    /// 8 or 16 bits per component.
+    pub bits: u8,
+}
+
+impl Default for ToneMapping {
+    fn default() -> Self {
+        ToneMapping {
+            white: 1.0,
+            bits: 16,
+        }
+    }
+}
+
+/// The sidecar: what `export-views` wrote, for `import-views`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Sidecar {
+    /// The geometry of the views.
+    pub geometry: Geometry,
+    /// The tone mapping used.
+    pub tone: ToneMapping,
+}
+
+/// sRGB encoding of a linear value in [0, 1] (IEC 61966-2-1).
+pub fn srgb_encode(linear: f64) -> f64 {
+    let x = linear.clamp(0.0, 1.0);
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// sRGB decoding to a linear value in [0, 1].
+pub fn srgb_decode(encoded: f64) -> f64 {
+    let x = encoded.clamp(0.0, 1.0);
+    if x <= 0.040_45 {
+        x / 12.92
+    } else {
+        ((x + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// File name of view `v` for a geometry with `view_count` views.
+pub fn view_file_name(v: usize, view_count: usize) -> String {
+    let digits = view_digits(view_count);
+    format!("view_{v:0digits$}.png")
+}
+
+fn check_tone(tone: &ToneMapping) -> Result<()> {
+    if !(tone.white.is_finite() && tone.white > 0.0) {
+        return Err(Error::Usage(format!(
+            "white level {} must be finite and positive",
+            tone.white
+        )));
+    }
+    if tone.bits != 8 && tone.bits != 16 {
+        return Err(Error::Usage(format!(
+            "{} bits per component: choose 8 or 16",
+            tone.bits
+        )));
+    }
+    Ok(())
+}
+
+/// Write every view of `m` as a PNG into `dir` (created if needed), plus the
+/// sidecar. Refuses to replace existing files unless `overwrite`.
+pub fn export_views(
+    m: &Modulation,
+    dir: &Path,
+    tone: &ToneMapping,
+    overwrite: bool,
+) -> Result<Vec<PathBuf>> {
+    check_tone(tone)?;
+    let g = m.geometry();
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let mut targets: Vec<PathBuf> = (0..g.views.count)
+        .map(|v| dir.join(view_file_name(v, g.views.count)))
+        .collect();
+    targets.push(dir.join(SIDECAR));
+    if !overwrite {
+        if let Some(p) = targets.iter().find(|p| p.exists()) {
+            return Err(Error::Usage(format!(
+                "{}: already exists; not overwritten (use --force)",
+                p.display()
+            )));
+        }
+    }
+    let colour_slot = |name: &str| match name {
+        "R" => 0,
+        "G" => 1,
+        _ => 2,
+    };
+    let mono = g.channel_index("Y");
+    let quantise = |x: f32| -> f64 {
+        let max = if tone.bits == 8 { 255.0 } else { 65535.0 };
+        (srgb_encode(f64::from(x) / f64::from(tone.white)) * max).round()
+    };
+    let (w, h) = (g.emitters as u32, g.hololines as u32);
+    for (v, path) in targets.iter().take(g.views.count).enumerate() {
+        let save = |result: image::ImageResult<()>| {
+            result.map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+        };
+        match (mono, tone.bits) {
+            (Some(c), 8) => save(
+                ImageBuffer::from_fn(w, h, |x, y| {
+                    Luma([quantise(m.get(c, y as usize, x as usize, v)) as u8])
+                })
+                .save(path),
+            )?,
+            (Some(c), _) => save(
+                ImageBuffer::from_fn(w, h, |x, y| {
+                    Luma([quantise(m.get(c, y as usize, x as usize, v)) as u16])
+                })
+                .save(path),
+            )?,
+            (None, bits) => {
+                let mut rgb = vec![[0f64; 3]; (w * h) as usize];
+                for (c, ch) in g.channels.iter().enumerate() {
+                    for j in 0..g.hololines {
+                        for e in 0..g.emitters {
+                            rgb[j * g.emitters + e][colour_slot(&ch.name)] =
+                                quantise(m.get(c, j, e, v));
+                        }
+                    }
+                }
+                let px = |x: u32, y: u32| rgb[(y * w + x) as usize];
+                if bits == 8 {
+                    save(
+                        ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u8)))
+                            .save(path),
+                    )?
+                } else {
+                    save(
+                        ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u16)))
+                            .save(path),
+                    )?
+                }
+            }
+        }
+    }
+    let sidecar = Sidecar {
+        geometry: g.clone(),
+        tone: tone.clone(),
+    };
+    let json = serde_json::to_string_pretty(&sidecar).map_err(|e| Error::Usage(e.to_string()))?;
+    let side = dir.join(SIDECAR);
+    std::fs::write(&side, json).map_err(|e| Error::io(&side, e))?;
+    Ok(targets)
+}
+
+/// Read the sidecar of an exported directory.
+pub fn read_sidecar(path: &Path) -> Result<Sidecar> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    serde_json::from_str(&text)
+        .map_err(|e| Error::invalid(path, format!("not a holo-views sidecar: {e}")))
+}
+
+/// Read a geometry from a JSON file: a bare [`Geometry`] or a sidecar.
+pub fn read_geometry_json(path: &Path) -> Result<Geometry> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    if let Ok(s) = serde_json::from_str::<Sidecar>(&text) {
+        return Ok(s.geometry);
+    }
+    serde_json::from_str(&text)
+        .map_err(|e| Error::invalid(path, format!("not a geometry JSON file: {e}")))
+}
+
+/// Build a modulation from the PNGs in `dir` (the inverse of [`export_views`]).
+pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Result<Modulation> {
+    check_tone(tone)?;
+    let g = geometry;
+    let mut m = Modulation::zeros(g.clone())?;
+    for v in 0..g.views.count {
+        let path = dir.join(view_file_name(v, g.views.count));
+        let img = image::open(&path).map_err(|e| match e {
+            image::ImageError::IoError(io) => Error::io(&path, io),
+            other => Error::invalid(&path, format!("not a readable PNG: {other}")),
+        })?;
+        if (img.width() as usize, img.height() as usize) != (g.emitters, g.hololines) {
+            return Err(Error::invalid(
+                &path,
+                format!(
+                    "is {}×{} pixels; the geometry needs emitters × hololines = {}×{}",
+                    img.width(),
+                    img.height(),
+                    g.emitters,
+                    g.hololines
+                ),
+            ));
+        }
+        let rgb = img.to_rgb16();
+        let luma = img.to_luma16();
+        for (c, ch) in g.channels.iter().enumerate() {
+            for j in 0..g.hololines {
+                for e in 0..g.emitters {
+                    let q = match ch.name.as_str() {
+                        "R" => rgb.get_pixel(e as u32, j as u32)[0],
+                        "G" => rgb.get_pixel(e as u32, j as u32)[1],
+                        "B" => rgb.get_pixel(e as u32, j as u32)[2],
+                        _ => luma.get_pixel(e as u32, j as u32)[0],
+                    };
+                    let value = srgb_decode(f64::from(q) / 65535.0) * f64::from(tone.white);
+                    m.set(c, j, e, v, value as f32);
+                }
+            }
+        }
+    }
+    Ok(m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_round_trips() {
+        for i in 0..=1000 {
+            let x = i as f64 / 1000.0;
+            assert!((srgb_decode(srgb_encode(x)) - x).abs() < 1e-12);
+        }
+        assert!((srgb_encode(1.0) - 1.0).abs() < 1e-15);
+        assert_eq!(srgb_encode(0.0), 0.0);
+    }
+}

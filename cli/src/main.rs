@@ -1,1 +1,425 @@
-fn main(){}
+//! The `holo` command: parses arguments, calls the library, prints, and turns
+//! outcomes into exit codes (0 ok, 1 error, 2 usage). All work happens in the
+//! `holo` library, where tests call it too.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use holo::format::{Compression, SampleType, WriteOptions};
+use holo::geometry::{mono_channel, rgb_channels, Geometry};
+use holo::pattern::{Pattern, PatternKind};
+use holo::views::{ToneMapping, SIDECAR};
+
+#[derive(Parser)]
+#[command(name = "holo", version, about = "The .holo modulation-texture file for holographic stereogram displays", long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Show geometry, channels, frames, size and value range of .holo files
+    /// (with two or more files, also whether they hold the same content).
+    Info {
+        /// The .holo files.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+        /// Read headers only: skip the value range and digest check.
+        #[arg(long)]
+        headers_only: bool,
+    },
+    /// Check every rule of the .holo spec, including each frame's digest;
+    /// exits 1 and lists the violations if any file breaks one.
+    Validate {
+        /// The .holo files.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write a display-engineering test pattern for a layout.
+    Pattern {
+        /// Display layout (built in: mark3, mark1).
+        #[arg(long, default_value = "mark3")]
+        layout: String,
+        /// Which pattern.
+        #[arg(long, value_enum)]
+        kind: KindArg,
+        /// Emitter lit by single-emitter (default: the centre).
+        #[arg(long)]
+        emitter: Option<usize>,
+        /// View lit by single-view (default: the centre).
+        #[arg(long)]
+        view: Option<usize>,
+        /// Spacing of every-nth-emitter.
+        #[arg(long, default_value_t = 8)]
+        every: usize,
+        /// Square size of checkerboard, in hololines and emitters.
+        #[arg(long, default_value_t = 8)]
+        cell: usize,
+        /// Radiance of a lit sample.
+        #[arg(long, default_value_t = 1.0)]
+        level: f32,
+        /// Colour channels instead of the layout's own.
+        #[arg(long, value_enum)]
+        channels: Option<ChannelsArg>,
+        #[command(flatten)]
+        write: WriteArgs,
+    },
+    /// Write each view of a frame as a PNG (view_000.png, …) plus holo-views.json.
+    ExportViews {
+        /// The .holo file.
+        file: PathBuf,
+        /// Directory for the PNGs (created if needed).
+        #[arg(long, short)]
+        out: PathBuf,
+        /// Frame (0-based, in file order).
+        #[arg(long, default_value_t = 0)]
+        frame: usize,
+        /// Bits per component.
+        #[arg(long, default_value_t = 16, value_parser = clap::builder::ValueParser::new(parse_bits))]
+        bits: u8,
+        /// Sample value shown as full white, or `auto` for the frame's maximum.
+        #[arg(long, default_value = "1")]
+        white: String,
+        /// Replace existing PNGs.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Build a .holo file from a directory of view PNGs (the inverse of export-views).
+    ImportViews {
+        /// Directory holding view_000.png, …
+        dir: PathBuf,
+        /// Geometry: a layout name or a JSON file (default: DIR/holo-views.json).
+        #[arg(long)]
+        geometry: Option<String>,
+        /// Sample value of full white (default: the sidecar's, else 1).
+        #[arg(long)]
+        white: Option<f32>,
+        #[command(flatten)]
+        write: WriteArgs,
+    },
+    /// Run the main job on built-in defaults and say where the results are.
+    Demo {
+        /// Directory for the demo's files (its own earlier files there are replaced).
+        #[arg(long, default_value = "holo-demo")]
+        out: PathBuf,
+    },
+}
+
+#[derive(Args)]
+struct WriteArgs {
+    /// Output .holo file.
+    #[arg(long, short)]
+    output: PathBuf,
+    /// Store f32 samples instead of f16.
+    #[arg(long)]
+    f32: bool,
+    /// Compression: none, rle, zips, zip, piz (lossless), pxr24, b44, b44a, dwaa, dwab (lossy).
+    #[arg(long, default_value = "zip", value_parser = parse_compression)]
+    compression: Compression,
+    /// Replace an existing output file.
+    #[arg(long)]
+    force: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum KindArg {
+    SingleEmitter,
+    SingleView,
+    EveryNthEmitter,
+    ViewRamp,
+    ColourBars,
+    Checkerboard,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ChannelsArg {
+    Rgb,
+    Y,
+}
+
+fn parse_compression(s: &str) -> Result<Compression, String> {
+    Compression::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = Compression::ALL.iter().map(|c| c.name()).collect();
+        format!(
+            "unknown compression {s:?}; choose one of {}",
+            names.join(", ")
+        )
+    })
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    // A panic is a bug; still, the user gets one sentence, not a backtrace.
+    std::panic::set_hook(Box::new(|info| {
+        eprintln!("holo: internal error ({info}); please report it");
+    }));
+    match std::panic::catch_unwind(|| run(cli)) {
+        Ok(Ok(code)) => code,
+        Ok(Err(message)) => {
+            eprintln!("holo: error: {message}");
+            ExitCode::from(1)
+        }
+        Err(_) => ExitCode::from(1),
+    }
+}
+
+type Outcome = Result<ExitCode, String>;
+
+fn run(cli: Cli) -> Outcome {
+    match cli.command {
+        Command::Info {
+            files,
+            json,
+            headers_only,
+        } => info(&files, json, !headers_only),
+        Command::Validate { files, json } => validate(&files, json),
+        Command::Pattern {
+            layout,
+            kind,
+            emitter,
+            view,
+            every,
+            cell,
+            level,
+            channels,
+            write,
+        } => {
+            let mut geometry = layout_geometry(&layout)?;
+            match channels {
+                Some(ChannelsArg::Rgb) => geometry.channels = rgb_channels(),
+                Some(ChannelsArg::Y) => geometry.channels = mono_channel(),
+                None => {}
+            }
+            let kind = match kind {
+                KindArg::SingleEmitter => PatternKind::SingleEmitter,
+                KindArg::SingleView => PatternKind::SingleView,
+                KindArg::EveryNthEmitter => PatternKind::EveryNthEmitter,
+                KindArg::ViewRamp => PatternKind::ViewRamp,
+                KindArg::ColourBars => PatternKind::ColourBars,
+                KindArg::Checkerboard => PatternKind::Checkerboard,
+            };
+            let pattern = Pattern {
+                kind,
+                emitter,
+                view,
+                every,
+                cell,
+                level,
+            };
+            let m = pattern.render(&geometry).map_err(|e| e.to_string())?;
+            let source = format!("{} layout={layout}", pattern.describe());
+            write_file(&m, &write, source)
+        }
+        Command::ExportViews {
+            file,
+            out,
+            frame,
+            bits,
+            white,
+            force,
+        } => {
+            let holo_file = holo::HoloFile::open(&file).map_err(|e| e.to_string())?;
+            let m = holo_file.read_frame(frame).map_err(|e| e.to_string())?;
+            let white = if white == "auto" {
+                let max = m.value_range().1;
+                if max > 0.0 {
+                    max
+                } else {
+                    1.0
+                }
+            } else {
+                white
+                    .parse::<f32>()
+                    .map_err(|_| format!("--white {white:?} is not a number or `auto`"))?
+            };
+            let written = holo::views::export_views(&m, &out, &ToneMapping { white, bits }, force)
+                .map_err(|e| e.to_string())?;
+            println!(
+                "wrote {} view PNGs and {} to {}",
+                written.len() - 1,
+                SIDECAR,
+                out.display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::ImportViews {
+            dir,
+            geometry,
+            white,
+            write,
+        } => {
+            let sidecar_path = dir.join(SIDECAR);
+            let sidecar = sidecar_path
+                .exists()
+                .then(|| holo::views::read_sidecar(&sidecar_path))
+                .transpose()
+                .map_err(|e| e.to_string())?;
+            let g = match (&geometry, &sidecar) {
+                (Some(name), _) => layout_geometry(name)?,
+                (None, Some(s)) => s.geometry.clone(),
+                (None, None) => return Err(format!(
+                    "{}: no {SIDECAR} here; say which geometry with --geometry LAYOUT|FILE.json",
+                    dir.display()
+                )),
+            };
+            let mut tone = sidecar.map(|s| s.tone).unwrap_or_default();
+            if let Some(w) = white {
+                tone.white = w;
+            }
+            let m = holo::views::import_views(&dir, &g, &tone).map_err(|e| e.to_string())?;
+            write_file(
+                &m,
+                &write,
+                format!("holo import-views from {}", dir.display()),
+            )
+        }
+        Command::Demo { out } => {
+            let demo = holo::report::demo(&out).map_err(|e| e.to_string())?;
+            print!("{}", demo.info);
+            println!(
+                "\nThe demo wrote a Mark III colour-bar pattern to {}.",
+                demo.holo_file.display()
+            );
+            println!("Look at it in any OpenEXR viewer (each view is a picture), or as PNGs:");
+            println!(
+                "  holo export-views {} --out {}",
+                demo.holo_file.display(),
+                out.join("views").display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+/// A built-in layout's geometry, or a geometry JSON file.
+fn layout_geometry(name: &str) -> Result<Geometry, String> {
+    if let Some(l) = holo::layout::builtin(name) {
+        return Ok(l.geometry);
+    }
+    let path = Path::new(name);
+    if path.exists() {
+        return holo::views::read_geometry_json(path).map_err(|e| e.to_string());
+    }
+    Err(format!(
+        "unknown layout {name:?}: the built-in layouts are {}, or give a geometry JSON file",
+        holo::layout::BUILTIN.join(", ")
+    ))
+}
+
+fn write_file(m: &holo::Modulation, args: &WriteArgs, source: String) -> Outcome {
+    let options = WriteOptions {
+        sample_type: if args.f32 {
+            SampleType::F32
+        } else {
+            SampleType::F16
+        },
+        compression: args.compression,
+        source,
+        overwrite: args.force,
+        ..WriteOptions::default()
+    };
+    let report = holo::write(&args.output, m, &options).map_err(|e| e.to_string())?;
+    for w in &report.warnings {
+        eprintln!("holo: warning: {}: {w}", args.output.display());
+    }
+    println!(
+        "wrote {} ({} bytes, {})",
+        report.path.display(),
+        report.file_bytes,
+        report.digests[0]
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn info(files: &[PathBuf], json: bool, values: bool) -> Outcome {
+    let infos = files
+        .iter()
+        .map(|f| holo::report::info(f, values))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
+    let same = (infos.len() > 1).then(|| {
+        infos
+            .windows(2)
+            .all(|w| holo::report::same_content(&w[0], &w[1]))
+    });
+    if json {
+        let value = serde_json::json!({ "files": infos, "same_content": same });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&value).map_err(|e| e.to_string())?
+        );
+    } else {
+        for i in &infos {
+            print!("{i}");
+        }
+        if let Some(same) = same {
+            println!(
+                "same content: {}",
+                if same {
+                    "yes (equal geometry, sample type and frame digests)"
+                } else {
+                    "no"
+                }
+            );
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn validate(files: &[PathBuf], json: bool) -> Outcome {
+    let mut all_valid = true;
+    let mut reports = Vec::new();
+    for f in files {
+        let (valid, violations, warnings) = match holo::format::validate(f) {
+            Ok(v) => (v.is_valid(), v.violations, v.warnings),
+            Err(e) => (false, vec![e.to_string()], vec![]),
+        };
+        all_valid &= valid;
+        if json {
+            reports.push(serde_json::json!({ "file": f, "valid": valid, "violations": violations, "warnings": warnings }));
+            continue;
+        }
+        if valid {
+            println!("{}: valid", f.display());
+        } else {
+            println!(
+                "{}: INVALID, {} violation(s)",
+                f.display(),
+                violations.len()
+            );
+        }
+        for v in &violations {
+            println!("  violation: {v}");
+        }
+        for w in &warnings {
+            println!("  warning: {w}");
+        }
+    }
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&reports).map_err(|e| e.to_string())?
+        );
+    }
+    Ok(if all_valid {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+fn parse_bits(s: &str) -> Result<u8, String> {
+    match s {
+        "8" => Ok(8),
+        "16" => Ok(16),
+        _ => Err(format!("{s:?} bits: choose 8 or 16")),
+    }
+}

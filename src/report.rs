@@ -1,0 +1,194 @@
+//! What `holo info` and `holo demo` compute, as library calls with
+//! serialisable results; the CLI only prints them.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::format::{FileInfo, HoloFile, WriteOptions};
+use crate::layout;
+use crate::pattern::{Pattern, PatternKind};
+use crate::Result;
+
+/// `holo info`: the headers plus, when asked, the value range of every frame.
+#[derive(Clone, Debug, Serialize)]
+pub struct Info {
+    /// What the headers say.
+    #[serde(flatten)]
+    pub file: FileInfo,
+    /// Uncompressed size of the samples, all frames.
+    pub raw_bytes: u64,
+    /// Smallest and largest sample of each frame (when values were read).
+    pub value_ranges: Option<Vec<(f32, f32)>>,
+}
+
+/// Read the headers of `path` and, if `values`, every frame (verifying digests).
+pub fn info(path: impl AsRef<Path>, values: bool) -> Result<Info> {
+    let file = HoloFile::open(path)?;
+    let value_ranges = if values {
+        Some(
+            (0..file.info().frames.len())
+                .map(|i| file.read_frame(i).map(|m| m.value_range()))
+                .collect::<Result<Vec<_>>>()?,
+        )
+    } else {
+        None
+    };
+    Ok(Info {
+        raw_bytes: file.info().raw_bytes(),
+        file: file.info().clone(),
+        value_ranges,
+    })
+}
+
+/// Whether two files hold the same content: same geometry, sample type and
+/// frame digests (compression and data window may differ).
+pub fn same_content(a: &Info, b: &Info) -> bool {
+    let digests = |i: &Info| {
+        i.file
+            .frames
+            .iter()
+            .map(|f| f.digest.clone())
+            .collect::<Vec<_>>()
+    };
+    a.file.geometry == b.file.geometry
+        && a.file.sample_type == b.file.sample_type
+        && digests(a).iter().all(Option::is_some)
+        && digests(a) == digests(b)
+}
+
+impl fmt::Display for Info {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let i = &self.file;
+        let g = &i.geometry;
+        let mm = |m: f64| m * 1e3;
+        writeln!(f, "{}", i.path.display())?;
+        writeln!(
+            f,
+            "  format        .holo {}.{} (OpenEXR), {} frame(s)",
+            i.version.0,
+            i.version.1,
+            i.frames.len()
+        )?;
+        writeln!(
+            f,
+            "  size          {} hololines × {} emitters × {} views, {:?} parallax",
+            g.hololines, g.emitters, g.views.count, g.parallax
+        )?;
+        let colours: Vec<String> = g
+            .channels
+            .iter()
+            .map(|c| format!("{} {:.1} nm", c.name, c.wavelength_m * 1e9))
+            .collect();
+        writeln!(
+            f,
+            "  channels      {} ({} EXR channels, {:?})",
+            colours.join(", "),
+            g.views.count * g.channels.len(),
+            i.sample_type
+        )?;
+        writeln!(
+            f,
+            "  emitters      pitch {:.4} mm, x from {:.4} to {:.4} mm, plane z = {:.4} mm",
+            mm(g.emitter_pitch_m),
+            mm(g.emitter_x_m(0)),
+            mm(g.emitter_x_m(g.emitters - 1)),
+            mm(g.emitter_z_m)
+        )?;
+        writeln!(
+            f,
+            "  hololines     pitch {:.4} mm, y from {:.4} to {:.4} mm",
+            mm(g.hololine_pitch_m),
+            mm(g.hololine_y_m(0)),
+            mm(g.hololine_y_m(g.hololines - 1))
+        )?;
+        writeln!(
+            f,
+            "  views         {:.3}° … {:.3}°, uniform in {}",
+            g.views.first_theta_rad.to_degrees(),
+            g.views.last_theta_rad.to_degrees(),
+            g.views.spacing.name()
+        )?;
+        writeln!(
+            f,
+            "  viewer        line at z = {:.1} mm, y = {:.1} mm",
+            mm(g.viewer_distance_m),
+            mm(g.viewer_height_m)
+        )?;
+        writeln!(
+            f,
+            "  radiometry    {}, radiance = sample × {} ({})",
+            i.radiometry.encoding, i.radiometry.scale, i.radiometry.unit
+        )?;
+        let ratio = i.file_bytes as f64 / self.raw_bytes.max(1) as f64;
+        writeln!(
+            f,
+            "  on disk       {} bytes, {:.1}% of {} raw bytes, compression {}",
+            i.file_bytes,
+            100.0 * ratio,
+            self.raw_bytes,
+            i.compression.name()
+        )?;
+        if let Some(fps) = i.frames_per_second {
+            writeln!(f, "  frame rate    {}/{} per second", fps.0, fps.1)?;
+        }
+        writeln!(
+            f,
+            "  written by    {}",
+            i.software.as_deref().unwrap_or("(unknown)")
+        )?;
+        if let Some(s) = &i.source {
+            writeln!(f, "  source        {s}")?;
+        }
+        for (k, frame) in i.frames.iter().enumerate() {
+            let w = frame.data_window;
+            write!(
+                f,
+                "  frame {:<7} data {}×{} at ({}, {}), {}",
+                frame.number,
+                w.width,
+                w.height,
+                w.x,
+                w.y,
+                frame.digest.as_deref().unwrap_or("no digest")
+            )?;
+            if let Some(r) = self.value_ranges.as_ref().and_then(|v| v.get(k)) {
+                write!(f, ", values {} … {}", r.0, r.1)?;
+            }
+            writeln!(f)?;
+        }
+        for u in &i.unknown_attributes {
+            writeln!(f, "  ignored       unknown attribute {u}")?;
+        }
+        Ok(())
+    }
+}
+
+/// What `holo demo` made.
+#[derive(Clone, Debug, Serialize)]
+pub struct Demo {
+    /// The pattern file written.
+    pub holo_file: PathBuf,
+    /// Its `info`.
+    pub info: Info,
+}
+
+/// The main job on embedded defaults: a Mark III colour-bar pattern written to
+/// `dir/demo.holo` (replacing an earlier demo's file), then read back.
+pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
+    let dir = dir.as_ref();
+    std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
+    let geometry = layout::mark3().geometry;
+    let pattern = Pattern::new(PatternKind::ColourBars);
+    let m = pattern.render(&geometry)?;
+    let holo_file = dir.join("demo.holo");
+    let options = WriteOptions {
+        source: format!("{} layout=mark3", pattern.describe()),
+        overwrite: true,
+        ..WriteOptions::default()
+    };
+    crate::format::write(&holo_file, &m, &options)?;
+    let info = info(&holo_file, true)?;
+    Ok(Demo { holo_file, info })
+}
