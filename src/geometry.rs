@@ -94,11 +94,7 @@ pub const CHANNEL_NAMES: [&str; 4] = ["R", "G", "B", "Y"];
 /// Red, green and blue at the HeNe, frequency-doubled Nd:YAG and 445 nm diode
 /// lines used by the MIT displays (Mark IV source, DESIGN.md §4).
 pub fn rgb_channels() -> Vec<ColourChannel> {
-    vec![
-        ColourChannel::new("R", 633e-9),
-        ColourChannel::new("G", 532e-9),
-        ColourChannel::new("B", 445e-9),
-    ]
+    vec![ColourChannel::new("R", 633e-9), ColourChannel::new("G", 532e-9), ColourChannel::new("B", 445e-9)]
 }
 
 /// One channel at 633 nm.
@@ -200,7 +196,9 @@ impl Geometry {
         if self.parallax != Parallax::Horizontal {
             out.push("full parallax is reserved in format version 1 and not yet supported".into());
         }
-        for (what, n) in [("hololine count", self.hololines), ("emitter count", self.emitters), ("view count", self.views.count)] {
+        for (what, n) in
+            [("hololine count", self.hololines), ("emitter count", self.emitters), ("view count", self.views.count)]
+        {
             if n == 0 {
                 out.push(format!("{what} is zero"));
             }

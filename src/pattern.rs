@@ -39,11 +39,7 @@ impl PatternKind {
 
     /// The command-line name.
     pub fn name(self) -> &'static str {
-        Self::ALL
-            .iter()
-            .find(|(k, _)| *k == self)
-            .map(|(_, n)| *n)
-            .unwrap_or("?")
+        Self::ALL.iter().find(|(k, _)| *k == self).map(|(_, n)| *n).unwrap_or("?")
     }
 }
 
@@ -67,14 +63,7 @@ pub struct Pattern {
 impl Pattern {
     /// A pattern with default parameters.
     pub fn new(kind: PatternKind) -> Self {
-        Pattern {
-            kind,
-            emitter: None,
-            view: None,
-            every: 8,
-            cell: 8,
-            level: 1.0,
-        }
+        Pattern { kind, emitter: None, view: None, every: 8, cell: 8, level: 1.0 }
     }
 
     /// One-line description for provenance (`holo.source`).
@@ -95,18 +84,14 @@ impl Pattern {
         let g = geometry;
         let level = self.level;
         if !(level.is_finite() && level >= 0.0) {
-            return Err(Error::Usage(format!(
-                "pattern level {level} must be finite and not negative"
-            )));
+            return Err(Error::Usage(format!("pattern level {level} must be finite and not negative")));
         }
         let pick = |what: &str, i: Option<usize>, n: usize| -> Result<usize> {
             let i = i.unwrap_or(n / 2);
             if i < n {
                 Ok(i)
             } else {
-                Err(Error::Usage(format!(
-                    "{what} {i} is out of range: the layout has {n}"
-                )))
+                Err(Error::Usage(format!("{what} {i} is out of range: the layout has {n}")))
             }
         };
         let emitter = pick("emitter", self.emitter, g.emitters)?;
@@ -164,27 +149,15 @@ mod tests {
     #[test]
     fn patterns_light_what_they_say() {
         let g = mark3().geometry;
-        let m = Pattern {
-            emitter: Some(17),
-            ..Pattern::new(PatternKind::SingleEmitter)
-        }
-        .render(&g)
-        .unwrap();
+        let m = Pattern { emitter: Some(17), ..Pattern::new(PatternKind::SingleEmitter) }.render(&g).unwrap();
         assert_eq!(m.get(0, 5, 17, 3), 1.0);
         assert_eq!(m.get(0, 5, 18, 3), 0.0);
         let m = Pattern::new(PatternKind::ViewRamp).render(&g).unwrap();
         assert_eq!(m.get(0, 0, 0, 95), 1.0);
         assert_eq!(m.get(0, 0, 0, 0), 0.0);
         let m = Pattern::new(PatternKind::Checkerboard).render(&g).unwrap();
-        assert_eq!(
-            (m.get(0, 0, 0, 0), m.get(0, 8, 0, 0), m.get(0, 8, 8, 0)),
-            (1.0, 0.0, 1.0)
-        );
-        let bad = Pattern {
-            view: Some(96),
-            ..Pattern::new(PatternKind::SingleView)
-        }
-        .render(&g);
+        assert_eq!((m.get(0, 0, 0, 0), m.get(0, 8, 0, 0), m.get(0, 8, 8, 0)), (1.0, 0.0, 1.0));
+        let bad = Pattern { view: Some(96), ..Pattern::new(PatternKind::SingleView) }.render(&g);
         assert!(bad.is_err());
     }
 }

@@ -35,23 +35,13 @@ pub fn info(path: impl AsRef<Path>, values: bool) -> Result<Info> {
     } else {
         None
     };
-    Ok(Info {
-        raw_bytes: file.info().raw_bytes(),
-        file: file.info().clone(),
-        value_ranges,
-    })
+    Ok(Info { raw_bytes: file.info().raw_bytes(), file: file.info().clone(), value_ranges })
 }
 
 /// Whether two files hold the same content: same geometry, sample type and
 /// frame digests (compression and data window may differ).
 pub fn same_content(a: &Info, b: &Info) -> bool {
-    let digests = |i: &Info| {
-        i.file
-            .frames
-            .iter()
-            .map(|f| f.digest.clone())
-            .collect::<Vec<_>>()
-    };
+    let digests = |i: &Info| i.file.frames.iter().map(|f| f.digest.clone()).collect::<Vec<_>>();
     a.file.geometry == b.file.geometry
         && a.file.sample_type == b.file.sample_type
         && digests(a).iter().all(Option::is_some)
@@ -64,23 +54,14 @@ impl fmt::Display for Info {
         let g = &i.geometry;
         let mm = |m: f64| m * 1e3;
         writeln!(f, "{}", i.path.display())?;
-        writeln!(
-            f,
-            "  format        .holo {}.{} (OpenEXR), {} frame(s)",
-            i.version.0,
-            i.version.1,
-            i.frames.len()
-        )?;
+        writeln!(f, "  format        .holo {}.{} (OpenEXR), {} frame(s)", i.version.0, i.version.1, i.frames.len())?;
         writeln!(
             f,
             "  size          {} hololines × {} emitters × {} views, {:?} parallax",
             g.hololines, g.emitters, g.views.count, g.parallax
         )?;
-        let colours: Vec<String> = g
-            .channels
-            .iter()
-            .map(|c| format!("{} {:.1} nm", c.name, c.wavelength_m * 1e9))
-            .collect();
+        let colours: Vec<String> =
+            g.channels.iter().map(|c| format!("{} {:.1} nm", c.name, c.wavelength_m * 1e9)).collect();
         writeln!(
             f,
             "  channels      {} ({} EXR channels, {:?})",
@@ -133,11 +114,7 @@ impl fmt::Display for Info {
         if let Some(fps) = i.frames_per_second {
             writeln!(f, "  frame rate    {}/{} per second", fps.0, fps.1)?;
         }
-        writeln!(
-            f,
-            "  written by    {}",
-            i.software.as_deref().unwrap_or("(unknown)")
-        )?;
+        writeln!(f, "  written by    {}", i.software.as_deref().unwrap_or("(unknown)"))?;
         if let Some(s) = &i.source {
             writeln!(f, "  source        {s}")?;
         }

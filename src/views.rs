@@ -27,10 +27,7 @@ pub struct ToneMapping {
 
 impl Default for ToneMapping {
     fn default() -> Self {
-        ToneMapping {
-            white: 1.0,
-            bits: 16,
-        }
+        ToneMapping { white: 1.0, bits: 16 }
     }
 }
 
@@ -71,41 +68,25 @@ pub fn view_file_name(v: usize, view_count: usize) -> String {
 
 fn check_tone(tone: &ToneMapping) -> Result<()> {
     if !(tone.white.is_finite() && tone.white > 0.0) {
-        return Err(Error::Usage(format!(
-            "white level {} must be finite and positive",
-            tone.white
-        )));
+        return Err(Error::Usage(format!("white level {} must be finite and positive", tone.white)));
     }
     if tone.bits != 8 && tone.bits != 16 {
-        return Err(Error::Usage(format!(
-            "{} bits per component: choose 8 or 16",
-            tone.bits
-        )));
+        return Err(Error::Usage(format!("{} bits per component: choose 8 or 16", tone.bits)));
     }
     Ok(())
 }
 
 /// Write every view of `m` as a PNG into `dir` (created if needed), plus the
 /// sidecar. Refuses to replace existing files unless `overwrite`.
-pub fn export_views(
-    m: &Modulation,
-    dir: &Path,
-    tone: &ToneMapping,
-    overwrite: bool,
-) -> Result<Vec<PathBuf>> {
+pub fn export_views(m: &Modulation, dir: &Path, tone: &ToneMapping, overwrite: bool) -> Result<Vec<PathBuf>> {
     check_tone(tone)?;
     let g = m.geometry();
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    let mut targets: Vec<PathBuf> = (0..g.views.count)
-        .map(|v| dir.join(view_file_name(v, g.views.count)))
-        .collect();
+    let mut targets: Vec<PathBuf> = (0..g.views.count).map(|v| dir.join(view_file_name(v, g.views.count))).collect();
     targets.push(dir.join(SIDECAR));
     if !overwrite {
         if let Some(p) = targets.iter().find(|p| p.exists()) {
-            return Err(Error::Usage(format!(
-                "{}: already exists; not overwritten (use --force)",
-                p.display()
-            )));
+            return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", p.display())));
         }
     }
     let colour_slot = |name: &str| match name {
@@ -125,46 +106,32 @@ pub fn export_views(
         };
         match (mono, tone.bits) {
             (Some(c), 8) => save(
-                ImageBuffer::from_fn(w, h, |x, y| {
-                    Luma([quantise(m.get(c, y as usize, x as usize, v)) as u8])
-                })
-                .save(path),
+                ImageBuffer::from_fn(w, h, |x, y| Luma([quantise(m.get(c, y as usize, x as usize, v)) as u8]))
+                    .save(path),
             )?,
             (Some(c), _) => save(
-                ImageBuffer::from_fn(w, h, |x, y| {
-                    Luma([quantise(m.get(c, y as usize, x as usize, v)) as u16])
-                })
-                .save(path),
+                ImageBuffer::from_fn(w, h, |x, y| Luma([quantise(m.get(c, y as usize, x as usize, v)) as u16]))
+                    .save(path),
             )?,
             (None, bits) => {
                 let mut rgb = vec![[0f64; 3]; (w * h) as usize];
                 for (c, ch) in g.channels.iter().enumerate() {
                     for j in 0..g.hololines {
                         for e in 0..g.emitters {
-                            rgb[j * g.emitters + e][colour_slot(&ch.name)] =
-                                quantise(m.get(c, j, e, v));
+                            rgb[j * g.emitters + e][colour_slot(&ch.name)] = quantise(m.get(c, j, e, v));
                         }
                     }
                 }
                 let px = |x: u32, y: u32| rgb[(y * w + x) as usize];
                 if bits == 8 {
-                    save(
-                        ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u8)))
-                            .save(path),
-                    )?
+                    save(ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u8))).save(path))?
                 } else {
-                    save(
-                        ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u16)))
-                            .save(path),
-                    )?
+                    save(ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u16))).save(path))?
                 }
             }
         }
     }
-    let sidecar = Sidecar {
-        geometry: g.clone(),
-        tone: tone.clone(),
-    };
+    let sidecar = Sidecar { geometry: g.clone(), tone: tone.clone() };
     let json = serde_json::to_string_pretty(&sidecar).map_err(|e| Error::Usage(e.to_string()))?;
     let side = dir.join(SIDECAR);
     std::fs::write(&side, json).map_err(|e| Error::io(&side, e))?;
@@ -174,8 +141,7 @@ pub fn export_views(
 /// Read the sidecar of an exported directory.
 pub fn read_sidecar(path: &Path) -> Result<Sidecar> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    serde_json::from_str(&text)
-        .map_err(|e| Error::invalid(path, format!("not a holo-views sidecar: {e}")))
+    serde_json::from_str(&text).map_err(|e| Error::invalid(path, format!("not a holo-views sidecar: {e}")))
 }
 
 /// Read a geometry from a JSON file: a bare [`Geometry`] or a sidecar.
@@ -184,8 +150,7 @@ pub fn read_geometry_json(path: &Path) -> Result<Geometry> {
     if let Ok(s) = serde_json::from_str::<Sidecar>(&text) {
         return Ok(s.geometry);
     }
-    serde_json::from_str(&text)
-        .map_err(|e| Error::invalid(path, format!("not a geometry JSON file: {e}")))
+    serde_json::from_str(&text).map_err(|e| Error::invalid(path, format!("not a geometry JSON file: {e}")))
 }
 
 /// Build a modulation from the PNGs in `dir` (the inverse of [`export_views`]).

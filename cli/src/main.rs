@@ -148,10 +148,7 @@ enum ChannelsArg {
 fn parse_compression(s: &str) -> Result<Compression, String> {
     Compression::from_name(s).ok_or_else(|| {
         let names: Vec<&str> = Compression::ALL.iter().map(|c| c.name()).collect();
-        format!(
-            "unknown compression {s:?}; choose one of {}",
-            names.join(", ")
-        )
+        format!("unknown compression {s:?}; choose one of {}", names.join(", "))
     })
 }
 
@@ -175,23 +172,9 @@ type Outcome = Result<ExitCode, String>;
 
 fn run(cli: Cli) -> Outcome {
     match cli.command {
-        Command::Info {
-            files,
-            json,
-            headers_only,
-        } => info(&files, json, !headers_only),
+        Command::Info { files, json, headers_only } => info(&files, json, !headers_only),
         Command::Validate { files, json } => validate(&files, json),
-        Command::Pattern {
-            layout,
-            kind,
-            emitter,
-            view,
-            every,
-            cell,
-            level,
-            channels,
-            write,
-        } => {
+        Command::Pattern { layout, kind, emitter, view, every, cell, level, channels, write } => {
             let mut geometry = layout_geometry(&layout)?;
             match channels {
                 Some(ChannelsArg::Rgb) => geometry.channels = rgb_channels(),
@@ -206,26 +189,12 @@ fn run(cli: Cli) -> Outcome {
                 KindArg::ColourBars => PatternKind::ColourBars,
                 KindArg::Checkerboard => PatternKind::Checkerboard,
             };
-            let pattern = Pattern {
-                kind,
-                emitter,
-                view,
-                every,
-                cell,
-                level,
-            };
+            let pattern = Pattern { kind, emitter, view, every, cell, level };
             let m = pattern.render(&geometry).map_err(|e| e.to_string())?;
             let source = format!("{} layout={layout}", pattern.describe());
             write_file(&m, &write, source)
         }
-        Command::ExportViews {
-            file,
-            out,
-            frame,
-            bits,
-            white,
-            force,
-        } => {
+        Command::ExportViews { file, out, frame, bits, white, force } => {
             let holo_file = holo::HoloFile::open(&file).map_err(|e| e.to_string())?;
             let m = holo_file.read_frame(frame).map_err(|e| e.to_string())?;
             let white = if white == "auto" {
@@ -236,26 +205,14 @@ fn run(cli: Cli) -> Outcome {
                     1.0
                 }
             } else {
-                white
-                    .parse::<f32>()
-                    .map_err(|_| format!("--white {white:?} is not a number or `auto`"))?
+                white.parse::<f32>().map_err(|_| format!("--white {white:?} is not a number or `auto`"))?
             };
-            let written = holo::views::export_views(&m, &out, &ToneMapping { white, bits }, force)
-                .map_err(|e| e.to_string())?;
-            println!(
-                "wrote {} view PNGs and {} to {}",
-                written.len() - 1,
-                SIDECAR,
-                out.display()
-            );
+            let written =
+                holo::views::export_views(&m, &out, &ToneMapping { white, bits }, force).map_err(|e| e.to_string())?;
+            println!("wrote {} view PNGs and {} to {}", written.len() - 1, SIDECAR, out.display());
             Ok(ExitCode::SUCCESS)
         }
-        Command::ImportViews {
-            dir,
-            geometry,
-            white,
-            write,
-        } => {
+        Command::ImportViews { dir, geometry, white, write } => {
             let sidecar_path = dir.join(SIDECAR);
             let sidecar = sidecar_path
                 .exists()
@@ -265,35 +222,26 @@ fn run(cli: Cli) -> Outcome {
             let g = match (&geometry, &sidecar) {
                 (Some(name), _) => layout_geometry(name)?,
                 (None, Some(s)) => s.geometry.clone(),
-                (None, None) => return Err(format!(
-                    "{}: no {SIDECAR} here; say which geometry with --geometry LAYOUT|FILE.json",
-                    dir.display()
-                )),
+                (None, None) => {
+                    return Err(format!(
+                        "{}: no {SIDECAR} here; say which geometry with --geometry LAYOUT|FILE.json",
+                        dir.display()
+                    ))
+                }
             };
             let mut tone = sidecar.map(|s| s.tone).unwrap_or_default();
             if let Some(w) = white {
                 tone.white = w;
             }
             let m = holo::views::import_views(&dir, &g, &tone).map_err(|e| e.to_string())?;
-            write_file(
-                &m,
-                &write,
-                format!("holo import-views from {}", dir.display()),
-            )
+            write_file(&m, &write, format!("holo import-views from {}", dir.display()))
         }
         Command::Demo { out } => {
             let demo = holo::report::demo(&out).map_err(|e| e.to_string())?;
             print!("{}", demo.info);
-            println!(
-                "\nThe demo wrote a Mark III colour-bar pattern to {}.",
-                demo.holo_file.display()
-            );
+            println!("\nThe demo wrote a Mark III colour-bar pattern to {}.", demo.holo_file.display());
             println!("Look at it in any OpenEXR viewer (each view is a picture), or as PNGs:");
-            println!(
-                "  holo export-views {} --out {}",
-                demo.holo_file.display(),
-                out.join("views").display()
-            );
+            println!("  holo export-views {} --out {}", demo.holo_file.display(), out.join("views").display());
             Ok(ExitCode::SUCCESS)
         }
     }
@@ -316,11 +264,7 @@ fn layout_geometry(name: &str) -> Result<Geometry, String> {
 
 fn write_file(m: &holo::Modulation, args: &WriteArgs, source: String) -> Outcome {
     let options = WriteOptions {
-        sample_type: if args.f32 {
-            SampleType::F32
-        } else {
-            SampleType::F16
-        },
+        sample_type: if args.f32 { SampleType::F32 } else { SampleType::F16 },
         compression: args.compression,
         source,
         overwrite: args.force,
@@ -330,12 +274,7 @@ fn write_file(m: &holo::Modulation, args: &WriteArgs, source: String) -> Outcome
     for w in &report.warnings {
         eprintln!("holo: warning: {}: {w}", args.output.display());
     }
-    println!(
-        "wrote {} ({} bytes, {})",
-        report.path.display(),
-        report.file_bytes,
-        report.digests[0]
-    );
+    println!("wrote {} ({} bytes, {})", report.path.display(), report.file_bytes, report.digests[0]);
     Ok(ExitCode::SUCCESS)
 }
 
@@ -345,17 +284,10 @@ fn info(files: &[PathBuf], json: bool, values: bool) -> Outcome {
         .map(|f| holo::report::info(f, values))
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| e.to_string())?;
-    let same = (infos.len() > 1).then(|| {
-        infos
-            .windows(2)
-            .all(|w| holo::report::same_content(&w[0], &w[1]))
-    });
+    let same = (infos.len() > 1).then(|| infos.windows(2).all(|w| holo::report::same_content(&w[0], &w[1])));
     if json {
         let value = serde_json::json!({ "files": infos, "same_content": same });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&value).map_err(|e| e.to_string())?
-        );
+        println!("{}", serde_json::to_string_pretty(&value).map_err(|e| e.to_string())?);
     } else {
         for i in &infos {
             print!("{i}");
@@ -363,11 +295,7 @@ fn info(files: &[PathBuf], json: bool, values: bool) -> Outcome {
         if let Some(same) = same {
             println!(
                 "same content: {}",
-                if same {
-                    "yes (equal geometry, sample type and frame digests)"
-                } else {
-                    "no"
-                }
+                if same { "yes (equal geometry, sample type and frame digests)" } else { "no" }
             );
         }
     }
@@ -384,17 +312,14 @@ fn validate(files: &[PathBuf], json: bool) -> Outcome {
         };
         all_valid &= valid;
         if json {
-            reports.push(serde_json::json!({ "file": f, "valid": valid, "violations": violations, "warnings": warnings }));
+            reports
+                .push(serde_json::json!({ "file": f, "valid": valid, "violations": violations, "warnings": warnings }));
             continue;
         }
         if valid {
             println!("{}: valid", f.display());
         } else {
-            println!(
-                "{}: INVALID, {} violation(s)",
-                f.display(),
-                violations.len()
-            );
+            println!("{}: INVALID, {} violation(s)", f.display(), violations.len());
         }
         for v in &violations {
             println!("  violation: {v}");
@@ -404,16 +329,9 @@ fn validate(files: &[PathBuf], json: bool) -> Outcome {
         }
     }
     if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&reports).map_err(|e| e.to_string())?
-        );
+        println!("{}", serde_json::to_string_pretty(&reports).map_err(|e| e.to_string())?);
     }
-    Ok(if all_valid {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
-    })
+    Ok(if all_valid { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
 fn parse_bits(s: &str) -> Result<u8, String> {

@@ -4,8 +4,8 @@
 
 use std::collections::HashMap;
 
-use exr::meta::attribute::{AttributeValue, Text};
 use exr::math::Vec2;
+use exr::meta::attribute::{AttributeValue, Text};
 
 use crate::geometry::{ColourChannel, Geometry, Parallax, ViewSpacing, Views};
 
@@ -45,9 +45,29 @@ pub mod name {
 pub fn is_known(attribute: &str) -> bool {
     use name::*;
     [
-        VERSION, PARALLAX, HOLOLINES, EMITTERS, VIEWS, HOLOLINE_PITCH, HOLOLINE_TOP_Y, EMITTER_PITCH, EMITTER_LEFT_X,
-        EMITTER_Z, VIEWER_DISTANCE, VIEWER_HEIGHT, VIEW_SPACING, VIEW_FIRST, VIEW_LAST, VIEW_ANGLES, RADIOMETRY, SCALE,
-        UNIT, FRAME, FRAME_COUNT, DIGEST, SOURCE,
+        VERSION,
+        PARALLAX,
+        HOLOLINES,
+        EMITTERS,
+        VIEWS,
+        HOLOLINE_PITCH,
+        HOLOLINE_TOP_Y,
+        EMITTER_PITCH,
+        EMITTER_LEFT_X,
+        EMITTER_Z,
+        VIEWER_DISTANCE,
+        VIEWER_HEIGHT,
+        VIEW_SPACING,
+        VIEW_FIRST,
+        VIEW_LAST,
+        VIEW_ANGLES,
+        RADIOMETRY,
+        SCALE,
+        UNIT,
+        FRAME,
+        FRAME_COUNT,
+        DIGEST,
+        SOURCE,
     ]
     .contains(&attribute)
         || attribute.strip_prefix(WAVELENGTH_PREFIX).is_some_and(|c| crate::geometry::CHANNEL_NAMES.contains(&c))
@@ -87,10 +107,13 @@ pub fn geometry_attributes(g: &Geometry, radiometry: &Radiometry) -> HashMap<Tex
         a.insert(Text::new_or_panic(k), v);
     };
     put(VERSION, AttributeValue::IntVec2(Vec2(VERSION_TUPLE.0, VERSION_TUPLE.1)));
-    put(PARALLAX, text(match g.parallax {
-        Parallax::Horizontal => "horizontal",
-        Parallax::Full => "full",
-    }));
+    put(
+        PARALLAX,
+        text(match g.parallax {
+            Parallax::Horizontal => "horizontal",
+            Parallax::Full => "full",
+        }),
+    );
     put(HOLOLINES, AttributeValue::I32(g.hololines as i32));
     put(EMITTERS, AttributeValue::I32(g.emitters as i32));
     put(VIEWS, AttributeValue::I32(g.views.count as i32));
@@ -228,7 +251,10 @@ impl<'a> Attributes<'a> {
         };
         let mut channels = Vec::new();
         for c in colours {
-            channels.push(ColourChannel { name: c.clone(), wavelength_m: self.double(&format!("{WAVELENGTH_PREFIX}{c}"))? });
+            channels.push(ColourChannel {
+                name: c.clone(),
+                wavelength_m: self.double(&format!("{WAVELENGTH_PREFIX}{c}"))?,
+            });
         }
         Ok(Geometry {
             parallax,

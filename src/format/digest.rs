@@ -49,7 +49,7 @@ pub fn frame_digest(m: &Modulation, sample_type: SampleType) -> String {
 
 /// Whether a stored digest text is well formed.
 pub fn is_well_formed(digest: &str) -> bool {
-    digest.strip_prefix(DIGEST_PREFIX).is_some_and(|hex| {
-        hex.len() == 64 && hex.bytes().all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
-    })
+    digest
+        .strip_prefix(DIGEST_PREFIX)
+        .is_some_and(|hex| hex.len() == 64 && hex.bytes().all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b)))
 }

@@ -101,7 +101,8 @@ pub(crate) fn file_info(path: &Path) -> crate::Result<(FileInfo, MetaData)> {
         (Some(info), None) => Ok((info, meta)),
         (_, Some(first)) => {
             let more = parsed.problems.len() - 1;
-            let tail = if more > 0 { format!(" (and {more} more problem(s); run `holo validate`)") } else { String::new() };
+            let tail =
+                if more > 0 { format!(" (and {more} more problem(s); run `holo validate`)") } else { String::new() };
             Err(Error::invalid(path, format!("{first}{tail}")))
         }
         (None, None) => Err(Error::invalid(path, "the headers could not be read")),
@@ -130,7 +131,12 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
         }
     };
     if version.0 > VERSION.0 {
-        return Err(Error::NewerMajorVersion { path: path.into(), major: version.0, minor: version.1, supported: VERSION.0 });
+        return Err(Error::NewerMajorVersion {
+            path: path.into(),
+            major: version.0,
+            minor: version.1,
+            supported: VERSION.0,
+        });
     }
     if version.0 < 1 || version.1 < 0 {
         problems.push(format!("{} is {}.{}; the first version is 1.0", name::VERSION, version.0, version.1));
@@ -219,17 +225,24 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
         {
             problems.push(format!(
                 "{prefix}display window is {}×{} at ({}, {}); it must be emitters × hololines = {}×{} at (0, 0)",
-                display.size.0, display.size.1, display.position.0, display.position.1, geometry.emitters, geometry.hololines
+                display.size.0,
+                display.size.1,
+                display.position.0,
+                display.position.1,
+                geometry.emitters,
+                geometry.hololines
             ));
         }
         let (dx, dy) = (header.own_attributes.layer_position.0, header.own_attributes.layer_position.1);
         let (dw, dh) = (header.layer_size.0, header.layer_size.1);
-        let inside = dx >= 0 && dy >= 0 && dx as usize + dw <= geometry.emitters && dy as usize + dh <= geometry.hololines;
+        let inside =
+            dx >= 0 && dy >= 0 && dx as usize + dw <= geometry.emitters && dy as usize + dh <= geometry.hololines;
         if !inside {
             problems.push(format!("{prefix}data window {dw}×{dh} at ({dx}, {dy}) is not inside the display window"));
         }
         if header.shared_attributes.pixel_aspect != 1.0 {
-            problems.push(format!("{prefix}pixel aspect ratio is {}; it must be 1", header.shared_attributes.pixel_aspect));
+            problems
+                .push(format!("{prefix}pixel aspect ratio is {}; it must be 1", header.shared_attributes.pixel_aspect));
         }
         let number = match here.optional(name::FRAME, Attributes::int) {
             Ok(n) => i64::from(n.unwrap_or(part as i32)),
@@ -239,9 +252,11 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
             }
         };
         match here.optional(name::FRAME_COUNT, Attributes::int) {
-            Ok(Some(n)) if n as usize != headers.len() => {
-                problems.push(format!("{prefix}{} is {n} but the file has {} part(s)", name::FRAME_COUNT, headers.len()))
-            }
+            Ok(Some(n)) if n as usize != headers.len() => problems.push(format!(
+                "{prefix}{} is {n} but the file has {} part(s)",
+                name::FRAME_COUNT,
+                headers.len()
+            )),
             Ok(_) => {}
             Err(e) => problems.push(format!("{prefix}{e}")),
         }
@@ -283,7 +298,8 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
     }
     let unknown_attributes =
         attrs.holo_names().into_iter().filter(|n| !super::attributes::is_known(n)).map(String::from).collect();
-    let text = |t: &Option<exr::meta::attribute::Text>| t.as_ref().map(|t| String::from_utf8_lossy(t.as_slice()).into_owned());
+    let text =
+        |t: &Option<exr::meta::attribute::Text>| t.as_ref().map(|t| String::from_utf8_lossy(t.as_slice()).into_owned());
     let info = FileInfo {
         path: path.into(),
         version,
@@ -347,7 +363,9 @@ fn check_channels(header: &Header, g: &Geometry, problems: &mut Vec<String>) {
     let mut seen = vec![false; g.views.count * g.channels.len()];
     for ch in &header.channels.list {
         let n = String::from_utf8_lossy(ch.name.as_slice());
-        let Some((v, colour, width)) = parse_channel_name(&n) else { continue };
+        let Some((v, colour, width)) = parse_channel_name(&n) else {
+            continue;
+        };
         if width != digits {
             problems.push(format!("channel {n:?}: view numbers must have exactly {digits} digits"));
             return;

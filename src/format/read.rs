@@ -92,10 +92,15 @@ impl HoloFile {
         let path = &self.info.path;
         let g = &self.info.geometry;
         let frame = self.info.frames.get(index).ok_or_else(|| {
-            Error::Usage(format!("{}: has {} frame(s); there is no frame {index}", path.display(), self.info.frames.len()))
+            Error::Usage(format!(
+                "{}: has {} frame(s); there is no frame {index}",
+                path.display(),
+                self.info.frames.len()
+            ))
         })?;
         let ok = |r: &Range<usize>, n: usize| r.start < r.end && r.end <= n;
-        if !ok(&region.hololines, g.hololines) || !ok(&region.emitters, g.emitters) || !ok(&region.views, g.views.count) {
+        if !ok(&region.hololines, g.hololines) || !ok(&region.emitters, g.emitters) || !ok(&region.views, g.views.count)
+        {
             return Err(Error::Usage(format!(
                 "{}: region hololines {:?}, emitters {:?}, views {:?} is empty or outside {}×{}×{}",
                 path.display(),

@@ -6,8 +6,8 @@ use std::borrow::Cow;
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
-use exr::block::{BlockIndex, UncompressedBlock};
 use exr::block::writer::ChunksWriter;
+use exr::block::{BlockIndex, UncompressedBlock};
 use exr::math::Vec2;
 use exr::meta::attribute::{ChannelDescription, IntegerBounds, LineOrder, Text};
 use exr::meta::header::{Header, LayerAttributes};
@@ -107,7 +107,8 @@ pub fn write_frames<'a>(
         windows[0] = covered_window(&m);
         first = Some(m);
     }
-    let headers: Vec<Header> = (0..frame_count).map(|i| part_header(geometry, options, i, frame_count, &windows[i], &digests[i])).collect();
+    let headers: Vec<Header> =
+        (0..frame_count).map(|i| part_header(geometry, options, i, frame_count, &windows[i], &digests[i])).collect();
 
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
@@ -184,12 +185,19 @@ pub fn write_frames<'a>(
 fn check_writable(path: &Path, g: &Geometry, frame_count: usize, options: &WriteOptions) -> Result<()> {
     let problems = g.problems();
     if !problems.is_empty() {
-        return Err(Error::Usage(format!("{}: cannot write an invalid geometry: {}", path.display(), problems.join("; "))));
+        return Err(Error::Usage(format!(
+            "{}: cannot write an invalid geometry: {}",
+            path.display(),
+            problems.join("; ")
+        )));
     }
     if frame_count == 0 || frame_count as u64 > MAX_FRAMES {
         return Err(Error::Usage(format!("{}: {frame_count} frames; a file holds 1 to {MAX_FRAMES}", path.display())));
     }
-    if g.hololines as u64 > MAX_SIDE || g.emitters as u64 > MAX_SIDE || (g.views.count * g.channels.len()) as u64 > MAX_CHANNELS {
+    if g.hololines as u64 > MAX_SIDE
+        || g.emitters as u64 > MAX_SIDE
+        || (g.views.count * g.channels.len()) as u64 > MAX_CHANNELS
+    {
         return Err(Error::Usage(format!("{}: geometry exceeds the format's limits", path.display())));
     }
     if !options.overwrite && path.exists() {
@@ -218,7 +226,8 @@ fn check_frame(path: &Path, g: &Geometry, m: &Modulation, options: &WriteOptions
     if options.sample_type == SampleType::F16 {
         if let Some(i) = m.samples().iter().position(|x| half::f16::from_f32(*x).is_infinite()) {
             let vc = g.views.count;
-            let (v, e, j, c) = (i % vc, (i / vc) % g.emitters, (i / vc / g.emitters) % g.hololines, i / vc / g.emitters / g.hololines);
+            let (v, e, j, c) =
+                (i % vc, (i / vc) % g.emitters, (i / vc / g.emitters) % g.hololines, i / vc / g.emitters / g.hololines);
             return Err(bad((c, j, e, v, m.samples()[i], "too large for f16 (max 65504); write f32")));
         }
     }
@@ -256,10 +265,20 @@ fn covered_window(m: &Modulation) -> IntegerBounds {
     IntegerBounds::new(Vec2(x0 as i32, y0 as i32), Vec2(x1 - x0 + 1, y1 - y0 + 1))
 }
 
-fn part_header(g: &Geometry, options: &WriteOptions, part: usize, frame_count: usize, window: &IntegerBounds, digest: &str) -> Header {
+fn part_header(
+    g: &Geometry,
+    options: &WriteOptions,
+    part: usize,
+    frame_count: usize,
+    window: &IntegerBounds,
+    digest: &str,
+) -> Header {
     let order = ChannelOrder::new(g);
-    let channels: SmallVec<[ChannelDescription; 5]> =
-        order.names(g).into_iter().map(|n| ChannelDescription::new(Text::new_or_panic(n), options.sample_type.to_exr(), false)).collect();
+    let channels: SmallVec<[ChannelDescription; 5]> = order
+        .names(g)
+        .into_iter()
+        .map(|n| ChannelDescription::new(Text::new_or_panic(n), options.sample_type.to_exr(), false))
+        .collect();
     let mut own = LayerAttributes::named(Text::new_or_panic(format!("frame{:05}", part)));
     own.layer_position = window.position;
     own.software_name = Some(Text::new_or_panic(format!("holo {}", env!("CARGO_PKG_VERSION"))));
@@ -283,7 +302,14 @@ fn part_header(g: &Geometry, options: &WriteOptions, part: usize, frame_count: u
 
 /// The uncompressed bytes of one block: line by line, channel by channel in
 /// list order, emitter by emitter, native-endian.
-fn block(m: &Modulation, order: &ChannelOrder, header: &Header, part: usize, bounds: IntegerBounds, sample_type: SampleType) -> UncompressedBlock {
+fn block(
+    m: &Modulation,
+    order: &ChannelOrder,
+    header: &Header,
+    part: usize,
+    bounds: IntegerBounds,
+    sample_type: SampleType,
+) -> UncompressedBlock {
     let g = m.geometry();
     let (x0, y0) = (header.own_attributes.layer_position.0 as usize, header.own_attributes.layer_position.1 as usize);
     let (bx, by) = (bounds.position.0 as usize, bounds.position.1 as usize);
@@ -333,11 +359,14 @@ fn canonicalize_headers(path: &Path, digests: &[String]) -> Result<()> {
                 at += 1;
                 break;
             }
-            let type_end = head[name_end + 1..].iter().position(|b| *b == 0).ok_or_else(|| internal("unterminated type"))?
-                + name_end
-                + 1;
+            let type_end =
+                head[name_end + 1..].iter().position(|b| *b == 0).ok_or_else(|| internal("unterminated type"))?
+                    + name_end
+                    + 1;
             let size_at = type_end + 1;
-            let size = u32::from_le_bytes(head.get(size_at..size_at + 4).ok_or_else(|| internal("short"))?.try_into().unwrap_or_default()) as usize;
+            let size = u32::from_le_bytes(
+                head.get(size_at..size_at + 4).ok_or_else(|| internal("short"))?.try_into().unwrap_or_default(),
+            ) as usize;
             let end = size_at + 4 + size;
             if end > head.len() {
                 return Err(internal("attribute runs past the header"));
