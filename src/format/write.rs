@@ -168,6 +168,13 @@ pub fn write_frames<'a>(
         return Err(e);
     }
     written.map_err(|e| Error::exr(temp.path(), e))?;
+    if !options.compression.is_lossless_for(options.sample_type) {
+        // The digest must describe what a reader will decode, not what was asked for.
+        let stored = super::read::HoloFile::open(temp.path())?;
+        for (i, d) in digests.iter_mut().enumerate() {
+            *d = frame_digest(&stored.read_region(i, &super::read::Region::all(geometry))?, options.sample_type);
+        }
+    }
     canonicalize_headers(temp.path(), &digests)?;
     temp.as_file().sync_all().map_err(|e| Error::io(temp.path(), e))?;
     let file_bytes = temp.as_file().metadata().map_err(|e| Error::io(temp.path(), e))?.len();

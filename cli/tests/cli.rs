@@ -1,0 +1,155 @@
+//! The `holo` binary as a user meets it: exit codes (0 ok, 1 error, 2 usage),
+//! one-sentence errors naming the file, `--help` everywhere, nothing overwritten.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn holo(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_holo")).args(args).current_dir(cwd).output().expect("run holo")
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+#[test]
+fn help_on_every_command_and_usage_errors_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    for cmd in [
+        &["--help"][..],
+        &["info", "--help"],
+        &["validate", "--help"],
+        &["pattern", "--help"],
+        &["export-views", "--help"],
+        &["import-views", "--help"],
+        &["demo", "--help"],
+    ] {
+        let o = holo(cmd, dir.path());
+        assert_eq!(o.status.code(), Some(0), "{cmd:?}: {}", text(&o));
+        assert!(text(&o).contains("Usage"), "{cmd:?}");
+    }
+    for cmd in [
+        &["frobnicate"][..],
+        &["info"],
+        &["pattern", "--kind", "nonsense", "-o", "x.holo"],
+        &["pattern", "--kind", "view-ramp"],
+        &["export-views", "a.holo", "--out", "d", "--bits", "12"],
+    ] {
+        let o = holo(cmd, dir.path());
+        assert_eq!(o.status.code(), Some(2), "{cmd:?}: {}", text(&o));
+    }
+}
+
+#[test]
+fn every_pattern_for_both_layouts_is_valid_and_described() {
+    let dir = tempfile::tempdir().unwrap();
+    for layout in ["mark3", "mark1"] {
+        for kind in ["single-emitter", "single-view", "every-nth-emitter", "view-ramp", "colour-bars", "checkerboard"] {
+            let file = format!("{layout}-{kind}.holo");
+            let o = holo(&["pattern", "--layout", layout, "--kind", kind, "-o", &file], dir.path());
+            assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+            let o = holo(&["validate", &file], dir.path());
+            assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+            let o = holo(&["info", "--json", &file], dir.path());
+            let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+            let g = &json["files"][0]["geometry"];
+            let expected = holo::layout::builtin(layout).unwrap().geometry;
+            assert_eq!(g["hololines"], expected.hololines);
+            assert_eq!(g["emitters"], expected.emitters);
+            assert_eq!(g["views"]["count"], expected.views.count);
+            assert!(json["files"][0]["source"].as_str().unwrap().contains(kind));
+        }
+    }
+}
+
+#[test]
+fn errors_name_the_file_exit_1_and_overwrite_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "a.holo"], dir.path());
+    assert_eq!(o.status.code(), Some(0));
+    let before = std::fs::read(dir.path().join("a.holo")).unwrap();
+    let o = holo(&["pattern", "--layout", "mark1", "--kind", "checkerboard", "-o", "a.holo"], dir.path());
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("a.holo") && text(&o).contains("already exists"), "{}", text(&o));
+    assert_eq!(std::fs::read(dir.path().join("a.holo")).unwrap(), before);
+    // --force replaces.
+    let o = holo(&["pattern", "--layout", "mark1", "--kind", "checkerboard", "-o", "a.holo", "--force"], dir.path());
+    assert_eq!(o.status.code(), Some(0));
+
+    for (args, needle) in [
+        (&["info", "missing.holo"][..], "missing.holo"),
+        (&["pattern", "--layout", "mark9", "--kind", "view-ramp", "-o", "b.holo"], "unknown layout"),
+        (&["pattern", "--layout", "mark3", "--kind", "single-view", "--view", "96", "-o", "b.holo"], "view 96"),
+    ] {
+        let o = holo(args, dir.path());
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        let t = text(&o);
+        assert!(t.contains(needle), "{args:?}: {t}");
+        assert_eq!(t.lines().count(), 1, "one sentence: {t}");
+        assert!(!t.contains("panicked") && !t.contains("RUST_BACKTRACE"));
+    }
+    // A damaged file: validate lists the problem and exits 1.
+    let mut bytes = std::fs::read(dir.path().join("a.holo")).unwrap();
+    let n = bytes.len();
+    bytes.truncate(n - 100);
+    std::fs::write(dir.path().join("cut.holo"), &bytes).unwrap();
+    let o = holo(&["validate", "cut.holo"], dir.path());
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("cut.holo"));
+    let o = holo(&["info", "cut.holo"], dir.path());
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+}
+
+#[test]
+fn views_export_and_import_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = holo(
+        &["pattern", "--layout", "mark1", "--kind", "colour-bars", "--level", "0.7", "-o", "bars.holo", "--f32"],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let o = holo(&["export-views", "bars.holo", "--out", "views"], dir.path());
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(dir.path().join("views/view_000.png").exists() && dir.path().join("views/view_004.png").exists());
+    // Exporting again refuses to overwrite.
+    let o = holo(&["export-views", "bars.holo", "--out", "views"], dir.path());
+    assert_eq!(o.status.code(), Some(1));
+    let o = holo(&["import-views", "views", "-o", "back.holo", "--f32"], dir.path());
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let a = holo::read(dir.path().join("bars.holo")).unwrap();
+    let b = holo::read(dir.path().join("back.holo")).unwrap();
+    assert_eq!(a.geometry(), b.geometry());
+    // 16-bit sRGB steps are at most ~1e-4 of white near white.
+    let worst = a.samples().iter().zip(b.samples()).map(|(x, y)| (x - y).abs()).fold(0f32, f32::max);
+    assert!(worst < 1e-4, "worst {worst}");
+    assert!(b.samples().iter().any(|x| *x > 0.69));
+}
+
+#[test]
+fn info_tells_whether_two_files_hold_the_same_content() {
+    let dir = tempfile::tempdir().unwrap();
+    for (file, compression, kind) in
+        [("zip.holo", "zip", "view-ramp"), ("piz.holo", "piz", "view-ramp"), ("other.holo", "zip", "checkerboard")]
+    {
+        let o = holo(
+            &["pattern", "--layout", "mark1", "--kind", kind, "--compression", compression, "-o", file],
+            dir.path(),
+        );
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    }
+    let o = holo(&["info", "zip.holo", "piz.holo"], dir.path());
+    assert!(text(&o).contains("same content: yes"), "{}", text(&o));
+    let o = holo(&["info", "zip.holo", "other.holo"], dir.path());
+    assert!(text(&o).contains("same content: no"), "{}", text(&o));
+}
+
+#[test]
+fn demo_runs_and_says_where_its_files_are() {
+    let dir = tempfile::tempdir().unwrap();
+    for _ in 0..2 {
+        let o = holo(&["demo"], dir.path());
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+        assert!(text(&o).contains("holo-demo/demo.holo"));
+    }
+    assert!(holo::format::validate(dir.path().join("holo-demo/demo.holo")).unwrap().is_valid());
+}
