@@ -126,6 +126,7 @@ pub fn write_frames<'a>(
     let written = {
         let out = BufWriter::with_capacity(1 << 20, temp.as_file());
         exr::block::write(out, headers.into(), true, |meta, chunk_writer| {
+            #[allow(clippy::needless_range_loop)] // `part` is also the EXR part index
             for part in 0..frame_count {
                 let m = match first.take() {
                     Some(m) => m,
@@ -289,7 +290,7 @@ fn part_header(
     let mut own = LayerAttributes::named(Text::new_or_panic(format!("frame{:05}", part)));
     own.layer_position = window.position;
     own.software_name = Some(Text::new_or_panic(format!("holo {}", env!("CARGO_PKG_VERSION"))));
-    own.frames_per_second = options.frames_per_second.map(|(n, d)| (n, d));
+    own.frames_per_second = options.frames_per_second;
     let mut put = |k: &str, v| {
         own.other.insert(Text::new_or_panic(k), v);
     };
@@ -358,7 +359,7 @@ fn canonicalize_headers(path: &Path, digests: &[String]) -> Result<()> {
     let mut at = 8;
     let mut rewritten = Vec::with_capacity(head.len());
     rewritten.extend_from_slice(&head[..8]);
-    for part in 0..digests.len() {
+    for digest in digests {
         let mut attributes: Vec<(&[u8], &[u8])> = Vec::new();
         loop {
             let name_end = head[at..].iter().position(|b| *b == 0).ok_or_else(|| internal("unterminated name"))? + at;
@@ -384,9 +385,9 @@ fn canonicalize_headers(path: &Path, digests: &[String]) -> Result<()> {
         attributes.sort_by(|a, b| a.0.cmp(b.0));
         for (name_bytes, whole) in attributes {
             if name_bytes == name::DIGEST.as_bytes() {
-                let keep = whole.len() - digests[part].len();
+                let keep = whole.len() - digest.len();
                 rewritten.extend_from_slice(&whole[..keep]);
-                rewritten.extend_from_slice(digests[part].as_bytes());
+                rewritten.extend_from_slice(digest.as_bytes());
             } else {
                 rewritten.extend_from_slice(whole);
             }
