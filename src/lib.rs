@@ -1,7 +1,7 @@
 //! `holo`: the modulation texture of a holographic stereogram as a standard
 //! file, and the conversions around it.
 //!
-//! Start at [`Geometry`] and [`Modulation`] (the data), then [`format`] (the
+//! Start at [`Geometry`] and [`Modulation`] (the data), then [`format`](mod@format) (the
 //! `.holo` file, spec/holo-format.md), [`layout`] (display profiles),
 //! [`pattern`] (test patterns) and [`views`] (PNG export and import).
 #![deny(missing_docs)]

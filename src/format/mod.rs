@@ -3,7 +3,7 @@
 //! views, and whose `holo.*` attributes carry the geometry.
 //!
 //! Start reading at [`HoloFile::open`] (lazy reading) and [`write_frames`]
-//! (streaming writes); [`read`] and [`write`] are the one-call shortcuts.
+//! (streaming writes); [`read()`] and [`write()`] are the one-call shortcuts.
 
 mod attributes;
 mod channels;
