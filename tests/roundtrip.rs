@@ -216,3 +216,16 @@ proptest! {
         prop_assert_eq!(back, expected);
     }
 }
+
+#[cfg(unix)]
+#[test]
+fn written_files_honour_the_umask() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mode.holo");
+    write(&path, &random(geometry(2, 2, 2, false), 3), &WriteOptions::default()).unwrap();
+    let mode = std::fs::metadata(&path).unwrap().permissions().mode() & 0o777;
+    // Readable by others unless the umask forbids it; never the 0600 of a temp file under umask 022.
+    assert_ne!(mode, 0o600, "mode {mode:o}: the umask was ignored");
+    assert_eq!(mode & 0o111, 0, "not executable");
+}

@@ -187,11 +187,11 @@ impl<'a> Attributes<'a> {
             other => Err(Self::wrong(k, "int", other)),
         }
     }
-    /// A `double` attribute (a `float` is accepted and widened).
+    /// A `double` attribute. A `float` is refused: positions and wavelengths
+    /// need double precision, and widening would hide the loss.
     pub fn double(&self, k: &str) -> Result<f64, String> {
         match self.get(k)? {
             AttributeValue::F64(x) => Ok(*x),
-            AttributeValue::F32(x) => Ok(f64::from(*x)),
             other => Err(Self::wrong(k, "double", other)),
         }
     }

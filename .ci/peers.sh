@@ -1,0 +1,198 @@
+#!/usr/bin/env bash
+# Real clients nobody here wrote: .holo files checked by the OpenEXR project's
+# own tools in both directions.
+#
+#   holo -> OpenEXR  examples/peer_vectors.rs writes .holo files and what they
+#                    must hold; Debian's `exrheader` must list the holo.*
+#                    attributes and channels; tests/peer/openexr_peer.py (PyPI
+#                    OpenEXR) must find every attribute, type, probe sample and
+#                    digest exactly.
+#   OpenEXR -> holo  openexr_peer.py writes .holo files with OpenEXR alone, and
+#                    re-encodes holo's files through OpenEXR; examples/peer_read.rs
+#                    (HoloFile::open, validate, read_frame) must read them back
+#                    exactly; so must `holo validate` once the CLI has it.
+#
+# Usage: .ci/peers.sh            (from anywhere; needs network the first time)
+# Environment: PEER_VENV=DIR     virtualenv to use/create (default target/peer-venv)
+#              PEERS_KEEP=1      keep the temporary directory of files
+# Prints one line per check and ends with `N passed, M failed`; exit status 1
+# when anything failed.
+set -euo pipefail
+
+cd "$(dirname "$0")/.."
+root=$(pwd)
+venv=${PEER_VENV:-$root/target/peer-venv}
+passed=0
+failed=0
+
+pass() { passed=$((passed + 1)); echo "PASS $*"; }
+fail() { failed=$((failed + 1)); echo "FAIL $*"; }
+info() { echo "info $*"; }
+finish() {
+    echo "$passed passed, $failed failed"
+    if [ "$failed" -eq 0 ]; then exit 0; else exit 1; fi
+}
+
+as_root() {
+    if [ "$(id -u)" -eq 0 ]; then "$@"; elif command -v sudo >/dev/null; then sudo "$@"; else
+        echo "peers.sh: need root (or sudo) to run: $*" >&2
+        return 1
+    fi
+}
+
+# --- tools --------------------------------------------------------------------
+
+if ! command -v exrheader >/dev/null; then
+    info "exrheader missing: installing Debian's openexr package"
+    as_root apt-get update -qq || info "apt-get update failed; trying the install anyway"
+    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq openexr >/dev/null ||
+        info "apt-get install openexr failed"
+fi
+if command -v exrheader >/dev/null; then
+    pass "exrheader available ($(dpkg-query -W -f='openexr ${Version}' openexr 2>/dev/null || echo 'version unknown'))"
+else
+    fail "exrheader available after installing openexr"
+    finish
+fi
+
+if [ ! -x "$venv/bin/python" ]; then
+    info "creating virtualenv $venv"
+    python3 -m venv "$venv" || { fail "python3 -m venv $venv (on Debian: apt-get install python3-venv)"; finish; }
+fi
+if ! "$venv/bin/python" -m pip install -q --disable-pip-version-check OpenEXR numpy; then
+    fail "pip install OpenEXR numpy into $venv"
+    finish
+fi
+py="$venv/bin/python"
+pass "Python OpenEXR $("$py" -c 'import OpenEXR; print(OpenEXR.__version__)'), numpy $("$py" -c 'import numpy; print(numpy.__version__)') in $venv"
+
+if cargo build --release -q --example peer_vectors --example peer_read; then
+    pass "examples peer_vectors and peer_read built"
+else
+    fail "cargo build --release --example peer_vectors --example peer_read"
+    finish
+fi
+examples=$(cargo metadata --format-version 1 --no-deps 2>/dev/null |
+    "$py" -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])')/release/examples
+
+work=$(mktemp -d "${TMPDIR:-/tmp}/holo-peers.XXXXXX")
+if [ "${PEERS_KEEP:-}" = 1 ]; then
+    info "files kept in $work"
+else
+    trap 'rm -rf "$work"' EXIT
+fi
+mkdir -p "$work/holo" "$work/openexr"
+
+# Run a tool that prints PASS/FAIL lines and `N passed, M failed`; add its counts.
+run_counted() {
+    local what=$1
+    shift
+    local log="$work/log.$RANDOM" rc=0
+    "$@" >"$log" 2>&1 || rc=$?
+    local last
+    last=$(tail -n 1 "$log")
+    if [[ $last =~ ^([0-9]+)\ passed,\ ([0-9]+)\ failed$ ]]; then
+        # The tool's own summary becomes an info line; the totals come at the end.
+        sed '$d' "$log"
+        info "$what: $last"
+        passed=$((passed + BASH_REMATCH[1]))
+        failed=$((failed + BASH_REMATCH[2]))
+        if [ "$rc" -ne 0 ] && [ "${BASH_REMATCH[2]}" -eq 0 ]; then fail "$what: exit status $rc with no failed check"; fi
+    else
+        cat "$log"
+        fail "$what: did not finish (exit status $rc)"
+    fi
+}
+
+# --- holo -> OpenEXR ----------------------------------------------------------
+
+if "$examples/peer_vectors" "$work/holo" >"$work/vectors.log" 2>&1; then
+    pass "peer_vectors wrote $(ls "$work/holo"/*.holo | wc -l) .holo files"
+else
+    cat "$work/vectors.log"
+    fail "peer_vectors ran"
+    finish
+fi
+
+# exrheader on a file: the holo.* attributes with their EXR types, and exactly
+# the channels (and pixel type) the JSON lists, in every part.
+exrheader_check() {
+    local file=$1 json=$2 name
+    name=$(basename "$file")
+    local out="$work/exrheader.$name.txt"
+    if ! exrheader "$file" >"$out" 2>&1; then
+        fail "exrheader $name: exit status non-zero: $(head -n 3 "$out")"
+        return
+    fi
+    local parts
+    parts=$("$py" -c 'import json,sys; d=json.load(open(sys.argv[1])); print(len(d.get("parts") or d.get("frames")))' "$json")
+    local pattern
+    for pattern in \
+        'holo\.version \(type v2i\): \(1 0\)$' \
+        'holo\.hololines \(type int\): [0-9]+$' \
+        'holo\.emitters \(type int\): [0-9]+$' \
+        'holo\.views \(type int\): [0-9]+$' \
+        'holo\.digest \(type string\): "sha256:[0-9a-f]{64}"$' \
+        'holo\.wavelength\.[RGBY] \(type double\): [0-9.e+-]+$' \
+        'holo\.emitterPitch \(type double\): [0-9.e+-]+$' \
+        'holo\.viewSpacing \(type string\): "(tan|sin|angle|explicit)"$'; do
+        local n
+        n=$(grep -cE "^$pattern" "$out" || true)
+        if [ "$n" -ge "$parts" ]; then pass "exrheader $name: lists '$pattern' ($n×)"; else
+            fail "exrheader $name: lists '$pattern' in each of $parts part(s): found $n"; fi
+    done
+    # Channel lines look like "    v000.R, 16-bit floating-point, sampling 1 1".
+    "$py" -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+if "channels" in d:
+    names = d["channels"]
+else:
+    names = sorted(d["frames"][0]["samples"])
+print("\n".join(names))' "$json" >"$work/expected-channels"
+    local pixel
+    pixel=$("$py" -c 'import json,sys; print({"f16":"16-bit floating-point","f32":"32-bit floating-point"}[json.load(open(sys.argv[1]))["sample_type"]])' "$json")
+    grep -E '^    [^ ]+, ' "$out" | sed -E 's/^    ([^,]+), .*/\1/' >"$work/listed-channels"
+    local expected_lines
+    expected_lines=$(($(wc -l <"$work/expected-channels") * parts))
+    if diff <(sort -u "$work/listed-channels") <(sort "$work/expected-channels") >/dev/null &&
+        [ "$(wc -l <"$work/listed-channels")" -eq "$expected_lines" ]; then
+        pass "exrheader $name: lists the $(wc -l <"$work/expected-channels") channels in each of $parts part(s)"
+    else
+        fail "exrheader $name: channel list differs from the JSON's ($(wc -l <"$work/listed-channels") lines, $expected_lines expected)"
+    fi
+    local wrong
+    wrong=$(grep -E '^    [^ ]+, ' "$out" | grep -vc ", $pixel, sampling 1 1\$" || true)
+    if [ "$wrong" -eq 0 ]; then pass "exrheader $name: every channel $pixel, sampling 1 1"; else
+        fail "exrheader $name: $wrong channel line(s) not '$pixel, sampling 1 1'"; fi
+}
+
+for f in "$work/holo"/*.holo; do
+    exrheader_check "$f" "${f%.holo}.expect.json"
+done
+info "how exrheader shows rgb_f16_none_cropped.holo (channels v001-v009 left out):"
+sed 's/^/info   | /' "$work/exrheader.rgb_f16_none_cropped.holo.txt" | grep -vE '^info   \|     v00[1-9]' || true
+
+run_counted "openexr_peer.py check" "$py" tests/peer/openexr_peer.py check "$work/holo"
+
+# --- OpenEXR -> holo ----------------------------------------------------------
+
+run_counted "openexr_peer.py write" "$py" tests/peer/openexr_peer.py write "$work/openexr"
+run_counted "openexr_peer.py rewrite" "$py" tests/peer/openexr_peer.py rewrite "$work/holo" "$work/openexr"
+for f in "$work/openexr"/*.holo; do
+    exrheader_check "$f" "${f%.holo}.peer.json"
+done
+run_counted "peer_read" "$examples/peer_read" "$work/openexr"
+
+# The CLI, once it offers `holo validate` (exit 0 when valid).
+if cargo build --release -q -p holo-cli 2>/dev/null && [ -x "$examples/../holo" ] &&
+    "$examples/../holo" validate --help >/dev/null 2>&1; then
+    for f in "$work/openexr"/*.holo; do
+        if out=$("$examples/../holo" validate "$f" 2>&1); then pass "holo validate $(basename "$f")"; else
+            fail "holo validate $(basename "$f"): $out"; fi
+    done
+else
+    info "the holo CLI does not build or has no 'validate' yet: checked with examples/peer_read only"
+fi
+
+finish
