@@ -6,6 +6,7 @@
 //! [`pattern`] (test patterns) and [`views`] (PNG export and import).
 #![deny(missing_docs)]
 
+pub mod assemble;
 mod error;
 pub mod format;
 pub mod geometry;

@@ -59,19 +59,23 @@ pub fn mark3() -> Layout {
     let sample_pitch_m = width_m / (emitters as f64 * 64.0);
     let half_fan = 12f64.to_radians();
     let emitter_z_m = 3.0 * 1024.0 * sample_pitch_m / (2.0 * half_fan.tan());
+    let mut geometry = Geometry::centred(
+        440,
+        emitters,
+        segment_centre_views(96, half_fan),
+        0.060 / 440.0,
+        width_m / emitters as f64,
+        emitter_z_m,
+        0.600,
+        mono_channel(),
+    );
+    // Emitter e is centred on sample 64e + 1536 of the 24576-sample hololine,
+    // which is centred on x = 0: the grid sits half a slot left of symmetric.
+    geometry.emitter_left_x_m = (1536.0 - 12288.0) * sample_pitch_m;
     Layout {
         name: "mark3",
         description: "MIT Mark III (Smithwick et al. 2009): 336 emitters × 440 hololines × 96 views, 80 × 60 mm, 24°",
-        geometry: Geometry::centred(
-            440,
-            emitters,
-            segment_centre_views(96, half_fan),
-            0.060 / 440.0,
-            width_m / emitters as f64,
-            emitter_z_m,
-            0.600,
-            mono_channel(),
-        ),
+        geometry,
     }
 }
 
