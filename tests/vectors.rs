@@ -16,7 +16,16 @@ fn fixture(name: &str) -> PathBuf {
 
 /// 2 hololines × 3 emitters × 2 views, one channel: the spec's worked example.
 fn tiny() -> Modulation {
-    let g = Geometry::centred(2, 3, Views::tan_spaced(2, -0.1, 0.1), 1e-3, 2e-3, 0.01, 0.5, vec![ColourChannel::new("Y", 633e-9)]);
+    let g = Geometry::centred(
+        2,
+        3,
+        Views::tan_spaced(2, -0.1, 0.1),
+        1e-3,
+        2e-3,
+        0.01,
+        0.5,
+        vec![ColourChannel::new("Y", 633e-9)],
+    );
     // Sample value = 1 + hololine + emitter/4 + view/8: every sample distinct and exact in f16.
     Modulation::from_fn(g, |_, j, e, v| 1.0 + j as f32 + e as f32 / 4.0 + v as f32 / 8.0).unwrap()
 }
@@ -25,7 +34,9 @@ fn tiny() -> Modulation {
 fn small_frames() -> Vec<Modulation> {
     let g = Geometry::centred(4, 5, Views::tan_spaced(3, -0.2, 0.2), 1e-4, 2e-4, 0.02, 0.6, rgb_channels());
     (0..2)
-        .map(|f| Modulation::from_fn(g.clone(), |c, j, e, v| (f * 1000 + c * 100 + j * 20 + e * 3 + v) as f32 / 7.0).unwrap())
+        .map(|f| {
+            Modulation::from_fn(g.clone(), |c, j, e, v| (f * 1000 + c * 100 + j * 20 + e * 3 + v) as f32 / 7.0).unwrap()
+        })
         .collect()
 }
 
@@ -36,14 +47,21 @@ fn check(name: &str, written: &std::path::Path) {
         std::fs::write(&path, &bytes).unwrap();
     }
     let frozen = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    assert!(frozen == bytes, "{name}: the writer's bytes changed; a format change needs a spec change and HOLO_BLESS=1");
+    assert!(
+        frozen == bytes,
+        "{name}: the writer's bytes changed; a format change needs a spec change and HOLO_BLESS=1"
+    );
 }
 
 #[test]
 fn tiny_vector_is_stable() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("tiny.holo");
-    let options = WriteOptions { compression: Compression::None, source: "spec worked example".into(), ..WriteOptions::default() };
+    let options = WriteOptions {
+        compression: Compression::None,
+        source: "spec worked example".into(),
+        ..WriteOptions::default()
+    };
     write(&out, &tiny(), &options).unwrap();
     check("tiny-y-f16-none.holo", &out);
     assert_eq!(read(fixture("tiny-y-f16-none.holo")).unwrap(), tiny());
@@ -54,7 +72,8 @@ fn multi_frame_vector_is_stable() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("frames.holo");
     let frames = small_frames();
-    let options = WriteOptions { sample_type: SampleType::F32, frames_per_second: Some((30, 1)), ..WriteOptions::default() };
+    let options =
+        WriteOptions { sample_type: SampleType::F32, frames_per_second: Some((30, 1)), ..WriteOptions::default() };
     write_frames(&out, frames[0].geometry(), 2, &options, |i| Ok(Cow::Borrowed(&frames[i]))).unwrap();
     check("frames-rgb-f32-zip.holo", &out);
     let file = HoloFile::open(fixture("frames-rgb-f32-zip.holo")).unwrap();

@@ -121,9 +121,7 @@ pub fn write_frames<'a>(
     // tempfile creates 0600 files; an output file gets the usual 0666 less the umask.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let temp = builder
-        .tempfile_in(dir)
-        .map_err(|e| Error::io(dir, e))?;
+    let temp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, e))?;
 
     let mut failure: Option<Error> = None;
     let order = ChannelOrder::new(geometry);
