@@ -1,0 +1,345 @@
+//! Damaged and hostile inputs: each must give an error that names the file
+//! and the problem, never a panic, never a large allocation, and must leave
+//! the file as it was. The corpus is made here from a valid file, by
+//! rewriting header attributes (fixing the offset table when sizes change)
+//! and patching pixel bytes.
+
+use std::borrow::Cow;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use holo::format::{validate, write, write_frames, Compression, HoloFile, WriteOptions};
+use holo::geometry::{ColourChannel, Geometry, Views};
+use holo::{Error, Modulation};
+
+/// 4 hololines × 3 emitters × 2 views, one channel, f16, uncompressed.
+fn valid_bytes() -> Vec<u8> {
+    let g = Geometry::centred(
+        4,
+        3,
+        Views::tan_spaced(2, -0.1, 0.1),
+        1e-3,
+        2e-3,
+        0.01,
+        0.5,
+        vec![ColourChannel::new("Y", 633e-9)],
+    );
+    let m = Modulation::from_fn(g, |_, j, e, v| 1.0 + j as f32 + e as f32 / 4.0 + v as f32 / 8.0).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("valid.holo");
+    write(&path, &m, &WriteOptions { compression: Compression::None, ..WriteOptions::default() }).unwrap();
+    std::fs::read(path).unwrap()
+}
+
+/// One header attribute: (name, type, value).
+type Attribute = (String, String, Vec<u8>);
+
+/// Split a single-part file into attributes and the rest (offset table and chunks).
+fn split(bytes: &[u8]) -> (Vec<Attribute>, Vec<u8>) {
+    let mut at = 8;
+    let mut attributes = Vec::new();
+    let cstr = |at: &mut usize| {
+        let end = bytes[*at..].iter().position(|b| *b == 0).unwrap() + *at;
+        let s = String::from_utf8(bytes[*at..end].to_vec()).unwrap();
+        *at = end + 1;
+        s
+    };
+    loop {
+        if bytes[at] == 0 {
+            at += 1;
+            break;
+        }
+        let name = cstr(&mut at);
+        let kind = cstr(&mut at);
+        let size = u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+        attributes.push((name, kind, bytes[at + 4..at + 4 + size].to_vec()));
+        at += 4 + size;
+    }
+    (attributes, bytes[at..].to_vec())
+}
+
+/// Rebuild a file from attributes and the rest, shifting the offset table by
+/// the change in header size.
+fn join(original: &[u8], attributes: &[Attribute], rest: &[u8]) -> Vec<u8> {
+    let mut out = original[..8].to_vec();
+    for (name, kind, value) in attributes {
+        out.extend_from_slice(name.as_bytes());
+        out.push(0);
+        out.extend_from_slice(kind.as_bytes());
+        out.push(0);
+        out.extend_from_slice(&(value.len() as u32).to_le_bytes());
+        out.extend_from_slice(value);
+    }
+    out.push(0);
+    let old_header = original.len() - rest.len();
+    let delta = out.len() as i64 - old_header as i64;
+    let chunks = attributes
+        .iter()
+        .find(|a| a.0 == "chunkCount")
+        .map(|a| i32::from_le_bytes(a.2[..4].try_into().unwrap()))
+        .unwrap_or(0);
+    let mut rest = rest.to_vec();
+    for c in 0..chunks.max(0) as usize {
+        let slot = &mut rest[c * 8..c * 8 + 8];
+        let offset = u64::from_le_bytes(slot.try_into().unwrap()) as i64 + delta;
+        slot.copy_from_slice(&(offset as u64).to_le_bytes());
+    }
+    out.extend_from_slice(&rest);
+    out
+}
+
+/// The valid file with one attribute replaced (or removed, with `None`).
+fn with_attribute(name: &str, replacement: Option<(&str, Vec<u8>)>) -> Vec<u8> {
+    let original = valid_bytes();
+    let (mut attributes, rest) = split(&original);
+    let i = attributes.iter().position(|a| a.0 == name);
+    match (i, replacement) {
+        (Some(i), Some((kind, value))) => attributes[i] = (name.into(), kind.into(), value),
+        (None, Some((kind, value))) => {
+            attributes.push((name.into(), kind.into(), value));
+            attributes.sort();
+        }
+        (Some(i), None) => {
+            attributes.remove(i);
+        }
+        (None, None) => {}
+    }
+    join(&original, &attributes, &rest)
+}
+
+fn int(x: i32) -> Vec<u8> {
+    x.to_le_bytes().to_vec()
+}
+
+/// Where the samples of scan line `y` start (uncompressed file).
+fn line_samples(bytes: &[u8], y: usize) -> usize {
+    let (_, rest) = split(bytes);
+    let table = bytes.len() - rest.len();
+    u64::from_le_bytes(bytes[table + 8 * y..table + 8 * y + 8].try_into().unwrap()) as usize + 8
+}
+
+struct Outcome {
+    message: String,
+    error: Option<Error>,
+}
+
+/// Write the bytes to a file, try every way of reading it, and check the rules
+/// that hold for every bad input. Returns the error of `HoloFile::open` +
+/// `read_frame`, or of `validate`'s first violation.
+fn reject(name: &str, bytes: &[u8]) -> Outcome {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(format!("{name}.holo"));
+    std::fs::write(&path, bytes).unwrap();
+    let started = Instant::now();
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let read = HoloFile::open(&path).and_then(|f| f.read_frame(0)).err();
+        let validated = validate(&path);
+        (read, validated)
+    }));
+    let (read, validated) = result.unwrap_or_else(|_| panic!("{name}: the reader panicked"));
+    assert!(started.elapsed().as_secs() < 10, "{name}: took {:?}", started.elapsed());
+    assert_eq!(std::fs::read(&path).unwrap(), bytes, "{name}: the input was changed");
+    let error = read.unwrap_or_else(|| panic!("{name}: was read without error"));
+    let message = error.to_string();
+    assert!(message.contains(&path.display().to_string()), "{name}: the message does not name the file: {message}");
+    match validated {
+        Ok(v) => assert!(!v.is_valid(), "{name}: validate found nothing"),
+        Err(e) => assert!(e.to_string().contains(&path.display().to_string())),
+    }
+    Outcome { message, error: Some(error) }
+}
+
+fn assert_mentions(o: &Outcome, words: &[&str]) {
+    for w in words {
+        assert!(o.message.contains(w), "expected {w:?} in: {}", o.message);
+    }
+}
+
+#[test]
+fn the_unmodified_file_is_valid() {
+    let original = valid_bytes();
+    let (attributes, rest) = split(&original);
+    assert_eq!(join(&original, &attributes, &rest), original, "the corpus tools round-trip");
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("ok.holo");
+    std::fs::write(&p, &original).unwrap();
+    assert!(validate(&p).unwrap().is_valid());
+}
+
+#[test]
+fn every_truncation_fails_cleanly() {
+    let bytes = valid_bytes();
+    for cut in (0..bytes.len()).step_by(5).chain([bytes.len() - 1]) {
+        reject(&format!("cut{cut}"), &bytes[..cut]);
+    }
+}
+
+#[test]
+fn wrong_magic_and_garbage() {
+    let mut bytes = valid_bytes();
+    bytes[0] ^= 0xff;
+    assert_mentions(&reject("magic", &bytes), &["not a readable OpenEXR file"]);
+    reject("empty", &[]);
+    reject("text", b"this is not an image at all, just some words\n");
+}
+
+#[test]
+fn plain_exr_without_holo_attributes() {
+    let original = valid_bytes();
+    let (attributes, rest) = split(&original);
+    let plain: Vec<Attribute> = attributes.into_iter().filter(|a| !a.0.starts_with("holo.")).collect();
+    assert_mentions(&reject("plain", &join(&original, &plain, &rest)), &["not a .holo file"]);
+}
+
+#[test]
+fn attributes_of_the_wrong_type() {
+    let o = reject("hololines-string", &with_attribute("holo.hololines", Some(("string", b"4".to_vec()))));
+    assert_mentions(&o, &["holo.hololines", "string", "int"]);
+    let o =
+        reject("pitch-float", &with_attribute("holo.emitterPitch", Some(("float", 0.002f32.to_le_bytes().to_vec()))));
+    assert_mentions(&o, &["holo.emitterPitch", "float", "double"]);
+    let o = reject("version-int", &with_attribute("holo.version", Some(("int", int(1)))));
+    assert_mentions(&o, &["holo.version", "v2i"]);
+    let o = reject("no-views", &with_attribute("holo.views", None));
+    assert_mentions(&o, &["holo.views", "missing"]);
+    let o = reject("no-digest", &with_attribute("holo.digest", None));
+    assert_mentions(&o, &["holo.digest", "missing"]);
+    let o = reject("bad-spacing", &with_attribute("holo.viewSpacing", Some(("string", b"log".to_vec()))));
+    assert_mentions(&o, &["holo.viewSpacing", "log"]);
+}
+
+#[test]
+fn inconsistent_counts() {
+    let o = reject("emitters", &with_attribute("holo.emitters", Some(("int", int(4)))));
+    assert_mentions(&o, &["display window"]);
+    let o = reject("views", &with_attribute("holo.views", Some(("int", int(3)))));
+    assert_mentions(&o, &["v002.Y", "missing"]);
+    let o = reject("frame-count", &with_attribute("holo.frameCount", Some(("int", int(2)))));
+    assert_mentions(&o, &["holo.frameCount"]);
+    let o = reject("negative", &with_attribute("holo.hololines", Some(("int", int(-4)))));
+    assert_mentions(&o, &["holo.hololines", "negative"]);
+    let o =
+        reject("viewer", &with_attribute("holo.viewerDistance", Some(("double", (-1.0f64).to_le_bytes().to_vec()))));
+    assert_mentions(&o, &["viewer distance"]);
+}
+
+#[test]
+fn absurd_sizes_fail_before_allocating() {
+    let huge = 1 << 30;
+    let mut bytes = with_attribute("holo.hololines", Some(("int", int(huge))));
+    let o = reject("huge-count", &bytes);
+    assert!(matches!(o.error, Some(Error::TooLarge { .. })), "{}", o.message);
+    assert_mentions(&o, &["hololine count", "limit"]);
+    // Windows that claim 2^30 × 2^30 pixels as well.
+    let (mut attributes, rest) = split(&bytes);
+    for a in attributes.iter_mut().filter(|a| a.0 == "dataWindow" || a.0 == "displayWindow") {
+        a.2 = [0i32, 0, huge - 1, huge - 1].iter().flat_map(|x| x.to_le_bytes()).collect();
+    }
+    bytes = join(&bytes, &attributes, &rest);
+    reject("huge-windows", &bytes);
+    // Many views: the sample count, not any one side, is too large.
+    let many = with_attribute("holo.views", Some(("int", int(1 << 15))));
+    reject("many-views", &many);
+}
+
+#[test]
+fn nan_inf_and_negative_samples_are_named() {
+    for (name, bits, why) in
+        [("nan", 0x7e00u16, "not a number"), ("inf", 0x7c00, "infinite"), ("neg", 0xbc00, "negative")]
+    {
+        let mut bytes = valid_bytes();
+        // Scan line 2, channel v001.Y (the second of two), emitter 1.
+        let at = line_samples(&bytes, 2) + 3 * 2 + 2;
+        bytes[at..at + 2].copy_from_slice(&bits.to_le_bytes());
+        let o = reject(name, &bytes);
+        assert_mentions(&o, &["frame 0", "hololine 2", "emitter 1", "view 1", why]);
+    }
+}
+
+#[test]
+fn flipped_bits_are_caught_by_the_digest() {
+    let mut bytes = valid_bytes();
+    let at = line_samples(&bytes, 1);
+    bytes[at + 1] ^= 0x04; // still a finite, positive f16
+    let o = reject("bitrot", &bytes);
+    assert!(matches!(o.error, Some(Error::DigestMismatch { .. })), "{}", o.message);
+    assert_mentions(&o, &["digest", "damaged"]);
+}
+
+#[test]
+fn future_versions() {
+    let v = |major: i32, minor: i32| {
+        Some(("v2i", [major, minor].iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>()))
+    };
+    let o = reject("major2", &with_attribute("holo.version", v(2, 0)));
+    assert!(matches!(o.error, Some(Error::NewerMajorVersion { major: 2, .. })), "{}", o.message);
+    assert_mentions(&o, &["version 2.0"]);
+    // A newer minor version and an unknown attribute: readable, with warnings.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("minor.holo");
+    let (mut attributes, rest) = split(&with_attribute("holo.version", v(1, 7)));
+    attributes.push(("holo.futureThing".into(), "int".into(), int(3)));
+    attributes.sort();
+    let original = with_attribute("holo.version", v(1, 7));
+    std::fs::write(&path, join(&original, &attributes, &rest)).unwrap();
+    let file = HoloFile::open(&path).unwrap();
+    assert!(file.read_frame(0).is_ok());
+    assert_eq!(file.info().unknown_attributes, vec!["holo.futureThing".to_string()]);
+    let report = validate(&path).unwrap();
+    assert!(report.is_valid(), "{:?}", report.violations);
+    assert!(report.warnings.iter().any(|w| w.contains("1.7")), "{:?}", report.warnings);
+    assert!(report.warnings.iter().any(|w| w.contains("holo.futureThing")), "{:?}", report.warnings);
+}
+
+#[test]
+fn validate_lists_every_violation() {
+    let original = valid_bytes();
+    let (mut attributes, rest) = split(&original);
+    for a in attributes.iter_mut() {
+        match a.0.as_str() {
+            "holo.emitterPitch" => a.2 = (-1.0f64).to_le_bytes().to_vec(),
+            "holo.frameCount" => a.2 = int(5),
+            "holo.wavelength.Y" => a.2 = 5.0f64.to_le_bytes().to_vec(),
+            _ => {}
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("many.holo");
+    std::fs::write(&path, join(&original, &attributes, &rest)).unwrap();
+    let report = validate(&path).unwrap();
+    assert!(report.violations.len() >= 3, "{:?}", report.violations);
+}
+
+fn leftovers(dir: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect()
+}
+
+#[test]
+fn failed_writes_leave_nothing_and_existing_files_are_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = Geometry::centred(
+        2,
+        2,
+        Views::tan_spaced(2, -0.1, 0.1),
+        1e-3,
+        1e-3,
+        0.01,
+        0.5,
+        vec![ColourChannel::new("Y", 633e-9)],
+    );
+    let good = Modulation::from_fn(g.clone(), |_, _, _, _| 1.0).unwrap();
+    let mut bad = good.clone();
+    bad.set(0, 1, 0, 1, f32::NAN);
+    let target = dir.path().join("out.holo");
+    let frames = [&good, &good, &bad];
+    let err = write_frames(&target, &g, 3, &WriteOptions::default(), |i| Ok(Cow::Borrowed(frames[i]))).unwrap_err();
+    assert!(err.to_string().contains("frame 2, hololine 1, emitter 0, view 1"), "{err}");
+    assert!(leftovers(dir.path()).is_empty(), "left behind: {:?}", leftovers(dir.path()));
+
+    std::fs::write(&target, b"precious").unwrap();
+    let err = write(&target, &good, &WriteOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("already exists"), "{err}");
+    assert_eq!(std::fs::read(&target).unwrap(), b"precious");
+    assert_eq!(leftovers(dir.path()), vec![target]);
+}
