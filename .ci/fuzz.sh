@@ -14,4 +14,4 @@ cargo run --quiet --release -p holo-cli -- pattern --layout mark1 --kind checker
 cargo run --quiet --release -p holo-cli -- pattern --layout mark1 --kind view-ramp --compression rle --f32 -o "$corpus/mark1-rle.holo" --force >/dev/null
 # cargo-fuzz needs nightly flags (-Z sanitizer); the stable toolchain allows them with RUSTC_BOOTSTRAP.
 cd fuzz
-RUSTC_BOOTSTRAP=1 cargo fuzz run read corpus/read -- -max_total_time="$seconds" -rss_limit_mb=4096 -max_len=1048576
+RUSTC_BOOTSTRAP=1 cargo fuzz run read corpus/read -- -max_total_time="$seconds" -rss_limit_mb=4096 -max_len=65536
