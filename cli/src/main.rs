@@ -48,9 +48,9 @@ enum Command {
         /// Display layout (built in: mark3, mark1).
         #[arg(long, default_value = "mark3")]
         layout: String,
-        /// Which pattern.
-        #[arg(long, value_enum)]
-        kind: KindArg,
+        /// Which pattern: single-emitter, single-view, every-nth-emitter, view-ramp, colour-bars, checkerboard.
+        #[arg(long, value_parser = parse_kind)]
+        kind: PatternKind,
         /// Emitter lit by single-emitter (default: the centre).
         #[arg(long)]
         emitter: Option<usize>,
@@ -130,19 +130,16 @@ struct WriteArgs {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum KindArg {
-    SingleEmitter,
-    SingleView,
-    EveryNthEmitter,
-    ViewRamp,
-    ColourBars,
-    Checkerboard,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
 enum ChannelsArg {
     Rgb,
     Y,
+}
+
+fn parse_kind(s: &str) -> Result<PatternKind, String> {
+    PatternKind::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = PatternKind::ALL.iter().map(|(_, n)| *n).collect();
+        format!("unknown pattern kind {s:?}; choose one of {}", names.join(", "))
+    })
 }
 
 fn parse_compression(s: &str) -> Result<Compression, String> {
@@ -181,14 +178,6 @@ fn run(cli: Cli) -> Outcome {
                 Some(ChannelsArg::Y) => geometry.channels = mono_channel(),
                 None => {}
             }
-            let kind = match kind {
-                KindArg::SingleEmitter => PatternKind::SingleEmitter,
-                KindArg::SingleView => PatternKind::SingleView,
-                KindArg::EveryNthEmitter => PatternKind::EveryNthEmitter,
-                KindArg::ViewRamp => PatternKind::ViewRamp,
-                KindArg::ColourBars => PatternKind::ColourBars,
-                KindArg::Checkerboard => PatternKind::Checkerboard,
-            };
             let pattern = Pattern { kind, emitter, view, every, cell, level };
             let m = pattern.render(&geometry).map_err(|e| e.to_string())?;
             let source = format!("{} layout={layout}", pattern.describe());
