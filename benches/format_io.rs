@@ -29,7 +29,10 @@ fn bench(c: &mut Criterion) {
     let raw_bytes = m.samples().len() as u64 * 2;
     let dir = tempfile::tempdir().unwrap();
     let mut group = c.benchmark_group("mark3_rgb_f16_frame");
-    group.sample_size(10).measurement_time(std::time::Duration::from_secs(4)).warm_up_time(std::time::Duration::from_secs(1));
+    group
+        .sample_size(10)
+        .measurement_time(std::time::Duration::from_secs(4))
+        .warm_up_time(std::time::Duration::from_secs(1));
     group.throughput(Throughput::Bytes(raw_bytes));
 
     let source = vec![0x3c00u16; m.samples().len()];
@@ -38,7 +41,8 @@ fn bench(c: &mut Criterion) {
 
     for compression in Compression::ALL {
         let path = dir.path().join(format!("{}.holo", compression.name()));
-        let options = WriteOptions { sample_type: SampleType::F16, compression, overwrite: true, ..WriteOptions::default() };
+        let options =
+            WriteOptions { sample_type: SampleType::F16, compression, overwrite: true, ..WriteOptions::default() };
         let report = write(&path, &m, &options).unwrap();
         eprintln!(
             "size {:>6}: {:>10} bytes = {:5.1}% of raw f16",
@@ -46,7 +50,9 @@ fn bench(c: &mut Criterion) {
             report.file_bytes,
             100.0 * report.file_bytes as f64 / raw_bytes as f64
         );
-        group.bench_function(format!("write_{}", compression.name()), |b| b.iter(|| write(&path, &m, &options).unwrap()));
+        group.bench_function(format!("write_{}", compression.name()), |b| {
+            b.iter(|| write(&path, &m, &options).unwrap())
+        });
         group.bench_function(format!("read_{}", compression.name()), |b| b.iter(|| read(&path).unwrap()));
     }
     group.finish();
