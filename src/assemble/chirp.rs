@@ -59,24 +59,40 @@ impl ZonedChirp {
         // Toward the emitter when it is in front (z > 0), away from it when behind.
         -d * z.signum() / (d * d + z * z).sqrt()
     }
-    /// Baseband centre of a zone, cycles per sample: the middle of the band
-    /// between its two edges' `sin θ / λ`.
+    /// Middle of a zone's band, cycles per sample: halfway between its two
+    /// edges' `sin θ / λ`.
     pub fn zone_centre_cycles_per_sample(&self, zone: usize) -> f64 {
         let lo = self.sin_theta(self.offset_samples(zone, -0.5));
         let hi = self.sin_theta(self.offset_samples(zone, self.chirp_samples as f64 - 0.5));
         (lo + hi) / 2.0 * self.sample_pitch_m / self.wavelength_m
     }
-    /// Baseband phase of zone `zone` at local sample `u`, relative to `u = 0`.
-    pub fn baseband_phase_rad(&self, zone: usize, u: f64) -> f64 {
-        let p = self.sample_pitch_m;
+    /// The carrier that shifts a zone to baseband (and the display's
+    /// up-conversion shifts back), cycles per sample: the zone centre rounded
+    /// to a multiple of `1 / slot_samples`. Chirps start on slot boundaries,
+    /// so the carrier then has the same phase at every chirp's start and one
+    /// table serves every emitter, with its zone pieces joining into one
+    /// continuous chirp after up-conversion.
+    pub fn carrier_cycles_per_sample(&self, zone: usize) -> f64 {
+        let slots = self.slot_samples as f64;
+        (self.zone_centre_cycles_per_sample(zone) * slots).round() / slots
+    }
+    /// Phase of the whole focusing chirp at `x − x_e = d` (samples), relative
+    /// to its centre: `∓(2π/λ)(r − |z|)`, with `r − |z| = d²/(r + |z|)` so
+    /// that nothing cancels.
+    pub fn chirp_phase_rad(&self, d_samples: f64) -> f64 {
+        let d = d_samples * self.sample_pitch_m;
         let z = self.emitter_z_m;
-        let a = self.offset_samples(zone, u) * p;
-        let b = self.offset_samples(zone, 0.0) * p;
-        let (ra, rb) = ((a * a + z * z).sqrt(), (b * b + z * z).sqrt());
-        // r(a) − r(b) without cancellation.
-        let delta_r = (a - b) * (a + b) / (ra + rb);
-        let focus = -z.signum() * 2.0 * PI / self.wavelength_m * delta_r;
-        focus - 2.0 * PI * self.zone_centre_cycles_per_sample(zone) * u
+        let r = (d * d + z * z).sqrt();
+        -z.signum() * 2.0 * PI / self.wavelength_m * (d * d / (r + z.abs()))
+    }
+    /// Baseband phase of zone `zone` at sample `u` of its piece: the chirp's
+    /// phase less the carrier's, the carrier counted from the chirp's first
+    /// sample (`zone · chirp_samples + u` samples earlier).
+    pub fn baseband_phase_rad(&self, zone: usize, u: f64) -> f64 {
+        let n = (zone * self.chirp_samples) as f64 + u;
+        // Reduce the carrier's cycles before scaling so the angle stays small.
+        let carrier_cycles = (self.carrier_cycles_per_sample(zone) * n).rem_euclid(1.0);
+        self.chirp_phase_rad(self.offset_samples(zone, u)) - 2.0 * PI * carrier_cycles
     }
     /// The complex baseband table of one zone piece, (cos φ, sin φ) per sample.
     pub fn table(&self, zone: usize) -> (Vec<f32>, Vec<f32>) {
@@ -122,10 +138,34 @@ mod tests {
                 let f =
                     (c.baseband_phase_rad(zone, u + h) - c.baseband_phase_rad(zone, u - h)) / (2.0 * h) / (2.0 * PI);
                 let expected = c.sin_theta(c.offset_samples(zone, u)) * c.sample_pitch_m / c.wavelength_m
-                    - c.zone_centre_cycles_per_sample(zone);
+                    - c.carrier_cycles_per_sample(zone);
                 assert!((f - expected).abs() < 1e-6, "zone {zone} u {u}: {f} vs {expected}");
                 // Every zone's baseband stays inside ±0.5 cycles/sample (I/Q Nyquist).
                 assert!(f.abs() < 0.45, "{f}");
+            }
+        }
+    }
+
+    #[test]
+    fn up_converted_zone_pieces_join_into_one_chirp_for_every_emitter() {
+        let c = mark3();
+        for zone in 0..3 {
+            assert_eq!((c.carrier_cycles_per_sample(zone) * 64.0).fract(), 0.0);
+        }
+        // Emitter e's piece of zone k starts at slot e + 16k; after the
+        // up-conversion exp(i2πF_k n) the field must be the emitter's chirp.
+        for e in [0usize, 1, 17, 335] {
+            let start = 64 * e;
+            for zone in 0..3 {
+                for u in [0usize, 1, 511, 1023] {
+                    let n = start + zone * 1024 + u;
+                    let up =
+                        c.baseband_phase_rad(zone, u as f64) + 2.0 * PI * c.carrier_cycles_per_sample(zone) * n as f64;
+                    let want = c.chirp_phase_rad(c.offset_samples(zone, u as f64));
+                    let diff = (up - want).rem_euclid(2.0 * PI);
+                    let diff = diff.min(2.0 * PI - diff);
+                    assert!(diff < 1e-9, "emitter {e} zone {zone} u {u}: {diff}");
+                }
             }
         }
     }

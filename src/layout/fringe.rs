@@ -1,0 +1,211 @@
+//! The fringe side of a layout: which basis turns modulation into hololine
+//! signals, and where each signal sample goes in the display's frame buffer.
+//! Normative description: spec/layouts.md, "Fringe fields".
+
+use serde::{Deserialize, Serialize};
+
+/// Everything between a modulation and the frame buffer.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Fringe {
+    /// Distance between fringe samples on the hologram, metres.
+    pub sample_pitch_m: f64,
+    /// Fringe samples per hololine and signal.
+    pub samples_per_hololine: usize,
+    /// How emitters and views become fringe samples.
+    pub basis: Basis,
+    /// Where the signals go.
+    pub frame_buffer: FrameBuffer,
+    /// Float signal to stored integer.
+    pub quantization: Quantization,
+}
+
+/// How emitters and views become fringe samples.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Basis {
+    /// Overlapping focusing chirps cut into view zones, each zone carried in
+    /// baseband as an I/Q pair (seed 004 §3, §5.1). Emitter `e`'s piece of
+    /// zone `k` starts at sample `(e + k · chirp_samples / slot_samples) · slot_samples`.
+    ZonedChirp {
+        /// Samples of one zone piece of a chirp.
+        chirp_samples: usize,
+        /// Samples between the starts of adjacent chirps (= between emitters).
+        slot_samples: usize,
+        /// Zone pieces per emitter.
+        zones: usize,
+        /// Views per zone piece.
+        views_per_zone: usize,
+    },
+}
+
+impl Basis {
+    /// Signals per hololine and colour channel, and their names.
+    pub fn signal_names(&self) -> Vec<String> {
+        match self {
+            Basis::ZonedChirp { zones, .. } => {
+                (1..=*zones).flat_map(|k| [format!("zone{k}.cos"), format!("zone{k}.sin")]).collect()
+            }
+        }
+    }
+}
+
+/// One frame-buffer channel: an image and a component of its pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChannelSlot {
+    /// Image (head, or colour layer), 0-based.
+    pub image: usize,
+    /// Component of the pixel (0 = R, 1 = G, 2 = B, 3 = A).
+    pub component: usize,
+}
+
+/// The frame buffer: `images` images of `width × height` pixels of
+/// `components` components, fed by channels that take hololine signals in turn.
+///
+/// Signal `s` of hololine `j` is item `k = j · S + s` (`S` signals per
+/// hololine); it goes to channel `k mod C` as that channel's line `ℓ = k div C`,
+/// which occupies rows `first_row + ℓ · (rows_per_hololine + gap_rows)` on.
+/// Sample `n` goes to row `n div line_samples` of that block, column
+/// `n mod line_samples`; samples at columns `≥ width` fall in the horizontal
+/// blanking and are not shown. With `reverse_odd_lines`, odd lines are sent
+/// from their last sample to their first (scan direction alternates).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrameBuffer {
+    /// Names of the images, used in file names (`head1`, …).
+    pub image_names: Vec<String>,
+    /// Visible columns.
+    pub width: usize,
+    /// Visible rows.
+    pub height: usize,
+    /// Components per pixel.
+    pub components: usize,
+    /// Samples per video line, visible plus horizontal blanking.
+    pub line_samples: usize,
+    /// Video lines per hololine.
+    pub rows_per_hololine: usize,
+    /// Rows before the first hololine.
+    pub first_row: usize,
+    /// Blank rows after each hololine's block.
+    pub gap_rows: usize,
+    /// The channels in the order hololine signals are dealt to them.
+    pub channels: Vec<ChannelSlot>,
+    /// Odd lines run backwards.
+    pub reverse_odd_lines: bool,
+}
+
+/// Where one fringe sample lands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pixel {
+    /// Image.
+    pub image: usize,
+    /// Row.
+    pub row: usize,
+    /// Column.
+    pub column: usize,
+    /// Component.
+    pub component: usize,
+}
+
+impl FrameBuffer {
+    /// Channel and line of signal `s` of hololine `j`, with `signals` per hololine.
+    pub fn channel_and_line(&self, j: usize, s: usize, signals: usize) -> (usize, usize) {
+        let k = j * signals + s;
+        (k % self.channels.len(), k / self.channels.len())
+    }
+    /// First row of line `line`.
+    pub fn line_first_row(&self, line: usize) -> usize {
+        self.first_row + line * (self.rows_per_hololine + self.gap_rows)
+    }
+    /// Lines a channel needs for `hololines` hololines of `signals` signals.
+    pub fn lines(&self, hololines: usize, signals: usize) -> usize {
+        (hololines * signals).div_ceil(self.channels.len())
+    }
+    /// Where sample `n` of signal `s` of hololine `j` goes, or `None` when it
+    /// falls in the horizontal blanking.
+    pub fn place(&self, j: usize, s: usize, n: usize, signals: usize, samples: usize) -> Option<Pixel> {
+        let (channel, line) = self.channel_and_line(j, s, signals);
+        let sent = if self.reverse_odd_lines && line % 2 == 1 { samples - 1 - n } else { n };
+        let column = sent % self.line_samples;
+        (column < self.width).then(|| {
+            let slot = self.channels[channel];
+            Pixel {
+                image: slot.image,
+                row: self.line_first_row(line) + sent / self.line_samples,
+                column,
+                component: slot.component,
+            }
+        })
+    }
+    /// Everything that makes this frame buffer unusable for `hololines`
+    /// hololines of `signals` signals of `samples` samples.
+    pub fn problems(&self, hololines: usize, signals: usize, samples: usize) -> Vec<String> {
+        let mut p = Vec::new();
+        if self.image_names.is_empty() || self.width == 0 || self.height == 0 || self.components == 0 {
+            p.push("the frame buffer needs at least one image of at least one pixel".into());
+        }
+        if self.line_samples < self.width {
+            p.push(format!("line_samples {} is less than the visible width {}", self.line_samples, self.width));
+        }
+        if self.line_samples == 0 || self.rows_per_hololine * self.line_samples != samples {
+            p.push(format!(
+                "{} rows of {} samples do not hold a hololine of {samples} samples",
+                self.rows_per_hololine, self.line_samples
+            ));
+        }
+        if self.channels.is_empty() {
+            p.push("the frame buffer has no channels".into());
+        }
+        for (i, c) in self.channels.iter().enumerate() {
+            if c.image >= self.image_names.len() || c.component >= self.components {
+                p.push(format!("channel {i} names image {} component {}, which do not exist", c.image, c.component));
+            }
+            if self.channels[..i].contains(c) {
+                p.push(format!("channel {i} repeats image {} component {}", c.image, c.component));
+            }
+        }
+        if !self.channels.is_empty() && self.lines(hololines, signals) > 0 {
+            let last_row = self.line_first_row(self.lines(hololines, signals) - 1) + self.rows_per_hololine;
+            if last_row > self.height {
+                p.push(format!(
+                    "{hololines} hololines of {signals} signal(s) need {last_row} rows; the images have {}",
+                    self.height
+                ));
+            }
+        }
+        p
+    }
+}
+
+/// Float signal to stored integer: `clamp(round(offset + gain · x), 0, 2^bits − 1)`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Quantization {
+    /// Bits per stored sample (8 for the video frame buffers here).
+    pub bits: u8,
+    /// Stored value of a zero signal.
+    pub offset: f64,
+    /// Stored steps per unit of signal.
+    pub gain: f64,
+}
+
+impl Quantization {
+    /// The largest stored value.
+    pub fn max_code(&self) -> f64 {
+        ((1u64 << self.bits) - 1) as f64
+    }
+    /// Problems with these numbers.
+    pub fn problems(&self) -> Vec<String> {
+        let mut p = Vec::new();
+        if self.bits != 8 {
+            p.push(format!("{}-bit samples: only 8-bit frame buffers are supported", self.bits));
+        }
+        if !(self.offset.is_finite() && self.gain.is_finite() && self.gain > 0.0) {
+            p.push(format!("quantization offset {} and gain {} must be finite, gain > 0", self.offset, self.gain));
+        } else if self.offset < 0.0 || self.offset > self.max_code() {
+            p.push(format!("quantization offset {} is outside 0..={}", self.offset, self.max_code()));
+        }
+        p
+    }
+}
