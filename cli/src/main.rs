@@ -6,8 +6,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use holo::assemble::output::{assemble_file, AssembleOptions, FringeFormat, FRINGE_SIDECAR};
 use holo::format::{Compression, SampleType, WriteOptions};
 use holo::geometry::{mono_channel, rgb_channels, Geometry};
+use holo::layout::Layout;
 use holo::pattern::{Pattern, PatternKind};
 use holo::views::{ToneMapping, SIDECAR};
 
@@ -105,6 +107,36 @@ enum Command {
         #[command(flatten)]
         write: WriteArgs,
     },
+    /// Assemble hologram fringes: one image per head (or colour layer) per
+    /// frame, laid out as the layout's frame buffer expects.
+    Assemble {
+        /// The .holo file.
+        file: PathBuf,
+        /// Display layout: a built-in name (mark3) or a .toml/.json profile.
+        #[arg(long, default_value = "mark3")]
+        layout: String,
+        /// Directory for the images and holo-fringes.json (created if needed).
+        #[arg(long, short)]
+        out: PathBuf,
+        /// Frames to assemble: N, A..B (B excluded) or A..=B; default all.
+        #[arg(long, value_parser = parse_frames)]
+        frames: Option<std::ops::Range<usize>>,
+        /// png or raw (8-bit, with the layout's offset and gain) or exr (float signal).
+        #[arg(long, default_value = "png", value_parser = parse_fringe_format)]
+        format: FringeFormat,
+        /// Replace existing files.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Print a layout profile (TOML, or JSON with --json): the numbers a
+    /// layout uses, and a starting point for a custom profile.
+    Layout {
+        /// A built-in name or a profile file.
+        name: String,
+        /// Print JSON instead of TOML.
+        #[arg(long)]
+        json: bool,
+    },
     /// Run the main job on built-in defaults and say where the results are.
     Demo {
         /// Directory for the demo's files (its own earlier files there are replaced).
@@ -140,6 +172,26 @@ fn parse_kind(s: &str) -> Result<PatternKind, String> {
         let names: Vec<&str> = PatternKind::ALL.iter().map(|(_, n)| *n).collect();
         format!("unknown pattern kind {s:?}; choose one of {}", names.join(", "))
     })
+}
+
+fn parse_frames(s: &str) -> Result<std::ops::Range<usize>, String> {
+    let number = |t: &str| t.trim().parse::<usize>().map_err(|_| format!("{s:?} is not N, A..B or A..=B"));
+    let range = if let Some((a, b)) = s.split_once("..=") {
+        number(a)?..number(b)? + 1
+    } else if let Some((a, b)) = s.split_once("..") {
+        number(a)?..number(b)?
+    } else {
+        let n = number(s)?;
+        n..n + 1
+    };
+    if range.is_empty() {
+        return Err(format!("frames {s:?} is an empty range"));
+    }
+    Ok(range)
+}
+
+fn parse_fringe_format(s: &str) -> Result<FringeFormat, String> {
+    FringeFormat::from_name(s).ok_or_else(|| format!("unknown fringe format {s:?}; choose png, raw or exr"))
 }
 
 fn parse_compression(s: &str) -> Result<Compression, String> {
@@ -225,6 +277,48 @@ fn run(cli: Cli) -> Outcome {
             let m = holo::views::import_views(&dir, &g, &tone).map_err(|e| e.to_string())?;
             write_file(&m, &write, format!("holo import-views from {}", dir.display()))
         }
+        Command::Assemble { file, layout, out, frames, format, force } => {
+            let layout = Layout::load(&layout).map_err(|e| e.to_string())?;
+            let options = AssembleOptions { frames, format, overwrite: force };
+            let bar = indicatif::ProgressBar::new(0).with_style(
+                indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} frames, {eta} left")
+                    .expect("a valid template"),
+            );
+            bar.set_message("assembling");
+            let started = std::time::Instant::now();
+            let report = assemble_file(&file, &layout, &out, &options, &mut |done, total| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            })
+            .map_err(|e| e.to_string())?;
+            bar.finish_and_clear();
+            let seconds = started.elapsed().as_secs_f64();
+            println!(
+                "assembled {} frame(s) of {} for {} in {seconds:.2} s: {} files and {FRINGE_SIDECAR} in {}",
+                report.frames.len(),
+                file.display(),
+                layout.name,
+                report.files.len() - 1,
+                out.display()
+            );
+            if report.stats.clipped > 0 {
+                eprintln!(
+                    "holo: warning: {} samples clipped by the 8-bit quantization (the modulation is brighter than \
+                     the layout's gain allows; scale it down)",
+                    report.stats.clipped
+                );
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Layout { name, json } => {
+            let layout = Layout::load(&name).map_err(|e| e.to_string())?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&layout).map_err(|e| e.to_string())?);
+            } else {
+                print!("{}", layout.to_toml());
+            }
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Demo { out } => {
             let demo = holo::report::demo(&out).map_err(|e| e.to_string())?;
             print!("{}", demo.info);
@@ -236,19 +330,15 @@ fn run(cli: Cli) -> Outcome {
     }
 }
 
-/// A built-in layout's geometry, or a geometry JSON file.
+/// A built-in layout's geometry, a layout profile's, or a geometry JSON file.
 fn layout_geometry(name: &str) -> Result<Geometry, String> {
-    if let Some(l) = holo::layout::builtin(name) {
-        return Ok(l.geometry);
-    }
     let path = Path::new(name);
-    if path.exists() {
-        return holo::views::read_geometry_json(path).map_err(|e| e.to_string());
+    if path.extension().is_some_and(|e| e == "json") && path.exists() {
+        if let Ok(g) = holo::views::read_geometry_json(path) {
+            return Ok(g);
+        }
     }
-    Err(format!(
-        "unknown layout {name:?}: the built-in layouts are {}, or give a geometry JSON file",
-        holo::layout::BUILTIN.join(", ")
-    ))
+    Layout::load(name).map(|l| l.geometry).map_err(|e| e.to_string())
 }
 
 fn write_file(m: &holo::Modulation, args: &WriteArgs, source: String) -> Outcome {

@@ -23,6 +23,8 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["export-views", "--help"],
         &["import-views", "--help"],
         &["demo", "--help"],
+        &["assemble", "--help"],
+        &["layout", "--help"],
     ] {
         let o = holo(cmd, dir.path());
         assert_eq!(o.status.code(), Some(0), "{cmd:?}: {}", text(&o));
@@ -34,6 +36,8 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["pattern", "--kind", "nonsense", "-o", "x.holo"],
         &["pattern", "--kind", "view-ramp"],
         &["export-views", "a.holo", "--out", "d", "--bits", "12"],
+        &["assemble", "a.holo", "-o", "d", "--format", "jpeg"],
+        &["assemble", "a.holo", "-o", "d", "--frames", "3..1"],
     ] {
         let o = holo(cmd, dir.path());
         assert_eq!(o.status.code(), Some(2), "{cmd:?}: {}", text(&o));
@@ -152,4 +156,30 @@ fn demo_runs_and_says_where_its_files_are() {
         assert!(text(&o).contains("holo-demo/demo.holo"));
     }
     assert!(holo::format::validate(dir.path().join("holo-demo/demo.holo")).unwrap().is_valid());
+}
+
+#[test]
+fn assemble_writes_head_images_and_refuses_to_overwrite() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = holo(&["layout", "mark3"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    // A custom profile: Mark III with 2 hololines, as a user would edit it.
+    let profile = String::from_utf8(o.stdout).unwrap().replace("hololines = 440", "hololines = 2");
+    std::fs::write(d.join("small.toml"), profile).unwrap();
+    let o = holo(&["pattern", "--layout", "small.toml", "--kind", "single-emitter", "-o", "s.holo"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let o = holo(&["assemble", "s.holo", "--layout", "small.toml", "-o", "fringes"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("assembled 1 frame(s)"), "{}", text(&o));
+    for f in ["frame0000-head1.png", "frame0000-head2.png", "holo-fringes.json"] {
+        assert!(d.join("fringes").join(f).exists(), "{f}");
+    }
+    let o = holo(&["assemble", "s.holo", "--layout", "small.toml", "-o", "fringes"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("already exists"), "{}", text(&o));
+    // The built-in layout wants 440 hololines: said plainly.
+    let o = holo(&["assemble", "s.holo", "-o", "other"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("s.holo") && text(&o).contains("2 hololines (the layout has 440)"), "{}", text(&o));
 }

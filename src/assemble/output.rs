@@ -1,0 +1,414 @@
+//! Assembled frames on disk: one image per head (or colour layer) per frame,
+//! as 8-bit PNG, 8-bit raw frame-buffer bytes, or float OpenEXR, plus a
+//! `holo-fringes.json` sidecar that names the layout (in full, so custom
+//! profiles travel with their fringes) and the files.
+//!
+//! Existing files are never replaced unless asked; every file is written
+//! beside its target and renamed into place when complete.
+
+use std::fs::File;
+use std::io::{BufWriter, Read, Write};
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::{Assembler, FrameImages, FrameStats, FringeSample};
+use crate::layout::Layout;
+use crate::{Error, Result};
+
+/// Name of the sidecar in a fringe directory.
+pub const FRINGE_SIDECAR: &str = "holo-fringes.json";
+
+/// How fringe images are stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FringeFormat {
+    /// 8-bit PNG, quantized with the layout's offset and gain.
+    Png,
+    /// The same 8-bit pixels as bare bytes, row by row, components interleaved:
+    /// what is copied into the frame buffer.
+    Raw,
+    /// The float signal before quantization, OpenEXR (32-bit float, ZIP).
+    Exr,
+}
+
+impl FringeFormat {
+    /// From a command-line name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name.to_ascii_lowercase().as_str() {
+            "png" => Some(FringeFormat::Png),
+            "raw" => Some(FringeFormat::Raw),
+            "exr" => Some(FringeFormat::Exr),
+            _ => None,
+        }
+    }
+    /// File extension.
+    pub fn extension(self) -> &'static str {
+        match self {
+            FringeFormat::Png => "png",
+            FringeFormat::Raw => "raw",
+            FringeFormat::Exr => "exr",
+        }
+    }
+}
+
+/// The sidecar of a fringe directory.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FringeSidecar {
+    /// The layout the fringes were assembled for.
+    pub layout: Layout,
+    /// The file format of the images.
+    pub format: FringeFormat,
+    /// Image width, height and components (raw files have no header).
+    pub width: usize,
+    /// Rows.
+    pub height: usize,
+    /// Components per pixel.
+    pub components: usize,
+    /// The .holo file assembled.
+    pub source: String,
+    /// The frames, in order.
+    pub frames: Vec<FringeFrame>,
+}
+
+/// One assembled frame in a sidecar.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FringeFrame {
+    /// Frame index in the source file.
+    pub index: usize,
+    /// The source frame's digest, when it had one.
+    pub source_digest: Option<String>,
+    /// One file per image, in the layout's image order (names relative to the directory).
+    pub files: Vec<String>,
+    /// Samples clipped by the quantization.
+    pub clipped: u64,
+}
+
+/// Options of [`assemble_file`].
+#[derive(Clone, Debug)]
+pub struct AssembleOptions {
+    /// Frames to assemble (indices in file order); all when `None`.
+    pub frames: Option<Range<usize>>,
+    /// File format.
+    pub format: FringeFormat,
+    /// Replace existing files.
+    pub overwrite: bool,
+}
+
+/// What [`assemble_file`] did.
+#[derive(Clone, Debug)]
+pub struct AssembleReport {
+    /// Every file written, sidecar last.
+    pub files: Vec<PathBuf>,
+    /// Per assembled frame.
+    pub frames: Vec<FringeFrame>,
+    /// Totals over the frames.
+    pub stats: FrameStats,
+}
+
+/// File name of image `image` of frame `index`.
+pub fn image_file_name(index: usize, image_name: &str, format: FringeFormat) -> String {
+    format!("frame{index:04}-{image_name}.{}", format.extension())
+}
+
+/// Assemble frames of `input` for `layout` into `out_dir`. `progress` is
+/// called with (frames done, frames to do) after each frame.
+pub fn assemble_file(
+    input: &Path,
+    layout: &Layout,
+    out_dir: &Path,
+    options: &AssembleOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<AssembleReport> {
+    let assembler = Assembler::new(layout)?;
+    let file = crate::format::HoloFile::open(input)?;
+    let frame_count = file.info().frames.len();
+    let range = options.frames.clone().unwrap_or(0..frame_count);
+    if range.is_empty() || range.end > frame_count {
+        return Err(Error::Usage(format!(
+            "{}: frames {}..{} asked for; the file has frames 0..{frame_count}",
+            input.display(),
+            range.start,
+            range.end
+        )));
+    }
+    let fb = &layout.fringe.as_ref().expect("Assembler::new checked").frame_buffer;
+    let names = |index: usize| -> Vec<String> {
+        fb.image_names.iter().map(|n| image_file_name(index, n, options.format)).collect()
+    };
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    let mut targets: Vec<PathBuf> = range.clone().flat_map(names).map(|n| out_dir.join(n)).collect();
+    targets.push(out_dir.join(FRINGE_SIDECAR));
+    if !options.overwrite {
+        if let Some(p) = targets.iter().find(|p| p.exists()) {
+            return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", p.display())));
+        }
+    }
+    // Check the geometry before any work, with the file named.
+    let zero = crate::Modulation::zeros(file.geometry().clone())?;
+    assembler.check_geometry(&zero).map_err(|e| Error::Usage(format!("{}: {e}", input.display())))?;
+    drop(zero);
+
+    let mut bytes: FrameImages<u8> = FrameImages { width: 0, height: 0, components: 0, images: vec![] };
+    let mut floats: FrameImages<f32> = FrameImages { width: 0, height: 0, components: 0, images: vec![] };
+    let mut frames = Vec::new();
+    let mut total = FrameStats::default();
+    for (done, index) in range.clone().enumerate() {
+        let m = file.read_frame(index)?;
+        let stats = match options.format {
+            FringeFormat::Exr => assembler.assemble_into(&m, &mut floats),
+            _ => assembler.assemble_into(&m, &mut bytes),
+        }
+        .map_err(|e| with_frame(e, input, index))?;
+        let files = names(index);
+        for (image, name) in files.iter().enumerate() {
+            let path = out_dir.join(name);
+            match options.format {
+                FringeFormat::Png => write_png(&path, &bytes, image, options.overwrite)?,
+                FringeFormat::Raw => write_atomic(&path, options.overwrite, |w| {
+                    w.write_all(&bytes.images[image]).map_err(|e| Error::io(&path, e))
+                })?,
+                FringeFormat::Exr => write_exr(&path, &floats, image, options.overwrite)?,
+            }
+        }
+        total.clipped += stats.clipped;
+        total.dark_hololines += stats.dark_hololines;
+        frames.push(FringeFrame {
+            index,
+            source_digest: file.info().frames[index].digest.clone(),
+            files,
+            clipped: stats.clipped,
+        });
+        progress(done + 1, range.len());
+    }
+    let sidecar = FringeSidecar {
+        layout: layout.clone(),
+        format: options.format,
+        width: fb.width,
+        height: fb.height,
+        components: fb.components,
+        source: input.display().to_string(),
+        frames: frames.clone(),
+    };
+    let side = out_dir.join(FRINGE_SIDECAR);
+    let json = serde_json::to_string_pretty(&sidecar).expect("plain data");
+    write_atomic(&side, options.overwrite, |w| w.write_all(json.as_bytes()).map_err(|e| Error::io(&side, e)))?;
+    Ok(AssembleReport { files: targets, frames, stats: total })
+}
+
+fn with_frame(e: Error, input: &Path, frame: usize) -> Error {
+    match e {
+        Error::BadSample { hololine, emitter, view, channel, value, why, .. } => {
+            Error::BadSample { path: input.to_path_buf(), frame, hololine, emitter, view, channel, value, why }
+        }
+        other => other,
+    }
+}
+
+/// Read a fringe directory's sidecar.
+pub fn read_sidecar(dir: &Path) -> Result<FringeSidecar> {
+    let path = dir.join(FRINGE_SIDECAR);
+    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+    let sidecar: FringeSidecar =
+        serde_json::from_str(&text).map_err(|e| Error::invalid(&path, format!("not a fringe sidecar: {e}")))?;
+    let problems = sidecar.layout.problems();
+    if !problems.is_empty() {
+        return Err(Error::invalid(&path, format!("inconsistent layout: {}", problems.join("; "))));
+    }
+    Ok(sidecar)
+}
+
+/// Fringe images read back, in their stored type.
+#[derive(Clone, Debug)]
+pub enum StoredImages {
+    /// PNG or raw.
+    Bytes(FrameImages<u8>),
+    /// EXR.
+    Floats(FrameImages<f32>),
+}
+
+/// Read frame `frame` (position in the sidecar's list) of a fringe directory.
+pub fn read_frame_images(dir: &Path, sidecar: &FringeSidecar, frame: usize) -> Result<StoredImages> {
+    let entry = sidecar.frames.get(frame).ok_or_else(|| {
+        Error::Usage(format!("{}: has {} frame(s); frame {frame} asked for", dir.display(), sidecar.frames.len()))
+    })?;
+    let (w, h, c) = (sidecar.width, sidecar.height, sidecar.components);
+    let len = w * h * c;
+    match sidecar.format {
+        FringeFormat::Exr => {
+            let images = entry.files.iter().map(|f| read_exr(&dir.join(f), w, h, c)).collect::<Result<Vec<_>>>()?;
+            Ok(StoredImages::Floats(FrameImages { width: w, height: h, components: c, images }))
+        }
+        format => {
+            let mut images = Vec::new();
+            for f in &entry.files {
+                let path = dir.join(f);
+                let data = if format == FringeFormat::Png {
+                    read_png(&path, w, h, c)?
+                } else {
+                    let mut data = Vec::new();
+                    File::open(&path).and_then(|mut f| f.read_to_end(&mut data)).map_err(|e| Error::io(&path, e))?;
+                    data
+                };
+                if data.len() != len {
+                    return Err(Error::invalid(
+                        &path,
+                        format!("holds {} bytes; a {w} × {h} × {c} image has {len}", data.len()),
+                    ));
+                }
+                images.push(data);
+            }
+            Ok(StoredImages::Bytes(FrameImages { width: w, height: h, components: c, images }))
+        }
+    }
+}
+
+impl StoredImages {
+    /// [`Assembler::unpack`] whichever the type.
+    pub fn unpack(&self, assembler: &Assembler, hololines: usize) -> Result<Vec<super::ZoneSignals>> {
+        match self {
+            StoredImages::Bytes(i) => assembler.unpack(i, hololines),
+            StoredImages::Floats(i) => assembler.unpack(i, hololines),
+        }
+    }
+}
+
+/// Write through a temporary file beside `path`, renamed into place when
+/// complete; an existing `path` is kept unless `overwrite`.
+pub(crate) fn write_atomic(
+    path: &Path,
+    overwrite: bool,
+    fill: impl FnOnce(&mut BufWriter<&File>) -> Result<()>,
+) -> Result<()> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let mut builder = tempfile::Builder::new();
+    let prefix = format!(".{name}.");
+    builder.prefix(&prefix).suffix(".partial");
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let temp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, e))?;
+    {
+        let mut w = BufWriter::with_capacity(1 << 20, temp.as_file());
+        fill(&mut w)?;
+        w.flush().map_err(|e| Error::io(temp.path(), e))?;
+    }
+    let persisted = if overwrite { temp.persist(path) } else { temp.persist_noclobber(path) };
+    persisted.map_err(|e| {
+        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
+            Error::Usage(format!("{}: already exists; not overwritten", path.display()))
+        } else {
+            Error::io(path, e.error)
+        }
+    })?;
+    Ok(())
+}
+
+fn colour_type(path: &Path, components: usize) -> Result<image::ExtendedColorType> {
+    match components {
+        1 => Ok(image::ExtendedColorType::L8),
+        3 => Ok(image::ExtendedColorType::Rgb8),
+        4 => Ok(image::ExtendedColorType::Rgba8),
+        c => Err(Error::Usage(format!("{}: PNG cannot hold {c} components per pixel; use raw or exr", path.display()))),
+    }
+}
+
+fn write_png(path: &Path, images: &FrameImages<u8>, image: usize, overwrite: bool) -> Result<()> {
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    use image::ImageEncoder;
+    let colour = colour_type(path, images.components)?;
+    write_atomic(path, overwrite, |w| {
+        // Fast deflate after the Sub filter: blank and dark areas become zero
+        // runs, which it packs well; fringes themselves are noise-like.
+        PngEncoder::new_with_quality(w, CompressionType::Fast, FilterType::Sub)
+            .write_image(&images.images[image], images.width as u32, images.height as u32, colour)
+            .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+    })
+}
+
+fn read_png(path: &Path, w: usize, h: usize, c: usize) -> Result<Vec<u8>> {
+    let img = image::ImageReader::open(path)
+        .map_err(|e| Error::io(path, e))?
+        .with_guessed_format()
+        .map_err(|e| Error::io(path, e))?
+        .decode()
+        .map_err(|e| Error::invalid(path, format!("not a readable PNG: {e}")))?;
+    if (img.width() as usize, img.height() as usize) != (w, h) {
+        return Err(Error::invalid(path, format!("is {} × {}; the sidecar says {w} × {h}", img.width(), img.height())));
+    }
+    Ok(match c {
+        1 => img.into_luma8().into_raw(),
+        3 => img.into_rgb8().into_raw(),
+        _ => img.into_rgba8().into_raw(),
+    })
+}
+
+const COMPONENT_NAMES: [&str; 4] = ["R", "G", "B", "A"];
+
+fn write_exr(path: &Path, images: &FrameImages<f32>, image: usize, overwrite: bool) -> crate::Result<()> {
+    use exr::prelude::*;
+    let (w, h, c) = (images.width, images.height, images.components);
+    if c > COMPONENT_NAMES.len() {
+        return Err(crate::Error::Usage(format!(
+            "{}: {c} components per pixel; EXR output takes up to 4",
+            path.display()
+        )));
+    }
+    let data = &images.images[image];
+    let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = (0..c)
+        .map(|k| {
+            let samples: Vec<f32> = data.iter().skip(k).step_by(c).copied().collect();
+            AnyChannel::new(COMPONENT_NAMES[k], FlatSamples::F32(samples))
+        })
+        .collect();
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::named("fringe"),
+        Encoding { compression: exr::compression::Compression::ZIP16, ..Encoding::default() },
+        AnyChannels::sort(channels),
+    );
+    write_atomic(path, overwrite, |out| {
+        Image::from_layer(layer).write().to_buffered(out).map_err(|e| crate::Error::exr(path, e))
+    })
+}
+
+fn read_exr(path: &Path, w: usize, h: usize, c: usize) -> crate::Result<Vec<f32>> {
+    use exr::prelude::*;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| crate::Error::exr(path, e))?;
+    let size = image.layer_data.size;
+    if (size.width(), size.height()) != (w, h) {
+        return Err(crate::Error::invalid(
+            path,
+            format!("is {} × {}; the sidecar says {w} × {h}", size.width(), size.height()),
+        ));
+    }
+    let mut out = vec![0f32; w * h * c];
+    for (k, name) in COMPONENT_NAMES.iter().take(c).enumerate() {
+        let channel = image.layer_data.channel_data.list.iter().find(|ch| ch.name == **name);
+        let Some(channel) = channel else {
+            return Err(crate::Error::invalid(path, format!("has no channel {name}")));
+        };
+        for (i, v) in channel.sample_data.values_as_f32().enumerate() {
+            out[i * c + k] = v;
+        }
+    }
+    Ok(out)
+}
+
+impl<T: FringeSample> FrameImages<T> {
+    /// Pixel `(row, column)` component `component` of image `image`.
+    pub fn at(&self, image: usize, row: usize, column: usize, component: usize) -> T {
+        self.images[image][(row * self.width + column) * self.components + component]
+    }
+}
