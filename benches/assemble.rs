@@ -1,28 +1,53 @@
-//! Mark III assembly speed: frames per second for a full frame (3 zones × 440
-//! hololines × 24576 samples × 16 overlapping chirps, I and Q), the fast path
-//! against the straightforward per-sample loop in the same run.
+//! Assembly speed: frames per second for full frames of the built-in layouts,
+//! the fast path against the straightforward per-sample loop in the same run.
+//! Mark III: 6 signals × 440 hololines × 24576 samples × 16 overlapping chirps.
 //! `cargo bench --bench assemble`
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use holo::assemble::mark3_assembler;
+use holo::assemble::{Assembler, Plan};
+use holo::layout::Layout;
 use holo::Modulation;
 
-fn frame() -> Modulation {
-    let g = holo::layout::mark3().geometry;
-    Modulation::from_fn(g, |_, j, e, v| 0.5 + 0.5 * ((e as f32 * 0.07 + v as f32 * 0.11 + j as f32 * 0.3).sin()))
-        .unwrap()
+/// Smooth content lit everywhere (no emitter or hololine skipped).
+fn frame(layout: &Layout) -> Modulation {
+    Modulation::from_fn(layout.geometry.clone(), |c, j, e, v| {
+        0.5 + 0.5 * ((e as f32 * 0.07 + v as f32 * 0.11 + j as f32 * 0.3 + c as f32).sin())
+    })
+    .unwrap()
+}
+
+/// Every signal of every hololine through the straightforward loop, one thread.
+fn straightforward(a: &Assembler, m: &Modulation) -> f32 {
+    let mut checksum = 0f32;
+    for colour in 0..m.geometry().channels.len() {
+        let plan = a.plan(colour);
+        let samples = plan.basis().samples;
+        let (mut re, mut im) = (vec![0f32; samples], vec![0f32; samples]);
+        for j in 0..m.geometry().hololines {
+            let w = Plan::weights(m.hololine(colour, j)).unwrap();
+            for zone in 0..plan.basis().zones() {
+                plan.zone_straightforward(&w, zone, &mut re, &mut im);
+                checksum += re[samples / 2] + im[samples / 2];
+            }
+        }
+    }
+    checksum
 }
 
 fn bench(c: &mut Criterion) {
-    let a = mark3_assembler();
-    let m = frame();
-    let mut group = c.benchmark_group("mark3_frame");
-    group.sample_size(10).measurement_time(std::time::Duration::from_secs(10));
-    group.throughput(Throughput::Elements(1));
-    let mut out = a.assemble(&m, 0).unwrap();
-    group.bench_function("fast", |b| b.iter(|| a.assemble_into(&m, 0, &mut out).unwrap()));
-    group.bench_function("straightforward", |b| b.iter(|| a.assemble_straightforward(&m, 0).unwrap()));
-    group.finish();
+    for name in ["mark3", "mark1"] {
+        let layout = holo::layout::builtin(name).unwrap();
+        let a = Assembler::new(&layout).unwrap();
+        let m = frame(&layout);
+        let mut group = c.benchmark_group(format!("{name}_frame"));
+        group.sample_size(10).measurement_time(std::time::Duration::from_secs(10));
+        group.throughput(Throughput::Elements(1));
+        let mut bytes = a.blank_images::<u8>();
+        group.bench_function("fast_u8_frame_buffer", |b| b.iter(|| a.assemble_into(&m, &mut bytes).unwrap()));
+        group.bench_function("fast_f32_signals", |b| b.iter(|| a.signals(&m, 0).unwrap()));
+        group.bench_function("straightforward_one_thread", |b| b.iter(|| straightforward(&a, &m)));
+        group.finish();
+    }
 }
 
 criterion_group!(benches, bench);

@@ -3,20 +3,26 @@
 //! An emitter at `(x_e, z_e)` is made by a chirp whose phase at hologram
 //! point `x` is `φ(x) = ∓(2π/λ)·sqrt((x − x_e)² + z_e²)` (− for `z_e > 0`,
 //! light converging through the emitter; + for `z_e < 0`, light diverging
-//! from a virtual point). Its local frequency `(x_e − x)/(λ r)` is `sin θ / λ`:
-//! the point at `x` sends light toward the emitter and on, in direction `θ`.
-//! The chirp spans `zones × chirp_samples` samples centred on the emitter; it
-//! is cut into `zones` pieces, each carried in baseband by its own channel
-//! (the zone's centre frequency removed; the display's up-conversion puts it
-//! back), and each piece into `views_per_zone` equal view segments.
+//! from a virtual point). Its local frequency `(x_e − x)/(λ r)` (for
+//! `z_e > 0`) is `sin θ / λ`: the point at `x` sends light toward the emitter
+//! and on, in direction `θ`. The chirp spans `zones × chirp_samples` samples
+//! centred on the emitter; it is cut into `zones` pieces, each carried by its
+//! own signal, and each piece into `views_per_zone` equal view segments.
+//!
+//! Each zone piece is shifted in frequency before it becomes a signal:
+//! down by the zone's *shift* (the display's up-converter puts it back;
+//! Mark III) and up by the layout's in-signal *carrier* (real signals, which
+//! must keep their band between 0 and half the sampling rate; the reference
+//! beam undoes it). Their difference is the zone's *signal carrier*.
 //!
 //! Phases are computed in f64 in coordinates local to the chirp, with the
-//! difference of square roots taken in its cancellation-free form, so a
-//! chirp's phase error does not grow with the hololine's length.
+//! difference of square roots taken in its cancellation-free form and the
+//! carrier's cycles reduced before they are scaled, so a chirp's phase error
+//! does not grow with the hololine's length (DESIGN.md §5).
 
 use std::f64::consts::PI;
 
-/// The shape of a zoned chirp basis (Mark III: 1024, 64, 3, 32).
+/// The shape of a zoned chirp basis for one wavelength (Mark III: 1024, 64, 3, 32).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ZonedChirp {
     /// Distance between hologram samples, metres.
@@ -33,12 +39,14 @@ pub struct ZonedChirp {
     pub zones: usize,
     /// Views per zone piece.
     pub views_per_zone: usize,
+    /// In-signal carrier, cycles per sample (zero for I/Q signals).
+    pub carrier_cycles_per_sample: f64,
 }
 
 impl ZonedChirp {
-    /// Chirps overlapping at each sample within one zone channel.
+    /// Chirps overlapping at a sample of one zone's signal.
     pub fn overlap(&self) -> usize {
-        self.chirp_samples / self.slot_samples
+        self.chirp_samples.div_ceil(self.slot_samples)
     }
     /// Samples per view segment.
     pub fn samples_per_view(&self) -> usize {
@@ -59,22 +67,40 @@ impl ZonedChirp {
         // Toward the emitter when it is in front (z > 0), away from it when behind.
         -d * z.signum() / (d * d + z * z).sqrt()
     }
+    /// `tan θ` of the light leaving offset `d` (samples).
+    pub fn tan_theta(&self, d_samples: f64) -> f64 {
+        -d_samples * self.sample_pitch_m * self.emitter_z_m.signum() / self.emitter_z_m.abs()
+    }
     /// Middle of a zone's band, cycles per sample: halfway between its two
-    /// edges' `sin θ / λ`.
+    /// edges' `sin θ · pitch / λ`.
     pub fn zone_centre_cycles_per_sample(&self, zone: usize) -> f64 {
         let lo = self.sin_theta(self.offset_samples(zone, -0.5));
         let hi = self.sin_theta(self.offset_samples(zone, self.chirp_samples as f64 - 0.5));
         (lo + hi) / 2.0 * self.sample_pitch_m / self.wavelength_m
     }
-    /// The carrier that shifts a zone to baseband (and the display's
-    /// up-conversion shifts back), cycles per sample: the zone centre rounded
-    /// to a multiple of `1 / slot_samples`. Chirps start on slot boundaries,
-    /// so the carrier then has the same phase at every chirp's start and one
-    /// table serves every emitter, with its zone pieces joining into one
-    /// continuous chirp after up-conversion.
-    pub fn carrier_cycles_per_sample(&self, zone: usize) -> f64 {
+    /// The shift that moves a zone to the middle of its signal's band (and
+    /// the display's up-conversion moves back), cycles per sample: the zone
+    /// centre rounded to a multiple of `1 / slot_samples`. Chirps start on
+    /// slot boundaries, so the shift then has the same phase at every chirp's
+    /// start and one table serves every emitter, with its zone pieces joining
+    /// into one continuous chirp after up-conversion.
+    pub fn zone_shift_cycles_per_sample(&self, zone: usize) -> f64 {
         let slots = self.slot_samples as f64;
         (self.zone_centre_cycles_per_sample(zone) * slots).round() / slots
+    }
+    /// The zone's signal carrier: in-signal carrier less the zone's shift.
+    /// A signal frequency `f` (cycles per sample) in zone `zone` is light
+    /// leaving at `sin θ = (f − signal carrier) · λ / pitch`.
+    pub fn signal_carrier_cycles_per_sample(&self, zone: usize) -> f64 {
+        self.carrier_cycles_per_sample - self.zone_shift_cycles_per_sample(zone)
+    }
+    /// The signal's frequency band in zone `zone`, cycles per sample (low, high).
+    pub fn signal_band(&self, zone: usize) -> (f64, f64) {
+        let c = self.signal_carrier_cycles_per_sample(zone);
+        let to_signal =
+            |u: f64| self.sin_theta(self.offset_samples(zone, u)) * self.sample_pitch_m / self.wavelength_m + c;
+        let (a, b) = (to_signal(-0.5), to_signal(self.chirp_samples as f64 - 0.5));
+        (a.min(b), a.max(b))
     }
     /// Phase of the whole focusing chirp at `x − x_e = d` (samples), relative
     /// to its centre: `∓(2π/λ)(r − |z|)`, with `r − |z| = d²/(r + |z|)` so
@@ -85,29 +111,37 @@ impl ZonedChirp {
         let r = (d * d + z * z).sqrt();
         -z.signum() * 2.0 * PI / self.wavelength_m * (d * d / (r + z.abs()))
     }
-    /// Baseband phase of zone `zone` at sample `u` of its piece: the chirp's
-    /// phase less the carrier's, the carrier counted from the chirp's first
-    /// sample (`zone · chirp_samples + u` samples earlier).
-    pub fn baseband_phase_rad(&self, zone: usize, u: f64) -> f64 {
+    /// Signal phase of zone `zone` at sample `u` of its piece: the chirp's
+    /// phase plus the signal carrier, the carrier counted from the chirp's
+    /// first sample (`zone · chirp_samples + u` samples earlier).
+    pub fn phase_rad(&self, zone: usize, u: f64) -> f64 {
         let n = (zone * self.chirp_samples) as f64 + u;
         // Reduce the carrier's cycles before scaling so the angle stays small.
-        let carrier_cycles = (self.carrier_cycles_per_sample(zone) * n).rem_euclid(1.0);
-        self.chirp_phase_rad(self.offset_samples(zone, u)) - 2.0 * PI * carrier_cycles
+        let carrier_cycles = (self.signal_carrier_cycles_per_sample(zone) * n).rem_euclid(1.0);
+        self.chirp_phase_rad(self.offset_samples(zone, u)) + 2.0 * PI * carrier_cycles
     }
-    /// The complex baseband table of one zone piece, (cos φ, sin φ) per sample.
-    pub fn table(&self, zone: usize) -> (Vec<f32>, Vec<f32>) {
-        (0..self.chirp_samples)
-            .map(|u| {
-                let phi = self.baseband_phase_rad(zone, u as f64);
-                (phi.cos() as f32, phi.sin() as f32)
-            })
-            .unzip()
-    }
-    /// The emitter-global view shown by sample `u` of zone `zone`: views
-    /// ascend with `θ`, and `θ` falls along the chirp, so the last view is
-    /// at the start of zone 0.
+    /// The emitter-global view shown by sample `u` of zone `zone`. Views
+    /// ascend with `θ`; for an emitter in front of the hologram `θ` falls
+    /// along the chirp (the last view is at its start), behind it `θ` rises.
     pub fn view_of(&self, zone: usize, u: usize) -> usize {
-        self.views() - 1 - (zone * self.views_per_zone + u / self.samples_per_view())
+        let along = zone * self.views_per_zone + u / self.samples_per_view();
+        if self.emitter_z_m > 0.0 {
+            self.views() - 1 - along
+        } else {
+            along
+        }
+    }
+    /// Zone and first sample (within the zone piece) of view `v`'s segment.
+    pub fn segment_of_view(&self, v: usize) -> (usize, usize) {
+        let along = if self.emitter_z_m > 0.0 { self.views() - 1 - v } else { v };
+        (along / self.views_per_zone, (along % self.views_per_zone) * self.samples_per_view())
+    }
+    /// `tan θ` at the middle of view `v`'s segment: the direction the
+    /// modulation of view `v` must have been rendered for.
+    pub fn view_centre_tan(&self, v: usize) -> f64 {
+        let (zone, first) = self.segment_of_view(v);
+        let middle = first as f64 + self.samples_per_view() as f64 / 2.0 - 0.5;
+        self.tan_theta(self.offset_samples(zone, middle))
     }
 }
 
@@ -125,23 +159,28 @@ mod tests {
             slot_samples: 64,
             zones: 3,
             views_per_zone: 32,
+            carrier_cycles_per_sample: 0.0,
         }
     }
 
     #[test]
-    fn local_frequency_is_sin_theta_over_lambda() {
-        let c = mark3();
-        for zone in 0..3 {
-            for u in [1.0, 100.0, 511.0, 1000.0] {
-                // Numerical derivative of the phase vs the grating equation.
-                let h = 1e-3;
-                let f =
-                    (c.baseband_phase_rad(zone, u + h) - c.baseband_phase_rad(zone, u - h)) / (2.0 * h) / (2.0 * PI);
-                let expected = c.sin_theta(c.offset_samples(zone, u)) * c.sample_pitch_m / c.wavelength_m
-                    - c.carrier_cycles_per_sample(zone);
-                assert!((f - expected).abs() < 1e-6, "zone {zone} u {u}: {f} vs {expected}");
-                // Every zone's baseband stays inside ±0.5 cycles/sample (I/Q Nyquist).
-                assert!(f.abs() < 0.45, "{f}");
+    fn local_frequency_is_sin_theta_over_lambda_plus_the_signal_carrier() {
+        for carrier in [0.0, 0.25] {
+            let c = ZonedChirp { carrier_cycles_per_sample: carrier, ..mark3() };
+            for zone in 0..3 {
+                for u in [1.0, 100.0, 511.0, 1000.0] {
+                    // Numerical derivative of the phase vs the grating equation.
+                    let h = 1e-3;
+                    let step = (c.phase_rad(zone, u + h) - c.phase_rad(zone, u - h) + PI).rem_euclid(2.0 * PI) - PI;
+                    let f = step / (2.0 * h) / (2.0 * PI);
+                    let expected = c.sin_theta(c.offset_samples(zone, u)) * c.sample_pitch_m / c.wavelength_m
+                        + c.signal_carrier_cycles_per_sample(zone);
+                    assert!((f - expected).abs() < 1e-6, "zone {zone} u {u}: {f} vs {expected}");
+                    if carrier == 0.0 {
+                        // Every zone's baseband stays inside ±0.5 cycles/sample (I/Q Nyquist).
+                        assert!(f.abs() < 0.45, "{f}");
+                    }
+                }
             }
         }
     }
@@ -150,7 +189,7 @@ mod tests {
     fn up_converted_zone_pieces_join_into_one_chirp_for_every_emitter() {
         let c = mark3();
         for zone in 0..3 {
-            assert_eq!((c.carrier_cycles_per_sample(zone) * 64.0).fract(), 0.0);
+            assert_eq!((c.zone_shift_cycles_per_sample(zone) * 64.0).fract(), 0.0);
         }
         // Emitter e's piece of zone k starts at slot e + 16k; after the
         // up-conversion exp(i2πF_k n) the field must be the emitter's chirp.
@@ -159,8 +198,7 @@ mod tests {
             for zone in 0..3 {
                 for u in [0usize, 1, 511, 1023] {
                     let n = start + zone * 1024 + u;
-                    let up =
-                        c.baseband_phase_rad(zone, u as f64) + 2.0 * PI * c.carrier_cycles_per_sample(zone) * n as f64;
+                    let up = c.phase_rad(zone, u as f64) + 2.0 * PI * c.zone_shift_cycles_per_sample(zone) * n as f64;
                     let want = c.chirp_phase_rad(c.offset_samples(zone, u as f64));
                     let diff = (up - want).rem_euclid(2.0 * PI);
                     let diff = diff.min(2.0 * PI - diff);
@@ -179,5 +217,16 @@ mod tests {
         assert_eq!(c.view_of(0, 0), 95);
         assert_eq!(c.view_of(2, 1023), 0);
         assert_eq!(c.view_of(1, 32), 95 - 33);
+        for v in 0..96 {
+            let (zone, first) = c.segment_of_view(v);
+            assert_eq!(c.view_of(zone, first), v);
+            if v > 0 {
+                assert!(c.view_centre_tan(v) > c.view_centre_tan(v - 1));
+            }
+        }
+        // Behind the hologram the order flips: θ rises along the chirp.
+        let behind = ZonedChirp { emitter_z_m: -c.emitter_z_m, ..c.clone() };
+        assert_eq!(behind.view_of(0, 0), 0);
+        assert!((behind.view_centre_tan(7) - c.view_centre_tan(7)).abs() < 1e-12);
     }
 }

@@ -1,22 +1,57 @@
 //! Fringe assembly: from a stored modulation to the images a display's frame
 //! buffer takes.
 //!
-//! [`Assembler`] drives a layout's basis ([`zone::ZoneAssembler`] for zoned
-//! chirps) over every hololine and colour channel, and deals the resulting
+//! [`Assembler`] drives a layout's basis (tabulated in a [`Plan`] per colour
+//! channel, from the physics in [`basis`]) over every hololine and colour channel, and deals the resulting
 //! signals into the frame buffer ([`crate::layout::FrameBuffer`]): one task
 //! per frame-buffer line, each writing only its own rows, so the bytes do not
 //! depend on the thread count. [`Assembler::unpack`] is the inverse, used to
 //! check and view fringes already written.
 
+pub mod basis;
 pub mod chirp;
+pub mod hogel;
 pub mod output;
-pub mod zone;
+pub mod plan;
 
 use rayon::prelude::*;
 
 use crate::layout::{FrameBuffer, Layout, Quantization};
 use crate::{Error, Modulation, Result};
-pub use zone::{mark3_assembler, ZoneAssembler, ZoneSignals};
+pub use basis::ColourBasis;
+pub use plan::Plan;
+
+/// The float signals of every hololine of one colour channel, before they
+/// are dealt into the frame buffer: `data[(j · signals + s) · samples + n]`
+/// for signal `s` (in the layout's signal order) of hololine `j`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Signals {
+    /// Signals per hololine.
+    pub signals: usize,
+    /// Hololines.
+    pub hololines: usize,
+    /// Samples per hololine and signal.
+    pub samples: usize,
+    /// The samples.
+    pub data: Vec<f32>,
+}
+
+impl Signals {
+    /// Zero signals.
+    pub fn zeros(signals: usize, hololines: usize, samples: usize) -> Self {
+        Signals { signals, hololines, samples, data: vec![0.0; signals * hololines * samples] }
+    }
+    /// Signal `s` of hololine `j`.
+    pub fn row(&self, s: usize, j: usize) -> &[f32] {
+        let at = (j * self.signals + s) * self.samples;
+        &self.data[at..at + self.samples]
+    }
+    /// Signal `s` of hololine `j`, mutable.
+    pub fn row_mut(&mut self, s: usize, j: usize) -> &mut [f32] {
+        let at = (j * self.signals + s) * self.samples;
+        &mut self.data[at..at + self.samples]
+    }
+}
 
 /// The images of one frame, `images[i][(row · width + column) · components + component]`.
 #[derive(Clone, Debug, PartialEq)]
@@ -29,6 +64,13 @@ pub struct FrameImages<T> {
     pub components: usize,
     /// One buffer per image.
     pub images: Vec<Vec<T>>,
+}
+
+impl<T: Copy> FrameImages<T> {
+    /// Pixel `(row, column)` component `component` of image `image`.
+    pub fn at(&self, image: usize, row: usize, column: usize, component: usize) -> T {
+        self.images[image][(row * self.width + column) * self.components + component]
+    }
 }
 
 /// A frame-buffer sample type: 8-bit codes, or the float signal itself.
@@ -81,20 +123,23 @@ pub struct FrameStats {
 #[derive(Clone, Debug)]
 pub struct Assembler {
     layout: Layout,
-    /// One basis per colour channel (the wavelength differs).
-    colours: Vec<ZoneAssembler>,
+    /// One tabulated basis per colour channel (the wavelength differs).
+    plans: Vec<Plan>,
 }
 
 impl Assembler {
-    /// An assembler for `layout`, which must have a fringe side.
+    /// An assembler for `layout`, which must have a fringe side that fits its
+    /// geometry.
     pub fn new(layout: &Layout) -> Result<Self> {
         let problems = layout.problems();
         if !problems.is_empty() {
             return Err(Error::Usage(format!("layout {}: {}", layout.name, problems.join("; "))));
         }
-        let colours =
-            (0..layout.geometry.channels.len()).map(|c| zone::for_layout(layout, c)).collect::<Result<Vec<_>>>()?;
-        Ok(Assembler { layout: layout.clone(), colours })
+        let plans = (0..layout.geometry.channels.len())
+            .map(|c| ColourBasis::new(layout, c).map(Plan::new))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|p| Error::Usage(format!("layout {}: {}", layout.name, p.join("; "))))?;
+        Ok(Assembler { layout: layout.clone(), plans })
     }
 
     /// The layout.
@@ -102,9 +147,9 @@ impl Assembler {
         &self.layout
     }
 
-    /// The basis of colour channel `c`.
-    pub fn colour(&self, c: usize) -> &ZoneAssembler {
-        &self.colours[c]
+    /// The tabulated basis of colour channel `c`.
+    pub fn plan(&self, c: usize) -> &Plan {
+        &self.plans[c]
     }
 
     fn frame_buffer(&self) -> &FrameBuffer {
@@ -114,7 +159,10 @@ impl Assembler {
         &self.layout.fringe.as_ref().expect("checked in new").quantization
     }
     fn signals_per_colour(&self) -> usize {
-        2 * self.colours[0].basis().zones
+        self.plans[0].basis().signals()
+    }
+    fn samples(&self) -> usize {
+        self.plans[0].basis().samples
     }
 
     /// `Ok` when `m` has the geometry this layout expects; otherwise an error
@@ -166,6 +214,61 @@ impl Assembler {
         )))
     }
 
+    fn check_samples(m: &Modulation) -> Result<()> {
+        if let Some((c, j, e, v, value, why)) = m.first_bad_sample() {
+            return Err(Error::BadSample {
+                path: "modulation".into(),
+                frame: 0,
+                hololine: j,
+                emitter: e,
+                view: v,
+                channel: m.geometry().channels[c].name.clone(),
+                value,
+                why,
+            });
+        }
+        Ok(())
+    }
+
+    /// The float signals of colour channel `colour` for every hololine (fast
+    /// path, hololines in parallel), before quantization and packing.
+    pub fn signals(&self, m: &Modulation, colour: usize) -> Result<Signals> {
+        self.check_geometry(m)?;
+        Self::check_samples(m)?;
+        let plan = &self.plans[colour];
+        let (zones, lanes, samples) = (plan.basis().zones(), plan.basis().lanes(), self.samples());
+        let hololines = m.geometry().hololines;
+        let mut out = Signals::zeros(zones * lanes, hololines, samples);
+        out.data.par_chunks_mut(zones * lanes * samples).enumerate().for_each(|(j, rows)| {
+            let Some(w) = Plan::weights(m.hololine(colour, j)) else { return };
+            let mut spare = Vec::new();
+            for (zone, zone_rows) in rows.chunks_mut(lanes * samples).enumerate() {
+                let (re, im) = zone_rows.split_at_mut(samples);
+                let im = if im.is_empty() {
+                    spare.resize(samples, 0.0);
+                    &mut spare[..]
+                } else {
+                    im
+                };
+                plan.zone(&w, zone, re, im);
+            }
+        });
+        Ok(out)
+    }
+
+    /// The f64 reference of [`Assembler::signals`] for hololines `hololines`
+    /// (see [`ColourBasis::reference`]); slow, for tests.
+    pub fn signals_reference(
+        &self,
+        m: &Modulation,
+        colour: usize,
+        hololines: std::ops::Range<usize>,
+    ) -> Result<Vec<Vec<Vec<f64>>>> {
+        self.check_geometry(m)?;
+        Self::check_samples(m)?;
+        Ok(hololines.map(|j| self.plans[colour].basis().reference(m.hololine(colour, j))).collect())
+    }
+
     /// Blank images of the layout's frame buffer.
     pub fn blank_images<T: FringeSample>(&self) -> FrameImages<T> {
         let fb = self.frame_buffer();
@@ -182,18 +285,7 @@ impl Assembler {
     /// earlier frame: rows outside the hololines' blocks are not touched).
     pub fn assemble_into<T: FringeSample>(&self, m: &Modulation, out: &mut FrameImages<T>) -> Result<FrameStats> {
         self.check_geometry(m)?;
-        if let Some((c, j, e, v, value, why)) = m.first_bad_sample() {
-            return Err(Error::BadSample {
-                path: "modulation".into(),
-                frame: 0,
-                hololine: j,
-                emitter: e,
-                view: v,
-                channel: m.geometry().channels[c].name.clone(),
-                value,
-                why,
-            });
-        }
+        Self::check_samples(m)?;
         let fb = self.frame_buffer();
         if (out.width, out.height, out.components, out.images.len())
             != (fb.width, fb.height, fb.components, fb.image_names.len())
@@ -203,8 +295,8 @@ impl Assembler {
         let q = *self.quantization();
         let hololines = m.geometry().hololines;
         let per_colour = self.signals_per_colour();
-        let signals = per_colour * self.colours.len();
-        let samples = self.colours[0].samples_per_hololine();
+        let signals = per_colour * self.plans.len();
+        let samples = self.samples();
         let lines = fb.lines(hololines, signals);
         let row_len = fb.width * fb.components;
 
@@ -228,8 +320,7 @@ impl Assembler {
             .enumerate()
             .map(|(line, mut images)| {
                 let mut stats = FrameStats::default();
-                let mut scratch_i = vec![0f32; samples];
-                let mut scratch_q = vec![0f32; samples];
+                let mut scratch = [vec![0f32; samples], vec![0f32; samples]];
                 let mut cached: Option<(usize, usize, usize)> = None;
                 let mut weights: Option<(usize, usize, Option<Vec<f32>>)> = None;
                 for (c, slot) in fb.channels.iter().enumerate() {
@@ -238,24 +329,26 @@ impl Assembler {
                         break;
                     }
                     let (j, s) = (k / signals, k % signals);
-                    let (colour, zone, sine) = (s / per_colour, (s % per_colour) / 2, s % 2 == 1);
+                    let (colour, within) = (s / per_colour, s % per_colour);
+                    let plan = &self.plans[colour];
+                    let (zone, lane) = (within / plan.basis().lanes(), within % plan.basis().lanes());
                     if cached != Some((j, colour, zone)) {
                         if !matches!(&weights, Some((wj, wc, _)) if (*wj, *wc) == (j, colour)) {
-                            weights = Some((j, colour, ZoneAssembler::weights(m.hololine(colour, j))));
+                            weights = Some((j, colour, Plan::weights(m.hololine(colour, j))));
                         }
+                        let [re, im] = &mut scratch;
                         match &weights.as_ref().expect("just set").2 {
-                            Some(w) => self.colours[colour].zone_row(w, zone, &mut scratch_i, &mut scratch_q),
+                            Some(w) => plan.zone(w, zone, re, im),
                             None => {
-                                scratch_i.fill(0.0);
-                                scratch_q.fill(0.0);
+                                re.fill(0.0);
+                                im.fill(0.0);
                                 stats.dark_hololines += 1;
                             }
                         }
                         cached = Some((j, colour, zone));
                     }
-                    let signal = if sine { &scratch_q } else { &scratch_i };
                     let reversed = fb.reverse_odd_lines && line % 2 == 1;
-                    stats.clipped += write_signal(fb, &q, signal, reversed, images[slot.image], slot.component);
+                    stats.clipped += write_signal(fb, &q, &scratch[lane], reversed, images[slot.image], slot.component);
                 }
                 stats
             })
@@ -273,11 +366,10 @@ impl Assembler {
         Ok((out, stats))
     }
 
-    /// The signals held in frame-buffer images: per colour channel, every
-    /// zone's I/Q signal of every hololine, decoded to floats. Samples that
-    /// fell in the horizontal blanking come back as zero: they never reach
-    /// the display.
-    pub fn unpack<T: FringeSample>(&self, images: &FrameImages<T>, hololines: usize) -> Result<Vec<ZoneSignals>> {
+    /// The signals held in frame-buffer images, per colour channel, decoded
+    /// to floats. Samples that fell in the horizontal blanking come back as
+    /// zero: they never reach the display.
+    pub fn unpack<T: FringeSample>(&self, images: &FrameImages<T>, hololines: usize) -> Result<Vec<Signals>> {
         let fb = self.frame_buffer();
         if (images.width, images.height, images.components, images.images.len())
             != (fb.width, fb.height, fb.components, fb.image_names.len())
@@ -297,28 +389,16 @@ impl Assembler {
         }
         let q = self.quantization();
         let per_colour = self.signals_per_colour();
-        let signals = per_colour * self.colours.len();
-        let samples = self.colours[0].samples_per_hololine();
-        let zones = per_colour / 2;
-        let mut out: Vec<ZoneSignals> = (0..self.colours.len())
-            .map(|_| ZoneSignals {
-                zones,
-                hololines,
-                samples,
-                i: vec![0.0; zones * hololines * samples],
-                q: vec![0.0; zones * hololines * samples],
-            })
-            .collect();
+        let signals = per_colour * self.plans.len();
+        let samples = self.samples();
+        let mut out: Vec<Signals> =
+            (0..self.plans.len()).map(|_| Signals::zeros(per_colour, hololines, samples)).collect();
         for j in 0..hololines {
             for s in 0..signals {
-                let (colour, zone, sine) = (s / per_colour, (s % per_colour) / 2, s % 2 == 1);
-                let target = &mut out[colour];
-                let row = (zone * hololines + j) * samples;
-                let dest = if sine { &mut target.q[row..row + samples] } else { &mut target.i[row..row + samples] };
+                let dest = out[s / per_colour].row_mut(s % per_colour, j);
                 for (n, d) in dest.iter_mut().enumerate() {
                     if let Some(p) = fb.place(j, s, n, signals, samples) {
-                        let at = (p.row * images.width + p.column) * images.components + p.component;
-                        *d = images.images[p.image][at].decode(q);
+                        *d = images.at(p.image, p.row, p.column, p.component).decode(q);
                     }
                 }
             }
@@ -356,39 +436,96 @@ fn write_signal<T: FringeSample>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::layout::mark3;
+    use crate::layout::{mark1, mark1_hogel, mark3};
     use rand::{Rng, SeedableRng};
 
-    fn random(hololines: usize, seed: u64) -> Modulation {
-        let mut g = mark3().geometry;
-        g.hololines = hololines;
+    fn with_hololines(mut layout: Layout, hololines: usize) -> Layout {
+        layout.geometry.hololines = hololines;
+        layout
+    }
+
+    /// Rough (independent uniform) or smooth random modulation, never zero everywhere.
+    fn random(layout: &Layout, seed: u64, rough: bool) -> Modulation {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-        Modulation::from_fn(g, |_, _, _, _| rng.gen_range(0.0..1.0)).unwrap()
+        let phase: f32 = rng.gen_range(0.0..6.0);
+        Modulation::from_fn(layout.geometry.clone(), |c, j, e, v| {
+            if rough {
+                rng.gen_range(0.0..1.0)
+            } else {
+                0.5 + 0.5 * ((e as f32 * 0.07 + v as f32 * 0.11 + j as f32 + c as f32 + phase).sin())
+            }
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn fast_and_straightforward_agree_with_the_f64_reference_for_every_basis() {
+        for layout in [mark3(), mark1(), mark1_hogel()] {
+            let layout = with_hololines(layout, 2);
+            let a = Assembler::new(&layout).unwrap();
+            for (seed, rough) in [(1, true), (2, false)] {
+                let m = random(&layout, seed, rough);
+                for colour in 0..layout.geometry.channels.len() {
+                    let plan = a.plan(colour);
+                    let fast = a.signals(&m, colour).unwrap();
+                    let reference = a.signals_reference(&m, colour, 0..2).unwrap();
+                    let samples = plan.basis().samples;
+                    let mut straight = [vec![0f32; samples], vec![0f32; samples]];
+                    let mut worst = [0f64; 2];
+                    let mut largest = 0f64;
+                    for (j, want) in reference.iter().enumerate() {
+                        let w = Plan::weights(m.hololine(colour, j)).unwrap();
+                        for zone in 0..plan.basis().zones() {
+                            let [re, im] = &mut straight;
+                            plan.zone_straightforward(&w, zone, re, im);
+                            for (lane, straight) in straight.iter().take(plan.basis().lanes()).enumerate() {
+                                let s = zone * plan.basis().lanes() + lane;
+                                for n in 0..samples {
+                                    let r = want[s][n];
+                                    largest = largest.max(r.abs());
+                                    worst[0] = worst[0].max((f64::from(fast.row(s, j)[n]) - r).abs());
+                                    worst[1] = worst[1].max((f64::from(straight[n]) - r).abs());
+                                }
+                            }
+                        }
+                    }
+                    assert!(largest > 0.05, "{}: the signal is not trivially small ({largest})", layout.name);
+                    assert!(worst[0] < 2e-6 && worst[1] < 2e-6, "{} colour {colour}: worst {worst:?}", layout.name);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_kernel_blocks_are_as_wide_as_the_bases_allow() {
+        let block = |l: Layout| Assembler::new(&l).unwrap().plan(0).block();
+        assert_eq!(block(mark3()), 32, "32-sample view segments");
+        assert_eq!(block(mark1()), 64);
+        assert_eq!(block(mark1_hogel()), 64);
+        assert_eq!(Assembler::new(&mark3()).unwrap().plan(0).max_terms(), 16, "16 overlapping chirps");
     }
 
     #[test]
     fn mark3_channels_carry_the_right_zone_and_component() {
         // Every (head, colour) of the frame buffer, read back through the
         // paper's own words, holds the matching zone signal of the reference.
-        let mut layout = mark3();
-        layout.geometry.hololines = 2;
+        let layout = with_hololines(mark3(), 2);
         let a = Assembler::new(&layout).unwrap();
-        let m = random(2, 7);
+        let m = random(&layout, 7, true);
         let (images, _) = a.assemble::<f32>(&m).unwrap();
-        let reference = a.colour(0).assemble_reference(&m, 0).unwrap();
+        let reference = a.signals_reference(&m, 0, 0..2).unwrap();
         // (head, component, zone, sine): "Head 1 RG channels produce the
         // sine/cosine pair of zone 1. Head 1 B channel produces the sine of
         // zone 2. Head 2 RG … zone 3. Head 2 B channel produces cosine of zone 2."
         let paper =
             [(0, 0, 0, true), (0, 1, 0, false), (0, 2, 1, true), (1, 0, 2, true), (1, 1, 2, false), (1, 2, 1, false)];
         for (head, component, zone, sine) in paper {
-            for j in 0..2 {
+            for (j, want) in reference.iter().enumerate() {
                 for n in [0usize, 1, 4079, 4096, 10000, 24575 - 16] {
                     let (row, column) = (6 * j + n / 4096, n % 4096);
-                    let got = images.images[head][(row * 4080 + column) * 3 + component];
-                    let at = (zone * 2 + j) * 24576 + n;
-                    let want = if sine { reference.q[at] } else { reference.i[at] };
-                    assert!((got - want).abs() < 2e-6, "head {head} comp {component} j {j} n {n}: {got} vs {want}");
+                    let got = images.at(head, row, column, component);
+                    let want = want[2 * zone + usize::from(sine)][n];
+                    assert!((f64::from(got) - want).abs() < 2e-6, "head {head} comp {component} j {j} n {n}");
                 }
             }
         }
@@ -397,49 +534,87 @@ mod tests {
     }
 
     #[test]
-    fn unpack_inverts_assembly_except_for_blanking_and_quantization() {
-        let mut layout = mark3();
-        layout.geometry.hololines = 3;
+    fn mark1_layers_hold_one_colour_each_in_16_rows_per_hololine() {
+        let layout = with_hololines(mark1(), 3);
         let a = Assembler::new(&layout).unwrap();
-        let m = random(3, 8);
-        let direct = a.colour(0).assemble(&m, 0).unwrap();
+        let m = random(&layout, 11, false);
+        let (images, stats) = a.assemble::<u8>(&m).unwrap();
+        assert_eq!(stats.clipped, 0);
+        for colour in 0..3 {
+            let want = a.signals(&m, colour).unwrap();
+            for j in 0..3 {
+                for n in [0usize, 2047, 2048, 32767] {
+                    let got = images.at(colour, 16 * j + n / 2048, n % 2048, 0).decode(a.quantization());
+                    assert!((got - want.row(0, j)[n]).abs() <= 0.5 / 127.0 + 1e-6, "colour {colour} j {j} n {n}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn unpack_inverts_assembly_except_for_blanking_and_quantization() {
+        let layout = with_hololines(mark3(), 3);
+        let a = Assembler::new(&layout).unwrap();
+        let m = random(&layout, 8, true);
+        let direct = a.signals(&m, 0).unwrap();
         let (floats, _) = a.assemble::<f32>(&m).unwrap();
         let (bytes, stats) = a.assemble::<u8>(&m).unwrap();
         assert_eq!(stats.clipped, 0);
         let from_floats = a.unpack(&floats, 3).unwrap().remove(0);
         let from_bytes = a.unpack(&bytes, 3).unwrap().remove(0);
-        for idx in 0..direct.i.len() {
+        for idx in 0..direct.data.len() {
             let n = idx % 24576;
             let blank = n % 4096 >= 4080;
-            let want = if blank { 0.0 } else { direct.i[idx] };
-            assert_eq!(from_floats.i[idx], want, "sample {idx}");
-            assert!((from_bytes.i[idx] - want).abs() <= 0.5 / 127.0 + 1e-6, "sample {idx}");
+            let want = if blank { 0.0 } else { direct.data[idx] };
+            assert_eq!(from_floats.data[idx], want, "sample {idx}");
+            assert!((from_bytes.data[idx] - want).abs() <= 0.5 / 127.0 + 1e-6, "sample {idx}");
         }
     }
 
     #[test]
     fn bytes_do_not_depend_on_the_thread_count() {
-        let mut layout = mark3();
-        layout.geometry.hololines = 8;
-        let a = Assembler::new(&layout).unwrap();
-        let m = random(8, 9);
-        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-        let (single, _) = one.install(|| a.assemble::<u8>(&m)).unwrap();
-        let (many, _) = a.assemble::<u8>(&m).unwrap();
-        assert!(single == many);
+        for layout in [with_hololines(mark3(), 8), with_hololines(mark1_hogel(), 4)] {
+            let a = Assembler::new(&layout).unwrap();
+            let m = random(&layout, 9, true);
+            let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+            let (single, _) = one.install(|| a.assemble::<u8>(&m)).unwrap();
+            let (many, _) = a.assemble::<u8>(&m).unwrap();
+            assert!(single == many, "{}", layout.name);
+        }
     }
 
     #[test]
     fn nan_and_inf_are_errors_naming_hololine_emitter_and_view() {
-        let mut layout = mark3();
-        layout.geometry.hololines = 4;
+        let layout = with_hololines(mark3(), 4);
         let a = Assembler::new(&layout).unwrap();
         for bad in [f32::NAN, f32::INFINITY, -1.0] {
-            let mut m = random(4, 10);
+            let mut m = random(&layout, 10, true);
             m.set(0, 3, 200, 17, bad);
             let err = a.assemble::<u8>(&m).unwrap_err().to_string();
             assert!(err.contains("hololine 3, emitter 200, view 17"), "{err}");
+            let err = a.signals(&m, 0).unwrap_err().to_string();
+            assert!(err.contains("hololine 3, emitter 200, view 17"), "{err}");
         }
+    }
+
+    #[test]
+    fn zeros_hot_emitters_and_f16_extremes_give_finite_counted_results() {
+        let layout = with_hololines(mark3(), 3);
+        let a = Assembler::new(&layout).unwrap();
+        let mut m = Modulation::zeros(layout.geometry.clone()).unwrap();
+        let (_, stats) = a.assemble::<u8>(&m).unwrap();
+        assert_eq!(stats.dark_hololines, 3 * 3, "three zones of three dark hololines");
+        // One hot emitter at the largest f16 value, one at the smallest subnormal.
+        m.set(0, 1, 100, 40, 65504.0);
+        m.set(0, 2, 7, 3, 6e-8);
+        let (bytes, stats) = a.assemble::<u8>(&m).unwrap();
+        assert!(stats.clipped > 0, "a 65504 radiance must clip at the default gain");
+        assert_eq!(stats.dark_hololines, 3, "hololine 0 stays dark");
+        let signals = a.signals(&m, 0).unwrap();
+        assert!(signals.data.iter().all(|x| x.is_finite()));
+        // The subnormal emitter's weight (2.4e-4 / 16) is below one 8-bit step: codes stay at the offset.
+        assert!((0..6).any(|s| signals.row(s, 2).iter().any(|x| *x != 0.0)));
+        assert!(bytes.images.iter().all(|i| !i.is_empty()));
     }
 
     #[test]
@@ -447,6 +622,24 @@ mod tests {
         let a = Assembler::new(&mark3()).unwrap();
         let m = Modulation::zeros(crate::layout::mark1().geometry).unwrap();
         let err = a.assemble::<u8>(&m).unwrap_err().to_string();
-        assert!(err.contains("64 hololines (the layout has 440)") && err.contains("256 emitters"), "{err}");
+        assert!(err.contains("64 hololines (the layout has 440)") && err.contains("242 emitters"), "{err}");
+    }
+
+    #[test]
+    fn layouts_whose_basis_does_not_fit_are_refused_with_reasons() {
+        let mut l = mark1();
+        l.fringe.as_mut().unwrap().carrier_cycles_per_sample = vec![0.1];
+        let p = l.problems().join("; ");
+        assert!(p.contains("between 0 and 0.5") && p.contains("445 nm"), "{p}");
+        let mut l = mark3();
+        l.geometry.emitter_z_m *= 1.01;
+        let p = l.problems().join("; ");
+        assert!(p.contains("view 0 of the chirp points at"), "{p}");
+        let mut l = mark1_hogel();
+        l.geometry.emitter_z_m = 0.004;
+        assert!(l.problems().join("; ").contains("hologram plane"));
+        let mut l = mark3();
+        l.geometry.emitters = 338;
+        assert!(l.problems().join("; ").contains("338 emitters do not fit"), "{:?}", l.problems());
     }
 }

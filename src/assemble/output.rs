@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::{Assembler, FrameImages, FrameStats, FringeSample};
+use super::{Assembler, FrameImages, FrameStats};
 use crate::layout::Layout;
 use crate::{Error, Result};
 
@@ -266,7 +266,7 @@ pub fn read_frame_images(dir: &Path, sidecar: &FringeSidecar, frame: usize) -> R
 
 impl StoredImages {
     /// [`Assembler::unpack`] whichever the type.
-    pub fn unpack(&self, assembler: &Assembler, hololines: usize) -> Result<Vec<super::ZoneSignals>> {
+    pub fn unpack(&self, assembler: &Assembler, hololines: usize) -> Result<Vec<super::Signals>> {
         match self {
             StoredImages::Bytes(i) => assembler.unpack(i, hololines),
             StoredImages::Floats(i) => assembler.unpack(i, hololines),
@@ -404,11 +404,4 @@ fn read_exr(path: &Path, w: usize, h: usize, c: usize) -> crate::Result<Vec<f32>
         }
     }
     Ok(out)
-}
-
-impl<T: FringeSample> FrameImages<T> {
-    /// Pixel `(row, column)` component `component` of image `image`.
-    pub fn at(&self, image: usize, row: usize, column: usize, component: usize) -> T {
-        self.images[image][(row * self.width + column) * self.components + component]
-    }
 }

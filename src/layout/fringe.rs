@@ -1,6 +1,8 @@
 //! The fringe side of a layout: which basis turns modulation into hololine
-//! signals, and where each signal sample goes in the display's frame buffer.
-//! Normative description: spec/layouts.md, "Fringe fields".
+//! signals, what kind of signal the display takes, and where each signal
+//! sample goes in the display's frame buffer. Normative description:
+//! spec/layouts.md, "Fringe fields". The physics behind the basis (phases,
+//! bands, carriers) is in [`crate::assemble::basis`].
 
 use serde::{Deserialize, Serialize};
 
@@ -14,6 +16,14 @@ pub struct Fringe {
     pub samples_per_hololine: usize,
     /// How emitters and views become fringe samples.
     pub basis: Basis,
+    /// What the display takes: complex I/Q pairs or one real signal per zone.
+    pub signal: SignalKind,
+    /// For real signals: the signal frequency, in cycles per sample, of
+    /// light that leaves the hologram along its normal (the carrier the
+    /// reference beam undoes), one value for every colour channel or one per
+    /// channel. Empty for I/Q signals.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub carrier_cycles_per_sample: Vec<f64>,
     /// Where the signals go.
     pub frame_buffer: FrameBuffer,
     /// Float signal to stored integer.
@@ -24,28 +34,104 @@ pub struct Fringe {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Basis {
-    /// Overlapping focusing chirps cut into view zones, each zone carried in
-    /// baseband as an I/Q pair (seed 004 §3, §5.1). Emitter `e`'s piece of
-    /// zone `k` starts at sample `(e + k · chirp_samples / slot_samples) · slot_samples`.
-    ZonedChirp {
+    /// Overlapping focusing chirps (seed 004 §3; seed 000's elemental
+    /// fringes), each cut into `zones` pieces of `chirp_samples` samples
+    /// carried by separate signals, each piece into `views_per_zone` equal
+    /// view segments. Emitter `e`'s piece of zone `k` starts at sample
+    /// `e · slot_samples + k · chirp_samples`.
+    Chirp {
         /// Samples of one zone piece of a chirp.
         chirp_samples: usize,
-        /// Samples between the starts of adjacent chirps (= between emitters).
+        /// Samples between the starts of adjacent emitters' chirps.
         slot_samples: usize,
-        /// Zone pieces per emitter.
+        /// Zone pieces per emitter (one signal, or I/Q pair, each).
         zones: usize,
         /// Views per zone piece.
         views_per_zone: usize,
     },
+    /// Abutting hogels (Lucente 1994): emitter `e` is the hogel of samples
+    /// `e · hogel_samples …`, on the hologram plane; within it every view is a
+    /// sum of gratings whose directions fill the view's angular interval,
+    /// with pseudo-random phases.
+    Hogel {
+        /// Samples per hogel (= between emitters).
+        hogel_samples: usize,
+    },
 }
 
-impl Basis {
-    /// Signals per hololine and colour channel, and their names.
+/// The kind of signal a display takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SignalKind {
+    /// Complex baseband: a cosine (I) and a sine (Q) signal per zone, which
+    /// the display's single-sideband up-converter shifts to the zone's band
+    /// (Mark III's Weaver modulators, seed 004 §5.1).
+    Iq,
+    /// One real signal per zone, driven as it is: the fringe carries its own
+    /// carrier and both sidebands (the first order is the one used).
+    Real,
+}
+
+impl Fringe {
+    /// Zones: separately carried pieces of every emitter's fan.
+    pub fn zones(&self) -> usize {
+        match self.basis {
+            Basis::Chirp { zones, .. } => zones,
+            Basis::Hogel { .. } => 1,
+        }
+    }
+    /// Signals per hololine and colour channel.
+    pub fn signals_per_colour(&self) -> usize {
+        match self.signal {
+            SignalKind::Iq => 2 * self.zones(),
+            SignalKind::Real => self.zones(),
+        }
+    }
+    /// Names of the signals of one colour channel, in order
+    /// (`zone1.cos`, `zone1.sin`, …, or `zone1`, …).
     pub fn signal_names(&self) -> Vec<String> {
-        match self {
-            Basis::ZonedChirp { zones, .. } => {
-                (1..=*zones).flat_map(|k| [format!("zone{k}.cos"), format!("zone{k}.sin")]).collect()
-            }
+        (1..=self.zones())
+            .flat_map(|k| match self.signal {
+                SignalKind::Iq => vec![format!("zone{k}.cos"), format!("zone{k}.sin")],
+                SignalKind::Real => vec![format!("zone{k}")],
+            })
+            .collect()
+    }
+    /// Samples between adjacent emitters.
+    pub fn emitter_step_samples(&self) -> usize {
+        match self.basis {
+            Basis::Chirp { slot_samples, .. } => slot_samples,
+            Basis::Hogel { hogel_samples } => hogel_samples,
+        }
+    }
+    /// Samples one emitter's basis spans (all zones).
+    pub fn emitter_span_samples(&self) -> usize {
+        match self.basis {
+            Basis::Chirp { chirp_samples, zones, .. } => chirp_samples * zones,
+            Basis::Hogel { hogel_samples } => hogel_samples,
+        }
+    }
+    /// The most emitters whose whole basis fits in a hololine.
+    pub fn max_emitters(&self) -> usize {
+        let (span, step) = (self.emitter_span_samples(), self.emitter_step_samples());
+        if span > self.samples_per_hololine || step == 0 {
+            0
+        } else {
+            (self.samples_per_hololine - span) / step + 1
+        }
+    }
+    /// `x` of emitter `e`, metres: the centre of its basis, on a hololine
+    /// centred on `x = 0` (sample `n` centred at `(n + ½ − N/2) · pitch`).
+    pub fn emitter_x_m(&self, e: usize) -> f64 {
+        let centre = (e * self.emitter_step_samples()) as f64 + self.emitter_span_samples() as f64 / 2.0;
+        (centre - self.samples_per_hololine as f64 / 2.0) * self.sample_pitch_m
+    }
+    /// The in-signal carrier of colour channel `c` (zero for I/Q signals).
+    pub fn carrier(&self, c: usize) -> f64 {
+        match self.carrier_cycles_per_sample.as_slice() {
+            [] => 0.0,
+            [one] => *one,
+            many => many.get(c).copied().unwrap_or(f64::NAN),
         }
     }
 }

@@ -1,0 +1,201 @@
+//! The built-in layouts. Every number states its source; numbers no source
+//! gives are marked *assumption* here and in spec/layouts.md, with the
+//! reasoning.
+
+use super::{Basis, ChannelSlot, FrameBuffer, Fringe, Layout, Quantization, SignalKind};
+use crate::geometry::{mono_channel, rgb_channels, Geometry, Views};
+
+/// Names of the built-in layouts.
+pub const BUILTIN: [&str; 3] = ["mark3", "mark1", "mark1-hogel"];
+
+/// A built-in layout by name.
+pub fn builtin(name: &str) -> Option<Layout> {
+    match name.to_ascii_lowercase().as_str() {
+        "mark3" | "mark-iii" | "markiii" => Some(mark3()),
+        "mark1" | "mark-i" | "marki" => Some(mark1()),
+        "mark1-hogel" => Some(mark1_hogel()),
+        _ => None,
+    }
+}
+
+/// Views whose directions are the centres of `count` equal segments of
+/// `tan θ` over a fan of ±`half_fan_rad`: a perspective camera's pixel
+/// columns, and equal-length segments of an exact focusing chirp.
+pub fn segment_centre_views(count: usize, half_fan_rad: f64) -> Views {
+    let t = half_fan_rad.tan();
+    let step = 2.0 * t / count as f64;
+    Views::tan_spaced(count, (-t + step / 2.0).atan(), (t - step / 2.0).atan())
+}
+
+/// MIT Mark III (Smithwick et al. 2009, seed 004 §5.1).
+///
+/// Stated: 336 emitters × 440 hololines × 96 views, 80 mm × 60 mm, 24° field
+/// of view in three 8° zones; 24576 samples per hololine, a chirp slot every
+/// 64 samples, three 1024-sample zone chirps per emitter.
+/// Derived: emitter pitch 80 mm / 336; hololine pitch 60 mm / 440; sample
+/// pitch 80 mm / (336 · 64) = 3.72 µm; the emitter plane where one emitter's
+/// three zone chirps (3 × 1024 samples) span the 24° fan:
+/// z = 3072 · 3.72 µm / (2 tan 12°) = 26.9 mm.
+/// Assumptions: emitters in front of the hologram (+z); viewer at 600 mm (the
+/// Mark I figure, seed 000); one channel at 633 nm (a HeNe red; the paper
+/// gives no wavelength, and its six video channels are zones and I/Q, not
+/// colours).
+pub fn mark3() -> Layout {
+    let emitters = 336;
+    let width_m = 0.080;
+    let sample_pitch_m = width_m / (emitters as f64 * 64.0);
+    let half_fan = 12f64.to_radians();
+    let emitter_z_m = 3.0 * 1024.0 * sample_pitch_m / (2.0 * half_fan.tan());
+    let mut geometry = Geometry::centred(
+        440,
+        emitters,
+        segment_centre_views(96, half_fan),
+        0.060 / 440.0,
+        width_m / emitters as f64,
+        emitter_z_m,
+        0.600,
+        mono_channel(),
+    );
+    // Emitter e is centred on sample 64e + 1536 of the 24576-sample hololine,
+    // which is centred on x = 0: the grid sits half a slot left of symmetric.
+    geometry.emitter_left_x_m = (1536.0 - 12288.0) * sample_pitch_m;
+    // Six channels in signal order (zone1.cos, zone1.sin, zone2.cos, …):
+    // "Head 1 RG channels produce the sine/cosine pair of zone 1. Head 1 B
+    // channel produces the sine of zone 2. Head 2 RG channels produce the
+    // sine/cosine pair of zone 3. Head 2 B channel produces cosine of zone 2."
+    let slot = |image, component| ChannelSlot { image, component };
+    let channels = vec![slot(0, 1), slot(0, 0), slot(1, 2), slot(0, 2), slot(1, 1), slot(1, 0)];
+    let fringe = Fringe {
+        sample_pitch_m,
+        samples_per_hololine: 24576,
+        basis: Basis::Chirp { chirp_samples: 1024, slot_samples: 64, zones: 3, views_per_zone: 32 },
+        signal: SignalKind::Iq,
+        carrier_cycles_per_sample: Vec::new(),
+        frame_buffer: FrameBuffer {
+            image_names: vec!["head1".into(), "head2".into()],
+            width: 4080,
+            height: 3386,
+            components: 3,
+            line_samples: 4096,
+            rows_per_hololine: 6,
+            // Assumption: hololines from the top row; the 746 rows below
+            // them fall in the vertical mirror's flyback (80% duty cycle).
+            first_row: 0,
+            gap_rows: 0,
+            channels,
+            reverse_odd_lines: false,
+        },
+        // Assumption: a signed signal centred on code 128.
+        quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
+    };
+    Layout {
+        name: "mark3".into(),
+        description: "MIT Mark III (Smithwick et al. 2009): 336 emitters × 440 hololines × 96 views, 80 × 60 mm, 24°"
+            .into(),
+        geometry,
+        fringe: Some(fringe),
+    }
+}
+
+/// Mark I: samples per hololine (seed 000 §1.1.2: "32 kilopixels").
+const MARK1_SAMPLES: usize = 32768;
+/// Mark I: sample pitch, metres (*assumption*, see [`mark1`]).
+const MARK1_PITCH_M: f64 = 0.6e-6;
+
+/// Mark I's frame buffer: three colour layers of 2048 × 1024 8-bit samples,
+/// a hololine as 16 rows of 2048.
+fn mark1_frame_buffer() -> FrameBuffer {
+    FrameBuffer {
+        image_names: vec!["red".into(), "green".into(), "blue".into()],
+        width: 2048,
+        height: 1024,
+        components: 1,
+        line_samples: 2048,
+        rows_per_hololine: 16,
+        first_row: 0,
+        gap_rows: 0,
+        // Signal order per hololine is R, G, B: each colour to its layer.
+        channels: (0..3).map(|image| ChannelSlot { image, component: 0 }).collect(),
+        reverse_odd_lines: false,
+    }
+}
+
+/// MIT Mark I in colour (Nelson 1993, seed 000 §1.1.2), with the focusing-chirp
+/// basis the seed's renderer uses (each point's elemental fringe carries a
+/// separate amplitude per view zone).
+///
+/// Stated: 64 RGB hololines of 32K samples, three colour layers of 2
+/// megasamples, one view zone of about 16°, viewed at about 600 mm, five view
+/// directions for occlusion and specular (seed 000 ch. 2, 4), 8-bit samples.
+/// Assumptions: sample pitch 0.6 µm, so that blue (445 nm) keeps the 16° band
+/// inside a real signal's 0 to 0.5 cycles per sample around a carrier of 0.25
+/// (0.062 to 0.438); a hololine is then 19.7 mm long; wavelengths 633 / 532 /
+/// 445 nm; chirps of 5 × 384 samples, one every 128 samples (15 overlapping),
+/// which puts the emitter plane at 1920 · 0.6 µm / (2 tan 8°) = 4.10 mm and
+/// fits 242 emitters (76.8 µm apart); hololines 0.3 mm apart (a 19.2 mm tall,
+/// nearly square image); each layer a 2048 × 1024 frame buffer, 16 rows per
+/// hololine (2 megasamples = 2048 × 1024).
+pub fn mark1() -> Layout {
+    let (chirp, slot) = (1920, 128);
+    let half_fan = 8f64.to_radians();
+    let emitters = (MARK1_SAMPLES - chirp) / slot + 1;
+    let geometry = Geometry::centred(
+        64,
+        emitters,
+        segment_centre_views(5, half_fan),
+        0.3e-3,
+        slot as f64 * MARK1_PITCH_M,
+        chirp as f64 * MARK1_PITCH_M / (2.0 * half_fan.tan()),
+        0.600,
+        rgb_channels(),
+    );
+    Layout {
+        name: "mark1".into(),
+        description: "MIT Mark I colour (Nelson 1993): 242 emitters × 64 hololines × 5 views, RGB, 16° zone, \
+                      focusing chirps"
+            .into(),
+        geometry,
+        fringe: Some(Fringe {
+            sample_pitch_m: MARK1_PITCH_M,
+            samples_per_hololine: MARK1_SAMPLES,
+            basis: Basis::Chirp { chirp_samples: chirp, slot_samples: slot, zones: 1, views_per_zone: 5 },
+            signal: SignalKind::Real,
+            carrier_cycles_per_sample: vec![0.25],
+            frame_buffer: mark1_frame_buffer(),
+            quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
+        }),
+    }
+}
+
+/// Mark I with Lucente's hogel basis (abutting hogels of gratings, which ran
+/// on Mark I and II): the same display as [`mark1`], with emitters on the
+/// hologram plane, one per 128-sample hogel (256 of them, 76.8 µm apart).
+pub fn mark1_hogel() -> Layout {
+    let hogel = 128;
+    let emitters = MARK1_SAMPLES / hogel;
+    let geometry = Geometry::centred(
+        64,
+        emitters,
+        segment_centre_views(5, 8f64.to_radians()),
+        0.3e-3,
+        hogel as f64 * MARK1_PITCH_M,
+        0.0,
+        0.600,
+        rgb_channels(),
+    );
+    Layout {
+        name: "mark1-hogel".into(),
+        description: "MIT Mark I colour with hogels (Lucente): 256 emitters × 64 hololines × 5 views, RGB, 16° zone"
+            .into(),
+        geometry,
+        fringe: Some(Fringe {
+            sample_pitch_m: MARK1_PITCH_M,
+            samples_per_hololine: MARK1_SAMPLES,
+            basis: Basis::Hogel { hogel_samples: hogel },
+            signal: SignalKind::Real,
+            carrier_cycles_per_sample: vec![0.25],
+            frame_buffer: mark1_frame_buffer(),
+            quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
+        }),
+    }
+}
