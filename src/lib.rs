@@ -13,6 +13,7 @@ pub mod geometry;
 pub mod layout;
 mod modulation;
 pub mod pattern;
+pub mod reconstruct;
 pub mod report;
 pub mod views;
 

@@ -1,0 +1,8 @@
+//! Reconstruction: what the light leaving a fringe does, and what a viewer sees
+//! (PHYSICS.md §6).
+//!
+//! This layer sits after fringe assembly. Start at [`propagate`]: the 1-D
+//! field on one hololine, its free-space propagation by the band-limited
+//! angular spectrum method, and the angular spectrum of a window of it.
+
+pub mod propagate;
