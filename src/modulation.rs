@@ -107,7 +107,17 @@ impl Modulation {
     /// The first sample that is NaN, infinite or negative, as
     /// (channel, hololine, emitter, view, value, why).
     pub fn first_bad_sample(&self) -> Option<(usize, usize, usize, usize, f32, &'static str)> {
-        let i = self.samples.iter().position(|x| !x.is_finite() || *x < 0.0)?;
+        // A branch-free scan first (it vectorises; frames are tens of millions
+        // of samples), then the search for the first offender.
+        let good = |x: &f32| *x >= 0.0 && *x <= f32::MAX;
+        let all_good = {
+            use rayon::prelude::*;
+            self.samples.par_chunks(1 << 16).all(|chunk| chunk.iter().fold(true, |ok, x| ok & good(x)))
+        };
+        if all_good {
+            return None;
+        }
+        let i = self.samples.iter().position(|x| !good(x))?;
         let x = self.samples[i];
         let g = &self.geometry;
         let v = i % g.views.count;

@@ -12,6 +12,7 @@ pub mod basis;
 pub mod chirp;
 pub mod hogel;
 pub mod output;
+mod pack;
 pub mod plan;
 
 use rayon::prelude::*;
@@ -19,6 +20,8 @@ use rayon::prelude::*;
 use crate::layout::{FrameBuffer, Layout, Quantization};
 use crate::{Error, Modulation, Result};
 pub use basis::ColourBasis;
+pub use pack::FringeSample;
+use pack::{interleave, Encoder};
 pub use plan::Plan;
 
 /// The float signals of every hololine of one colour channel, before they
@@ -70,43 +73,6 @@ impl<T: Copy> FrameImages<T> {
     /// Pixel `(row, column)` component `component` of image `image`.
     pub fn at(&self, image: usize, row: usize, column: usize, component: usize) -> T {
         self.images[image][(row * self.width + column) * self.components + component]
-    }
-}
-
-/// A frame-buffer sample type: 8-bit codes, or the float signal itself.
-pub trait FringeSample: Copy + Send + Sync + 'static {
-    /// The stored value of signal `x`, and whether it was clipped.
-    fn encode(x: f32, q: &Quantization) -> (Self, bool);
-    /// The signal a stored value stands for.
-    fn decode(self, q: &Quantization) -> f32;
-    /// The value of pixels no signal reaches.
-    fn blank(q: &Quantization) -> Self;
-}
-
-impl FringeSample for u8 {
-    #[inline(always)]
-    fn encode(x: f32, q: &Quantization) -> (u8, bool) {
-        let code = (q.offset as f32 + q.gain as f32 * x).round();
-        (code.clamp(0.0, 255.0) as u8, !(0.0..=255.0).contains(&code))
-    }
-    fn decode(self, q: &Quantization) -> f32 {
-        ((f64::from(self) - q.offset) / q.gain) as f32
-    }
-    fn blank(q: &Quantization) -> u8 {
-        q.offset.round().clamp(0.0, 255.0) as u8
-    }
-}
-
-impl FringeSample for f32 {
-    #[inline(always)]
-    fn encode(x: f32, _: &Quantization) -> (f32, bool) {
-        (x, false)
-    }
-    fn decode(self, _: &Quantization) -> f32 {
-        self
-    }
-    fn blank(_: &Quantization) -> f32 {
-        0.0
     }
 }
 
@@ -315,43 +281,82 @@ impl Assembler {
             }
         }
 
+        // For each image and component, the channel that feeds it.
+        let feeds: Vec<Vec<Option<usize>>> = (0..fb.image_names.len())
+            .map(|image| {
+                (0..fb.components)
+                    .map(|comp| fb.channels.iter().position(|s| s.image == image && s.component == comp))
+                    .collect()
+            })
+            .collect();
         let stats = blocks
             .into_par_iter()
             .enumerate()
-            .map(|(line, mut images)| {
-                let mut stats = FrameStats::default();
-                let mut scratch = [vec![0f32; samples], vec![0f32; samples]];
-                let mut cached: Option<(usize, usize, usize)> = None;
-                let mut weights: Option<(usize, usize, Option<Vec<f32>>)> = None;
-                for (c, slot) in fb.channels.iter().enumerate() {
-                    let k = line * fb.channels.len() + c;
-                    if k >= hololines * signals {
-                        break;
-                    }
-                    let (j, s) = (k / signals, k % signals);
-                    let (colour, within) = (s / per_colour, s % per_colour);
-                    let plan = &self.plans[colour];
-                    let (zone, lane) = (within / plan.basis().lanes(), within % plan.basis().lanes());
-                    if cached != Some((j, colour, zone)) {
-                        if !matches!(&weights, Some((wj, wc, _)) if (*wj, *wc) == (j, colour)) {
-                            weights = Some((j, colour, Plan::weights(m.hololine(colour, j))));
+            .map_init(
+                || (vec![0f32; samples], vec![vec![T::blank(&q); samples]; fb.channels.len()], Vec::new()),
+                |(zeros, codes, weights), (line, mut images)| {
+                    let mut stats = FrameStats::default();
+                    // The (hololine, colour) whose weights are in `weights`, and whether it is lit.
+                    let mut weights_of: Option<(usize, usize, bool)> = None;
+                    let reversed = fb.reverse_odd_lines && line % 2 == 1;
+                    // What channel `c` of this line carries: (hololine, colour, zone, lane).
+                    let item = |c: usize| {
+                        let k = line * fb.channels.len() + c;
+                        (c < fb.channels.len() && k < hololines * signals).then(|| {
+                            let (j, s) = (k / signals, k % signals);
+                            let (colour, within) = (s / per_colour, s % per_colour);
+                            let lanes = self.plans[colour].basis().lanes();
+                            (j, colour, within / lanes, within % lanes)
+                        })
+                    };
+                    let mut filled = vec![false; fb.channels.len()];
+                    let mut c = 0;
+                    while let Some((j, colour, zone, _)) = item(c) {
+                        // The channels from c on that carry lanes of this zone.
+                        let mut lane_channel = [None, None];
+                        while let Some((j2, colour2, zone2, lane)) = item(c) {
+                            if (j2, colour2, zone2) != (j, colour, zone) {
+                                break;
+                            }
+                            lane_channel[lane] = Some(c);
+                            filled[c] = true;
+                            c += 1;
                         }
-                        let [re, im] = &mut scratch;
-                        match &weights.as_ref().expect("just set").2 {
-                            Some(w) => plan.zone(w, zone, re, im),
-                            None => {
-                                re.fill(0.0);
-                                im.fill(0.0);
+                        let lit = match weights_of {
+                            Some((wj, wc, lit)) if (wj, wc) == (j, colour) => lit,
+                            _ => {
+                                let lit = Plan::weights_into(m.hololine(colour, j), weights);
+                                weights_of = Some((j, colour, lit));
+                                lit
+                            }
+                        };
+                        match lit {
+                            true => {
+                                let mut sink = Encoder { lane_channel, codes, samples, reversed, q: &q, clipped: 0 };
+                                self.plans[colour].zone_blocks(weights, zone, &mut sink);
+                                stats.clipped += sink.clipped;
+                            }
+                            false => {
+                                for ch in lane_channel.into_iter().flatten() {
+                                    T::encode_line(zeros, false, &mut codes[ch], &q);
+                                }
                                 stats.dark_hololines += 1;
                             }
                         }
-                        cached = Some((j, colour, zone));
                     }
-                    let reversed = fb.reverse_odd_lines && line % 2 == 1;
-                    stats.clipped += write_signal(fb, &q, &scratch[lane], reversed, images[slot.image], slot.component);
-                }
-                stats
-            })
+                    for (block, feeds) in images.iter_mut().zip(&feeds) {
+                        let sources: Vec<Option<&[T]>> =
+                            feeds.iter().map(|f| f.filter(|c| filled[*c]).map(|c| &codes[c][..])).collect();
+                        if sources.iter().all(Option::is_none) {
+                            continue;
+                        }
+                        for (r, row) in block.chunks_exact_mut(row_len).enumerate() {
+                            interleave(row, &sources, r * fb.line_samples);
+                        }
+                    }
+                    stats
+                },
+            )
             .reduce(FrameStats::default, |a, b| FrameStats {
                 clipped: a.clipped + b.clipped,
                 dark_hololines: a.dark_hololines + b.dark_hololines,
@@ -405,32 +410,6 @@ impl Assembler {
         }
         Ok(out)
     }
-}
-
-/// Write one signal into its component of a line's row block; returns the
-/// number of clipped samples.
-fn write_signal<T: FringeSample>(
-    fb: &FrameBuffer,
-    q: &Quantization,
-    signal: &[f32],
-    reversed: bool,
-    block: &mut [T],
-    component: usize,
-) -> u64 {
-    let mut clipped = 0;
-    let samples = signal.len();
-    for r in 0..fb.rows_per_hololine {
-        let row = &mut block[r * fb.width * fb.components..(r + 1) * fb.width * fb.components];
-        let first = r * fb.line_samples;
-        for (x, px) in row.chunks_exact_mut(fb.components).enumerate() {
-            let sent = first + x;
-            let n = if reversed { samples - 1 - sent } else { sent };
-            let (v, clip) = T::encode(signal[n], q);
-            px[component] = v;
-            clipped += u64::from(clip);
-        }
-    }
-    clipped
 }
 
 #[cfg(test)]

@@ -23,6 +23,35 @@ struct Term {
     back: u32,
     view: u32,
     at: u32,
+    /// `back · views − view`: the weight is `weights[base · views − key]`.
+    key: i64,
+}
+
+/// The terms of one (zone, phase), with the range of their `back`: a block
+/// whose every term names an existing emitter needs no checks.
+#[derive(Clone, Debug, Default)]
+struct Terms {
+    list: Vec<Term>,
+    min_back: usize,
+    max_back: usize,
+}
+
+/// Where the kernel puts each block of a zone's signal: `put(lane, first
+/// sample, values)`, lane 0 the real part and 1 the imaginary part (I/Q
+/// only), values already normalised; every block once, in increasing order.
+/// Implementations mark `put` `#[inline(always)]`: it is compiled into the
+/// kernel, with the kernel's vector instructions.
+pub trait BlockSink {
+    /// Take one block.
+    fn put(&mut self, lane: usize, first: usize, values: &[f32]);
+}
+
+/// Blocks copied into the real and imaginary rows.
+impl BlockSink for [&mut [f32]; 2] {
+    #[inline(always)]
+    fn put(&mut self, lane: usize, first: usize, values: &[f32]) {
+        self[lane][first..first + values.len()].copy_from_slice(values);
+    }
 }
 
 /// A tabulated basis and its term lists.
@@ -35,8 +64,24 @@ pub struct Plan {
     table_re: Vec<f32>,
     table_im: Vec<f32>,
     /// `terms[zone][phase]`.
-    terms: Vec<Vec<Vec<Term>>>,
+    terms: Vec<Vec<Terms>>,
     norm: f32,
+}
+
+#[inline(always)]
+fn weights_into(hololine: &[f32], out: &mut Vec<f32>) -> bool {
+    if hololine.iter().fold(true, |dark, x| dark & (*x == 0.0)) {
+        return false;
+    }
+    out.clear();
+    out.extend(hololine.iter().map(|x| x.sqrt()));
+    true
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn weights_into_avx2(hololine: &[f32], out: &mut Vec<f32>) -> bool {
+    weights_into(hololine, out)
 }
 
 fn gcd(a: usize, b: usize) -> usize {
@@ -69,7 +114,7 @@ impl Plan {
         }
         let block = gcd(g, 64);
         let period = basis.step / block;
-        let mut terms = vec![vec![Vec::new(); period]; basis.zones()];
+        let mut terms = vec![vec![Terms::default(); period]; basis.zones()];
         for (phase, slot) in (0..period).map(|ph| (ph, ph * block)) {
             for (v, &offset) in offsets.iter().enumerate() {
                 let s = basis.segment(0, v);
@@ -81,14 +126,19 @@ impl Plan {
                         break;
                     }
                     if t0 >= 0 {
-                        terms[s.zone][phase].push(Term {
+                        terms[s.zone][phase].list.push(Term {
                             back: back as u32,
                             view: v as u32,
                             at: (offset + t0 as usize) as u32,
+                            key: (back * basis.views) as i64 - v as i64,
                         });
                     }
                 }
             }
+        }
+        for t in terms.iter_mut().flatten() {
+            t.min_back = t.list.iter().map(|t| t.back as usize).min().unwrap_or(0);
+            t.max_back = t.list.iter().map(|t| t.back as usize).max().unwrap_or(0);
         }
         let norm = (1.0 / basis.normalisation()) as f32;
         Plan { basis, block, period, table_re, table_im, terms, norm }
@@ -104,33 +154,27 @@ impl Plan {
     }
     /// The most elements covering one block of one zone.
     pub fn max_terms(&self) -> usize {
-        self.terms.iter().flatten().map(Vec::len).max().unwrap_or(0)
+        self.terms.iter().flatten().map(|t| t.list.len()).max().unwrap_or(0)
     }
 
     /// The basis weights `sqrt(m)` of one hololine's modulation (emitter-major,
-    /// as stored), or `None` when the hololine is dark.
+    /// as stored, already checked finite and non-negative), or `None` when the
+    /// hololine is dark.
     pub fn weights(hololine: &[f32]) -> Option<Vec<f32>> {
-        if hololine.iter().all(|x| *x == 0.0) {
-            return None;
-        }
-        Some(hololine.iter().map(|x| x.max(0.0).sqrt()).collect())
+        let mut out = Vec::new();
+        Self::weights_into(hololine, &mut out).then_some(out)
     }
 
-    /// The (weight, table offset) of every element with a non-zero weight
-    /// covering block `b` of zone `zone`.
-    #[inline]
-    fn gather(&self, weights: &[f32], zone: usize, b: usize, out: &mut Vec<(f32, usize)>) {
-        out.clear();
-        let (base, phase) = (b / self.period, b % self.period);
-        for t in &self.terms[zone][phase] {
-            let Some(e) = base.checked_sub(t.back as usize).filter(|e| *e < self.basis.emitters) else {
-                continue;
-            };
-            let w = weights[e * self.basis.views + t.view as usize];
-            if w != 0.0 {
-                out.push((w, t.at as usize));
-            }
+    /// [`Plan::weights`] into a buffer kept between hololines (a hololine's
+    /// weights are large enough that a fresh allocation each time costs page
+    /// faults); `false` when the hololine is dark.
+    pub fn weights_into(hololine: &[f32], out: &mut Vec<f32>) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the feature the function is compiled for is present.
+            return unsafe { weights_into_avx2(hololine, out) };
         }
+        weights_into(hololine, out)
     }
 
     /// Zone `zone` of one hololine from its [`Plan::weights`]: the real part
@@ -138,13 +182,19 @@ impl Plan {
     /// for I/Q signals (`im` is ignored for real signals). Both hold one
     /// hololine's samples.
     pub fn zone(&self, weights: &[f32], zone: usize, re: &mut [f32], im: &mut [f32]) {
+        self.zone_blocks(weights, zone, &mut [re, im]);
+    }
+
+    /// Zone `zone` of one hololine, handed to `sink` block by block (see
+    /// [`BlockSink`]).
+    pub fn zone_blocks(&self, weights: &[f32], zone: usize, store: &mut impl BlockSink) {
         let iq = self.basis.signal == SignalKind::Iq;
         macro_rules! fixed {
             ($b:literal) => {
                 if iq {
-                    self.dispatch::<$b, 2>(weights, zone, [re, im])
+                    self.dispatch::<$b, 2, _>(weights, zone, store)
                 } else {
-                    self.dispatch::<$b, 1>(weights, zone, [re])
+                    self.dispatch::<$b, 1, _>(weights, zone, store)
                 }
             };
         }
@@ -153,77 +203,130 @@ impl Plan {
             32 => fixed!(32),
             16 => fixed!(16),
             8 => fixed!(8),
-            _ => self.run_dynamic(weights, zone, re, if iq { Some(im) } else { None }),
+            _ => self.run_dynamic(weights, zone, store),
         }
     }
 
     /// Blocks of `B` samples and `L` lanes with fixed-size accumulators,
     /// compiled for AVX2 + FMA when the processor has them (checked at run time).
-    fn dispatch<const B: usize, const L: usize>(&self, weights: &[f32], zone: usize, out: [&mut [f32]; L]) {
+    fn dispatch<const B: usize, const L: usize, F: BlockSink>(&self, weights: &[f32], zone: usize, store: &mut F) {
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
             // SAFETY: the features the function is compiled for are present.
-            unsafe { self.run_avx2::<B, L>(weights, zone, out) };
+            unsafe { self.run_avx2::<B, L, F>(weights, zone, store) };
             return;
         }
-        self.run_fixed::<B, L, false>(weights, zone, out);
+        self.run_fixed::<B, L, false, F>(weights, zone, store);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn run_avx2<const B: usize, const L: usize>(&self, weights: &[f32], zone: usize, out: [&mut [f32]; L]) {
-        self.run_fixed::<B, L, true>(weights, zone, out);
-    }
-
-    /// `FUSED`: use fused multiply-adds (only where the hardware has them;
-    /// elsewhere `mul_add` is a slow library call).
-    #[inline(always)]
-    fn run_fixed<const B: usize, const L: usize, const FUSED: bool>(
+    unsafe fn run_avx2<const B: usize, const L: usize, F: BlockSink>(
         &self,
         weights: &[f32],
         zone: usize,
-        out: [&mut [f32]; L],
+        store: &mut F,
+    ) {
+        self.run_fixed::<B, L, true, F>(weights, zone, store);
+    }
+
+    /// The kernel. `FUSED`: use fused multiply-adds (only where the hardware
+    /// has them; elsewhere `mul_add` is a slow library call).
+    #[inline(always)]
+    fn run_fixed<const B: usize, const L: usize, const FUSED: bool, F: BlockSink>(
+        &self,
+        weights: &[f32],
+        zone: usize,
+        store: &mut F,
     ) {
         let tables: [&[f32]; 2] = [&self.table_re, &self.table_im];
-        let mut gathered = Vec::with_capacity(self.max_terms());
+        let views = self.basis.views;
         for b in 0..self.basis.samples / B {
-            self.gather(weights, zone, b, &mut gathered);
+            let (base, phase) = (b / self.period, b % self.period);
+            let terms = &self.terms[zone][phase];
             let mut acc = [[0f32; B]; L];
-            for &(w, at) in &gathered {
-                for (lane, acc) in acc.iter_mut().enumerate() {
-                    let t: &[f32; B] = tables[lane][at..at + B].try_into().expect("segment inside the table");
-                    for i in 0..B {
-                        acc[i] = if FUSED { w.mul_add(t[i], acc[i]) } else { acc[i] + w * t[i] };
+            // A macro, not a closure: the accumulator must stay in registers.
+            macro_rules! add {
+                ($w:expr, $at:expr) => {{
+                    let (w, at) = ($w, $at);
+                    for lane in 0..L {
+                        let t: &[f32; B] = tables[lane][at..at + B].try_into().expect("segment inside the table");
+                        for i in 0..B {
+                            acc[lane][i] = if FUSED { w.mul_add(t[i], acc[lane][i]) } else { acc[lane][i] + w * t[i] };
+                        }
+                    }
+                }};
+            }
+            if terms.max_back <= base && base - terms.min_back < self.basis.emitters {
+                // Every term names an emitter of the hololine: no checks.
+                let row = (base * views) as i64;
+                for t in &terms.list {
+                    let w = weights[(row - t.key) as usize];
+                    if w != 0.0 {
+                        add!(w, t.at as usize);
+                    }
+                }
+            } else {
+                for t in &terms.list {
+                    if let Some(e) = base.checked_sub(t.back as usize).filter(|e| *e < self.basis.emitters) {
+                        let w = weights[e * views + t.view as usize];
+                        if w != 0.0 {
+                            add!(w, t.at as usize);
+                        }
                     }
                 }
             }
             for (lane, acc) in acc.iter().enumerate() {
-                let o: &mut [f32; B] = (&mut out[lane][b * B..(b + 1) * B]).try_into().expect("block inside the row");
-                for i in 0..B {
-                    o[i] = acc[i] * self.norm;
-                }
+                // A copy, so that the accumulator itself never escapes.
+                let mut values = [0f32; B];
+                values.iter_mut().zip(acc).for_each(|(v, a)| *v = a * self.norm);
+                store.put(lane, b * B, &values);
             }
         }
     }
 
-    fn run_dynamic(&self, weights: &[f32], zone: usize, re: &mut [f32], mut im: Option<&mut [f32]>) {
+    fn run_dynamic(&self, weights: &[f32], zone: usize, store: &mut impl BlockSink) {
         let bl = self.block;
-        let mut gathered = Vec::new();
+        let lanes = self.basis.lanes();
+        let tables: [&[f32]; 2] = [&self.table_re, &self.table_im];
+        let mut acc = vec![0f32; bl];
         for b in 0..self.basis.samples / bl {
-            self.gather(weights, zone, b, &mut gathered);
-            let r = &mut re[b * bl..(b + 1) * bl];
-            r.fill(0.0);
-            for &(w, at) in &gathered {
-                r.iter_mut().zip(&self.table_re[at..at + bl]).for_each(|(a, t)| *a += w * t);
-            }
-            r.iter_mut().for_each(|a| *a *= self.norm);
-            if let Some(im) = im.as_deref_mut() {
-                let q = &mut im[b * bl..(b + 1) * bl];
-                q.fill(0.0);
-                for &(w, at) in &gathered {
-                    q.iter_mut().zip(&self.table_im[at..at + bl]).for_each(|(a, t)| *a += w * t);
+            let (base, phase) = (b / self.period, b % self.period);
+            for (lane, table) in tables.iter().enumerate().take(lanes) {
+                acc.fill(0.0);
+                for t in &self.terms[zone][phase].list {
+                    if let Some(e) = base.checked_sub(t.back as usize).filter(|e| *e < self.basis.emitters) {
+                        let w = weights[e * self.basis.views + t.view as usize];
+                        let at = t.at as usize;
+                        acc.iter_mut().zip(&table[at..at + bl]).for_each(|(a, t)| *a += w * t);
+                    }
                 }
-                q.iter_mut().for_each(|a| *a *= self.norm);
+                acc.iter_mut().for_each(|a| *a *= self.norm);
+                store.put(lane, b * bl, &acc);
+            }
+        }
+    }
+
+    /// The adjoint of [`Plan::zone`]: for every element of zone `zone`, the
+    /// inner product of its (normalised) basis with the signals, added to
+    /// `out[e · views + v]` (`im` is ignored for real signals). With the
+    /// forward map it solves for the weights that made a signal.
+    pub fn zone_adjoint(&self, zone: usize, re: &[f32], im: &[f32], out: &mut [f64]) {
+        let iq = self.basis.signal == SignalKind::Iq;
+        let bl = self.block;
+        for b in 0..self.basis.samples / bl {
+            let (base, phase) = (b / self.period, b % self.period);
+            let (r, q) = (&re[b * bl..(b + 1) * bl], if iq { &im[b * bl..(b + 1) * bl] } else { &[][..] });
+            for t in &self.terms[zone][phase].list {
+                let Some(e) = base.checked_sub(t.back as usize).filter(|e| *e < self.basis.emitters) else {
+                    continue;
+                };
+                let at = t.at as usize;
+                let mut dot: f64 = r.iter().zip(&self.table_re[at..at + bl]).map(|(s, t)| f64::from(s * t)).sum();
+                if iq {
+                    dot += q.iter().zip(&self.table_im[at..at + bl]).map(|(s, t)| f64::from(s * t)).sum::<f64>();
+                }
+                out[e * self.basis.views + t.view as usize] += dot * f64::from(self.norm);
             }
         }
     }
@@ -237,7 +340,7 @@ impl Plan {
             let (b, u) = (n / self.block, n % self.block);
             let (base, phase) = (b / self.period, b % self.period);
             let (mut si, mut sq) = (0f32, 0f32);
-            for t in &self.terms[zone][phase] {
+            for t in &self.terms[zone][phase].list {
                 let Some(e) = base.checked_sub(t.back as usize).filter(|e| *e < self.basis.emitters) else {
                     continue;
                 };

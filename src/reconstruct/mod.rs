@@ -5,4 +5,5 @@
 //! field on one hololine, its free-space propagation by the band-limited
 //! angular spectrum method, and the angular spectrum of a window of it.
 
+pub mod field;
 pub mod propagate;
