@@ -270,6 +270,19 @@ impl ColourBasis {
         }
     }
 
+    /// The band of zone `zone`'s signal, cycles per sample (low, high): the
+    /// frequencies its elements use, the signal carrier included.
+    pub fn signal_band(&self, zone: usize) -> (f64, f64) {
+        let c = self.signal_carrier(zone);
+        let to_signal = |sin: f64| sin * self.pitch_m / self.wavelength_m + c;
+        let in_zone = (0..self.views).filter(|&v| self.segment(0, v).zone == zone);
+        let (lo, hi) = in_zone.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            let (a, b) = self.view_sin_edges[v];
+            (lo.min(to_signal(a)), hi.max(to_signal(b)))
+        });
+        (lo, hi)
+    }
+
     /// Where element (`e`, `v`) lies.
     pub fn segment(&self, e: usize, v: usize) -> Segment {
         match &self.elements {

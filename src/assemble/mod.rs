@@ -17,11 +17,11 @@ pub mod plan;
 
 use rayon::prelude::*;
 
-use crate::layout::{FrameBuffer, Layout, Quantization};
+use crate::layout::{ColourSignals, FrameBuffer, Layout, Quantization};
 use crate::{Error, Modulation, Result};
 pub use basis::ColourBasis;
 pub use pack::FringeSample;
-use pack::{interleave, Encoder};
+use pack::{interleave, Adder, Encoder, LineScratch};
 pub use plan::Plan;
 
 /// The float signals of every hololine of one colour channel, before they
@@ -126,6 +126,9 @@ impl Assembler {
     }
     fn signals_per_colour(&self) -> usize {
         self.plans[0].basis().signals()
+    }
+    fn colours_summed(&self) -> bool {
+        self.layout.fringe.as_ref().expect("checked in new").colours == ColourSignals::Summed
     }
     fn samples(&self) -> usize {
         self.plans[0].basis().samples
@@ -261,7 +264,8 @@ impl Assembler {
         let q = *self.quantization();
         let hololines = m.geometry().hololines;
         let per_colour = self.signals_per_colour();
-        let signals = per_colour * self.plans.len();
+        let summed = self.colours_summed();
+        let signals = self.layout.signals_per_hololine();
         let samples = self.samples();
         let lines = fb.lines(hololines, signals);
         let row_len = fb.width * fb.components;
@@ -293,56 +297,84 @@ impl Assembler {
             .into_par_iter()
             .enumerate()
             .map_init(
-                || (vec![0f32; samples], vec![vec![T::blank(&q); samples]; fb.channels.len()], Vec::new()),
-                |(zeros, codes, weights), (line, mut images)| {
+                || LineScratch::new(samples, fb.channels.len(), T::blank(&q)),
+                |scratch, (line, mut images)| {
+                    let LineScratch { zeros, codes, weights, sum } = scratch;
                     let mut stats = FrameStats::default();
                     // The (hololine, colour) whose weights are in `weights`, and whether it is lit.
                     let mut weights_of: Option<(usize, usize, bool)> = None;
                     let reversed = fb.reverse_odd_lines && line % 2 == 1;
-                    // What channel `c` of this line carries: (hololine, colour, zone, lane).
+                    // What channel `c` of this line carries: (hololine, colours, zone, lane).
                     let item = |c: usize| {
                         let k = line * fb.channels.len() + c;
                         (c < fb.channels.len() && k < hololines * signals).then(|| {
                             let (j, s) = (k / signals, k % signals);
-                            let (colour, within) = (s / per_colour, s % per_colour);
-                            let lanes = self.plans[colour].basis().lanes();
-                            (j, colour, within / lanes, within % lanes)
+                            let (colours, within) = if summed {
+                                (0..self.plans.len(), s)
+                            } else {
+                                (s / per_colour..s / per_colour + 1, s % per_colour)
+                            };
+                            let lanes = self.plans[colours.start].basis().lanes();
+                            (j, colours, within / lanes, within % lanes)
                         })
                     };
                     let mut filled = vec![false; fb.channels.len()];
                     let mut c = 0;
-                    while let Some((j, colour, zone, _)) = item(c) {
+                    while let Some((j, colours, zone, _)) = item(c) {
                         // The channels from c on that carry lanes of this zone.
                         let mut lane_channel = [None, None];
-                        while let Some((j2, colour2, zone2, lane)) = item(c) {
-                            if (j2, colour2, zone2) != (j, colour, zone) {
+                        while let Some((j2, colours2, zone2, lane)) = item(c) {
+                            if (j2, &colours2, zone2) != (j, &colours, zone) {
                                 break;
                             }
                             lane_channel[lane] = Some(c);
                             filled[c] = true;
                             c += 1;
                         }
-                        let lit = match weights_of {
-                            Some((wj, wc, lit)) if (wj, wc) == (j, colour) => lit,
-                            _ => {
-                                let lit = Plan::weights_into(m.hololine(colour, j), weights);
-                                weights_of = Some((j, colour, lit));
-                                lit
-                            }
-                        };
-                        match lit {
-                            true => {
+                        // Load colour's weights of hololine j (unless they are
+                        // already there); false when that hololine is dark.
+                        let lit_weights =
+                            |colour: usize, weights: &mut Vec<f32>, of: &mut Option<(usize, usize, bool)>| match *of {
+                                Some((wj, wc, lit)) if (wj, wc) == (j, colour) => lit,
+                                _ => {
+                                    let lit = Plan::weights_into(m.hololine(colour, j), weights);
+                                    *of = Some((j, colour, lit));
+                                    lit
+                                }
+                            };
+                        if colours.len() == 1 {
+                            let colour = colours.start;
+                            if lit_weights(colour, weights, &mut weights_of) {
                                 let mut sink = Encoder { lane_channel, codes, samples, reversed, q: &q, clipped: 0 };
                                 self.plans[colour].zone_blocks(weights, zone, &mut sink);
                                 stats.clipped += sink.clipped;
+                                continue;
                             }
-                            false => {
-                                for ch in lane_channel.into_iter().flatten() {
-                                    T::encode_line(zeros, false, &mut codes[ch], &q);
+                        } else {
+                            // Colours summed into one signal: each colour's zone
+                            // added into `sum`, then encoded.
+                            let mut any = false;
+                            sum.iter_mut().for_each(|lane| lane.fill(0.0));
+                            for colour in colours {
+                                if lit_weights(colour, weights, &mut weights_of) {
+                                    any = true;
+                                    let mut adder = Adder(&mut sum[..]);
+                                    self.plans[colour].zone_blocks(weights, zone, &mut adder);
                                 }
-                                stats.dark_hololines += 1;
+                            }
+                            if any {
+                                for (lane, ch) in lane_channel.into_iter().enumerate() {
+                                    if let Some(ch) = ch {
+                                        stats.clipped += T::encode_line(&sum[lane], reversed, &mut codes[ch], &q);
+                                    }
+                                }
+                                continue;
                             }
                         }
+                        for ch in lane_channel.into_iter().flatten() {
+                            T::encode_line(zeros, false, &mut codes[ch], &q);
+                        }
+                        stats.dark_hololines += 1;
                     }
                     for (block, feeds) in images.iter_mut().zip(&feeds) {
                         let sources: Vec<Option<&[T]>> =
@@ -371,9 +403,10 @@ impl Assembler {
         Ok((out, stats))
     }
 
-    /// The signals held in frame-buffer images, per colour channel, decoded
-    /// to floats. Samples that fell in the horizontal blanking come back as
-    /// zero: they never reach the display.
+    /// The signals held in frame-buffer images, decoded to floats: one
+    /// [`Signals`] per colour channel, or a single one holding every colour
+    /// when the layout sums colours into one signal. Samples that fell in the
+    /// horizontal blanking come back as zero: they never reach the display.
     pub fn unpack<T: FringeSample>(&self, images: &FrameImages<T>, hololines: usize) -> Result<Vec<Signals>> {
         let fb = self.frame_buffer();
         if (images.width, images.height, images.components, images.images.len())
@@ -394,10 +427,10 @@ impl Assembler {
         }
         let q = self.quantization();
         let per_colour = self.signals_per_colour();
-        let signals = per_colour * self.plans.len();
+        let signals = self.layout.signals_per_hololine();
         let samples = self.samples();
-        let mut out: Vec<Signals> =
-            (0..self.plans.len()).map(|_| Signals::zeros(per_colour, hololines, samples)).collect();
+        let groups = if self.colours_summed() { 1 } else { self.plans.len() };
+        let mut out: Vec<Signals> = (0..groups).map(|_| Signals::zeros(per_colour, hololines, samples)).collect();
         for j in 0..hololines {
             for s in 0..signals {
                 let dest = out[s / per_colour].row_mut(s % per_colour, j);
@@ -415,7 +448,7 @@ impl Assembler {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::layout::{mark1, mark1_hogel, mark3};
+    use crate::layout::{mark1, mark1_hogel, mark2, mark3, mark4};
     use rand::{Rng, SeedableRng};
 
     fn with_hololines(mut layout: Layout, hololines: usize) -> Layout {
@@ -439,7 +472,7 @@ mod tests {
 
     #[test]
     fn fast_and_straightforward_agree_with_the_f64_reference_for_every_basis() {
-        for layout in [mark3(), mark1(), mark1_hogel()] {
+        for layout in [mark3(), mark1(), mark1_hogel(), mark2(), mark4()] {
             let layout = with_hololines(layout, 2);
             let a = Assembler::new(&layout).unwrap();
             for (seed, rough) in [(1, true), (2, false)] {
@@ -481,6 +514,8 @@ mod tests {
         assert_eq!(block(mark3()), 32, "32-sample view segments");
         assert_eq!(block(mark1()), 64);
         assert_eq!(block(mark1_hogel()), 64);
+        assert_eq!(block(mark2()), 32);
+        assert_eq!(block(mark4()), 16, "592-sample wafels");
         assert_eq!(Assembler::new(&mark3()).unwrap().plan(0).max_terms(), 16, "16 overlapping chirps");
     }
 

@@ -153,6 +153,39 @@ impl<T: FringeSample> BlockSink for Encoder<'_, T> {
     }
 }
 
+/// Blocks added into the lanes of a hololine (colours summed into one signal).
+pub(super) struct Adder<'a>(pub &'a mut [Vec<f32>]);
+
+impl BlockSink for Adder<'_> {
+    #[inline(always)]
+    fn put(&mut self, lane: usize, first: usize, values: &[f32]) {
+        self.0[lane][first..first + values.len()].iter_mut().zip(values).for_each(|(s, v)| *s += v);
+    }
+}
+
+/// What one frame-buffer line's task keeps between lines.
+pub(super) struct LineScratch<T> {
+    /// A zero signal (dark hololines).
+    pub zeros: Vec<f32>,
+    /// Per channel of the line, its codes in the order sent.
+    pub codes: Vec<Vec<T>>,
+    /// The weights of the hololine and colour at hand.
+    pub weights: Vec<f32>,
+    /// Colours summed: the sum, per lane.
+    pub sum: [Vec<f32>; 2],
+}
+
+impl<T: Copy> LineScratch<T> {
+    pub fn new(samples: usize, channels: usize, blank: T) -> Self {
+        LineScratch {
+            zeros: vec![0.0; samples],
+            codes: vec![vec![blank; samples]; channels],
+            weights: Vec::new(),
+            sum: [vec![0.0; samples], vec![0.0; samples]],
+        }
+    }
+}
+
 /// Fill one row of pixels: component `k` from `sources[k]` (samples
 /// `from ..`), components without a source left alone.
 pub(super) fn interleave<T: FringeSample>(row: &mut [T], sources: &[Option<&[T]>], from: usize) {

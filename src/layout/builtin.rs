@@ -2,11 +2,11 @@
 //! gives are marked *assumption* here and in spec/layouts.md, with the
 //! reasoning.
 
-use super::{Basis, ChannelSlot, FrameBuffer, Fringe, Layout, Quantization, SignalKind};
+use super::{Basis, ChannelSlot, ColourSignals, FrameBuffer, Fringe, Layout, Quantization, SignalKind};
 use crate::geometry::{mono_channel, rgb_channels, Geometry, Views};
 
 /// Names of the built-in layouts.
-pub const BUILTIN: [&str; 3] = ["mark3", "mark1", "mark1-hogel"];
+pub const BUILTIN: [&str; 5] = ["mark3", "mark1", "mark1-hogel", "mark2", "mark4"];
 
 /// A built-in layout by name.
 pub fn builtin(name: &str) -> Option<Layout> {
@@ -14,6 +14,8 @@ pub fn builtin(name: &str) -> Option<Layout> {
         "mark3" | "mark-iii" | "markiii" => Some(mark3()),
         "mark1" | "mark-i" | "marki" => Some(mark1()),
         "mark1-hogel" => Some(mark1_hogel()),
+        "mark2" | "mark-ii" | "markii" => Some(mark2()),
+        "mark4" | "mark-iv" | "markiv" => Some(mark4()),
         _ => None,
     }
 }
@@ -71,6 +73,7 @@ pub fn mark3() -> Layout {
         basis: Basis::Chirp { chirp_samples: 1024, slot_samples: 64, zones: 3, views_per_zone: 32 },
         signal: SignalKind::Iq,
         carrier_cycles_per_sample: Vec::new(),
+        colours: ColourSignals::Separate,
         frame_buffer: FrameBuffer {
             image_names: vec!["head1".into(), "head2".into()],
             width: 4080,
@@ -161,6 +164,7 @@ pub fn mark1() -> Layout {
             basis: Basis::Chirp { chirp_samples: chirp, slot_samples: slot, zones: 1, views_per_zone: 5 },
             signal: SignalKind::Real,
             carrier_cycles_per_sample: vec![0.25],
+            colours: ColourSignals::Separate,
             frame_buffer: mark1_frame_buffer(),
             quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
         }),
@@ -194,8 +198,139 @@ pub fn mark1_hogel() -> Layout {
             basis: Basis::Hogel { hogel_samples: hogel },
             signal: SignalKind::Real,
             carrier_cycles_per_sample: vec![0.25],
+            colours: ColourSignals::Separate,
             frame_buffer: mark1_frame_buffer(),
             quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
+        }),
+    }
+}
+
+/// MIT Mark II (St.-Hilaire et al.; frame buffer as the public MIT code
+/// `itsermo/holovideo-algorithms` lays it, `render_algorithms/ripgen-fbo`
+/// RIP.cpp/RIP.h and `holodepth/src/JHolovideoDisplay.cpp`).
+///
+/// Stated by that code: 144 hololines of 262144 samples, each 128 rows of
+/// 2048 clocks; 18 channels = 3 cards × 2 heads × RGB; hololine `i` on card
+/// `i mod 3`, colour byte `⌊i/3⌋ mod 3`, head `⌊i/9⌋ mod 2`, sweep `⌊i/18⌋`;
+/// 2045 of 2048 clocks and 1757 of 1760 rows shown; 204 blank rows, then per
+/// sweep 128 rows of hololine and 48 blank rows; odd sweeps sent backwards
+/// (the whole sample sequence reversed); sample pitch from TeO2's 617 m/s at
+/// 108.134 MHz, demagnified 275/2830: 0.5545 µm (a 145.35 mm hololine);
+/// 633 nm; viewer at 0.5 m; 55 mm tall; emitters 4 mm in front of the
+/// hologram, about 7 overlapping chirps per sample (RIP's projector fringes).
+/// Assumptions: a ±14° view zone (RIP's 14° + 15° made symmetric) in 112
+/// views of 32 samples, a chirp of 3584 samples (emitter plane 3.99 mm); an
+/// emitter every 512 samples (holodepth's 512 per hololine), 506 of which
+/// have their whole chirp on the hololine; a real signal with its carrier at
+/// 0.25 cycles per sample (band 0.038 to 0.462; RIP's −15° reference put it at
+/// 0 to 0.45); a signed signal on code 128, where RIP adds non-negative
+/// fringes into a saturating buffer.
+pub fn mark2() -> Layout {
+    let samples = 262144;
+    let pitch_m = 617.0 / 108.134e6 * 275.0 / 2830.0;
+    let (chirp, slot, views) = (3584, 512, 112);
+    let half_fan = 14f64.to_radians();
+    let emitters = (samples - chirp) / slot + 1;
+    let geometry = Geometry::centred(
+        144,
+        emitters,
+        segment_centre_views(views, half_fan),
+        0.055 / 144.0,
+        slot as f64 * pitch_m,
+        chirp as f64 * pitch_m / (2.0 * half_fan.tan()),
+        0.5,
+        mono_channel(),
+    );
+    // Channel a (= hololine mod 18) of card a mod 3, colour (a/3) mod 3, head
+    // (a/9) mod 2; image 2·card + head.
+    let channels = (0..18).map(|a| ChannelSlot { image: 2 * (a % 3) + (a / 9) % 2, component: (a / 3) % 3 }).collect();
+    Layout {
+        name: "mark2".into(),
+        description: "MIT Mark II: 506 emitters × 144 hololines × 112 views, 145 × 55 mm, 28°, 18 channels on 3 cards"
+            .into(),
+        geometry,
+        fringe: Some(Fringe {
+            sample_pitch_m: pitch_m,
+            samples_per_hololine: samples,
+            basis: Basis::Chirp { chirp_samples: chirp, slot_samples: slot, zones: 1, views_per_zone: views },
+            signal: SignalKind::Real,
+            carrier_cycles_per_sample: vec![0.25],
+            colours: ColourSignals::Separate,
+            frame_buffer: FrameBuffer {
+                image_names: (0..3).flat_map(|card| (0..2).map(move |head| format!("card{card}-head{head}"))).collect(),
+                width: 2045,
+                height: 1757,
+                components: 3,
+                line_samples: 2048,
+                rows_per_hololine: 128,
+                first_row: 204,
+                gap_rows: 48,
+                channels,
+                reverse_odd_lines: true,
+            },
+            quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
+        }),
+    }
+}
+
+/// MIT Mark IV (frame buffer as the public MIT code lays it:
+/// `render_algorithms/dscp4`, dscp4.conf.in and the fringe kernels).
+///
+/// Stated by that code: 468 hololines of 355200 samples (100 rows of 3552);
+/// 600 "wafels" of 592 samples; 16 views; 6 heads of 3552 × 2600 (2476 of
+/// them shown), 18 channels, hololine `y` on channel `a = y mod 18` as its
+/// line `⌊y/18⌋`, head `⌊a/3⌋`, byte `a mod 3` (R, G, B); red, green and blue
+/// (633, 532, 445 nm) summed into every channel at per-colour carriers, red
+/// lowest (225 / 290 / 350 MHz); a hololine 0.15 m wide (0.4223 µm pitch);
+/// viewer at 0.5 m.
+/// Assumptions: the wafels are hogels (emitters on the hologram plane; the
+/// code's per-view depth has no place in a modulation texture); a ±5° view
+/// zone, the widest for which the three colours' bands fit side by side in
+/// one real signal at this pitch (the code's 30° would need 2.6 times the
+/// band its 400 MHz clock has), with carriers 0.085 / 0.225 / 0.39 cycles per
+/// sample (bands 0.027–0.143, 0.156–0.294, 0.307–0.473); square pixels
+/// (hololines 0.25 mm apart, a 117 mm tall image); gain 73 ≈ 127/√3, as three
+/// colours add.
+pub fn mark4() -> Layout {
+    let samples = 355200;
+    let hogel = 592;
+    let emitters = samples / hogel;
+    let pitch_m = 0.15 / samples as f64;
+    let geometry = Geometry::centred(
+        468,
+        emitters,
+        segment_centre_views(16, 5f64.to_radians()),
+        hogel as f64 * pitch_m,
+        hogel as f64 * pitch_m,
+        0.0,
+        0.5,
+        rgb_channels(),
+    );
+    Layout {
+        name: "mark4".into(),
+        description: "MIT Mark IV: 600 emitters × 468 hololines × 16 views, RGB summed per channel, 150 × 117 mm, 10°"
+            .into(),
+        geometry,
+        fringe: Some(Fringe {
+            sample_pitch_m: pitch_m,
+            samples_per_hololine: samples,
+            basis: Basis::Hogel { hogel_samples: hogel },
+            signal: SignalKind::Real,
+            carrier_cycles_per_sample: vec![0.085, 0.225, 0.39],
+            colours: ColourSignals::Summed,
+            frame_buffer: FrameBuffer {
+                image_names: (1..=6).map(|h| format!("head{h}")).collect(),
+                width: 3552,
+                height: 2600,
+                components: 3,
+                line_samples: 3552,
+                rows_per_hololine: 100,
+                first_row: 0,
+                gap_rows: 0,
+                channels: (0..18).map(|a| ChannelSlot { image: a / 3, component: a % 3 }).collect(),
+                reverse_odd_lines: false,
+            },
+            quantization: Quantization { bits: 8, offset: 128.0, gain: 73.0 },
         }),
     }
 }

@@ -24,6 +24,11 @@ pub struct Fringe {
     /// channel. Empty for I/Q signals.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub carrier_cycles_per_sample: Vec<f64>,
+    /// Whether each colour channel has its own signals, or all colours are
+    /// summed into one (frequency-division colour: every wavelength reads
+    /// its own band, which must not overlap another's).
+    #[serde(default, skip_serializing_if = "ColourSignals::is_separate")]
+    pub colours: ColourSignals,
     /// Where the signals go.
     pub frame_buffer: FrameBuffer,
     /// Float signal to stored integer.
@@ -70,6 +75,24 @@ pub enum SignalKind {
     /// One real signal per zone, driven as it is: the fringe carries its own
     /// carrier and both sidebands (the first order is the one used).
     Real,
+}
+
+/// How colour channels share signals.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ColourSignals {
+    /// Each colour channel has its own signals (Mark I's colour layers).
+    #[default]
+    Separate,
+    /// The colours' signals are added into one, each colour in its own band
+    /// (Mark IV's frequency-division colour).
+    Summed,
+}
+
+impl ColourSignals {
+    fn is_separate(&self) -> bool {
+        *self == ColourSignals::Separate
+    }
 }
 
 impl Fringe {

@@ -18,8 +18,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::geometry::Geometry;
 use crate::{Error, Result};
-pub use builtin::{builtin, mark1, mark1_hogel, mark3, segment_centre_views, BUILTIN};
-pub use fringe::{Basis, ChannelSlot, FrameBuffer, Fringe, Quantization, SignalKind};
+pub use builtin::{builtin, mark1, mark1_hogel, mark2, mark3, mark4, segment_centre_views, BUILTIN};
+pub use fringe::{Basis, ChannelSlot, ColourSignals, FrameBuffer, Fringe, Quantization, SignalKind};
 
 /// A display profile.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -70,7 +70,10 @@ impl Layout {
 
     /// Fringe signals per hololine (all colour channels).
     pub fn signals_per_hololine(&self) -> usize {
-        self.fringe.as_ref().map_or(0, |f| f.signals_per_colour() * self.geometry.channels.len())
+        self.fringe.as_ref().map_or(0, |f| match f.colours {
+            ColourSignals::Separate => f.signals_per_colour() * self.geometry.channels.len(),
+            ColourSignals::Summed => f.signals_per_colour(),
+        })
     }
 
     /// Everything that makes the layout inconsistent: its geometry's
@@ -83,11 +86,37 @@ impl Layout {
         if !p.is_empty() {
             return p;
         }
+        let mut bands = Vec::new();
         for c in 0..g.channels.len() {
-            if let Err(problems) = crate::assemble::ColourBasis::new(self, c) {
-                for problem in problems {
-                    if !p.contains(&problem) {
-                        p.push(problem);
+            match crate::assemble::ColourBasis::new(self, c) {
+                Ok(basis) => bands.push((c, (0..basis.zones()).map(|z| basis.signal_band(z)).collect::<Vec<_>>())),
+                Err(problems) => {
+                    for problem in problems {
+                        if !p.contains(&problem) {
+                            p.push(problem);
+                        }
+                    }
+                }
+            }
+        }
+        if f.colours == ColourSignals::Summed {
+            // Each wavelength reads its own band: the bands must not overlap.
+            for (i, (a, za)) in bands.iter().enumerate() {
+                for (b, zb) in &bands[i + 1..] {
+                    for (zone, (x, y)) in za.iter().zip(zb).enumerate() {
+                        if x.0 < y.1 && y.0 < x.1 {
+                            p.push(format!(
+                                "colours {} and {} are summed into one signal but their bands overlap in zone {} \
+                                 ({:.4}..{:.4} and {:.4}..{:.4} cycles per sample)",
+                                g.channels[*a].name,
+                                g.channels[*b].name,
+                                zone + 1,
+                                x.0,
+                                x.1,
+                                y.0,
+                                y.1
+                            ));
+                        }
                     }
                 }
             }
@@ -122,7 +151,7 @@ mod tests {
     #[test]
     fn profiles_round_trip_through_toml_and_json_and_bad_ones_are_named() {
         let dir = tempfile::tempdir().unwrap();
-        for l in [mark3(), mark1(), mark1_hogel()] {
+        for l in [mark3(), mark1(), mark1_hogel(), mark2(), mark4()] {
             let toml_path = dir.path().join(format!("{}.toml", l.name));
             std::fs::write(&toml_path, l.to_toml()).unwrap();
             assert_eq!(Layout::load(toml_path.to_str().unwrap()).unwrap(), l);
