@@ -514,7 +514,7 @@ mod tests {
         assert_eq!(block(mark3()), 32, "32-sample view segments");
         assert_eq!(block(mark1()), 64);
         assert_eq!(block(mark1_hogel()), 64);
-        assert_eq!(block(mark2()), 32);
+        assert_eq!(block(mark2()), 64);
         assert_eq!(block(mark4()), 16, "592-sample wafels");
         assert_eq!(Assembler::new(&mark3()).unwrap().plan(0).max_terms(), 16, "16 overlapping chirps");
     }

@@ -218,8 +218,11 @@ pub fn mark1_hogel() -> Layout {
 /// 108.134 MHz, demagnified 275/2830: 0.5545 µm (a 145.35 mm hololine);
 /// 633 nm; viewer at 0.5 m; 55 mm tall; emitters 4 mm in front of the
 /// hologram, about 7 overlapping chirps per sample (RIP's projector fringes).
-/// Assumptions: a ±14° view zone (RIP's 14° + 15° made symmetric) in 112
-/// views of 32 samples, a chirp of 3584 samples (emitter plane 3.99 mm); an
+/// Assumptions: a ±14° view zone (RIP's 14° + 15° made symmetric) in 28
+/// views of 128 samples, a chirp of 3584 samples (emitter plane 3.99 mm):
+/// RIP's 103 views of 35 samples each spread by diffraction over about eight
+/// views (a segment of `s` samples resolves `λ / (s · pitch)`), so a view is
+/// made as wide as its segment's diffraction allows; an
 /// emitter every 512 samples (holodepth's 512 per hololine), 506 of which
 /// have their whole chirp on the hololine; a real signal with its carrier at
 /// 0.25 cycles per sample (band 0.038 to 0.462; RIP's −15° reference put it at
@@ -228,7 +231,7 @@ pub fn mark1_hogel() -> Layout {
 pub fn mark2() -> Layout {
     let samples = 262144;
     let pitch_m = 617.0 / 108.134e6 * 275.0 / 2830.0;
-    let (chirp, slot, views) = (3584, 512, 112);
+    let (chirp, slot, views) = (3584, 512, 28);
     let half_fan = 14f64.to_radians();
     let emitters = (samples - chirp) / slot + 1;
     let geometry = Geometry::centred(
@@ -246,7 +249,7 @@ pub fn mark2() -> Layout {
     let channels = (0..18).map(|a| ChannelSlot { image: 2 * (a % 3) + (a / 9) % 2, component: (a / 3) % 3 }).collect();
     Layout {
         name: "mark2".into(),
-        description: "MIT Mark II: 506 emitters × 144 hololines × 112 views, 145 × 55 mm, 28°, 18 channels on 3 cards"
+        description: "MIT Mark II: 506 emitters × 144 hololines × 28 views, 145 × 55 mm, 28°, 18 channels on 3 cards"
             .into(),
         geometry,
         fringe: Some(Fringe {

@@ -35,6 +35,13 @@ pub fn oversampling(basis: &ColourBasis) -> usize {
 /// signal, in the layout's order), sampled `M` = [`oversampling`] times
 /// finer than the signal, sample `k` at `x = (k / M + ½ − N/2) · pitch`.
 pub fn hologram_field(basis: &ColourBasis, signals: &[&[f32]]) -> Field1d {
+    hologram_field_in(basis, signals, None)
+}
+
+/// [`hologram_field`] keeping only signal frequencies (cycles per sample)
+/// inside `pass[zone]`: the band this colour's wavelength reads when colours
+/// share a signal (frequency-division colour).
+pub fn hologram_field_in(basis: &ColourBasis, signals: &[&[f32]], pass: Option<&[(f64, f64)]>) -> Field1d {
     let n = basis.samples;
     let m = oversampling(basis);
     let mut planner = FftPlanner::new();
@@ -53,9 +60,14 @@ pub fn hologram_field(basis: &ColourBasis, signals: &[&[f32]]) -> Field1d {
         forward.process(&mut a);
         // Spectrum onto the fine grid: bins 0..N/2 are positive frequencies,
         // N/2..N negative. A real signal keeps its positive half, doubled.
+        let (lo, hi) = pass.map_or((f64::NEG_INFINITY, f64::INFINITY), |p| p[zone]);
         let mut fine = vec![Complex64::new(0.0, 0.0); n * m];
         for (k, x) in a.iter().enumerate() {
             let f = if k < n.div_ceil(2) { k as i64 } else { k as i64 - n as i64 };
+            let cycles = f as f64 / n as f64;
+            if cycles < lo || cycles >= hi {
+                continue;
+            }
             let x = match basis.signal {
                 SignalKind::Iq => *x,
                 SignalKind::Real if f > 0 => *x * 2.0,

@@ -5,5 +5,9 @@
 //! field on one hololine, its free-space propagation by the band-limited
 //! angular spectrum method, and the angular spectrum of a window of it.
 
+pub mod check;
 pub mod field;
+pub mod picture;
 pub mod propagate;
+pub mod solve;
+pub mod viewer;

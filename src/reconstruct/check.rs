@@ -1,0 +1,252 @@
+//! `holo check` and `holo view` as library calls: from the frame-buffer
+//! images of one frame, the modulation recovered two ways and compared with
+//! the stored one, and the picture a viewer sees.
+//!
+//! - *Signal recovery* ([`super::solve`]): least squares against the basis.
+//!   Exact but for what the frame buffer loses (blanking, 8-bit rounding):
+//!   it checks the assembly and the layout.
+//! - *Optical recovery* ([`super::viewer`]): scalar diffraction to the
+//!   emitter plane and each view's share of every emitter's light. It also
+//!   counts what the optics cannot separate (a view's light spreads by the
+//!   diffraction of its segment into its neighbours): it is what a viewer gets.
+
+use std::ops::Range;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::picture::Picture;
+use super::solve::HololineOperator;
+use super::viewer::{ColourOptics, Eye};
+use crate::assemble::{Assembler, FrameImages, Signals};
+use crate::layout::ColourSignals;
+use crate::{Error, Modulation, Result};
+
+/// How far a recovered modulation is from the stored one.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RecoveryError {
+    /// `‖m̂ − m‖ / ‖m‖` over every checked sample.
+    pub relative_l2: f64,
+    /// `10 log₁₀(peak² / mean squared error)`, dB.
+    pub psnr_db: f64,
+    /// The largest stored sample (the PSNR's peak).
+    pub peak: f64,
+    /// The emitter with the largest RMS error over its views.
+    pub worst: WorstEmitter,
+}
+
+/// Where a recovery is worst.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct WorstEmitter {
+    /// Colour channel name.
+    pub channel: String,
+    /// Hololine.
+    pub hololine: usize,
+    /// Emitter.
+    pub emitter: usize,
+    /// RMS error over its views, relative to the RMS of the checked modulation.
+    pub relative_rms: f64,
+}
+
+/// What `holo check` reports for one frame.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CheckReport {
+    /// The layout's name.
+    pub layout: String,
+    /// Hololines checked.
+    pub hololines: Range<usize>,
+    /// Least-squares recovery from the signals.
+    pub signal: RecoveryError,
+    /// Recovery through the optics (what a viewer gets per view).
+    pub optical: RecoveryError,
+    /// Most conjugate-gradient iterations a hololine needed.
+    pub iterations: usize,
+}
+
+/// The images of a frame as the frame buffer holds them, whichever type.
+pub enum FrameRef<'a> {
+    /// 8-bit codes.
+    Bytes(&'a FrameImages<u8>),
+    /// Float signals.
+    Floats(&'a FrameImages<f32>),
+}
+
+impl FrameRef<'_> {
+    fn unpack(&self, a: &Assembler, hololines: usize) -> Result<Vec<Signals>> {
+        match self {
+            FrameRef::Bytes(i) => a.unpack(i, hololines),
+            FrameRef::Floats(i) => a.unpack(i, hololines),
+        }
+    }
+}
+
+/// The colours whose signals group `g` of the unpacked signals holds.
+fn group_colours(a: &Assembler, group: usize) -> Range<usize> {
+    let colours = a.layout().geometry.channels.len();
+    match a.layout().fringe.as_ref().map(|f| f.colours) {
+        Some(ColourSignals::Summed) => 0..colours,
+        _ => group..group + 1,
+    }
+}
+
+/// The unpacked group holding colour `c`.
+fn group_of(a: &Assembler, c: usize) -> usize {
+    match a.layout().fringe.as_ref().map(|f| f.colours) {
+        Some(ColourSignals::Summed) => 0,
+        _ => c,
+    }
+}
+
+/// `shown[s][n]` for the signals of group `group` of hololine `j`.
+fn shown(a: &Assembler, group: usize, j: usize, per_group: usize, samples: usize) -> Vec<Vec<bool>> {
+    let fb = &a.layout().fringe.as_ref().expect("an assembler's layout has a fringe side").frame_buffer;
+    let signals = a.layout().signals_per_hololine();
+    (0..per_group)
+        .map(|s| (0..samples).map(|n| fb.place(j, group * per_group + s, n, signals, samples).is_some()).collect())
+        .collect()
+}
+
+/// Recover the modulation of `hololines` from a frame's images both ways and
+/// compare with `m`, the modulation that was assembled.
+pub fn check(a: &Assembler, m: &Modulation, images: FrameRef<'_>, hololines: Range<usize>) -> Result<CheckReport> {
+    a.check_geometry(m)?;
+    let g = m.geometry();
+    if hololines.is_empty() || hololines.end > g.hololines {
+        return Err(Error::Usage(format!(
+            "hololines {}..{} asked for; the frame has {}",
+            hololines.start, hololines.end, g.hololines
+        )));
+    }
+    let unpacked = images.unpack(a, g.hololines)?;
+    let colours = g.channels.len();
+    let optics = (0..colours).map(|c| ColourOptics::new(a, c)).collect::<Result<Vec<_>>>()?;
+    let per_line: Vec<Recovered> = hololines
+        .clone()
+        .into_par_iter()
+        .map(|j| -> Result<_> {
+            let mut signal = vec![Vec::new(); colours];
+            let mut iterations = 0;
+            for (group, signals) in unpacked.iter().enumerate() {
+                let members = group_colours(a, group);
+                let rows: Vec<Vec<f32>> = (0..signals.signals).map(|s| signals.row(s, j).to_vec()).collect();
+                let op = HololineOperator {
+                    plans: members.clone().map(|c| a.plan(c)).collect(),
+                    shown: shown(a, group, j, signals.signals, signals.samples),
+                };
+                let (w, its) = op.solve(&rows);
+                iterations = iterations.max(its);
+                let n = g.emitters * g.views.count;
+                for (k, c) in members.enumerate() {
+                    signal[c] = w[k * n..(k + 1) * n].iter().map(|w| w.max(0.0).powi(2)).collect();
+                }
+            }
+            let mut optical = Vec::with_capacity(colours);
+            for (c, optics) in optics.iter().enumerate() {
+                let signals = &unpacked[group_of(a, c)];
+                let rows: Vec<&[f32]> = (0..signals.signals).map(|s| signals.row(s, j)).collect();
+                let field = optics.emitter_plane(&rows)?;
+                optical.push((0..g.emitters).flat_map(|e| optics.views(&optics.spectrum(&field, e))).collect());
+            }
+            Ok(Recovered { signal, optical, iterations })
+        })
+        .collect::<Result<_>>()?;
+    Ok(CheckReport {
+        layout: a.layout().name.clone(),
+        hololines: hololines.clone(),
+        signal: compare(m, &hololines, |k, c| &per_line[k].signal[c]),
+        optical: compare(m, &hololines, |k, c| &per_line[k].optical[c]),
+        iterations: per_line.iter().map(|l| l.iterations).max().unwrap_or(0),
+    })
+}
+
+/// One hololine's modulation recovered both ways, per colour (emitter-major).
+struct Recovered {
+    signal: Vec<Vec<f64>>,
+    optical: Vec<Vec<f64>>,
+    iterations: usize,
+}
+
+/// Error figures of recovered hololines (`recovered(k, c)`: the k-th checked
+/// hololine's colour `c`, emitter-major) against `m`.
+fn compare<'a>(
+    m: &Modulation,
+    hololines: &Range<usize>,
+    recovered: impl Fn(usize, usize) -> &'a Vec<f64>,
+) -> RecoveryError {
+    let g = m.geometry();
+    let views = g.views.count;
+    let (mut err2, mut ref2, mut peak, mut count) = (0f64, 0f64, 0f64, 0usize);
+    let mut per_emitter = Vec::new();
+    for (k, j) in hololines.clone().enumerate() {
+        for c in 0..g.channels.len() {
+            let got = recovered(k, c);
+            for e in 0..g.emitters {
+                let mut e2 = 0.0;
+                for (v, want) in m.views_of(c, j, e).iter().enumerate() {
+                    let want = f64::from(*want);
+                    let d = got[e * views + v] - want;
+                    e2 += d * d;
+                    ref2 += want * want;
+                    peak = peak.max(want);
+                }
+                err2 += e2;
+                count += views;
+                per_emitter.push((e2 / views as f64, c, j, e));
+            }
+        }
+    }
+    let rms_ref = (ref2 / count as f64).sqrt();
+    let worst = per_emitter.iter().fold((0.0, 0, 0, 0), |w, x| if x.0 > w.0 { *x } else { w });
+    RecoveryError {
+        relative_l2: if ref2 > 0.0 { (err2 / ref2).sqrt() } else { err2.sqrt() },
+        psnr_db: 10.0 * (peak * peak / (err2 / count as f64)).log10(),
+        peak,
+        worst: WorstEmitter {
+            channel: g.channels[worst.1].name.clone(),
+            hololine: worst.2,
+            emitter: worst.3,
+            relative_rms: if rms_ref > 0.0 { worst.0.sqrt() / rms_ref } else { worst.0.sqrt() },
+        },
+    }
+}
+
+/// The picture a viewer at `eye` sees of a frame's images.
+pub fn view(a: &Assembler, images: FrameRef<'_>, eye: &Eye) -> Result<Picture> {
+    let g = &a.layout().geometry;
+    let sensible = eye.z_m.is_finite() && eye.z_m > g.emitter_z_m.max(0.0) && eye.pupil_m > 0.0 && eye.x_m.is_finite();
+    if !sensible {
+        return Err(Error::Usage(format!(
+            "an eye at x = {} m, z = {} m with a {} m pupil: it must be in front of the emitters (z > {} m) with a \
+             positive pupil",
+            eye.x_m,
+            eye.z_m,
+            eye.pupil_m,
+            g.emitter_z_m.max(0.0)
+        )));
+    }
+    let unpacked = images.unpack(a, g.hololines)?;
+    let colours = g.channels.len();
+    let optics = (0..colours).map(|c| ColourOptics::new(a, c)).collect::<Result<Vec<_>>>()?;
+    let rows: Vec<Vec<f32>> = (0..g.hololines)
+        .into_par_iter()
+        .map(|j| -> Result<Vec<f32>> {
+            let mut row = vec![0f32; g.emitters * colours];
+            for (c, optics) in optics.iter().enumerate() {
+                let signals = &unpacked[group_of(a, c)];
+                let slices: Vec<&[f32]> = (0..signals.signals).map(|s| signals.row(s, j)).collect();
+                let field = optics.emitter_plane(&slices)?;
+                for e in 0..g.emitters {
+                    row[e * colours + c] = optics.seen(&optics.spectrum(&field, e), e, eye) as f32;
+                }
+            }
+            Ok(row)
+        })
+        .collect::<Result<_>>()?;
+    Ok(Picture {
+        emitters: g.emitters,
+        hololines: g.hololines,
+        channels: g.channels.iter().map(|c| c.name.clone()).collect(),
+        column_aspect: g.emitter_pitch_m / g.hololine_pitch_m,
+        data: rows.concat(),
+    })
+}

@@ -1,0 +1,214 @@
+//! What the display shows, emitter by emitter (PHYSICS.md §6): the
+//! hologram-plane field of a hololine ([`super::field`]) is propagated to the
+//! emitter plane; the field in a window one emitter pitch wide around each
+//! emitter is the light that emitter sends, and its angular spectrum says
+//! how much goes in every direction. Summed over a view's interval of
+//! directions that is the view's reconstructed brightness; summed over the
+//! directions that enter a viewer's pupil it is what that viewer sees of the
+//! emitter, with the eye focused on the emitter plane.
+//!
+//! Brightness is calibrated against the same pipeline: an emitter with
+//! every view at 1 is reconstructed once per layout and colour, and each
+//! figure is divided by the calibration emitter's figure for the same
+//! interval of directions, so a fully lit emitter reads 1 in every view and
+//! from every eye position.
+
+use std::sync::Arc;
+
+use rustfft::num_complex::Complex64;
+use rustfft::{Fft, FftPlanner};
+
+use super::field::hologram_field_in;
+use super::propagate::{propagate, Field1d};
+use crate::assemble::{Assembler, ColourBasis};
+use crate::layout::ColourSignals;
+use crate::{Error, Geometry, Modulation, Result};
+
+/// A viewer: eye position on the viewer's side of the display and pupil.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Eye {
+    /// Horizontal position, metres.
+    pub x_m: f64,
+    /// Height, metres (horizontal-parallax displays show every height the
+    /// same picture; kept for the record).
+    pub y_m: f64,
+    /// Distance from the hologram plane, metres.
+    pub z_m: f64,
+    /// Pupil diameter, metres.
+    pub pupil_m: f64,
+}
+
+/// Power per direction of one emitter's light, on a uniform grid of `sin θ`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EmitterSpectrum {
+    /// `sin θ` of bin 0.
+    pub sin_first: f64,
+    /// Spacing of bins in `sin θ`.
+    pub sin_step: f64,
+    /// Power per bin (arbitrary units: only ratios to the calibration count).
+    pub power: Vec<f64>,
+}
+
+impl EmitterSpectrum {
+    /// Power with `sin θ` in `[lo, hi)`, each bin spread evenly over its width.
+    pub fn between(&self, lo: f64, hi: f64) -> f64 {
+        let n = self.power.len() as f64;
+        let u = |s: f64| ((s - self.sin_first) / self.sin_step + 0.5).clamp(0.0, n);
+        let (a, b) = (u(lo), u(hi));
+        if b <= a {
+            return 0.0;
+        }
+        (a.floor() as usize..(b.ceil() as usize).min(self.power.len()))
+            .map(|k| self.power[k] * (b.min(k as f64 + 1.0) - a.max(k as f64)))
+            .sum()
+    }
+}
+
+/// The optics of one colour channel of a layout.
+#[derive(Clone)]
+pub struct ColourOptics {
+    basis: ColourBasis,
+    geometry: Geometry,
+    /// Emitter window, fine samples.
+    window: usize,
+    fft: Arc<dyn Fft<f64>>,
+    /// The calibration emitter's spectrum.
+    calibration: EmitterSpectrum,
+    /// The calibration emitter's power in each view's interval.
+    view_gain: Vec<f64>,
+    /// Per zone, the signal frequencies this colour reads when colours
+    /// share a signal: its band, widened halfway to the neighbouring
+    /// colours' bands (to 0 and ½ at the ends).
+    pass: Option<Vec<(f64, f64)>>,
+}
+
+impl std::fmt::Debug for ColourOptics {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ColourOptics").field("window", &self.window).field("view_gain", &self.view_gain).finish()
+    }
+}
+
+impl ColourOptics {
+    /// The optics of colour channel `colour` of the assembler's layout, with
+    /// its calibration emitter reconstructed.
+    pub fn new(assembler: &Assembler, colour: usize) -> Result<Self> {
+        let basis = assembler.plan(colour).basis().clone();
+        let mut geometry = assembler.layout().geometry.clone();
+        let fine_pitch = basis.pitch_m / super::field::oversampling(&basis) as f64;
+        let window = ((geometry.emitter_pitch_m / fine_pitch).round() as usize).max(1);
+        let fft = FftPlanner::new().plan_fft_forward((8 * window).next_power_of_two());
+        let summed = assembler.layout().fringe.as_ref().map(|f| f.colours) == Some(ColourSignals::Summed);
+        let pass = summed.then(|| {
+            let colours = geometry.channels.len();
+            (0..basis.zones())
+                .map(|zone| {
+                    let bands: Vec<(f64, f64)> =
+                        (0..colours).map(|c| assembler.plan(c).basis().signal_band(zone)).collect();
+                    let (lo, hi) = bands[colour];
+                    let below = bands.iter().filter(|b| b.1 <= lo).map(|b| b.1).fold(0.0, f64::max);
+                    let above = bands.iter().filter(|b| b.0 >= hi).map(|b| b.0).fold(0.5, f64::min);
+                    ((lo + below) / 2.0, (hi + above) / 2.0)
+                })
+                .collect()
+        });
+        let mut optics = ColourOptics {
+            basis,
+            geometry: geometry.clone(),
+            window,
+            fft,
+            calibration: EmitterSpectrum { sin_first: 0.0, sin_step: 1.0, power: Vec::new() },
+            view_gain: Vec::new(),
+            pass,
+        };
+        // Calibration: the middle emitter of one hololine, every view at 1.
+        geometry.hololines = 1;
+        let e = geometry.emitters / 2;
+        let m = Modulation::from_fn(geometry.clone(), |c, _, k, _| if c == colour && k == e { 1.0 } else { 0.0 })?;
+        let mut one = assembler.layout().clone();
+        one.geometry = geometry;
+        let signals = Assembler::new(&one)?.signals(&m, colour)?;
+        let rows: Vec<&[f32]> = (0..signals.signals).map(|s| signals.row(s, 0)).collect();
+        let field = optics.emitter_plane(&rows)?;
+        optics.calibration = optics.spectrum(&field, e);
+        optics.view_gain = (0..optics.basis.views)
+            .map(|v| {
+                let (lo, hi) = optics.basis.view_sin_edges[v];
+                optics.calibration.between(lo, hi)
+            })
+            .collect();
+        if let Some(v) = optics.view_gain.iter().position(|g| g.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater))
+        {
+            return Err(Error::Usage(format!("view {v} of the calibration emitter carries no light")));
+        }
+        Ok(optics)
+    }
+
+    /// The basis.
+    pub fn basis(&self) -> &ColourBasis {
+        &self.basis
+    }
+
+    /// The field on the emitter plane of one hololine, from its signals (one
+    /// slice per signal of this colour, in the layout's order).
+    pub fn emitter_plane(&self, signals: &[&[f32]]) -> Result<Field1d> {
+        let field = hologram_field_in(&self.basis, signals, self.pass.as_deref());
+        if self.geometry.emitter_z_m == 0.0 {
+            Ok(field)
+        } else {
+            propagate(&field, self.basis.wavelength_m, self.geometry.emitter_z_m)
+        }
+    }
+
+    /// The angular spectrum of emitter `e`'s window of an emitter-plane field.
+    pub fn spectrum(&self, field: &Field1d, e: usize) -> EmitterSpectrum {
+        let x_lo = self.geometry.emitter_x_m(e) - self.geometry.emitter_pitch_m / 2.0;
+        let first = ((x_lo - field.x0_m) / field.pitch_m).round() as i64;
+        let len = self.fft.len();
+        let mut buf = vec![Complex64::new(0.0, 0.0); len];
+        for (k, b) in buf.iter_mut().enumerate().take(self.window) {
+            if let Some(x) = usize::try_from(first + k as i64).ok().and_then(|i| field.samples.get(i)) {
+                *b = *x;
+            }
+        }
+        self.fft.process(&mut buf);
+        // Increasing frequency: bin s from −len/2; sin θ = λ s / (len · pitch).
+        let sin_step = self.basis.wavelength_m / (len as f64 * field.pitch_m);
+        let power = (0..len).map(|i| buf[(i + len / 2) % len].norm_sqr()).collect();
+        EmitterSpectrum { sin_first: -((len / 2) as f64) * sin_step, sin_step, power }
+    }
+
+    /// Every view's reconstructed brightness from an emitter's spectrum,
+    /// calibrated (a fully lit emitter reads 1).
+    pub fn views(&self, spectrum: &EmitterSpectrum) -> Vec<f64> {
+        (0..self.basis.views)
+            .map(|v| {
+                let (lo, hi) = self.basis.view_sin_edges[v];
+                spectrum.between(lo, hi) / self.view_gain[v]
+            })
+            .collect()
+    }
+
+    /// The `sin θ` interval of the directions from emitter `e` into the eye's pupil.
+    pub fn pupil_interval(&self, e: usize, eye: &Eye) -> (f64, f64) {
+        let (x_e, z_e) = (self.geometry.emitter_x_m(e), self.geometry.emitter_z_m);
+        let sin = |x: f64| (x - x_e) / ((x - x_e).powi(2) + (eye.z_m - z_e).powi(2)).sqrt();
+        (sin(eye.x_m - eye.pupil_m / 2.0), sin(eye.x_m + eye.pupil_m / 2.0))
+    }
+
+    /// How bright emitter `e` looks from `eye`, calibrated (a fully lit
+    /// emitter looks 1).
+    pub fn seen(&self, spectrum: &EmitterSpectrum, e: usize, eye: &Eye) -> f64 {
+        let (lo, hi) = self.pupil_interval(e, eye);
+        let reference = self.calibration.between(lo, hi);
+        if reference > 0.0 {
+            spectrum.between(lo, hi) / reference
+        } else {
+            0.0
+        }
+    }
+
+    /// The calibration emitter's power in each view's interval.
+    pub fn view_gain(&self) -> &[f64] {
+        &self.view_gain
+    }
+}
