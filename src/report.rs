@@ -149,16 +149,28 @@ pub struct Demo {
     pub holo_file: PathBuf,
     /// Its `info`.
     pub info: Info,
+    /// The directory of assembled fringes.
+    pub fringes: PathBuf,
+    /// The fringe images (one per head).
+    pub fringe_files: Vec<PathBuf>,
+    /// The pictures viewers see, with the eye's x in millimetres.
+    pub views: Vec<(f64, PathBuf)>,
+    /// Seconds spent assembling the frame.
+    pub assemble_seconds: f64,
 }
 
-/// The main job on embedded defaults: a Mark III colour-bar pattern written to
-/// `dir/demo.holo` (replacing an earlier demo's file), then read back.
+/// The main job on built-in defaults: a Mark III colour-bar pattern written
+/// to `dir/demo.holo`, assembled into Mark III fringes in `dir/fringes`,
+/// and reconstructed by scalar diffraction into what viewers at three
+/// positions see (`dir/view-*.png`). An earlier demo's files are replaced.
 pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
+    use crate::assemble::output::{assemble_file, AssembleOptions, FringeFormat};
+    use crate::reconstruct::files::{view_file, EyeAt};
     let dir = dir.as_ref();
     std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
-    let geometry = layout::mark3().geometry;
+    let layout = layout::mark3();
     let pattern = Pattern::new(PatternKind::ColourBars);
-    let m = pattern.render(&geometry)?;
+    let m = pattern.render(&layout.geometry)?;
     let holo_file = dir.join("demo.holo");
     let options = WriteOptions {
         source: format!("{} layout=mark3", pattern.describe()),
@@ -167,5 +179,49 @@ pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
     };
     crate::format::write(&holo_file, &m, &options)?;
     let info = info(&holo_file, true)?;
-    Ok(Demo { holo_file, info })
+    let fringes = dir.join("fringes");
+    let started = std::time::Instant::now();
+    let assembled = assemble_file(
+        &holo_file,
+        &layout,
+        &fringes,
+        &AssembleOptions { frames: None, format: FringeFormat::Png, overwrite: true },
+        &mut |_, _| {},
+    )?;
+    let assemble_seconds = started.elapsed().as_secs_f64();
+    let eyes_mm = [-40.0, 0.0, 40.0];
+    let eyes: Vec<EyeAt> =
+        eyes_mm.iter().map(|x| EyeAt { x_m: x * 1e-3, y_m: 0.0, distance_m: None, pupil_m: 4e-3 }).collect();
+    let pictures = view_file(&fringes, None, 0, &eyes)?;
+    let mut views = Vec::new();
+    for (x, picture) in eyes_mm.iter().zip(&pictures) {
+        let path = dir.join(format!("view-x{x:+.0}mm.png"));
+        picture.write_png(&path, 1.0, true)?;
+        views.push((*x, path));
+    }
+    Ok(Demo { holo_file, info, fringes, fringe_files: assembled.files, views, assemble_seconds })
+}
+
+impl fmt::Display for Demo {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.info)?;
+        writeln!(f, "\nThe demo wrote a Mark III colour-bar pattern to {},", self.holo_file.display())?;
+        writeln!(
+            f,
+            "assembled it into Mark III fringes in {:.2} s ({}),",
+            self.assemble_seconds,
+            self.fringe_files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+        )?;
+        writeln!(f, "and simulated the display by scalar diffraction. What a viewer at 600 mm sees:")?;
+        for (x, path) in &self.views {
+            writeln!(f, "  eye at x = {x:+.0} mm: {}", path.display())?;
+        }
+        writeln!(f, "Each view is also a picture in any OpenEXR viewer, or as PNGs:")?;
+        writeln!(
+            f,
+            "  holo export-views {} --out {}",
+            self.holo_file.display(),
+            self.holo_file.with_file_name("views").display()
+        )
+    }
 }

@@ -128,6 +128,61 @@ enum Command {
         #[arg(long)]
         force: bool,
     },
+    /// Recover a frame's modulation from its fringes (least squares, and
+    /// through the optics by scalar diffraction) and print the error against
+    /// the stored modulation.
+    Check {
+        /// The .holo file.
+        file: PathBuf,
+        /// Display layout: a built-in name or a .toml/.json profile (default:
+        /// the fringes' own with --fringes, else mark3).
+        #[arg(long)]
+        layout: Option<String>,
+        /// Frame index in the file.
+        #[arg(long, default_value_t = 0)]
+        frame: usize,
+        /// Check fringes `holo assemble` already wrote to this directory
+        /// instead of assembling them (8-bit, in memory).
+        #[arg(long)]
+        fringes: Option<PathBuf>,
+        /// Hololines to check: N, A..B or A..=B (default: all).
+        #[arg(long, value_parser = parse_frames)]
+        hololines: Option<std::ops::Range<usize>>,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Simulate the display by scalar diffraction and write the picture a
+    /// viewer at the given eye position sees (focused on the emitters).
+    View {
+        /// A .holo file (assembled in memory) or a directory of fringes.
+        input: PathBuf,
+        /// Display layout for a .holo file (default mark3; a fringe directory names its own).
+        #[arg(long)]
+        layout: Option<String>,
+        /// Eye position X[,Y] in millimetres on the viewer's side (X along
+        /// the hololines, 0 = centre).
+        #[arg(long, default_value = "0", value_parser = parse_eye, allow_hyphen_values = true)]
+        eye: (f64, f64),
+        /// Viewer distance in millimetres (default: the layout's).
+        #[arg(long)]
+        distance: Option<f64>,
+        /// Pupil diameter in millimetres.
+        #[arg(long, default_value_t = 4.0)]
+        pupil: f64,
+        /// Frame index (in the source .holo file).
+        #[arg(long, default_value_t = 0)]
+        frame: usize,
+        /// Brightness shown as full white (1 = a fully lit emitter).
+        #[arg(long, default_value_t = 1.0)]
+        white: f32,
+        /// Output PNG.
+        #[arg(long, short)]
+        output: PathBuf,
+        /// Replace an existing file.
+        #[arg(long)]
+        force: bool,
+    },
     /// Print a layout profile (TOML, or JSON with --json): the numbers a
     /// layout uses, and a starting point for a custom profile.
     Layout {
@@ -188,6 +243,15 @@ fn parse_frames(s: &str) -> Result<std::ops::Range<usize>, String> {
         return Err(format!("frames {s:?} is an empty range"));
     }
     Ok(range)
+}
+
+fn parse_eye(s: &str) -> Result<(f64, f64), String> {
+    let number = |t: &str| t.trim().parse::<f64>().ok().filter(|x| x.is_finite());
+    let bad = || format!("--eye {s:?} is not X or X,Y in millimetres");
+    match s.split_once(',') {
+        Some((x, y)) => Ok((number(x).ok_or_else(bad)?, number(y).ok_or_else(bad)?)),
+        None => Ok((number(s).ok_or_else(bad)?, 0.0)),
+    }
 }
 
 fn parse_fringe_format(s: &str) -> Result<FringeFormat, String> {
@@ -310,6 +374,50 @@ fn run(cli: Cli) -> Outcome {
             }
             Ok(ExitCode::SUCCESS)
         }
+        Command::Check { file, layout, frame, fringes, hololines, json } => {
+            let layout = match (&layout, &fringes) {
+                (Some(name), _) => Some(Layout::load(name).map_err(|e| e.to_string())?),
+                (None, Some(_)) => None,
+                (None, None) => Some(Layout::load("mark3").map_err(|e| e.to_string())?),
+            };
+            let options = holo::reconstruct::files::CheckOptions { frame, fringes, hololines };
+            let checked =
+                holo::reconstruct::files::check_file(&file, layout.as_ref(), &options).map_err(|e| e.to_string())?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&checked).map_err(|e| e.to_string())?);
+            } else {
+                print!("{checked}");
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::View { input, layout, eye, distance, pupil, frame, white, output, force } => {
+            let layout = match layout {
+                Some(name) => Some(Layout::load(&name).map_err(|e| e.to_string())?),
+                None if holo::reconstruct::files::is_fringe_dir(&input) => None,
+                None => Some(Layout::load("mark3").map_err(|e| e.to_string())?),
+            };
+            if !(pupil.is_finite() && pupil > 0.0) || distance.is_some_and(|d| !(d.is_finite() && d > 0.0)) {
+                return Err(format!("--pupil {pupil} and --distance must be positive millimetres"));
+            }
+            let at = holo::reconstruct::files::EyeAt {
+                x_m: eye.0 * 1e-3,
+                y_m: eye.1 * 1e-3,
+                distance_m: distance.map(|d| d * 1e-3),
+                pupil_m: pupil * 1e-3,
+            };
+            let pictures = holo::reconstruct::files::view_file(&input, layout.as_ref(), frame, &[at])
+                .map_err(|e| e.to_string())?;
+            pictures[0].write_png(&output, white, force).map_err(|e| e.to_string())?;
+            println!(
+                "wrote {}: what an eye at x = {} mm sees of {} ({} × {} emitters × hololines)",
+                output.display(),
+                eye.0,
+                input.display(),
+                pictures[0].emitters,
+                pictures[0].hololines
+            );
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Layout { name, json } => {
             let layout = Layout::load(&name).map_err(|e| e.to_string())?;
             if json {
@@ -321,10 +429,7 @@ fn run(cli: Cli) -> Outcome {
         }
         Command::Demo { out } => {
             let demo = holo::report::demo(&out).map_err(|e| e.to_string())?;
-            print!("{}", demo.info);
-            println!("\nThe demo wrote a Mark III colour-bar pattern to {}.", demo.holo_file.display());
-            println!("Look at it in any OpenEXR viewer (each view is a picture), or as PNGs:");
-            println!("  holo export-views {} --out {}", demo.holo_file.display(), out.join("views").display());
+            print!("{demo}");
             Ok(ExitCode::SUCCESS)
         }
     }

@@ -25,6 +25,8 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["demo", "--help"],
         &["assemble", "--help"],
         &["layout", "--help"],
+        &["check", "--help"],
+        &["view", "--help"],
     ] {
         let o = holo(cmd, dir.path());
         assert_eq!(o.status.code(), Some(0), "{cmd:?}: {}", text(&o));
@@ -38,6 +40,8 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["export-views", "a.holo", "--out", "d", "--bits", "12"],
         &["assemble", "a.holo", "-o", "d", "--format", "jpeg"],
         &["assemble", "a.holo", "-o", "d", "--frames", "3..1"],
+        &["view", "a.holo", "-o", "v.png", "--eye", "left"],
+        &["check", "a.holo", "--hololines", "5..2"],
     ] {
         let o = holo(cmd, dir.path());
         assert_eq!(o.status.code(), Some(2), "{cmd:?}: {}", text(&o));
@@ -154,8 +158,13 @@ fn demo_runs_and_says_where_its_files_are() {
         let o = holo(&["demo"], dir.path());
         assert_eq!(o.status.code(), Some(0), "{}", text(&o));
         assert!(text(&o).contains("holo-demo/demo.holo"));
+        assert!(text(&o).contains("holo-demo/view-x+0mm.png"), "{}", text(&o));
     }
-    assert!(holo::format::validate(dir.path().join("holo-demo/demo.holo")).unwrap().is_valid());
+    let d = dir.path().join("holo-demo");
+    assert!(holo::format::validate(d.join("demo.holo")).unwrap().is_valid());
+    for f in ["fringes/frame0000-head1.png", "fringes/frame0000-head2.png", "view-x-40mm.png", "view-x+40mm.png"] {
+        assert!(d.join(f).is_file(), "{f}");
+    }
 }
 
 #[test]
@@ -182,4 +191,52 @@ fn assemble_writes_head_images_and_refuses_to_overwrite() {
     let o = holo(&["assemble", "s.holo", "-o", "other"], d);
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o).contains("s.holo") && text(&o).contains("2 hololines (the layout has 440)"), "{}", text(&o));
+}
+
+#[test]
+fn check_and_view_recover_what_was_assembled() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Mark III with 2 hololines, as a user would edit the profile.
+    let o = holo(&["layout", "mark3"], d);
+    let profile = String::from_utf8(o.stdout).unwrap().replace("hololines = 440", "hololines = 2");
+    std::fs::write(d.join("small.toml"), profile).unwrap();
+    let o = holo(&["pattern", "--layout", "small.toml", "--kind", "colour-bars", "-o", "s.holo"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+
+    // Assembled in memory.
+    let o = holo(&["check", "s.holo", "--layout", "small.toml", "--json"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(report["signal"]["relative_l2"].as_f64().unwrap() < 0.03, "{report}");
+    assert!(report["optical"]["relative_l2"].as_f64().unwrap() < 0.15, "{report}");
+    assert_eq!(report["fringes"], "assembled in memory (8-bit)");
+
+    // Fringes written first, then checked and viewed from the directory.
+    let o = holo(&["assemble", "s.holo", "--layout", "small.toml", "-o", "fringes"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let o = holo(&["check", "s.holo", "--fringes", "fringes"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("signal recovery") && text(&o).contains("optical recovery"), "{}", text(&o));
+    let o = holo(&["view", "fringes", "--eye", "-20,5", "-o", "left.png"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("x = -20 mm"), "{}", text(&o));
+    let png = image::open(d.join("left.png")).unwrap();
+    assert!(png.width() > 336 && png.height() == 2, "{} × {}", png.width(), png.height());
+    // Not overwritten without --force.
+    let o = holo(&["view", "fringes", "-o", "left.png"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("already exists"), "{}", text(&o));
+
+    // Errors name the file and the problem.
+    std::fs::create_dir(d.join("empty")).unwrap();
+    let o = holo(&["view", "empty", "-o", "e.png"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("empty") && text(&o).contains("holo-fringes.json"), "{}", text(&o));
+    let o = holo(&["check", "s.holo", "--fringes", "fringes", "--frame", "3"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("fringes") && text(&o).contains("frame 3"), "{}", text(&o));
+    let o = holo(&["check", "s.holo", "--layout", "mark1"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("s.holo") && text(&o).contains("the layout has"), "{}", text(&o));
 }

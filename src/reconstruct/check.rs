@@ -210,43 +210,53 @@ fn compare<'a>(
     }
 }
 
-/// The picture a viewer at `eye` sees of a frame's images.
-pub fn view(a: &Assembler, images: FrameRef<'_>, eye: &Eye) -> Result<Picture> {
+/// The pictures viewers at `eyes` see of a frame's images (the emitter
+/// spectra are computed once for all of them).
+pub fn view(a: &Assembler, images: FrameRef<'_>, eyes: &[Eye]) -> Result<Vec<Picture>> {
     let g = &a.layout().geometry;
-    let sensible = eye.z_m.is_finite() && eye.z_m > g.emitter_z_m.max(0.0) && eye.pupil_m > 0.0 && eye.x_m.is_finite();
-    if !sensible {
-        return Err(Error::Usage(format!(
-            "an eye at x = {} m, z = {} m with a {} m pupil: it must be in front of the emitters (z > {} m) with a \
-             positive pupil",
-            eye.x_m,
-            eye.z_m,
-            eye.pupil_m,
-            g.emitter_z_m.max(0.0)
-        )));
+    for eye in eyes {
+        let sensible =
+            eye.z_m.is_finite() && eye.z_m > g.emitter_z_m.max(0.0) && eye.pupil_m > 0.0 && eye.x_m.is_finite();
+        if !sensible {
+            return Err(Error::Usage(format!(
+                "an eye at x = {} m, z = {} m with a {} m pupil: it must be in front of the emitters (z > {} m) \
+                 with a positive pupil",
+                eye.x_m,
+                eye.z_m,
+                eye.pupil_m,
+                g.emitter_z_m.max(0.0)
+            )));
+        }
     }
     let unpacked = images.unpack(a, g.hololines)?;
     let colours = g.channels.len();
     let optics = (0..colours).map(|c| ColourOptics::new(a, c)).collect::<Result<Vec<_>>>()?;
-    let rows: Vec<Vec<f32>> = (0..g.hololines)
+    // rows[j][eye][e · colours + c]
+    let rows: Vec<Vec<Vec<f32>>> = (0..g.hololines)
         .into_par_iter()
-        .map(|j| -> Result<Vec<f32>> {
-            let mut row = vec![0f32; g.emitters * colours];
+        .map(|j| -> Result<Vec<Vec<f32>>> {
+            let mut rows = vec![vec![0f32; g.emitters * colours]; eyes.len()];
             for (c, optics) in optics.iter().enumerate() {
                 let signals = &unpacked[group_of(a, c)];
                 let slices: Vec<&[f32]> = (0..signals.signals).map(|s| signals.row(s, j)).collect();
                 let field = optics.emitter_plane(&slices)?;
                 for e in 0..g.emitters {
-                    row[e * colours + c] = optics.seen(&optics.spectrum(&field, e), e, eye) as f32;
+                    let spectrum = optics.spectrum(&field, e);
+                    for (row, eye) in rows.iter_mut().zip(eyes) {
+                        row[e * colours + c] = optics.seen(&spectrum, e, eye) as f32;
+                    }
                 }
             }
-            Ok(row)
+            Ok(rows)
         })
         .collect::<Result<_>>()?;
-    Ok(Picture {
-        emitters: g.emitters,
-        hololines: g.hololines,
-        channels: g.channels.iter().map(|c| c.name.clone()).collect(),
-        column_aspect: g.emitter_pitch_m / g.hololine_pitch_m,
-        data: rows.concat(),
-    })
+    Ok((0..eyes.len())
+        .map(|k| Picture {
+            emitters: g.emitters,
+            hololines: g.hololines,
+            channels: g.channels.iter().map(|c| c.name.clone()).collect(),
+            column_aspect: g.emitter_pitch_m / g.hololine_pitch_m,
+            data: rows.iter().flat_map(|r| r[k].iter().copied()).collect(),
+        })
+        .collect())
 }

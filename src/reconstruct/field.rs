@@ -16,7 +16,6 @@
 use std::f64::consts::PI;
 
 use rustfft::num_complex::Complex64;
-use rustfft::FftPlanner;
 
 use super::propagate::Field1d;
 use crate::assemble::ColourBasis;
@@ -35,56 +34,94 @@ pub fn oversampling(basis: &ColourBasis) -> usize {
 /// signal, in the layout's order), sampled `M` = [`oversampling`] times
 /// finer than the signal, sample `k` at `x = (k / M + ½ − N/2) · pitch`.
 pub fn hologram_field(basis: &ColourBasis, signals: &[&[f32]]) -> Field1d {
-    hologram_field_in(basis, signals, None)
+    FieldPlan::new(basis, None).field(signals)
 }
 
-/// [`hologram_field`] keeping only signal frequencies (cycles per sample)
-/// inside `pass[zone]`: the band this colour's wavelength reads when colours
-/// share a signal (frequency-division colour).
-pub fn hologram_field_in(basis: &ColourBasis, signals: &[&[f32]], pass: Option<&[(f64, f64)]>) -> Field1d {
-    let n = basis.samples;
-    let m = oversampling(basis);
-    let mut planner = FftPlanner::new();
-    let forward = planner.plan_fft_forward(n);
-    let inverse = planner.plan_fft_inverse(n * m);
-    let mut total = vec![Complex64::new(0.0, 0.0); n * m];
-    for zone in 0..basis.zones() {
-        let mut a: Vec<Complex64> = match basis.signal {
-            SignalKind::Iq => signals[2 * zone]
-                .iter()
-                .zip(signals[2 * zone + 1])
-                .map(|(i, q)| Complex64::new(f64::from(*i), f64::from(*q)))
-                .collect(),
-            SignalKind::Real => signals[zone].iter().map(|s| Complex64::new(f64::from(*s), 0.0)).collect(),
-        };
-        forward.process(&mut a);
-        // Spectrum onto the fine grid: bins 0..N/2 are positive frequencies,
-        // N/2..N negative. A real signal keeps its positive half, doubled.
-        let (lo, hi) = pass.map_or((f64::NEG_INFINITY, f64::INFINITY), |p| p[zone]);
-        let mut fine = vec![Complex64::new(0.0, 0.0); n * m];
-        for (k, x) in a.iter().enumerate() {
-            let f = if k < n.div_ceil(2) { k as i64 } else { k as i64 - n as i64 };
-            let cycles = f as f64 / n as f64;
-            if cycles < lo || cycles >= hi {
-                continue;
-            }
-            let x = match basis.signal {
-                SignalKind::Iq => *x,
-                SignalKind::Real if f > 0 => *x * 2.0,
-                SignalKind::Real => continue,
-            };
-            let at = if f >= 0 { f } else { (n * m) as i64 + f } as usize;
-            fine[at] = x;
-        }
-        inverse.process(&mut fine);
-        let c = basis.signal_carrier(zone);
-        for (k, (t, x)) in total.iter_mut().zip(&fine).enumerate() {
-            // Carrier cycles at fine sample k, reduced exactly before scaling.
-            let cycles = (c * (k / m) as f64).rem_euclid(1.0) + c * (k % m) as f64 / m as f64;
-            *t += x / n as f64 * Complex64::from_polar(1.0, -2.0 * PI * cycles);
-        }
+/// [`hologram_field`] planned once per layout and colour: the carriers'
+/// phasors on the fine grid are computed once, in f64 (their phase reduced
+/// exactly before scaling), and reused for every hololine.
+#[derive(Clone, Debug)]
+pub struct FieldPlan {
+    samples: usize,
+    oversampling: usize,
+    signal: SignalKind,
+    pitch_m: f64,
+    /// Per zone, `exp(−i 2π c k / M)` on the fine grid.
+    carriers: Vec<Vec<Complex64>>,
+    /// Per zone, the signal frequencies kept (cycles per sample, `[lo, hi)`).
+    pass: Vec<(f64, f64)>,
+}
+
+impl FieldPlan {
+    /// The plan for `basis`, keeping only the signal frequencies inside
+    /// `pass[zone]` when given: the band this colour's wavelength reads when
+    /// colours share a signal (frequency-division colour).
+    pub fn new(basis: &ColourBasis, pass: Option<&[(f64, f64)]>) -> Self {
+        let (n, m) = (basis.samples, oversampling(basis));
+        let carriers = (0..basis.zones())
+            .map(|zone| {
+                let c = basis.signal_carrier(zone);
+                (0..n * m)
+                    .map(|k| {
+                        let cycles = (c * (k / m) as f64).rem_euclid(1.0) + c * (k % m) as f64 / m as f64;
+                        Complex64::from_polar(1.0, -2.0 * PI * cycles)
+                    })
+                    .collect()
+            })
+            .collect();
+        let pass =
+            (0..basis.zones()).map(|zone| pass.map_or((f64::NEG_INFINITY, f64::INFINITY), |p| p[zone])).collect();
+        FieldPlan { samples: n, oversampling: m, signal: basis.signal, pitch_m: basis.pitch_m, carriers, pass }
     }
-    Field1d { samples: total, pitch_m: basis.pitch_m / m as f64, x0_m: (0.5 - n as f64 / 2.0) * basis.pitch_m }
+
+    /// The grid of the fields made: (samples, pitch in metres, `x` of sample 0).
+    pub fn grid(&self) -> (usize, f64, f64) {
+        let m = self.oversampling;
+        (self.samples * m, self.pitch_m / m as f64, (0.5 - self.samples as f64 / 2.0) * self.pitch_m)
+    }
+
+    /// The field of one hololine from its signals.
+    pub fn field(&self, signals: &[&[f32]]) -> Field1d {
+        let (n, m) = (self.samples, self.oversampling);
+        let forward = super::fft_forward(n);
+        let inverse = super::fft_inverse(n * m);
+        let mut total = vec![Complex64::new(0.0, 0.0); n * m];
+        let mut fine = vec![Complex64::new(0.0, 0.0); n * m];
+        for (zone, carrier) in self.carriers.iter().enumerate() {
+            let mut a: Vec<Complex64> = match self.signal {
+                SignalKind::Iq => signals[2 * zone]
+                    .iter()
+                    .zip(signals[2 * zone + 1])
+                    .map(|(i, q)| Complex64::new(f64::from(*i), f64::from(*q)))
+                    .collect(),
+                SignalKind::Real => signals[zone].iter().map(|s| Complex64::new(f64::from(*s), 0.0)).collect(),
+            };
+            forward.process(&mut a);
+            // Spectrum onto the fine grid: bins 0..N/2 are positive
+            // frequencies, N/2..N negative. A real signal keeps its positive
+            // half, doubled; only the pass band goes through.
+            let (lo, hi) = self.pass[zone];
+            fine.fill(Complex64::new(0.0, 0.0));
+            for (k, x) in a.iter().enumerate() {
+                let f = if k < n.div_ceil(2) { k as i64 } else { k as i64 - n as i64 };
+                let cycles = f as f64 / n as f64;
+                if cycles < lo || cycles >= hi {
+                    continue;
+                }
+                let x = match self.signal {
+                    SignalKind::Iq => *x,
+                    SignalKind::Real if f > 0 => *x * 2.0,
+                    SignalKind::Real => continue,
+                };
+                let at = if f >= 0 { f } else { (n * m) as i64 + f } as usize;
+                fine[at] = x;
+            }
+            inverse.process(&mut fine);
+            let scale = 1.0 / n as f64;
+            total.iter_mut().zip(&fine).zip(carrier).for_each(|((t, x), c)| *t += x * c * scale);
+        }
+        Field1d { samples: total, pitch_m: self.pitch_m / m as f64, x0_m: (0.5 - n as f64 / 2.0) * self.pitch_m }
+    }
 }
 
 #[cfg(test)]

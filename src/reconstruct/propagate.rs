@@ -16,7 +16,6 @@
 use std::f64::consts::PI;
 
 use rustfft::num_complex::Complex64;
-use rustfft::FftPlanner;
 
 use crate::{Error, Result};
 
@@ -122,10 +121,9 @@ pub fn propagate_to(
     let len = fast_len(2 * union_samples as usize);
     let fine_len = len * up;
 
-    let mut planner = FftPlanner::new();
     let mut spectrum = vec![Complex64::new(0.0, 0.0); len];
     spectrum[before..before + field.samples.len()].copy_from_slice(&field.samples);
-    planner.plan_fft_forward(len).process(&mut spectrum);
+    super::fft_forward(len).process(&mut spectrum);
 
     // Output sample 0 lies `frac` fine samples past fine sample `first`; the
     // remainder is a phase ramp on the spectrum (a sub-sample shift).
@@ -147,10 +145,69 @@ pub fn propagate_to(
         let phase = 2.0 * PI * (distance_m * kz + signed as f64 * frac / fine_len as f64);
         fine[signed.rem_euclid(fine_len as isize) as usize] = s * Complex64::from_polar(1.0, phase) / len as f64;
     }
-    planner.plan_fft_inverse(fine_len).process(&mut fine);
+    super::fft_inverse(fine_len).process(&mut fine);
     let samples: Vec<Complex64> = fine.into_iter().skip(first).step_by(down).take(count).collect();
     debug_assert_eq!(samples.len(), count, "the padded grid covers the output window");
     Ok(Field1d { samples, pitch_m, x0_m })
+}
+
+/// [`propagate`] planned once for fields of one window (length, pitch and
+/// position), as every hololine of a layout has: the transfer function is
+/// computed once and each call costs two FFTs.
+#[derive(Clone, Debug)]
+pub struct Propagator {
+    count: usize,
+    pitch_m: f64,
+    x0_m: f64,
+    /// Transfer function, divided by the FFT length, per FFT bin.
+    transfer: Vec<Complex64>,
+}
+
+impl Propagator {
+    /// A propagation by `distance_m` at `wavelength_m` for fields of `count`
+    /// samples `pitch_m` apart from `x0_m`.
+    pub fn new(count: usize, pitch_m: f64, x0_m: f64, wavelength_m: f64, distance_m: f64) -> Result<Propagator> {
+        check_positive("field pitch_m", pitch_m)?;
+        check_positive("wavelength_m", wavelength_m)?;
+        check_finite("distance_m", distance_m)?;
+        if count == 0 || 2 * (count + 1) > MAX_FFT_SAMPLES {
+            return Err(Error::Usage(format!("cannot propagate a field of {count} samples")));
+        }
+        // As in `propagate_to` with the output window the input's (the same
+        // rounding, so the same padding).
+        let union_samples = ((count as f64 * pitch_m) / pitch_m).ceil() + 1.0;
+        let len = fast_len(2 * union_samples as usize);
+        let df = 1.0 / (len as f64 * pitch_m);
+        let f_limit = 1.0 / (wavelength_m * ((2.0 * df * distance_m).powi(2) + 1.0).sqrt());
+        let inv_wavelength2 = wavelength_m.powi(-2);
+        let transfer = (0..len)
+            .map(|k| {
+                let signed = if k < len.div_ceil(2) { k as isize } else { k as isize - len as isize };
+                let f = signed as f64 * df;
+                if f.abs() > f_limit {
+                    return Complex64::new(0.0, 0.0);
+                }
+                let kz = (inv_wavelength2 - f * f).max(0.0).sqrt();
+                Complex64::from_polar(1.0 / len as f64, 2.0 * PI * distance_m * kz)
+            })
+            .collect();
+        Ok(Propagator { count, pitch_m, x0_m, transfer })
+    }
+
+    /// `field` (sampled like the one this was planned for) propagated.
+    pub fn apply(&self, field: &Field1d) -> Result<Field1d> {
+        if field.samples.len() != self.count || field.pitch_m != self.pitch_m || field.x0_m != self.x0_m {
+            return Err(Error::Usage("the field is not sampled like the one the propagation was planned for".into()));
+        }
+        let len = self.transfer.len();
+        let mut buf = vec![Complex64::new(0.0, 0.0); len];
+        buf[..self.count].copy_from_slice(&field.samples);
+        super::fft_forward(len).process(&mut buf);
+        buf.iter_mut().zip(&self.transfer).for_each(|(b, t)| *b *= t);
+        super::fft_inverse(len).process(&mut buf);
+        buf.truncate(self.count);
+        Ok(Field1d { samples: buf, pitch_m: self.pitch_m, x0_m: self.x0_m })
+    }
 }
 
 /// The taper applied to a [`Window`] before its spectrum is taken.
@@ -264,7 +321,7 @@ pub fn angular_spectrum(field: &Field1d, window: Window, wavelength_m: f64) -> R
         };
         *b = field.samples[k] * weight;
     }
-    FftPlanner::new().plan_fft_forward(len).process(&mut buf);
+    super::fft_forward(len).process(&mut buf);
     // Reorder to increasing frequency: s from −⌊len/2⌋ to ⌈len/2⌉ − 1.
     let sin_theta_step = wavelength_m / (len as f64 * field.pitch_m);
     let (sin_theta, power) = (0..len)
@@ -485,6 +542,12 @@ mod tests {
         let error = relative_l2(&back.samples[1024..3072], &field.samples[1024..3072]);
         eprintln!("forward and back by {z} m: relative L2 {error:.1e}");
         assert!(error < 1e-9);
+        // The planned propagation is the same computation.
+        let plan = Propagator::new(n, pitch, field.x0_m, WAVELENGTH_M, z).unwrap();
+        let d = relative_l2(&plan.apply(&field).unwrap().samples, &forward.samples);
+        assert!(d < 1e-10, "{d}");
+        let shorter = Field1d { samples: field.samples[..100].to_vec(), ..field.clone() };
+        assert!(plan.apply(&shorter).is_err());
     }
 
     #[test]

@@ -18,8 +18,8 @@ use std::sync::Arc;
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
-use super::field::hologram_field_in;
-use super::propagate::{propagate, Field1d};
+use super::field::FieldPlan;
+use super::propagate::{Field1d, Propagator};
 use crate::assemble::{Assembler, ColourBasis};
 use crate::layout::ColourSignals;
 use crate::{Error, Geometry, Modulation, Result};
@@ -76,10 +76,10 @@ pub struct ColourOptics {
     calibration: EmitterSpectrum,
     /// The calibration emitter's power in each view's interval.
     view_gain: Vec<f64>,
-    /// Per zone, the signal frequencies this colour reads when colours
-    /// share a signal: its band, widened halfway to the neighbouring
-    /// colours' bands (to 0 and ½ at the ends).
-    pass: Option<Vec<(f64, f64)>>,
+    /// The hologram-plane field from signals.
+    field: FieldPlan,
+    /// From the hologram to the emitter plane (none for hogels).
+    to_emitters: Option<Propagator>,
 }
 
 impl std::fmt::Debug for ColourOptics {
@@ -98,7 +98,7 @@ impl ColourOptics {
         let window = ((geometry.emitter_pitch_m / fine_pitch).round() as usize).max(1);
         let fft = FftPlanner::new().plan_fft_forward((8 * window).next_power_of_two());
         let summed = assembler.layout().fringe.as_ref().map(|f| f.colours) == Some(ColourSignals::Summed);
-        let pass = summed.then(|| {
+        let pass: Option<Vec<(f64, f64)>> = summed.then(|| {
             let colours = geometry.channels.len();
             (0..basis.zones())
                 .map(|zone| {
@@ -111,6 +111,17 @@ impl ColourOptics {
                 })
                 .collect()
         });
+        // Per zone, the signal frequencies this colour reads when colours
+        // share a signal: its band, widened halfway to the neighbouring
+        // colours' bands (to 0 and ½ at the ends).
+        let field = FieldPlan::new(&basis, pass.as_deref());
+        let to_emitters = match geometry.emitter_z_m {
+            0.0 => None,
+            z => {
+                let (count, pitch_m, x0_m) = field.grid();
+                Some(Propagator::new(count, pitch_m, x0_m, basis.wavelength_m, z)?)
+            }
+        };
         let mut optics = ColourOptics {
             basis,
             geometry: geometry.clone(),
@@ -118,7 +129,8 @@ impl ColourOptics {
             fft,
             calibration: EmitterSpectrum { sin_first: 0.0, sin_step: 1.0, power: Vec::new() },
             view_gain: Vec::new(),
-            pass,
+            field,
+            to_emitters,
         };
         // Calibration: the middle emitter of one hololine, every view at 1.
         geometry.hololines = 1;
@@ -151,11 +163,10 @@ impl ColourOptics {
     /// The field on the emitter plane of one hololine, from its signals (one
     /// slice per signal of this colour, in the layout's order).
     pub fn emitter_plane(&self, signals: &[&[f32]]) -> Result<Field1d> {
-        let field = hologram_field_in(&self.basis, signals, self.pass.as_deref());
-        if self.geometry.emitter_z_m == 0.0 {
-            Ok(field)
-        } else {
-            propagate(&field, self.basis.wavelength_m, self.geometry.emitter_z_m)
+        let field = self.field.field(signals);
+        match &self.to_emitters {
+            None => Ok(field),
+            Some(p) => p.apply(&field),
         }
     }
 
