@@ -15,6 +15,7 @@ mod modulation;
 pub mod pattern;
 pub mod reconstruct;
 pub mod report;
+pub mod resample;
 pub mod views;
 
 pub use error::{Error, Result};

@@ -185,7 +185,7 @@ pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
         &holo_file,
         &layout,
         &fringes,
-        &AssembleOptions { frames: None, format: FringeFormat::Png, overwrite: true },
+        &AssembleOptions { frames: None, format: FringeFormat::Png, overwrite: true, resample: false },
         &mut |_, _| {},
     )?;
     let assemble_seconds = started.elapsed().as_secs_f64();

@@ -47,7 +47,7 @@ fn every_format_reads_back_to_the_assembled_signal() {
         [(FringeFormat::Exr, 2e-6), (FringeFormat::Png, 0.5 / 127.0 + 2e-6), (FringeFormat::Raw, 0.5 / 127.0 + 2e-6)]
     {
         let out = dir.path().join(format.extension());
-        let options = AssembleOptions { frames: Some(1..2), format, overwrite: false };
+        let options = AssembleOptions { frames: Some(1..2), format, overwrite: false, resample: false };
         let mut calls = Vec::new();
         let report = assemble_file(&input, &layout, &out, &options, &mut |d, t| calls.push((d, t))).unwrap();
         assert_eq!(calls, vec![(1, 1)]);
@@ -81,7 +81,7 @@ fn bytes_are_reproducible_and_mismatches_are_named() {
     let layout = small_layout(dir.path());
     let input = dir.path().join("in.holo");
     write_two_frames(&layout, &input);
-    let options = AssembleOptions { frames: None, format: FringeFormat::Raw, overwrite: false };
+    let options = AssembleOptions { frames: None, format: FringeFormat::Raw, overwrite: false, resample: false };
     let a = assemble_file(&input, &layout, &dir.path().join("a"), &options, &mut |_, _| {}).unwrap();
     let b = assemble_file(&input, &layout, &dir.path().join("b"), &options, &mut |_, _| {}).unwrap();
     assert_eq!(a.frames.len(), 2);
@@ -97,4 +97,10 @@ fn bytes_are_reproducible_and_mismatches_are_named() {
     holo::write(&other, &Modulation::zeros(holo::layout::mark1().geometry).unwrap(), &WriteOptions::default()).unwrap();
     let err = assemble_file(&other, &layout, &dir.path().join("d"), &options, &mut |_, _| {}).unwrap_err().to_string();
     assert!(err.contains("mark1.holo") && err.contains("64 hololines (the layout has 4)"), "{err}");
+    assert!(err.contains("--resample"), "{err}");
+    // Asked for explicitly, the frames are resampled onto the layout by rays.
+    let resampling = AssembleOptions { resample: true, ..options.clone() };
+    let r = assemble_file(&other, &layout, &dir.path().join("e"), &resampling, &mut |_, _| {}).unwrap();
+    let stats = r.resampled.unwrap();
+    assert!(stats.total == 4 * 336 * 96 && stats.outside > 0, "{stats:?}");
 }

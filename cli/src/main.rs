@@ -124,6 +124,10 @@ enum Command {
         /// png or raw (8-bit, with the layout's offset and gain) or exr (float signal).
         #[arg(long, default_value = "png", value_parser = parse_fringe_format)]
         format: FringeFormat,
+        /// When the file's geometry is not the layout's, resample it onto the
+        /// layout (ray by ray) instead of refusing.
+        #[arg(long)]
+        resample: bool,
         /// Replace existing files.
         #[arg(long)]
         force: bool,
@@ -341,9 +345,9 @@ fn run(cli: Cli) -> Outcome {
             let m = holo::views::import_views(&dir, &g, &tone).map_err(|e| e.to_string())?;
             write_file(&m, &write, format!("holo import-views from {}", dir.display()))
         }
-        Command::Assemble { file, layout, out, frames, format, force } => {
+        Command::Assemble { file, layout, out, frames, format, resample, force } => {
             let layout = Layout::load(&layout).map_err(|e| e.to_string())?;
-            let options = AssembleOptions { frames, format, overwrite: force };
+            let options = AssembleOptions { frames, format, overwrite: force, resample };
             let bar = indicatif::ProgressBar::new(0).with_style(
                 indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} frames, {eta} left")
                     .expect("a valid template"),
@@ -365,6 +369,12 @@ fn run(cli: Cli) -> Outcome {
                 report.files.len() - 1,
                 out.display()
             );
+            if let Some(r) = report.resampled {
+                println!(
+                    "resampled onto {} by rays: {} of {} samples had no ray in the file and are black",
+                    layout.name, r.outside, r.total
+                );
+            }
             if report.stats.clipped > 0 {
                 eprintln!(
                     "holo: warning: {} samples clipped by the 8-bit quantization (the modulation is brighter than \

@@ -94,6 +94,9 @@ pub struct AssembleOptions {
     pub format: FringeFormat,
     /// Replace existing files.
     pub overwrite: bool,
+    /// When the file's geometry is not the layout's, resample every frame
+    /// onto the layout by rays ([`crate::resample`]) instead of refusing.
+    pub resample: bool,
 }
 
 /// What [`assemble_file`] did.
@@ -105,6 +108,8 @@ pub struct AssembleReport {
     pub frames: Vec<FringeFrame>,
     /// Totals over the frames.
     pub stats: FrameStats,
+    /// When the frames were resampled onto the layout: totals over the frames.
+    pub resampled: Option<crate::resample::ResampleStats>,
 }
 
 /// File name of image `image` of frame `index`.
@@ -147,15 +152,28 @@ pub fn assemble_file(
     }
     // Check the geometry before any work, with the file named.
     let zero = crate::Modulation::zeros(file.geometry().clone())?;
-    assembler.check_geometry(&zero).map_err(|e| Error::Usage(format!("{}: {e}", input.display())))?;
+    let fits = assembler.check_geometry(&zero);
     drop(zero);
+    let mut resampled = match (fits, options.resample) {
+        (Ok(()), _) => None,
+        (Err(_), true) => Some(crate::resample::ResampleStats::default()),
+        (Err(e), false) => {
+            return Err(Error::Usage(format!("{}: {e}, or assemble with --resample", input.display())));
+        }
+    };
 
     let mut bytes: FrameImages<u8> = FrameImages { width: 0, height: 0, components: 0, images: vec![] };
     let mut floats: FrameImages<f32> = FrameImages { width: 0, height: 0, components: 0, images: vec![] };
     let mut frames = Vec::new();
     let mut total = FrameStats::default();
     for (done, index) in range.clone().enumerate() {
-        let m = file.read_frame(index)?;
+        let mut m = file.read_frame(index)?;
+        if let Some(total) = resampled.as_mut() {
+            let (r, stats) = crate::resample::resample(&m, &layout.geometry)?;
+            total.outside += stats.outside;
+            total.total += stats.total;
+            m = r;
+        }
         let stats = match options.format {
             FringeFormat::Exr => assembler.assemble_into(&m, &mut floats),
             _ => assembler.assemble_into(&m, &mut bytes),
@@ -194,7 +212,7 @@ pub fn assemble_file(
     let side = out_dir.join(FRINGE_SIDECAR);
     let json = serde_json::to_string_pretty(&sidecar).expect("plain data");
     write_atomic(&side, options.overwrite, |w| w.write_all(json.as_bytes()).map_err(|e| Error::io(&side, e)))?;
-    Ok(AssembleReport { files: targets, frames, stats: total })
+    Ok(AssembleReport { files: targets, frames, stats: total, resampled })
 }
 
 fn with_frame(e: Error, input: &Path, frame: usize) -> Error {
