@@ -22,6 +22,7 @@ use crate::{Error, Modulation, Result};
 pub use basis::ColourBasis;
 pub use pack::FringeSample;
 use pack::{interleave, Adder, Encoder, LineScratch};
+use plan::PaddedWeights;
 pub use plan::Plan;
 
 /// The float signals of every hololine of one colour channel, before they
@@ -252,9 +253,11 @@ impl Assembler {
 
     /// Assemble one frame into `out` (from [`Assembler::blank_images`] or an
     /// earlier frame: rows outside the hololines' blocks are not touched).
+    /// The samples are checked as they are weighed (one pass over the
+    /// modulation, not two): after an error for a bad sample, `out` may hold
+    /// part of the frame.
     pub fn assemble_into<T: FringeSample>(&self, m: &Modulation, out: &mut FrameImages<T>) -> Result<FrameStats> {
         self.check_geometry(m)?;
-        Self::check_samples(m)?;
         let fb = self.frame_buffer();
         if (out.width, out.height, out.components, out.images.len())
             != (fb.width, fb.height, fb.components, fb.image_names.len())
@@ -293,7 +296,7 @@ impl Assembler {
                     .collect()
             })
             .collect();
-        let stats = blocks
+        let (stats, valid) = blocks
             .into_par_iter()
             .enumerate()
             .map_init(
@@ -301,6 +304,8 @@ impl Assembler {
                 |scratch, (line, mut images)| {
                     let LineScratch { zeros, codes, weights, sum } = scratch;
                     let mut stats = FrameStats::default();
+                    // Whether every sample weighed so far was fit to weigh.
+                    let mut valid = true;
                     // The (hololine, colour) whose weights are in `weights`, and whether it is lit.
                     let mut weights_of: Option<(usize, usize, bool)> = None;
                     let reversed = fb.reverse_odd_lines && line % 2 == 1;
@@ -333,21 +338,20 @@ impl Assembler {
                         }
                         // Load colour's weights of hololine j (unless they are
                         // already there); false when that hololine is dark.
-                        let lit_weights =
-                            |colour: usize, weights: &mut Vec<f32>, of: &mut Option<(usize, usize, bool)>| match *of {
-                                Some((wj, wc, lit)) if (wj, wc) == (j, colour) => lit,
-                                _ => {
-                                    let lit = Plan::weights_into(m.hololine(colour, j), weights);
-                                    *of = Some((j, colour, lit));
-                                    lit
-                                }
-                            };
+                        let mut lit_weights = |colour: usize, weights: &mut PaddedWeights| match weights_of {
+                            Some((wj, wc, lit)) if (wj, wc) == (j, colour) => lit,
+                            _ => {
+                                let scan = self.plans[colour].padded_weights_into(m.hololine(colour, j), weights);
+                                valid &= scan.valid;
+                                weights_of = Some((j, colour, scan.lit));
+                                scan.lit
+                            }
+                        };
                         if colours.len() == 1 {
                             let colour = colours.start;
-                            if lit_weights(colour, weights, &mut weights_of) {
-                                let mut sink = Encoder { lane_channel, codes, samples, reversed, q: &q, clipped: 0 };
-                                self.plans[colour].zone_blocks(weights, zone, &mut sink);
-                                stats.clipped += sink.clipped;
+                            if lit_weights(colour, weights) {
+                                let sink = Encoder { lane_channel, codes, samples, reversed, q: &q, clipped: 0 };
+                                stats.clipped += sink.encode(&self.plans[colour], weights, zone);
                                 continue;
                             }
                         } else {
@@ -356,10 +360,10 @@ impl Assembler {
                             let mut any = false;
                             sum.iter_mut().for_each(|lane| lane.fill(0.0));
                             for colour in colours {
-                                if lit_weights(colour, weights, &mut weights_of) {
+                                if lit_weights(colour, weights) {
                                     any = true;
                                     let mut adder = Adder(&mut sum[..]);
-                                    self.plans[colour].zone_blocks(weights, zone, &mut adder);
+                                    self.plans[colour].zone_padded(weights, zone, &mut adder);
                                 }
                             }
                             if any {
@@ -386,13 +390,23 @@ impl Assembler {
                             interleave(row, &sources, r * fb.line_samples);
                         }
                     }
-                    stats
+                    (stats, valid)
                 },
             )
-            .reduce(FrameStats::default, |a, b| FrameStats {
-                clipped: a.clipped + b.clipped,
-                dark_hololines: a.dark_hololines + b.dark_hololines,
-            });
+            .reduce(
+                || (FrameStats::default(), true),
+                |(a, a_valid), (b, b_valid)| {
+                    let stats = FrameStats {
+                        clipped: a.clipped + b.clipped,
+                        dark_hololines: a.dark_hololines + b.dark_hololines,
+                    };
+                    (stats, a_valid && b_valid)
+                },
+            );
+        if !valid {
+            // Name the first bad sample of the frame.
+            Self::check_samples(m)?;
+        }
         Ok(stats)
     }
 

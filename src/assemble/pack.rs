@@ -4,8 +4,17 @@
 //! pixels. These run on every sample of every frame, so they are written to
 //! vectorise.
 
-use super::plan::BlockSink;
+use std::any::Any;
+
+use super::plan::{BlockSink, Blocks, LaneSink, PaddedWeights, Plan};
 use crate::layout::Quantization;
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::{
+    __m128i, __m256, __m256i, _mm256_castsi256_si128, _mm256_cvtps_epi32, _mm256_fmadd_ps, _mm256_max_epu32,
+    _mm256_packs_epi32, _mm256_packus_epi16, _mm256_permutevar8x32_epi32, _mm256_set1_epi32, _mm256_set1_ps,
+    _mm256_setr_epi32, _mm256_setr_epi8, _mm256_setzero_si256, _mm256_shuffle_epi8, _mm256_storeu_ps,
+    _mm256_storeu_si256, _mm256_testz_si256, _mm_storel_epi64, _mm_storeu_si128,
+};
 
 /// A frame-buffer sample type: 8-bit codes, or the float signal itself.
 pub trait FringeSample: Copy + Send + Sync + 'static {
@@ -59,17 +68,22 @@ impl FringeSample for u8 {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "ssse3")]
 unsafe fn interleave3_ssse3(row: &mut [u8], a: &[u8], b: &[u8], c: &[u8]) {
-    use std::arch::x86_64::{__m128i, _mm_loadu_si128, _mm_or_si128, _mm_shuffle_epi8, _mm_storeu_si128};
-    // masks[o][s][j]: output vector o, byte j takes source s's byte
+    use std::arch::x86_64::{_mm_loadu_si128, _mm_or_si128, _mm_sfence, _mm_shuffle_epi8, _mm_stream_si128};
+    // MASKS[o][s][j]: output vector o, byte j takes source s's byte
     // (16o + j) / 3 when (16o + j) mod 3 = s, else zero (0x80).
-    let mut masks = [[[0x80u8; 16]; 3]; 3];
-    for (o, per_output) in masks.iter_mut().enumerate() {
-        for (j, i) in (16 * o..16 * o + 16).enumerate() {
-            per_output[i % 3][j] = (i / 3) as u8;
+    const MASKS: [[[u8; 16]; 3]; 3] = {
+        let mut masks = [[[0x80u8; 16]; 3]; 3];
+        let mut i = 0;
+        while i < 48 {
+            masks[i / 16][i % 3][i % 16] = (i / 3) as u8;
+            i += 1;
         }
-    }
-    let load = |m: &[u8; 16]| _mm_loadu_si128(m.as_ptr().cast::<__m128i>());
-    let m = masks.map(|per_output| per_output.map(|mask| load(&mask)));
+        masks
+    };
+    let m = MASKS.map(|per_output| per_output.map(|mask| _mm_loadu_si128(mask.as_ptr().cast::<__m128i>())));
+    // The frame buffer is written once and not read back here: aligned rows
+    // are streamed past the caches (no read of the lines first).
+    let stream = row.as_ptr() as usize % 16 == 0;
     let pixels = a.len();
     let mut x = 0;
     while x + 16 <= pixels {
@@ -79,9 +93,18 @@ unsafe fn interleave3_ssse3(row: &mut [u8], a: &[u8], b: &[u8], c: &[u8]) {
                 _mm_or_si128(_mm_shuffle_epi8(src[0], m[0]), _mm_shuffle_epi8(src[1], m[1])),
                 _mm_shuffle_epi8(src[2], m[2]),
             );
-            _mm_storeu_si128(row.as_mut_ptr().add(3 * x + 16 * o).cast::<__m128i>(), v);
+            let to = row.as_mut_ptr().add(3 * x + 16 * o).cast::<__m128i>();
+            if stream {
+                _mm_stream_si128(to, v);
+            } else {
+                _mm_storeu_si128(to, v);
+            }
         }
         x += 16;
+    }
+    if stream {
+        // Streamed stores are ordered before anything after this function.
+        _mm_sfence();
     }
     for x in x..pixels {
         row[3 * x..3 * x + 3].copy_from_slice(&[a[x], b[x], c[x]]);
@@ -109,8 +132,14 @@ impl FringeSample for f32 {
 /// it vectorises: this runs on every sample of every frame.
 #[inline(always)]
 fn encode_bytes(signal: &[f32], reversed: bool, out: &mut [u8], offset: f32, gain: f32) -> u64 {
+    encode_with(signal, reversed, out, |x| offset + gain * x)
+}
+
+/// [`encode_bytes`] with the unrounded code of each value given by `code`.
+#[inline(always)]
+fn encode_with(signal: &[f32], reversed: bool, out: &mut [u8], code: impl Fn(f32) -> f32) -> u64 {
     let encode = |x: &f32, o: &mut u8| -> u32 {
-        let code = offset + gain * x;
+        let code = code(*x);
         let clamped = code.clamp(0.0, 255.0);
         // Adding 2²³ leaves the integer nearest (ties to even) in the low
         // mantissa bits: a rounding that vectorises, unlike `as`.
@@ -131,7 +160,7 @@ pub(super) struct Encoder<'a, T> {
     /// The channel that carries lane 0 and lane 1, if any.
     pub lane_channel: [Option<usize>; 2],
     /// The codes of every channel of the line, in the order sent.
-    pub codes: &'a mut [Vec<T>],
+    pub codes: &'a mut Vec<Vec<T>>,
     /// Samples per hololine.
     pub samples: usize,
     /// Whether this line is sent backwards.
@@ -140,6 +169,28 @@ pub(super) struct Encoder<'a, T> {
     pub q: &'a Quantization,
     /// Samples clipped so far.
     pub clipped: u64,
+}
+
+impl<T: FringeSample> Encoder<'_, T> {
+    /// Zone `zone` of one hololine from its weights
+    /// ([`Plan::padded_weights_into`]), encoded; returns the samples clipped.
+    /// 8-bit codes are made in the kernel's registers (the downcast picks
+    /// that sink for `u8`), other sample types from blocks of floats.
+    pub fn encode(self, plan: &Plan, weights: &PaddedWeights, zone: usize) -> u64 {
+        let Encoder { lane_channel, codes, samples, reversed, q, clipped } = self;
+        match (codes as &mut dyn Any).downcast_mut::<Vec<Vec<u8>>>() {
+            Some(codes) => {
+                let mut sink = Encoder { lane_channel, codes, samples, reversed, q, clipped };
+                plan.zone_padded(weights, zone, &mut sink);
+                sink.clipped
+            }
+            None => {
+                let mut sink = Encoder { lane_channel, codes, samples, reversed, q, clipped };
+                plan.zone_padded(weights, zone, &mut Blocks::<_, true>(&mut sink));
+                sink.clipped
+            }
+        }
+    }
 }
 
 impl<T: FringeSample> BlockSink for Encoder<'_, T> {
@@ -153,8 +204,69 @@ impl<T: FringeSample> BlockSink for Encoder<'_, T> {
     }
 }
 
+/// 8-bit codes made in the vector kernel's registers, `offset + gain · norm
+/// · sum` with one multiply-add. A block whose codes all round into
+/// 0 ..= 255 has none clipped and needs no clamping: its rounded codes are
+/// packed and stored as they are; any other block (rare) is clamped and
+/// counted by [`encode_with`].
+impl LaneSink for Encoder<'_, u8> {
+    const ANY_ORDER: bool = true;
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn put_vectors<const V: usize>(&mut self, lane: usize, first: usize, acc: &[__m256; V], norm: f32) {
+        let Some(ch) = self.lane_channel[lane] else { return };
+        let (offset, scale) = (_mm256_set1_ps(self.q.offset as f32), _mm256_set1_ps(norm * self.q.gain as f32));
+        let codes: [__m256; V] = std::array::from_fn(|v| _mm256_fmadd_ps(acc[v], scale, offset));
+        // Rounded to the nearest, ties to even (the default rounding mode).
+        let rounded: [__m256i; V] = std::array::from_fn(|v| _mm256_cvtps_epi32(codes[v]));
+        // Out of 0 ..= 255 (or beyond i32, or NaN) as unsigned: above 255.
+        let largest = rounded.iter().fold(_mm256_setzero_si256(), |m, c| _mm256_max_epu32(m, *c));
+        let len = 8 * V;
+        let at = if self.reversed { self.samples - first - len } else { first };
+        let out = &mut self.codes[ch][at..at + len];
+        if _mm256_testz_si256(largest, _mm256_set1_epi32(!255)) == 0 {
+            let mut floats = [[0f32; 8]; V];
+            for (floats, codes) in floats.iter_mut().zip(&codes) {
+                _mm256_storeu_ps(floats.as_mut_ptr(), *codes);
+            }
+            self.clipped += encode_with(floats.as_flattened(), self.reversed, out, |code| code);
+            return;
+        }
+        // Four vectors of codes into 32 bytes in sample order (or reversed):
+        // the packs interleave the 128-bit halves, the permutation undoes it.
+        let forward = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+        let backward = _mm256_setr_epi32(7, 3, 6, 2, 5, 1, 4, 0);
+        let reverse_within_words = _mm256_setr_epi8(
+            3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12,
+        );
+        let run = len.min(32);
+        for g in 0..V.div_ceil(4) {
+            // Fewer than four vectors: repeated, and only the first bytes kept.
+            let c = |k: usize| rounded[(4 * g + k) % V];
+            let packed = _mm256_packus_epi16(_mm256_packs_epi32(c(0), c(1)), _mm256_packs_epi32(c(2), c(3)));
+            let (bytes, to) = if self.reversed {
+                let bytes = _mm256_permutevar8x32_epi32(packed, backward);
+                (_mm256_shuffle_epi8(bytes, reverse_within_words), len - (g + 1) * run)
+            } else {
+                (_mm256_permutevar8x32_epi32(packed, forward), g * run)
+            };
+            let to = out[to..to + run].as_mut_ptr();
+            match run {
+                32 => _mm256_storeu_si256(to.cast::<__m256i>(), bytes),
+                16 => _mm_storeu_si128(to.cast::<__m128i>(), _mm256_castsi256_si128(bytes)),
+                _ => _mm_storel_epi64(to.cast::<__m128i>(), _mm256_castsi256_si128(bytes)),
+            }
+        }
+    }
+}
+
 /// Blocks added into the lanes of a hololine (colours summed into one signal).
 pub(super) struct Adder<'a>(pub &'a mut [Vec<f32>]);
+
+impl LaneSink for Adder<'_> {
+    const ANY_ORDER: bool = true;
+}
 
 impl BlockSink for Adder<'_> {
     #[inline(always)]
@@ -170,7 +282,7 @@ pub(super) struct LineScratch<T> {
     /// Per channel of the line, its codes in the order sent.
     pub codes: Vec<Vec<T>>,
     /// The weights of the hololine and colour at hand.
-    pub weights: Vec<f32>,
+    pub weights: PaddedWeights,
     /// Colours summed: the sum, per lane.
     pub sum: [Vec<f32>; 2],
 }
@@ -180,7 +292,7 @@ impl<T: Copy> LineScratch<T> {
         LineScratch {
             zeros: vec![0.0; samples],
             codes: vec![vec![blank; samples]; channels],
-            weights: Vec::new(),
+            weights: PaddedWeights::default(),
             sum: [vec![0.0; samples], vec![0.0; samples]],
         }
     }

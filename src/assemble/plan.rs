@@ -12,6 +12,19 @@
 //! hololine. A block is then `Σ_terms w · table[at .. at + B]`: an axpy into
 //! a register-sized accumulator, which vectorises (seed 004 §3.4's dot
 //! product, turned around so the weight is reused across the block).
+//!
+//! Blocks of one phase in consecutive emitter steps have the same terms and
+//! the same table values, only their weights differ. The vector kernel
+//! (x86-64 with AVX2 and FMA, chosen at run time) sums a few of them
+//! together, so that each table value loaded serves several blocks; the
+//! frame assembler pads the weights with zeros beyond the hololine's ends,
+//! so that no block needs checks.
+
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::{
+    __m256, _mm256_broadcast_ss, _mm256_fmadd_ps, _mm256_loadu_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps,
+    _mm256_storeu_ps,
+};
 
 use super::basis::ColourBasis;
 use crate::layout::SignalKind;
@@ -27,11 +40,21 @@ struct Term {
     key: i64,
 }
 
+/// A [`Term`] as the vector kernel reads it: the weight is
+/// `weights[base · views + weight]`, the values are `lanes[table ..]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Tap {
+    weight: i32,
+    table: u32,
+}
+
 /// The terms of one (zone, phase), with the range of their `back`: a block
 /// whose every term names an existing emitter needs no checks.
 #[derive(Clone, Debug, Default)]
 struct Terms {
     list: Vec<Term>,
+    /// `list` as the vector kernel reads it, in the same order.
+    taps: Vec<Tap>,
     min_back: usize,
     max_back: usize,
 }
@@ -54,6 +77,50 @@ impl BlockSink for [&mut [f32]; 2] {
     }
 }
 
+/// The crate's own sinks, which may take blocks in any order and, from the
+/// vector kernel, straight from its registers.
+pub(crate) trait LaneSink: BlockSink {
+    /// Whether blocks may come in any order (the vector kernel then works on
+    /// several emitter steps at once).
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+    const ANY_ORDER: bool;
+
+    /// Lane `lane` of the block at sample `first`, from the vector kernel's
+    /// accumulators, not yet multiplied by `norm`. By default the normalised
+    /// values go to [`BlockSink::put`].
+    ///
+    /// # Safety
+    /// Only for processors with AVX2 (the vector kernel's callers check).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn put_vectors<const V: usize>(&mut self, lane: usize, first: usize, acc: &[__m256; V], norm: f32) {
+        let mut values = [[0f32; 8]; V];
+        for (values, acc) in values.iter_mut().zip(acc) {
+            _mm256_storeu_ps(values.as_mut_ptr(), _mm256_mul_ps(*acc, _mm256_set1_ps(norm)));
+        }
+        self.put(lane, first, values.as_flattened());
+    }
+}
+
+impl LaneSink for [&mut [f32]; 2] {
+    const ANY_ORDER: bool = true;
+}
+
+/// Any [`BlockSink`], as a [`LaneSink`] that takes blocks in any order if
+/// `ANY` (otherwise in increasing order, as [`BlockSink`] promises).
+pub(crate) struct Blocks<'a, S, const ANY: bool>(pub &'a mut S);
+
+impl<S: BlockSink, const ANY: bool> BlockSink for Blocks<'_, S, ANY> {
+    #[inline(always)]
+    fn put(&mut self, lane: usize, first: usize, values: &[f32]) {
+        self.0.put(lane, first, values);
+    }
+}
+
+impl<S: BlockSink, const ANY: bool> LaneSink for Blocks<'_, S, ANY> {
+    const ANY_ORDER: bool = ANY;
+}
+
 /// A tabulated basis and its term lists.
 #[derive(Clone, Debug)]
 pub struct Plan {
@@ -63,25 +130,70 @@ pub struct Plan {
     period: usize,
     table_re: Vec<f32>,
     table_im: Vec<f32>,
+    /// The tables block by block, the lanes of each block side by side (the
+    /// block at `at` of the tables is at `at · L` for `L` lanes): one term's
+    /// values are one contiguous run, for the vector kernel.
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+    lanes: Vec<f32>,
     /// `terms[zone][phase]`.
     terms: Vec<Vec<Terms>>,
     norm: f32,
+    /// Emitters of zero weights before emitter 0 and after the last that
+    /// the blocks reach (see [`Plan::padded_weights_into`]).
+    padding: (usize, usize),
 }
 
+/// The most emitter steps the vector kernel takes at a time (its `G`).
+const GROUP: usize = 8;
+
+/// What a hololine's samples were found to be while weighing them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Scan {
+    /// Some sample is not zero.
+    pub lit: bool,
+    /// Every sample is finite and not negative (as
+    /// [`crate::Modulation::first_bad_sample`] checks).
+    pub valid: bool,
+}
+
+/// A hololine's weights with zero weights before and after them, as the
+/// crate's kernels read them (see [`Plan::padded_weights_into`]); kept
+/// between hololines, so that the zeros are written once.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PaddedWeights {
+    values: Vec<f32>,
+    /// Emitters of zeros before emitter 0, emitters of the hololine,
+    /// emitters of zeros after it, and views per emitter.
+    shape: [usize; 4],
+}
+
+/// `out[i] = sqrt(hololine[i])`, and what the samples are: one pass,
+/// branch-free (it vectorises).
 #[inline(always)]
-fn weights_into(hololine: &[f32], out: &mut Vec<f32>) -> bool {
-    if hololine.iter().fold(true, |dark, x| dark & (*x == 0.0)) {
-        return false;
+fn sqrt_into(hololine: &[f32], out: &mut [f32]) -> Scan {
+    let (mut lit, mut valid) = (false, true);
+    for (out, x) in out.iter_mut().zip(hololine) {
+        lit |= *x != 0.0;
+        valid &= (*x >= 0.0) & (*x <= f32::MAX);
+        *out = x.sqrt();
     }
-    out.clear();
-    out.extend(hololine.iter().map(|x| x.sqrt()));
-    true
+    Scan { lit, valid }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn weights_into_avx2(hololine: &[f32], out: &mut Vec<f32>) -> bool {
-    weights_into(hololine, out)
+unsafe fn sqrt_into_avx2(hololine: &[f32], out: &mut [f32]) -> Scan {
+    sqrt_into(hololine, out)
+}
+
+/// [`sqrt_into`], vectorised for AVX2 when the processor has it.
+fn sqrt_into_dispatch(hololine: &[f32], out: &mut [f32]) -> Scan {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: the feature the function is compiled for is present.
+        return unsafe { sqrt_into_avx2(hololine, out) };
+    }
+    sqrt_into(hololine, out)
 }
 
 fn gcd(a: usize, b: usize) -> usize {
@@ -136,12 +248,36 @@ impl Plan {
                 }
             }
         }
+        let lanes: Vec<f32> = table_re
+            .chunks_exact(block)
+            .enumerate()
+            .flat_map(|(k, re)| re.iter().chain(table_im.get(k * block..(k + 1) * block).unwrap_or(&[])))
+            .copied()
+            .collect();
         for t in terms.iter_mut().flatten() {
             t.min_back = t.list.iter().map(|t| t.back as usize).min().unwrap_or(0);
             t.max_back = t.list.iter().map(|t| t.back as usize).max().unwrap_or(0);
+            t.taps = t
+                .list
+                .iter()
+                .map(|t| Tap {
+                    weight: i32::try_from(-t.key).expect("weight offsets fit in i32"),
+                    table: u32::try_from(t.at as usize * basis.lanes()).expect("table offsets fit in u32"),
+                })
+                .collect();
         }
+        // The vector kernel reads each tap's values unchecked.
+        let run = basis.lanes() * block;
+        assert!(terms.iter().flatten().flat_map(|t| &t.taps).all(|t| t.table as usize + run <= lanes.len()));
         let norm = (1.0 / basis.normalisation()) as f32;
-        Plan { basis, block, period, table_re, table_im, terms, norm }
+        // Blocks reach `back` emitters before their own, and the last group
+        // of emitter steps runs up to GROUP − 1 steps past the last step.
+        let lists = || terms.iter().flatten().filter(|t| !t.list.is_empty());
+        let before = lists().map(|t| t.max_back).max().unwrap_or(0);
+        let min_back = lists().map(|t| t.min_back).min().unwrap_or(0);
+        let steps = (basis.samples / block).div_ceil(period);
+        let padding = (before, (steps + GROUP - 1).saturating_sub(min_back + basis.emitters));
+        Plan { basis, block, period, table_re, table_im, lanes, terms, norm, padding }
     }
 
     /// The basis.
@@ -169,12 +305,36 @@ impl Plan {
     /// weights are large enough that a fresh allocation each time costs page
     /// faults); `false` when the hololine is dark.
     pub fn weights_into(hololine: &[f32], out: &mut Vec<f32>) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") {
-            // SAFETY: the feature the function is compiled for is present.
-            return unsafe { weights_into_avx2(hololine, out) };
+        out.resize(hololine.len(), 0.0);
+        sqrt_into_dispatch(hololine, out).lit
+    }
+
+    /// [`Plan::weights_into`] with zero weights for the emitters beyond the
+    /// hololine's ends that its blocks reach: no block then needs checks.
+    /// The samples need not have been checked: the scan says whether they
+    /// were fit to weigh.
+    pub(crate) fn padded_weights_into(&self, hololine: &[f32], out: &mut PaddedWeights) -> Scan {
+        let (views, emitters) = (self.basis.views, self.basis.emitters);
+        assert_eq!(hololine.len(), emitters * views, "one sample per element");
+        let shape = [self.padding.0, emitters, self.padding.1, views];
+        if out.shape != shape {
+            // Only the hololine's part is written below: the rest stays zero.
+            out.values.clear();
+            out.values.resize((shape[0] + shape[1] + shape[2]) * views, 0.0);
+            out.shape = shape;
         }
-        weights_into(hololine, out)
+        sqrt_into_dispatch(hololine, &mut out.values[shape[0] * views..(shape[0] + emitters) * views])
+    }
+
+    /// [`Plan::zone_blocks`] from [`Plan::padded_weights_into`] into one of
+    /// the crate's sinks.
+    pub(crate) fn zone_padded<S: LaneSink>(&self, weights: &PaddedWeights, zone: usize, sink: &mut S) {
+        let [before, emitters, after, views] = weights.shape;
+        assert_eq!(
+            (before, emitters, after, views),
+            (self.padding.0, self.basis.emitters, self.padding.1, self.basis.views)
+        );
+        self.zone_into(&weights.values, before, zone, sink);
     }
 
     /// Zone `zone` of one hololine from its [`Plan::weights`]: the real part
@@ -182,19 +342,60 @@ impl Plan {
     /// for I/Q signals (`im` is ignored for real signals). Both hold one
     /// hololine's samples.
     pub fn zone(&self, weights: &[f32], zone: usize, re: &mut [f32], im: &mut [f32]) {
-        self.zone_blocks(weights, zone, &mut [re, im]);
+        self.zone_into(weights, 0, zone, &mut [re, im]);
     }
 
     /// Zone `zone` of one hololine, handed to `sink` block by block (see
     /// [`BlockSink`]).
     pub fn zone_blocks(&self, weights: &[f32], zone: usize, store: &mut impl BlockSink) {
+        self.zone_into(weights, 0, zone, &mut Blocks::<_, false>(store));
+    }
+
+    /// [`Plan::zone_blocks`] into one of the crate's sinks, from weights
+    /// that start `before` emitters of zeros before emitter 0: the vector
+    /// kernel when the processor has AVX2 and FMA (checked at run time),
+    /// otherwise the portable one.
+    fn zone_into<S: LaneSink>(&self, weights: &[f32], before: usize, zone: usize, sink: &mut S) {
+        // The kernels read weights unchecked where every term names a weight of the buffer.
+        assert!(weights.len() >= (before + self.basis.emitters) * self.basis.views, "one weight per element");
         let iq = self.basis.signal == SignalKind::Iq;
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+            // V vectors of 8 samples per lane and block; P vectors of G
+            // blocks at a time, for 10 to 12 accumulators and no spills
+            // (measured best). Blocks come in increasing order only with
+            // whole lanes of one block at a time.
+            macro_rules! vector {
+                ($v:literal, $l:literal, $p:literal, $g:literal) => {
+                    // SAFETY: the features the kernel is compiled for are present.
+                    unsafe {
+                        if S::ANY_ORDER {
+                            self.run_avx2::<$v, $l, $p, $g, S>(weights, before, zone, sink)
+                        } else {
+                            self.run_avx2::<$v, $l, $v, 1, S>(weights, before, zone, sink)
+                        }
+                    }
+                };
+            }
+            match (self.block, iq) {
+                (64, true) => return vector!(8, 2, 4, 3),
+                (64, false) => return vector!(8, 1, 4, 3),
+                (32, true) => return vector!(4, 2, 4, 3),
+                (32, false) => return vector!(4, 1, 4, 3),
+                (16, true) => return vector!(2, 2, 2, 5),
+                (16, false) => return vector!(2, 1, 2, 5),
+                (8, true) => return vector!(1, 2, 1, 6),
+                (8, false) => return vector!(1, 1, 1, 6),
+                _ => {}
+            }
+        }
+        let weights = &weights[before * self.basis.views..];
         macro_rules! fixed {
             ($b:literal) => {
                 if iq {
-                    self.dispatch::<$b, 2, _>(weights, zone, store)
+                    self.run_fixed::<$b, 2, _>(weights, zone, sink)
                 } else {
-                    self.dispatch::<$b, 1, _>(weights, zone, store)
+                    self.run_fixed::<$b, 1, _>(weights, zone, sink)
                 }
             };
         }
@@ -203,42 +404,121 @@ impl Plan {
             32 => fixed!(32),
             16 => fixed!(16),
             8 => fixed!(8),
-            _ => self.run_dynamic(weights, zone, store),
+            _ => self.run_dynamic(weights, zone, sink),
         }
     }
 
-    /// Blocks of `B` samples and `L` lanes with fixed-size accumulators,
-    /// compiled for AVX2 + FMA when the processor has them (checked at run time).
-    fn dispatch<const B: usize, const L: usize, F: BlockSink>(&self, weights: &[f32], zone: usize, store: &mut F) {
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-            // SAFETY: the features the function is compiled for are present.
-            unsafe { self.run_avx2::<B, L, F>(weights, zone, store) };
-            return;
-        }
-        self.run_fixed::<B, L, false, F>(weights, zone, store);
-    }
-
+    /// The vector kernel, for blocks of `V` vectors of 8 samples per lane and
+    /// `L` lanes. Blocks of one phase in consecutive emitter steps have the
+    /// same terms and table values, only the weights differ: the kernel sums
+    /// `P` vectors of `G` such blocks at a time, so that each table load
+    /// serves `G` multiply-adds (one block at a time, the loads limited it)
+    /// and `P · G` accumulators hide the latency of the multiply-adds.
+    /// `weights` start `before` emitters of zeros before emitter 0. Callers
+    /// check the processor's features and that the buffer reaches the last
+    /// emitter.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn run_avx2<const B: usize, const L: usize, F: BlockSink>(
+    unsafe fn run_avx2<const V: usize, const L: usize, const P: usize, const G: usize, S: LaneSink>(
         &self,
         weights: &[f32],
+        before: usize,
         zone: usize,
-        store: &mut F,
+        sink: &mut S,
     ) {
-        self.run_fixed::<B, L, true, F>(weights, zone, store);
+        const { assert!(V % P == 0 && G <= GROUP) };
+        let (views, period, block) = (self.basis.views, self.period, self.block);
+        let (blocks, stored) = (self.basis.samples / block, weights.len() / views);
+        for base in (0..blocks.div_ceil(period)).step_by(G) {
+            let last = base + G - 1;
+            for (phase, terms) in self.terms[zone].iter().enumerate() {
+                // Whether every weight the terms of these blocks name is in the buffer.
+                let inside = terms.max_back <= base + before && last + before < stored + terms.min_back;
+                for part in (0..L * V).step_by(P) {
+                    let (lane, first) = (part / V, (part % V) * 8);
+                    if inside {
+                        // Past the buffer's end when all terms reach back:
+                        // the taps' offsets bring it back inside, as checked.
+                        let row = weights.as_ptr().wrapping_add((base + before) * views);
+                        for (k, acc) in self.sum_taps::<P, G>(&terms.taps, row, part * 8).iter().enumerate() {
+                            let b = (base + k) * period + phase;
+                            if b < blocks {
+                                sink.put_vectors(lane, b * block + first, acc, self.norm);
+                            }
+                        }
+                    } else {
+                        for b in (base..=last).map(|base| base * period + phase).filter(|b| *b < blocks) {
+                            let acc = self.sum_checked::<P, L>(&terms.list, weights, before, b / period, part * 8);
+                            sink.put_vectors(lane, b * block + first, &acc, self.norm);
+                        }
+                    }
+                }
+            }
+        }
     }
 
-    /// The kernel. `FUSED`: use fused multiply-adds (only where the hardware
-    /// has them; elsewhere `mul_add` is a slow library call).
+    /// `P` vectors from `offset` in each term's values, summed for `G` blocks
+    /// of one phase in consecutive emitter steps, the first step's weights
+    /// from `row` (the weights of emitter `base` if it were in the buffer).
+    /// Zero weights are not skipped: with `G` blocks at a time a test costs
+    /// more than it saves. Callers guarantee that every weight the taps name
+    /// is in the buffer and that the processor has AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    fn run_fixed<const B: usize, const L: usize, const FUSED: bool, F: BlockSink>(
+    unsafe fn sum_taps<const P: usize, const G: usize>(
         &self,
+        taps: &[Tap],
+        row: *const f32,
+        offset: usize,
+    ) -> [[__m256; P]; G] {
+        let views = self.basis.views;
+        let mut acc = [[_mm256_setzero_ps(); G]; P];
+        for tap in taps {
+            let w = row.wrapping_offset(tap.weight as isize);
+            let w: [__m256; G] = std::array::from_fn(|k| _mm256_broadcast_ss(&*w.add(k * views)));
+            // Inside the table: checked in `Plan::new`.
+            let values = self.lanes.as_ptr().add(tap.table as usize + offset);
+            // One vector of values at a time, for all G blocks: few registers live.
+            for (p, acc) in acc.iter_mut().enumerate() {
+                let x = _mm256_loadu_ps(values.add(p * 8));
+                for (acc, w) in acc.iter_mut().zip(&w) {
+                    *acc = _mm256_fmadd_ps(*w, x, *acc);
+                }
+            }
+        }
+        std::array::from_fn(|k| std::array::from_fn(|p| acc[p][k]))
+    }
+
+    /// One block whose terms may name emitters beyond the hololine's ends:
+    /// the same sums as [`Plan::sum_taps`], with every weight checked.
+    /// Callers guarantee that the processor has AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn sum_checked<const P: usize, const L: usize>(
+        &self,
+        terms: &[Term],
         weights: &[f32],
-        zone: usize,
-        store: &mut F,
-    ) {
+        before: usize,
+        base: usize,
+        offset: usize,
+    ) -> [__m256; P] {
+        let mut acc = [_mm256_setzero_ps(); P];
+        for t in terms {
+            let Some(e) = base.checked_sub(t.back as usize).filter(|e| *e < self.basis.emitters) else {
+                continue;
+            };
+            let w = weights[(before + e) * self.basis.views + t.view as usize];
+            let values = &self.lanes[t.at as usize * L + offset..][..P * 8];
+            for (p, acc) in acc.iter_mut().enumerate() {
+                *acc = _mm256_fmadd_ps(_mm256_set1_ps(w), _mm256_loadu_ps(values[p * 8..].as_ptr()), *acc);
+            }
+        }
+        acc
+    }
+
+    /// The portable kernel: blocks of `B` samples and `L` lanes with
+    /// fixed-size accumulators (which vectorise).
+    fn run_fixed<const B: usize, const L: usize, F: BlockSink>(&self, weights: &[f32], zone: usize, store: &mut F) {
         let tables: [&[f32]; 2] = [&self.table_re, &self.table_im];
         let views = self.basis.views;
         for b in 0..self.basis.samples / B {
@@ -252,7 +532,7 @@ impl Plan {
                     for lane in 0..L {
                         let t: &[f32; B] = tables[lane][at..at + B].try_into().expect("segment inside the table");
                         for i in 0..B {
-                            acc[lane][i] = if FUSED { w.mul_add(t[i], acc[lane][i]) } else { acc[lane][i] + w * t[i] };
+                            acc[lane][i] += w * t[i];
                         }
                     }
                 }};
