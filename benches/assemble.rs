@@ -1,5 +1,6 @@
 //! Assembly speed: frames per second for full frames of the built-in layouts,
-//! the fast path against the straightforward per-sample loop in the same run.
+//! the fast path against the straightforward per-sample loop in the same run
+//! (Mark III, Mark I), and the fast path alone for Mark IV and Mark II.
 //! Mark III: 6 signals × 440 hololines × 24576 samples × 16 overlapping chirps.
 //! `cargo bench --bench assemble`
 
@@ -46,6 +47,18 @@ fn bench(c: &mut Criterion) {
         group.bench_function("fast_u8_frame_buffer", |b| b.iter(|| a.assemble_into(&m, &mut bytes).unwrap()));
         group.bench_function("fast_f32_signals", |b| b.iter(|| a.signals(&m, 0).unwrap()));
         group.bench_function("straightforward_one_thread", |b| b.iter(|| straightforward(&a, &m)));
+        group.finish();
+    }
+    // The long hololines: the fast path only (the straightforward loop would take minutes a frame).
+    for name in ["mark4", "mark2"] {
+        let layout = holo::layout::builtin(name).unwrap();
+        let a = Assembler::new(&layout).unwrap();
+        let m = frame(&layout);
+        let mut group = c.benchmark_group(format!("{name}_frame"));
+        group.sample_size(10).measurement_time(std::time::Duration::from_secs(10));
+        group.throughput(Throughput::Elements(1));
+        let mut bytes = a.blank_images::<u8>();
+        group.bench_function("fast_u8_frame_buffer", |b| b.iter(|| a.assemble_into(&m, &mut bytes).unwrap()));
         group.finish();
     }
 }
