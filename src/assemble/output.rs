@@ -315,15 +315,7 @@ pub(crate) fn write_atomic(
         fill(&mut w)?;
         w.flush().map_err(|e| Error::io(temp.path(), e))?;
     }
-    let persisted = if overwrite { temp.persist(path) } else { temp.persist_noclobber(path) };
-    persisted.map_err(|e| {
-        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
-            Error::Usage(format!("{}: already exists; not overwritten", path.display()))
-        } else {
-            Error::io(path, e.error)
-        }
-    })?;
-    Ok(())
+    crate::format::persist(temp, path, overwrite)
 }
 
 fn colour_type(path: &Path, components: usize) -> Result<image::ExtendedColorType> {

@@ -12,6 +12,7 @@ mod header;
 mod read;
 mod validate;
 mod write;
+pub(crate) use write::persist;
 
 pub use attributes::{is_known as is_known_attribute, name as attribute, Radiometry, VERSION};
 pub use channels::{channel_name, parse_channel_name, view_digits, ChannelOrder};

@@ -181,7 +181,14 @@ pub fn write_frames<'a>(
     canonicalize_headers(temp.path(), &digests)?;
     temp.as_file().sync_all().map_err(|e| Error::io(temp.path(), e))?;
     let file_bytes = temp.as_file().metadata().map_err(|e| Error::io(temp.path(), e))?.len();
-    let persisted = if options.overwrite { temp.persist(path) } else { temp.persist_noclobber(path) };
+    persist(temp, path, options.overwrite)?;
+    Ok(WriteReport { path: path.to_path_buf(), file_bytes, digests, warnings })
+}
+
+/// Rename a finished temporary file into place: an existing `path` is kept
+/// (and named in the error) unless `overwrite`.
+pub(crate) fn persist(temp: tempfile::NamedTempFile, path: &Path, overwrite: bool) -> Result<()> {
+    let persisted = if overwrite { temp.persist(path) } else { temp.persist_noclobber(path) };
     persisted.map_err(|e| {
         if e.error.kind() == std::io::ErrorKind::AlreadyExists {
             Error::Usage(format!("{}: already exists; not overwritten", path.display()))
@@ -189,7 +196,7 @@ pub fn write_frames<'a>(
             Error::io(path, e.error)
         }
     })?;
-    Ok(WriteReport { path: path.to_path_buf(), file_bytes, digests, warnings })
+    Ok(())
 }
 
 fn check_writable(path: &Path, g: &Geometry, frame_count: usize, options: &WriteOptions) -> Result<()> {
