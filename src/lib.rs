@@ -11,6 +11,7 @@ mod error;
 pub mod format;
 pub mod geometry;
 pub mod layout;
+pub mod mesh;
 mod modulation;
 pub mod pattern;
 pub mod reconstruct;

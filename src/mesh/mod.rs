@@ -1,0 +1,227 @@
+//! Meshes to modulation (issue 4): scenes of triangles with materials and
+//! lights, loaded from glTF, OBJ and PLY ([`load`]), placed in the display's
+//! volume ([`place`]), shaded per view ([`shade`]) and rendered for every ray
+//! (hololine, emitter, view) by a reference ray caster ([`trace`]) and by the
+//! fast epipolar-plane rasteriser ([`epi`]).
+//!
+//! A [`Scene`] is plain data in one space: the loaders give it in the file's
+//! own units with every node transform applied ("world"); [`place`] maps
+//! world onto display metres (DESIGN.md §2: `x` right, `y` up, `z` toward the
+//! viewer, hologram at `z = 0`). Colours are linear: loaders decode sRGB.
+
+pub mod bvh;
+pub mod epi;
+pub mod load;
+pub mod place;
+pub mod render;
+pub mod shade;
+pub mod trace;
+
+/// A whole scene: objects, the textures they use, and lights.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    /// Where the scene came from (file name), for messages.
+    pub source: String,
+    /// The objects, each with its own material.
+    pub objects: Vec<Object>,
+    /// Decoded textures, indexed by [`TextureRef::texture`].
+    pub textures: Vec<Texture>,
+    /// Lights the file defines (glTF `KHR_lights_punctual`); the user may add more.
+    pub lights: Vec<Light>,
+    /// Things the user should know that did not stop the load (a primitive
+    /// that is not triangles, a texture that could not be decoded, ...),
+    /// each naming the object.
+    pub warnings: Vec<String>,
+}
+
+/// One object: a triangle mesh with one material, in world space.
+#[derive(Clone, Debug, Default)]
+pub struct Object {
+    /// Name for messages: the node/mesh/group name, or `#index`.
+    pub name: String,
+    /// Vertex positions.
+    pub positions: Vec<[f64; 3]>,
+    /// Unit vertex normals; empty means flat shading from the face normals.
+    pub normals: Vec<[f32; 3]>,
+    /// Vertex tangents `xyz` with the bitangent sign in `w` (glTF convention);
+    /// empty unless the material has a normal map.
+    pub tangents: Vec<[f32; 4]>,
+    /// Texture coordinate sets (`TEXCOORD_n`); each empty or one per vertex.
+    pub uv_sets: Vec<Vec<[f32; 2]>>,
+    /// Linear RGBA vertex colours multiplying the base colour; empty for none.
+    pub colours: Vec<[f32; 4]>,
+    /// Triangles as vertex indices, counter-clockwise seen from the front.
+    pub triangles: Vec<[u32; 3]>,
+    /// The material.
+    pub material: Material,
+}
+
+/// A material in the terms the shader uses (see [`shade`] for the formulas).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Name for messages.
+    pub name: String,
+    /// Linear RGBA base (diffuse) colour factor.
+    pub base_colour: [f32; 4],
+    /// Texture multiplying the base colour (sRGB-decoded).
+    pub base_colour_texture: Option<TextureRef>,
+    /// Tangent-space normal map (linear), and its scale.
+    pub normal_texture: Option<TextureRef>,
+    /// Scale of the normal map's x and y (glTF `normalTexture.scale`).
+    pub normal_scale: f32,
+    /// Emitted linear radiance factor.
+    pub emissive: [f32; 3],
+    /// Texture multiplying the emissive factor (sRGB-decoded).
+    pub emissive_texture: Option<TextureRef>,
+    /// Specular reflectance `k_s` (linear RGB).
+    pub specular: [f32; 3],
+    /// Specular exponent `n` of `(R·V)^n` / `(N·H)^n`.
+    pub shininess: f32,
+    /// Seen from both sides (glTF `doubleSided`); otherwise back faces are invisible.
+    pub double_sided: bool,
+}
+
+impl Default for Material {
+    /// A white, matte, one-sided material: glTF's default material, and
+    /// what OBJ and PLY objects without a material get.
+    fn default() -> Self {
+        Material {
+            name: "default".into(),
+            base_colour: [1.0; 4],
+            base_colour_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            emissive: [0.0; 3],
+            emissive_texture: None,
+            specular: [0.04; 3],
+            shininess: 10.0,
+            double_sided: false,
+        }
+    }
+}
+
+/// A material's use of a texture.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextureRef {
+    /// Index into [`Scene::textures`].
+    pub texture: usize,
+    /// Which of the object's [`Object::uv_sets`] to use.
+    pub uv_set: usize,
+    /// `KHR_texture_transform`, applied to the coordinates before lookup.
+    pub transform: UvTransform,
+}
+
+/// An affine transform of texture coordinates (glTF `KHR_texture_transform`):
+/// `uv' = T(offset) · R(rotation) · S(scale) · uv`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    /// Translation.
+    pub offset: [f32; 2],
+    /// Rotation in radians, counter-clockwise in UV space.
+    pub rotation_rad: f32,
+    /// Scale.
+    pub scale: [f32; 2],
+}
+
+impl Default for UvTransform {
+    fn default() -> Self {
+        UvTransform { offset: [0.0; 2], rotation_rad: 0.0, scale: [1.0; 2] }
+    }
+}
+
+impl UvTransform {
+    /// Apply to a coordinate (matrix of the KHR_texture_transform spec).
+    #[inline]
+    pub fn apply(&self, uv: [f32; 2]) -> [f32; 2] {
+        if *self == UvTransform::default() {
+            return uv;
+        }
+        let (s, c) = self.rotation_rad.sin_cos();
+        let (x, y) = (uv[0] * self.scale[0], uv[1] * self.scale[1]);
+        [c * x + s * y + self.offset[0], -s * x + c * y + self.offset[1]]
+    }
+}
+
+/// How texture coordinates outside `[0, 1]` wrap (glTF sampler modes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Wrap {
+    /// Tile.
+    #[default]
+    Repeat,
+    /// Tile, mirroring every other copy.
+    MirroredRepeat,
+    /// Hold the edge texel.
+    ClampToEdge,
+}
+
+/// A decoded texture: linear RGBA texels, row 0 at `v = 0` (the top of the
+/// image, glTF convention; OBJ's `v` points up and its loader flips it).
+#[derive(Clone, Debug, Default)]
+pub struct Texture {
+    /// Name for messages (the image's file name or glTF name).
+    pub name: String,
+    /// Width in texels.
+    pub width: usize,
+    /// Height in texels.
+    pub height: usize,
+    /// `width × height` linear RGBA texels, row by row.
+    pub texels: Vec<[f32; 4]>,
+    /// Wrap in `u` and `v`.
+    pub wrap: [Wrap; 2],
+}
+
+/// A light. Intensities are linear RGB; the shading formulas are in [`shade`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum Light {
+    /// A point light: `E = I / d²` at distance `d`.
+    Point {
+        /// Position.
+        position: [f64; 3],
+        /// Intensity `I` (glTF: candela).
+        intensity: [f32; 3],
+        /// Name for messages.
+        name: String,
+    },
+    /// A directional light: irradiance `E` on a surface facing it.
+    Directional {
+        /// Unit direction the light travels in (glTF: the node's −z).
+        direction: [f64; 3],
+        /// Irradiance `E` (glTF: lux).
+        irradiance: [f32; 3],
+        /// Name for messages.
+        name: String,
+    },
+    /// Ambient light: radiance `L_a` reflected by the base colour.
+    Ambient {
+        /// `L_a`.
+        radiance: [f32; 3],
+    },
+}
+
+impl Scene {
+    /// Number of triangles in all objects.
+    pub fn triangle_count(&self) -> usize {
+        self.objects.iter().map(|o| o.triangles.len()).sum()
+    }
+
+    /// The axis-aligned box of every vertex a triangle uses, or `None` for
+    /// a scene without triangles.
+    pub fn bounds(&self) -> Option<([f64; 3], [f64; 3])> {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        let mut any = false;
+        for o in &self.objects {
+            for t in &o.triangles {
+                for &i in t {
+                    let p = o.positions[i as usize];
+                    for k in 0..3 {
+                        lo[k] = lo[k].min(p[k]);
+                        hi[k] = hi[k].max(p[k]);
+                    }
+                    any = true;
+                }
+            }
+        }
+        any.then_some((lo, hi))
+    }
+}
