@@ -1,1 +1,255 @@
-//! (in progress)
+//! Placing a scene in the display's volume.
+//!
+//! By default the scene is fitted: rotated as asked, then scaled uniformly
+//! and centred so its bounding box fills [`FIT_FILL`] of the volume the
+//! layout shows well, centred on the middle of the emitter grid. That volume
+//! is the emitter grid's width and height, and in depth the stereogram's
+//! depth of field either side of the emitter plane: a point at distance
+//! `Δz` from the emitter plane is drawn by neighbouring emitters at views
+//! `Δθ` apart, so its image blurs over `Δz·Δθ`; beyond `Δz = p/Δθ` (emitter
+//! pitch over view spacing) the blur exceeds one emitter. The depth is also
+//! kept in front of the viewer line. An explicit 4×4 matrix replaces all this.
+
+use super::shade::{cross, dot, normalize_or};
+use super::{Light, Scene};
+use crate::geometry::Geometry;
+use crate::{Error, Result};
+
+/// Fraction of the display volume a fitted scene fills.
+pub const FIT_FILL: f64 = 0.9;
+
+/// How to map the scene's world space onto display metres.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Placement {
+    /// Rotation about x, then y, then z, degrees (applied before fitting).
+    pub rotate_deg: [f64; 3],
+    /// Display metres per scene unit, instead of the fitted scale.
+    pub scale: Option<f64>,
+    /// Offset in display metres added after centring.
+    pub translate_m: [f64; 3],
+    /// A row-major 4×4 matrix from scene to display metres; when given, the
+    /// fields above are not used.
+    pub matrix: Option<[[f64; 4]; 4]>,
+}
+
+/// What [`place`] did, for the user.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Placed {
+    /// The row-major matrix applied.
+    pub matrix: [[f64; 4]; 4],
+    /// Display metres per scene unit (the cube root of the determinant).
+    pub scale: f64,
+    /// The scene's box in display metres after placement.
+    pub bounds_m: ([f64; 3], [f64; 3]),
+    /// The box the fit aimed at (emitter grid width and height, depth of field).
+    pub volume_m: ([f64; 3], [f64; 3]),
+}
+
+impl std::fmt::Display for Placed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (lo, hi) = self.bounds_m;
+        write!(
+            f,
+            "placed at {:.4} display m per scene unit: x {:+.1}..{:+.1} mm, y {:+.1}..{:+.1} mm, z {:+.1}..{:+.1} mm",
+            self.scale,
+            lo[0] * 1e3,
+            hi[0] * 1e3,
+            lo[1] * 1e3,
+            hi[1] * 1e3,
+            lo[2] * 1e3,
+            hi[2] * 1e3
+        )
+    }
+}
+
+/// The volume a geometry shows well (see the module text), as a box.
+pub fn display_volume(g: &Geometry) -> ([f64; 3], [f64; 3]) {
+    let x0 = g.emitter_x_m(0);
+    let x1 = g.emitter_x_m(g.emitters.saturating_sub(1));
+    let y0 = g.hololine_y_m(g.hololines.saturating_sub(1));
+    let y1 = g.hololine_y_m(0);
+    let views = g.views.count.max(2) as f64;
+    let (a, b) = (g.views.first_theta_rad, g.views.last_theta_rad);
+    let spacing_rad = ((b - a) / (views - 1.0)).abs().max(1e-9);
+    let depth = g.emitter_pitch_m / spacing_rad;
+    let z0 = g.emitter_z_m - depth;
+    // Keep clear of the viewer line.
+    let z1 = (g.emitter_z_m + depth).min(g.emitter_z_m + 0.5 * (g.viewer_distance_m - g.emitter_z_m));
+    ([x0.min(x1), y0.min(y1), z0], [x0.max(x1), y0.max(y1), z1])
+}
+
+/// Map the scene into display metres in place, lights included (point
+/// light intensities are scaled so the irradiance they give the scene is
+/// what it was in scene units).
+pub fn place(scene: &mut Scene, g: &Geometry, placement: &Placement) -> Result<Placed> {
+    let volume = display_volume(g);
+    scene.bounds().ok_or_else(|| Error::Usage(format!("{}: no triangles in the scene", scene.source)))?;
+    let matrix = match placement.matrix {
+        Some(m) => m,
+        None => {
+            let r = rotation(placement.rotate_deg);
+            // Box of the rotated scene.
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for o in &scene.objects {
+                for t in &o.triangles {
+                    for &i in t {
+                        let p = mat3_apply(&r, o.positions[i as usize]);
+                        for k in 0..3 {
+                            lo[k] = lo[k].min(p[k]);
+                            hi[k] = hi[k].max(p[k]);
+                        }
+                    }
+                }
+            }
+            let s = match placement.scale {
+                Some(s) => s,
+                None => {
+                    let mut s = f64::INFINITY;
+                    for k in 0..3 {
+                        let extent = hi[k] - lo[k];
+                        if extent > 0.0 {
+                            s = s.min(FIT_FILL * (volume.1[k] - volume.0[k]) / extent);
+                        }
+                    }
+                    if !s.is_finite() {
+                        1.0
+                    } else {
+                        s
+                    }
+                }
+            };
+            let target = [
+                0.5 * (volume.0[0] + volume.1[0]),
+                0.5 * (volume.0[1] + volume.1[1]),
+                g.emitter_z_m,
+            ];
+            let mut m = [[0.0; 4]; 4];
+            for row in 0..3 {
+                for col in 0..3 {
+                    m[row][col] = s * r[row][col];
+                }
+                let centre = 0.5 * (lo[row] + hi[row]);
+                m[row][3] = target[row] - s * centre + placement.translate_m[row];
+            }
+            m[3][3] = 1.0;
+            m
+        }
+    };
+    check_matrix(&matrix)?;
+    apply(scene, &matrix);
+    let det = det3(&matrix);
+    let placed_bounds = scene.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
+    Ok(Placed { matrix, scale: det.abs().cbrt(), bounds_m: placed_bounds, volume_m: volume })
+}
+
+fn check_matrix(m: &[[f64; 4]; 4]) -> Result<()> {
+    if m.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(Error::Usage("the placement matrix has a NaN or infinite entry".into()));
+    }
+    if m[3] != [0.0, 0.0, 0.0, 1.0] {
+        return Err(Error::Usage("the placement matrix must be affine: its last row must be 0 0 0 1".into()));
+    }
+    if det3(m) == 0.0 {
+        return Err(Error::Usage("the placement matrix is singular (it flattens the scene)".into()));
+    }
+    Ok(())
+}
+
+/// Apply an affine row-major matrix to positions, normals (inverse
+/// transpose), tangents and lights; a mirroring matrix reverses the winding
+/// so front faces stay counter-clockwise.
+pub fn apply(scene: &mut Scene, m: &[[f64; 4]; 4]) {
+    let lin = [[m[0][0], m[0][1], m[0][2]], [m[1][0], m[1][1], m[1][2]], [m[2][0], m[2][1], m[2][2]]];
+    let det = det3(m);
+    // Inverse transpose of the linear part = cofactor matrix / det.
+    let cof = [
+        cross(lin_col(&lin, 1), lin_col(&lin, 2)),
+        cross(lin_col(&lin, 2), lin_col(&lin, 0)),
+        cross(lin_col(&lin, 0), lin_col(&lin, 1)),
+    ];
+    // cof[i] is column i of the cofactor matrix: n' = Σ_i n_i · cof[i] (up to 1/det, then normalised).
+    let sign = if det < 0.0 { -1.0 } else { 1.0 };
+    let xform_normal = |n: [f64; 3]| -> [f64; 3] {
+        let mut out = [0.0; 3];
+        for i in 0..3 {
+            for k in 0..3 {
+                out[k] += n[i] * cof[i][k] * sign;
+            }
+        }
+        normalize_or(out, [0.0, 0.0, 1.0])
+    };
+    let translate = [m[0][3], m[1][3], m[2][3]];
+    let point = |p: [f64; 3]| {
+        let q = mat3_apply(&lin, p);
+        [q[0] + translate[0], q[1] + translate[1], q[2] + translate[2]]
+    };
+    for o in &mut scene.objects {
+        for p in &mut o.positions {
+            *p = point(*p);
+        }
+        for n in &mut o.normals {
+            let t = xform_normal([n[0] as f64, n[1] as f64, n[2] as f64]);
+            *n = [t[0] as f32, t[1] as f32, t[2] as f32];
+        }
+        for t in &mut o.tangents {
+            let v = normalize_or(mat3_apply(&lin, [t[0] as f64, t[1] as f64, t[2] as f64]), [1.0, 0.0, 0.0]);
+            *t = [v[0] as f32, v[1] as f32, v[2] as f32, if det < 0.0 { -t[3] } else { t[3] }];
+        }
+        if det < 0.0 {
+            for t in &mut o.triangles {
+                t.swap(1, 2);
+            }
+        }
+    }
+    let area_scale = (det.abs().cbrt()).powi(2);
+    for l in &mut scene.lights {
+        match l {
+            Light::Point { position, intensity, .. } => {
+                *position = point(*position);
+                for c in intensity.iter_mut() {
+                    *c = (*c as f64 * area_scale) as f32;
+                }
+            }
+            Light::Directional { direction, .. } => {
+                *direction = normalize_or(mat3_apply(&lin, *direction), [0.0, 0.0, -1.0]);
+            }
+            Light::Ambient { .. } => {}
+        }
+    }
+}
+
+fn lin_col(l: &[[f64; 3]; 3], c: usize) -> [f64; 3] {
+    [l[0][c], l[1][c], l[2][c]]
+}
+
+fn det3(m: &[[f64; 4]; 4]) -> f64 {
+    let a = [m[0][0], m[1][0], m[2][0]];
+    let b = [m[0][1], m[1][1], m[2][1]];
+    let c = [m[0][2], m[1][2], m[2][2]];
+    dot(a, cross(b, c))
+}
+
+fn mat3_apply(m: &[[f64; 3]; 3], p: [f64; 3]) -> [f64; 3] {
+    [dot(m[0], p), dot(m[1], p), dot(m[2], p)]
+}
+
+/// Rotation about x, then y, then z (degrees), row-major.
+pub fn rotation(deg: [f64; 3]) -> [[f64; 3]; 3] {
+    let (sx, cx) = deg[0].to_radians().sin_cos();
+    let (sy, cy) = deg[1].to_radians().sin_cos();
+    let (sz, cz) = deg[2].to_radians().sin_cos();
+    let rx = [[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]];
+    let ry = [[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]];
+    let rz = [[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]];
+    matmul(&rz, &matmul(&ry, &rx))
+}
+
+fn matmul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut out = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            out[i][j] = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    out
+}

@@ -1,1 +1,71 @@
-//! (in progress)
+//! The reference renderer: every sub-ray is cast on its own through a BVH,
+//! in f64, from the viewer line back along `−d`; the first surface met that
+//! faces the viewer (or is double-sided) is shaded. Obviously correct and
+//! slow; the fast rasteriser ([`super::epi`]) is tested against it.
+
+use super::bvh::Bvh;
+use super::render::{HololineRenderer, RenderStats, Shading};
+use super::shade::{dot, normalize, radiance, scale, Hit};
+
+pub(crate) struct TraceRenderer<'a> {
+    s: Shading<'a>,
+    bvh: Bvh,
+}
+
+impl<'a> TraceRenderer<'a> {
+    pub(crate) fn new(s: Shading<'a>) -> Self {
+        let bvh = Bvh::new(s.scene);
+        TraceRenderer { s, bvh }
+    }
+
+    /// Linear RGB radiance along the ray through `(x, y_j, z_e)` with
+    /// direction `(slope, k, 1)`, or `None` when it meets nothing.
+    pub(crate) fn trace(&self, x: f64, y: f64, slope: f64, k: f64) -> Option<[f64; 3]> {
+        let r = self.s.rays;
+        let d = [slope, k, 1.0];
+        let span = r.viewer_distance_m - r.emitter_z_m;
+        let origin = [x + slope * span, y + k * span, r.viewer_distance_m];
+        let back = scale(d, -1.0);
+        let scene = self.s.scene;
+        // Front faces face the viewer: their normal has a positive component along d.
+        let hit = self.bvh.nearest(origin, back, 0.0, |tri, n| {
+            scene.objects[tri.object as usize].material.double_sided || dot(n, d) > 0.0
+        })?;
+        let h = Hit { object: hit.object, triangle: hit.triangle, b1: hit.b1, b2: hit.b2 };
+        Some(radiance(scene, self.s.lighting, &h, normalize(d)))
+    }
+}
+
+impl HololineRenderer for TraceRenderer<'_> {
+    fn render_hololine(&self, j: usize, out: &mut [f32]) -> RenderStats {
+        let r = self.s.rays;
+        let g = self.s.geometry;
+        let (e_count, v_count) = (g.emitters, g.views.count);
+        let (se, sv) = (r.supersample.emitter, r.supersample.view);
+        let (y, k) = (r.hololine_y_m[j], r.hololine_slope[j]);
+        let norm = 1.0 / (se * sv) as f64;
+        let mut stats = RenderStats::default();
+        for e in 0..e_count {
+            for v in 0..v_count {
+                let mut sum = [0.0; 3];
+                for a in 0..se {
+                    for b in 0..sv {
+                        let x = r.sub_emitter_x_m[e * se + a];
+                        let slope = r.sub_view_slope[v * sv + b];
+                        if let Some(rgb) = self.trace(x, y, slope, k) {
+                            stats.shaded += 1;
+                            for c in 0..3 {
+                                sum[c] += rgb[c];
+                            }
+                        }
+                    }
+                }
+                for (ch, w) in self.s.weights.iter().enumerate() {
+                    let value = (w[0] * sum[0] + w[1] * sum[1] + w[2] * sum[2]) * norm;
+                    out[(ch * e_count + e) * v_count + v] = value as f32;
+                }
+            }
+        }
+        stats
+    }
+}
