@@ -17,6 +17,9 @@ use super::{SampleType, MAX_SAMPLES_PER_FRAME};
 use crate::geometry::{Geometry, ViewSpacing};
 use crate::{Error, Modulation, Result};
 
+/// Files smaller than this are decompressed on the calling thread.
+const PARALLEL_DECODE_MIN_BYTES: u64 = 1 << 20;
+
 /// A part of a frame: hololines × emitters × views (all colours).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Region {
@@ -127,6 +130,7 @@ impl HoloFile {
         let dw = frame.data_window;
         let wanted_rows = region.hololines.clone();
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
         let reader = exr::block::read(std::io::BufReader::new(file), false).map_err(|e| Error::exr(path, e))?;
         let chunks = reader
             .filter_chunks(false, |_meta: &MetaData, _tile: TileCoordinates, block: BlockIndex| {
@@ -141,7 +145,14 @@ impl HoloFile {
             place_block(&mut out, &block, &order, self.info.sample_type, dw.x, dw.y, region)
                 .map_err(|problem| Error::invalid(path, problem))
         };
-        match chunks.parallel_decompressor(false) {
+        // exr starts a thread pool per parallel read; below a megabyte that
+        // costs more than it saves (and its threads outlive the call).
+        let parallel = if file_bytes >= PARALLEL_DECODE_MIN_BYTES {
+            chunks.parallel_decompressor(false)
+        } else {
+            Err(chunks)
+        };
+        match parallel {
             Ok(mut decompressor) => {
                 while let Some(block) = decompressor.decompress_next_block() {
                     place(block.map_err(|e| Error::exr(path, e))?)?;
