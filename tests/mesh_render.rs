@@ -207,7 +207,7 @@ fn highlights_move_across_views_as_the_formulas_say() {
                 };
                 let expected = e_irr * to_light[2] * lobe;
                 let got = m.get(0, 0, e, v) as f64;
-                assert!((got - expected).abs() <= 1e-5 * expected.max(1.0), "{model:?} e {e} v {v}: {got} vs {expected}");
+                assert!((got - expected).abs() <= 2e-4 * expected.max(1.0), "{model:?} e {e} v {v}: {got} vs {expected}");
             }
         }
         assert!(moved.windows(2).all(|w| w[1] >= w[0]) && moved[40] > moved[0] + 20, "{model:?}: highlight moves: {moved:?}");

@@ -19,8 +19,9 @@
 //! "widened" back-face cull: one view seeing it keeps it), and inside the
 //! hololine only for the views it faces away from.
 
+use super::fastshade::{self, Attrs, FastLights, FastMaterial};
 use super::render::{HololineRenderer, RenderStats, Shading};
-use super::shade::{cross, normalize, radiance, sub, Hit};
+use super::shade::{cross, normalize_or, sub};
 
 /// One triangle as the rasteriser sees it.
 struct Tri {
@@ -40,9 +41,11 @@ struct Segment {
     /// `(X, Z)` of the ends.
     a: [f64; 2],
     b: [f64; 2],
-    /// Barycentric weights (of vertices 1 and 2) at the ends.
-    bary_a: [f64; 2],
-    bary_b: [f64; 2],
+    /// Surface attributes at the ends.
+    attrs_a: Attrs,
+    attrs_b: Attrs,
+    /// Unit face normal.
+    face: [f32; 3],
     /// Facing: the triangle faces the ray of slope `s` when `nx·s + c > 0`.
     nx: f64,
     c: f64,
@@ -55,6 +58,8 @@ pub(crate) struct EpiRenderer<'a> {
     /// Triangles per hololine, compressed: `bucket[start[j]..start[j+1]]`.
     start: Vec<usize>,
     bucket: Vec<u32>,
+    materials: Vec<FastMaterial>,
+    lights: FastLights,
 }
 
 impl<'a> EpiRenderer<'a> {
@@ -122,7 +127,10 @@ impl<'a> EpiRenderer<'a> {
                 fill[j] += 1;
             }
         }
-        EpiRenderer { s, tris, start, bucket }
+        let materials =
+            s.scene.objects.iter().map(|o| FastMaterial::new(&o.material, s.lighting.model)).collect();
+        let lights = FastLights::new(s.lighting);
+        EpiRenderer { s, tris, start, bucket, materials, lights }
     }
 
     /// The segments of hololine `j`, and how many triangles the widened
@@ -187,12 +195,15 @@ impl<'a> EpiRenderer<'a> {
                     wa[q] = wb[q] + tau * (wa[q] - wb[q]);
                 }
             }
+            let o = &self.s.scene.objects[t.object as usize];
+            let face = normalize_or(t.normal, [0.0, 0.0, 1.0]);
             out.push(Segment {
                 tri: ti,
                 a: [pa[0], pa[2]],
                 b: [pb[0], pb[2]],
-                bary_a: [wa[1], wa[2]],
-                bary_b: [wb[1], wb[2]],
+                attrs_a: Attrs::at(o, t.triangle as usize, wa, face),
+                attrs_b: Attrs::at(o, t.triangle as usize, wb, face),
+                face: [face[0] as f32, face[1] as f32, face[2] as f32],
                 nx,
                 c,
                 double_sided: t.double_sided,
@@ -262,24 +273,32 @@ impl HololineRenderer for EpiRenderer<'_> {
                         }
                     }
                 }
-                let view = normalize([s, k, 1.0]);
+                let view = fastshade::normalize([s as f32, k as f32, 1.0]);
                 for i in 0..n_sub {
                     if owner[i] == NONE {
                         continue;
                     }
                     let seg = &segments[owner[i] as usize];
-                    let t = param[i].clamp(0.0, 1.0);
+                    let t = param[i].clamp(0.0, 1.0) as f32;
                     let tri = &self.tris[seg.tri as usize];
-                    let hit = Hit {
-                        object: tri.object,
-                        triangle: tri.triangle,
-                        b1: seg.bary_a[0] + t * (seg.bary_b[0] - seg.bary_a[0]),
-                        b2: seg.bary_a[1] + t * (seg.bary_b[1] - seg.bary_a[1]),
-                    };
-                    let rgb = radiance(self.s.scene, self.s.lighting, &hit, view);
+                    let o = &self.s.scene.objects[tri.object as usize];
+                    let front = seg.nx * s + seg.c > 0.0;
+                    let face = if front { seg.face } else { seg.face.map(|x| -x) };
+                    let a = seg.attrs_a.lerp(&seg.attrs_b, t);
+                    let rgb = fastshade::radiance(
+                        self.s.scene,
+                        &self.lights,
+                        &self.materials[tri.object as usize],
+                        !o.normals.is_empty(),
+                        !o.tangents.is_empty(),
+                        &a,
+                        face,
+                        !front,
+                        view,
+                    );
                     let e = i / se;
                     for c in 0..3 {
-                        sums[e][c] += rgb[c];
+                        sums[e][c] += rgb[c] as f64;
                     }
                     stats.shaded += 1;
                 }

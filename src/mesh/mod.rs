@@ -11,6 +11,7 @@
 
 pub mod bvh;
 pub mod epi;
+mod fastshade;
 pub mod load;
 pub mod place;
 pub mod render;

@@ -182,7 +182,7 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
                 out = add(out, mul(base, f3(*radiance)));
                 continue;
             }
-            Light::Directional { direction, irradiance, .. } => (scale(*direction, -1.0), f3(*irradiance)),
+            Light::Directional { direction, irradiance, .. } => (normalize(scale(*direction, -1.0)), f3(*irradiance)),
             Light::Point { position: p, intensity, .. } => {
                 let d = sub(*p, position);
                 let d2 = dot(d, d);
