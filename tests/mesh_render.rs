@@ -213,3 +213,22 @@ fn highlights_move_across_views_as_the_formulas_say() {
         assert!(moved.windows(2).all(|w| w[1] >= w[0]) && moved[40] > moved[0] + 20, "{model:?}: highlight moves: {moved:?}");
     }
 }
+
+#[test]
+fn bad_scenes_are_errors_naming_the_object() {
+    let g = small_geometry(0.0);
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let mut scene = random_scene(&mut rng, 9);
+    scene.objects[1].positions[2][1] = f64::NAN;
+    let e = render(&scene, &g, &RenderOptions::default(), &|_, _| {}).unwrap_err().to_string();
+    assert!(e.contains("random 1") && e.contains("vertex 2"), "{e}");
+    let mut scene = random_scene(&mut rng, 9);
+    scene.objects[0].triangles[0][2] = 1000;
+    let e = render(&scene, &g, &RenderOptions::default(), &|_, _| {}).unwrap_err().to_string();
+    assert!(e.contains("random 0") && e.contains("triangle 0"), "{e}");
+    let mut empty = Scene { source: "empty.obj".into(), ..Scene::default() };
+    let e = holo::mesh::place::place(&mut empty, &g, &Default::default()).unwrap_err().to_string();
+    assert!(e.contains("empty.obj") && e.contains("no triangles"), "{e}");
+    let options = RenderOptions { supersample: Supersample { emitter: 0, view: 1 }, ..RenderOptions::default() };
+    assert!(render(&random_scene(&mut rng, 9), &g, &options, &|_, _| {}).is_err());
+}

@@ -205,6 +205,43 @@ impl Scene {
         self.objects.iter().map(|o| o.triangles.len()).sum()
     }
 
+    /// The first thing that makes the scene unrenderable (a vertex index
+    /// out of range, a non-finite position or light, an attribute array of
+    /// the wrong length, a texture reference to nothing), naming the object.
+    pub fn problem(&self) -> Option<String> {
+        for (oi, o) in self.objects.iter().enumerate() {
+            let name = if o.name.is_empty() { format!("#{oi}") } else { o.name.clone() };
+            let n = o.positions.len();
+            if let Some(v) = o.positions.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+                return Some(format!("object {name:?}: vertex {v} has a non-finite position"));
+            }
+            if let Some(t) = o.triangles.iter().position(|t| t.iter().any(|&i| i as usize >= n)) {
+                return Some(format!("object {name:?}: triangle {t} uses a vertex past the {n} it has"));
+            }
+            for (what, len) in [("normals", o.normals.len()), ("tangents", o.tangents.len()), ("colours", o.colours.len())]
+            {
+                if len != 0 && len != n {
+                    return Some(format!("object {name:?}: {len} {what} for {n} vertices"));
+                }
+            }
+            if o.uv_sets.iter().any(|s| !s.is_empty() && s.len() != n) {
+                return Some(format!("object {name:?}: a texture coordinate set does not have one entry per vertex"));
+            }
+            let m = &o.material;
+            for r in [&m.base_colour_texture, &m.normal_texture, &m.emissive_texture].into_iter().flatten() {
+                if r.texture >= self.textures.len() {
+                    return Some(format!("object {name:?}: material {:?} uses texture {} of {}", m.name, r.texture, self.textures.len()));
+                }
+            }
+        }
+        for (i, t) in self.textures.iter().enumerate() {
+            if t.texels.len() != t.width * t.height {
+                return Some(format!("texture {i} ({:?}): {} texels for {}x{}", t.name, t.texels.len(), t.width, t.height));
+            }
+        }
+        None
+    }
+
     /// The axis-aligned box of every vertex a triangle uses, or `None` for
     /// a scene without triangles.
     pub fn bounds(&self) -> Option<([f64; 3], [f64; 3])> {

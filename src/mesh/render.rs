@@ -196,6 +196,12 @@ pub fn render(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<(Modulation, RenderStats)> {
     let rays = Rays::new(geometry, options.supersample)?;
+    if let Some(problem) = scene.problem() {
+        return Err(Error::Usage(format!("{}: {problem}", scene.source)));
+    }
+    if let Some(bad) = options.lighting.lights.iter().find(|l| !light_is_finite(l)) {
+        return Err(Error::Usage(format!("a light is not finite or has a negative brightness: {bad:?}")));
+    }
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);
     let shading = Shading { scene, lighting: &options.lighting, weights: &weights, rays: &rays, geometry };
@@ -243,4 +249,14 @@ fn run(
         }
     }
     Ok((m, stats))
+}
+
+fn light_is_finite(l: &super::Light) -> bool {
+    use super::Light;
+    let ok3 = |v: &[f32; 3]| v.iter().all(|x| x.is_finite() && *x >= 0.0);
+    match l {
+        Light::Point { position, intensity, .. } => position.iter().all(|x| x.is_finite()) && ok3(intensity),
+        Light::Directional { direction, irradiance, .. } => direction.iter().all(|x| x.is_finite()) && ok3(irradiance),
+        Light::Ambient { radiance } => ok3(radiance),
+    }
 }

@@ -66,6 +66,80 @@ impl Lighting {
     }
 }
 
+/// A light from the command line or a light file, in display coordinates:
+///
+/// - `dir:DX,DY,DZ[:R,G,B]`: a directional light travelling along
+///   `(DX, DY, DZ)`, giving irradiance `R,G,B` (default π: a white surface
+///   facing it has radiance 1);
+/// - `point:X,Y,Z[:R,G,B]`: a point light at `(X, Y, Z)` millimetres, giving
+///   irradiance `R,G,B` (default π) at `centre_m`, the middle of the display
+///   volume (so its intensity is `E·d²`);
+/// - `ambient:R,G,B`: ambient radiance.
+pub fn parse_light(spec: &str, centre_m: [f64; 3]) -> Result<Light, String> {
+    let bad = |why: &str| format!("light {spec:?}: {why}; expected dir:DX,DY,DZ[:R,G,B], point:X,Y,Z[:R,G,B] or ambient:R,G,B");
+    let numbers = |t: &str| -> Result<[f64; 3], String> {
+        let v: Vec<f64> = t.split(',').map(|x| x.trim().parse::<f64>()).collect::<std::result::Result<_, _>>().map_err(|_| bad("not numbers"))?;
+        match v.as_slice() {
+            [a, b, c] if v.iter().all(|x| x.is_finite()) => Ok([*a, *b, *c]),
+            _ => Err(bad("three finite numbers needed")),
+        }
+    };
+    let mut parts = spec.splitn(3, ':');
+    let kind = parts.next().unwrap_or("").trim();
+    let first = parts.next().ok_or_else(|| bad("no values"))?;
+    let colour = match parts.next() {
+        Some(c) => {
+            let c = numbers(c)?;
+            if c.iter().any(|&x| x < 0.0) {
+                return Err(bad("negative brightness"));
+            }
+            c
+        }
+        None => [std::f64::consts::PI; 3],
+    };
+    let c32 = |c: [f64; 3]| [c[0] as f32, c[1] as f32, c[2] as f32];
+    match kind {
+        "dir" | "directional" => {
+            let d = numbers(first)?;
+            if dot(d, d) == 0.0 {
+                return Err(bad("zero direction"));
+            }
+            Ok(Light::Directional { direction: normalize(d), irradiance: c32(colour), name: spec.to_string() })
+        }
+        "point" => {
+            let p = scale(numbers(first)?, 1e-3);
+            let d = sub(p, centre_m);
+            let d2 = dot(d, d);
+            if d2 == 0.0 {
+                return Err(bad("the light is at the centre of the display volume"));
+            }
+            Ok(Light::Point { position: p, intensity: c32(scale(colour, d2)), name: spec.to_string() })
+        }
+        "ambient" => {
+            let c = numbers(first)?;
+            if c.iter().any(|&x| x < 0.0) {
+                return Err(bad("negative brightness"));
+            }
+            Ok(Light::Ambient { radiance: c32(c) })
+        }
+        _ => Err(bad("unknown kind")),
+    }
+}
+
+/// Lights from a file: one [`parse_light`] spec per line; `#` starts a comment.
+pub fn read_lights(path: &std::path::Path, centre_m: [f64; 3]) -> crate::Result<Vec<Light>> {
+    let text = std::fs::read_to_string(path).map_err(|e| crate::Error::io(path, e))?;
+    let mut out = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        out.push(parse_light(line, centre_m).map_err(|e| crate::Error::invalid(path, format!("line {}: {e}", n + 1)))?);
+    }
+    Ok(out)
+}
+
 /// A point where a ray meets a triangle: the object, the triangle and the
 /// barycentric weights of its second and third vertices.
 #[derive(Clone, Copy, Debug, PartialEq)]

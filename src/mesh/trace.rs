@@ -69,3 +69,51 @@ impl HololineRenderer for TraceRenderer<'_> {
         stats
     }
 }
+
+/// A direct ray-traced picture of the scene as an eye on the viewer line
+/// sees it through the display: for each hololine `j` and emitter `e`, the
+/// radiance along the ray from `(x_e, y_j, z_e)` to the eye, averaged over
+/// `pupil_samples` eye positions across a pupil `pupil_m` wide. Returned as
+/// `(hololine, emitter, channel)` with the geometry's channels, the layout
+/// of [`crate::reconstruct::picture::Picture::data`]. This is what a perfect display
+/// would show that eye; the tests compare `holo view` with it.
+pub fn eye_picture(
+    scene: &super::Scene,
+    lighting: &super::shade::Lighting,
+    geometry: &crate::Geometry,
+    eye_x_m: f64,
+    pupil_m: f64,
+    pupil_samples: usize,
+) -> crate::Result<Vec<f32>> {
+    use rayon::prelude::*;
+    let rays = super::render::Rays::new(geometry, super::render::Supersample { emitter: 1, view: 1 })?;
+    let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
+    let weights = super::shade::channel_weights(&names);
+    let s = Shading { scene, lighting, weights: &weights, rays: &rays, geometry };
+    let tracer = TraceRenderer::new(s);
+    let span = geometry.viewer_distance_m - geometry.emitter_z_m;
+    let n = pupil_samples.max(1);
+    let rows: Vec<Vec<f32>> = (0..geometry.hololines)
+        .into_par_iter()
+        .map(|j| {
+            let mut row = Vec::with_capacity(geometry.emitters * weights.len());
+            for e in 0..geometry.emitters {
+                let x = geometry.emitter_x_m(e);
+                let mut sum = [0.0; 3];
+                for p in 0..n {
+                    let eye = eye_x_m + pupil_m * ((p as f64 + 0.5) / n as f64 - 0.5);
+                    if let Some(rgb) = tracer.trace(x, rays.hololine_y_m[j], (eye - x) / span, rays.hololine_slope[j]) {
+                        for c in 0..3 {
+                            sum[c] += rgb[c] / n as f64;
+                        }
+                    }
+                }
+                for w in &weights {
+                    row.push((w[0] * sum[0] + w[1] * sum[1] + w[2] * sum[2]) as f32);
+                }
+            }
+            row
+        })
+        .collect();
+    Ok(rows.concat())
+}
