@@ -1,1 +1,268 @@
 //! Scene loaders: glTF 2.0 (`.gltf`, `.glb`), OBJ + MTL and PLY.
+//!
+//! [`SceneSource::open`] reads a file once (buffers, images, materials,
+//! animations); [`SceneSource::scene_at`] then makes the [`Scene`] at any
+//! animation time. OBJ and PLY files are not animated: every time gives the
+//! same scene.
+//!
+//! Every error names the file and the object, material, texture or accessor
+//! concerned; nothing in a file can make the loaders panic. What does not
+//! stop a load (a primitive of points, degenerate triangles dropped, an
+//! unknown material name, ...) is reported in [`Scene::warnings`].
+
+mod gltf;
+mod obj;
+mod ply;
+mod texture;
+
+use std::path::{Path, PathBuf};
+
+use super::{Object, Scene};
+use crate::{Error, Result};
+
+/// Sizes the loaders refuse before allocating, so that a scene larger than
+/// memory allows (or a damaged file claiming to be one) gives a clear error
+/// naming the object instead of exhausting memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LoadLimits {
+    /// Most triangles in the whole scene (default 50 000 000).
+    pub max_triangles: usize,
+    /// Most texels in one texture (default 2²⁸).
+    pub max_texture_texels: usize,
+}
+
+impl Default for LoadLimits {
+    fn default() -> Self {
+        LoadLimits { max_triangles: 50_000_000, max_texture_texels: 1 << 28 }
+    }
+}
+
+/// A scene file opened once; scenes at any animation time are made from it.
+#[derive(Debug)]
+pub struct SceneSource {
+    path: PathBuf,
+    inner: Inner,
+}
+
+#[derive(Debug)]
+enum Inner {
+    /// OBJ and PLY: one scene for all times.
+    Static(Scene),
+    /// glTF: geometry, materials and animations, posed on demand.
+    Gltf(Box<gltf::GltfSource>),
+}
+
+/// The file extensions [`SceneSource::open`] understands.
+pub const SUPPORTED_EXTENSIONS: &[&str] = &["gltf", "glb", "obj", "ply"];
+
+impl SceneSource {
+    /// Open a scene file with the default [`LoadLimits`]. The format is
+    /// chosen by the extension: `.gltf`, `.glb`, `.obj` or `.ply` (any case).
+    pub fn open(path: &Path) -> Result<SceneSource> {
+        Self::open_with_limits(path, LoadLimits::default())
+    }
+
+    /// Open a scene file, refusing scenes beyond `limits`.
+    pub fn open_with_limits(path: &Path, limits: LoadLimits) -> Result<SceneSource> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).unwrap_or_default();
+        let inner = match ext.as_str() {
+            "gltf" | "glb" => Inner::Gltf(Box::new(gltf::GltfSource::open(path, &limits)?)),
+            "obj" => Inner::Static(obj::load(path, &limits)?),
+            "ply" => Inner::Static(ply::load(path, &limits)?),
+            _ => {
+                return Err(Error::invalid(
+                    path,
+                    format!(
+                        "not a scene file this loader reads: the extension must be one of {}",
+                        SUPPORTED_EXTENSIONS.iter().map(|e| format!(".{e}")).collect::<Vec<_>>().join(", ")
+                    ),
+                ))
+            }
+        };
+        Ok(SceneSource { path: path.to_path_buf(), inner })
+    }
+
+    /// The file this source was opened from.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Length of the animation in seconds: for glTF the largest input time
+    /// of all animations; `None` when the scene is not animated.
+    pub fn animation_duration_s(&self) -> Option<f64> {
+        match &self.inner {
+            Inner::Static(_) => None,
+            Inner::Gltf(g) => g.animation_duration_s(),
+        }
+    }
+
+    /// The scene at `time_s` seconds: node translations, rotations, scales
+    /// and morph-target weights sampled from all animations together
+    /// (times outside the animation hold its first or last pose). Static
+    /// formats give the same scene at every time.
+    pub fn scene_at(&self, time_s: f64) -> Result<Scene> {
+        if !time_s.is_finite() {
+            return Err(Error::Usage(format!(
+                "{}: the animation time {time_s} s is not a finite number",
+                self.path.display()
+            )));
+        }
+        match &self.inner {
+            Inner::Static(scene) => Ok(scene.clone()),
+            Inner::Gltf(g) => g.scene_at(&self.path, time_s),
+        }
+    }
+}
+
+/// The file name alone, for messages inside a problem sentence.
+pub(crate) fn file_name(path: &Path) -> String {
+    path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| path.display().to_string())
+}
+
+/// Check an object made by a loader and tidy it: every position finite,
+/// every index in range, attributes one per vertex; zero-area triangles are
+/// dropped and counted in one warning. Returns `false` (after a warning)
+/// when no triangle is left.
+pub(crate) fn finish_object(path: &Path, obj: &mut Object, warnings: &mut Vec<String>) -> Result<bool> {
+    let name = &obj.name;
+    for (i, p) in obj.positions.iter().enumerate() {
+        if let Some(k) = p.iter().position(|c| !c.is_finite()) {
+            return Err(Error::invalid(
+                path,
+                format!("object \"{name}\": vertex {i} has a {} coordinate {}", ["x", "y", "z"][k], p[k]),
+            ));
+        }
+    }
+    let n = obj.positions.len();
+    let lengths = [("normals", obj.normals.len()), ("tangents", obj.tangents.len()), ("colours", obj.colours.len())];
+    for (what, len) in lengths.into_iter().chain(obj.uv_sets.iter().map(|s| ("texture coordinates", s.len()))) {
+        if len != 0 && len != n {
+            return Err(Error::invalid(
+                path,
+                format!("object \"{name}\": {len} {what} for {n} vertices (there must be one per vertex)"),
+            ));
+        }
+    }
+    for (t, tri) in obj.triangles.iter().enumerate() {
+        if let Some(&bad) = tri.iter().find(|&&i| i as usize >= n) {
+            return Err(Error::invalid(
+                path,
+                format!("object \"{name}\": triangle {t} uses vertex {bad}, but the object has {n} vertices"),
+            ));
+        }
+    }
+    let before = obj.triangles.len();
+    let positions = &obj.positions;
+    obj.triangles.retain(|t| {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let cr = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+        let area2 = cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2];
+        area2 > 0.0
+    });
+    let dropped = before - obj.triangles.len();
+    if dropped > 0 {
+        warnings.push(format!(
+            "{}: object \"{name}\": {dropped} of {before} triangles have zero area and were dropped",
+            file_name(path)
+        ));
+    }
+    if obj.triangles.is_empty() {
+        warnings.push(format!("{}: object \"{name}\" has no triangles and is left out", file_name(path)));
+        return Ok(false);
+    }
+    Ok(true)
+}
+
+/// Finish a scene: drop objects without triangles (already warned about)
+/// and refuse a scene with no triangles at all.
+pub(crate) fn finish_scene(path: &Path, scene: &mut Scene) -> Result<()> {
+    let mut objects = std::mem::take(&mut scene.objects);
+    let mut kept = Vec::with_capacity(objects.len());
+    for mut o in objects.drain(..) {
+        // A texture needs its coordinate set; without it the texture is
+        // left out (with a warning) rather than sampled at garbage.
+        let (uv_sets, n_textures) = (o.uv_sets.len(), scene.textures.len());
+        let m = &mut o.material;
+        for (slot, r) in [
+            ("base colour", &mut m.base_colour_texture),
+            ("normal", &mut m.normal_texture),
+            ("emissive", &mut m.emissive_texture),
+        ] {
+            if let Some(t) = r {
+                if t.texture >= n_textures || t.uv_set >= uv_sets {
+                    scene.warnings.push(format!(
+                        "{}: object \"{}\": the {slot} texture of material \"{}\" uses texture coordinate set {}, which the object lacks; the texture is not used",
+                        file_name(path),
+                        o.name,
+                        m.name,
+                        t.uv_set
+                    ));
+                    *r = None;
+                }
+            }
+        }
+        if m.normal_texture.is_none() {
+            o.tangents.clear();
+        }
+        if finish_object(path, &mut o, &mut scene.warnings)? {
+            kept.push(o);
+        }
+    }
+    scene.objects = kept;
+    if scene.triangle_count() == 0 {
+        return Err(Error::invalid(path, "no triangles in the scene"));
+    }
+    Ok(())
+}
+
+/// Fan-triangulate a polygon given as vertex indices: `(0, i, i + 1)`.
+pub(crate) fn fan(poly: &[u32], out: &mut Vec<[u32; 3]>) {
+    for i in 1..poly.len().saturating_sub(1) {
+        out.push([poly[0], poly[i], poly[i + 1]]);
+    }
+}
+
+/// Find a file named in a scene file, tolerating the habits of exporters:
+/// the name as given (relative to `dir` unless absolute), then with Windows
+/// `\` separators turned into `/`, then matching every component
+/// case-insensitively. Returns `None` when nothing matches.
+pub(crate) fn resolve_file(dir: &Path, name: &str) -> Option<PathBuf> {
+    let name = name.trim();
+    if name.is_empty() {
+        return None;
+    }
+    let as_given = dir.join(name);
+    if as_given.is_file() {
+        return Some(as_given);
+    }
+    let slashed = name.replace('\\', "/");
+    let p = dir.join(&slashed);
+    if p.is_file() {
+        return Some(p);
+    }
+    // Case-insensitive walk, component by component.
+    let (mut cur, rest) = match slashed.strip_prefix('/') {
+        Some(rest) => (PathBuf::from("/"), rest),
+        None => (dir.to_path_buf(), &slashed[..]),
+    };
+    let parts: Vec<&str> = rest.split('/').filter(|s| !s.is_empty() && *s != ".").collect();
+    for (k, part) in parts.iter().enumerate() {
+        if *part == ".." {
+            cur.push("..");
+            continue;
+        }
+        let direct = cur.join(part);
+        if direct.exists() {
+            cur = direct;
+            continue;
+        }
+        let found = std::fs::read_dir(&cur).ok()?.flatten().find(|e| {
+            e.file_name().to_str().is_some_and(|n| n.eq_ignore_ascii_case(part))
+                && (k + 1 == parts.len() || e.path().is_dir())
+        })?;
+        cur = found.path();
+    }
+    cur.is_file().then_some(cur)
+}

@@ -1,0 +1,1443 @@
+//! glTF 2.0 (`.gltf` with external or embedded buffers, `.glb`).
+//!
+//! The `gltf` crate parses and validates the JSON (and splits a `.glb`);
+//! buffers, images and accessors are read here, so that every size and
+//! offset is checked against the bytes present and every message names the
+//! mesh, primitive, accessor, material or texture concerned.
+//!
+//! [`GltfSource::open`] reads the geometry in each mesh's own space, the
+//! materials, the textures and the animation curves once;
+//! [`GltfSource::scene_at`] poses the node hierarchy at a time and moves the
+//! geometry to world space.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use gltf::accessor::{DataType, Dimensions};
+use gltf::animation::{Interpolation, Property};
+use gltf::khr_lights_punctual::Kind as LightKind;
+use gltf::mesh::{Mode, Semantic};
+
+use super::texture::{decode, generate_tangents};
+use super::{file_name, finish_scene, LoadLimits};
+use crate::mesh::{Light, Material, Object, Scene, Texture, TextureRef, UvTransform, Wrap};
+use crate::{Error, Result};
+
+/// Column-major 4×4 matrix, `m[column][row]` (glTF's layout).
+type Mat4 = [[f64; 4]; 4];
+
+const IDENTITY: Mat4 = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
+
+/// An opened glTF file, ready to be posed.
+#[derive(Debug)]
+pub(crate) struct GltfSource {
+    textures: Vec<Texture>,
+    materials: Vec<Material>,
+    meshes: Vec<MeshData>,
+    nodes: Vec<NodeData>,
+    /// Nodes of the scene in parent-before-child order, with their parent.
+    order: Vec<(usize, Option<usize>)>,
+    channels: Vec<Channel>,
+    lights: Vec<LightDef>,
+    duration: Option<f64>,
+    /// Warnings found while opening, repeated in every scene.
+    warnings: Vec<String>,
+}
+
+#[derive(Debug)]
+struct MeshData {
+    label: String,
+    name: Option<String>,
+    weights: Vec<f32>,
+    prims: Vec<Prim>,
+}
+
+#[derive(Debug, Default)]
+struct Prim {
+    /// Why the primitive is not drawn (points, lines, no positions).
+    skip: Option<String>,
+    material: Option<usize>,
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    tangents: Vec<[f32; 4]>,
+    uv_sets: Vec<Vec<[f32; 2]>>,
+    colours: Vec<[f32; 4]>,
+    triangles: Vec<[u32; 3]>,
+    targets: Vec<MorphTarget>,
+}
+
+#[derive(Debug, Default)]
+struct MorphTarget {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    tangents: Vec<[f32; 3]>,
+}
+
+#[derive(Debug)]
+struct NodeData {
+    name: Option<String>,
+    matrix: Option<Mat4>,
+    translation: [f64; 3],
+    rotation: [f64; 4],
+    scale: [f64; 3],
+    mesh: Option<usize>,
+    weights: Option<Vec<f32>>,
+    light: Option<usize>,
+    animated: bool,
+}
+
+#[derive(Debug)]
+struct Channel {
+    node: usize,
+    property: Property,
+    interpolation: Interpolation,
+    times: Vec<f32>,
+    values: Vec<f32>,
+    /// Numbers per key (3 translation/scale, 4 rotation, targets for weights).
+    width: usize,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum LightType {
+    Point,
+    Directional,
+    Spot,
+}
+
+#[derive(Debug)]
+struct LightDef {
+    name: String,
+    kind: LightType,
+    rgb: [f32; 3],
+}
+
+/// The bytes of every buffer, checked against their declared lengths.
+struct Buffers {
+    data: Vec<Vec<u8>>,
+}
+
+impl Buffers {
+    fn view<'b>(&'b self, view: &gltf::buffer::View) -> Result<&'b [u8], String> {
+        let b = view.buffer().index();
+        let data = self.data.get(b).ok_or_else(|| format!("buffer view {} uses missing buffer {b}", view.index()))?;
+        let end = view.offset().checked_add(view.length());
+        match end {
+            Some(end) if end <= data.len() => Ok(&data[view.offset()..end]),
+            _ => Err(format!(
+                "buffer view {} covers bytes {}..{} of buffer {b}, which holds only {} bytes",
+                view.index(),
+                view.offset(),
+                view.offset() as u128 + view.length() as u128,
+                data.len()
+            )),
+        }
+    }
+
+    /// Every element of an accessor as `f64` components (normalised
+    /// integers mapped to `[0, 1]` / `[−1, 1]`), with sparse substitution.
+    /// Returns the numbers and the components per element. The error is a
+    /// phrase to follow "accessor N".
+    fn read(&self, acc: &gltf::Accessor, max_count: usize) -> Result<(Vec<f64>, usize), String> {
+        let dims = acc.dimensions();
+        if matches!(dims, Dimensions::Mat2 | Dimensions::Mat3 | Dimensions::Mat4) {
+            return Err("is a matrix, which no vertex attribute here may be".into());
+        }
+        let comps = dims.multiplicity();
+        let ctype = acc.data_type();
+        let csize = ctype.size();
+        let count = acc.count();
+        let norm = acc.normalized();
+        let elem = comps * csize;
+        if count > max_count {
+            return Err(format!("holds {count} elements, more than the {max_count} allowed here"));
+        }
+        let mut out;
+        match acc.view() {
+            Some(view) => {
+                let bytes = self.view(&view)?;
+                let stride = view.stride().unwrap_or(elem);
+                if stride < elem {
+                    return Err(format!(
+                        "has elements of {elem} bytes but buffer view {} has a stride of {stride}",
+                        view.index()
+                    ));
+                }
+                let needed = if count == 0 {
+                    Some(0)
+                } else {
+                    (count - 1)
+                        .checked_mul(stride)
+                        .and_then(|x| x.checked_add(acc.offset()))
+                        .and_then(|x| x.checked_add(elem))
+                };
+                match needed {
+                    Some(n) if n <= bytes.len() => {}
+                    _ => {
+                        return Err(format!(
+                            "reaches past the end of buffer view {} ({count} elements of {elem} bytes from offset {} need {} bytes; the view has {})",
+                            view.index(),
+                            acc.offset(),
+                            (count.max(1) as u128 - 1) * stride as u128 + acc.offset() as u128 + elem as u128,
+                            bytes.len()
+                        ));
+                    }
+                }
+                out = Vec::with_capacity(count * comps);
+                for i in 0..count {
+                    let base = acc.offset() + i * stride;
+                    for c in 0..comps {
+                        let o = base + c * csize;
+                        out.push(component(&bytes[o..o + csize], ctype, norm));
+                    }
+                }
+            }
+            None => {
+                // No bytes bound the size of an all-zero (sparse) accessor.
+                let cap = max_count.min(1 << 24);
+                if count > cap {
+                    return Err(format!(
+                        "has no buffer view and {count} elements, more than the {cap} allowed without one"
+                    ));
+                }
+                out = vec![0.0; count * comps];
+            }
+        }
+        if let Some(sparse) = acc.sparse() {
+            let n = sparse.count();
+            let ind = sparse.indices();
+            let ibytes = self.view(&ind.view())?;
+            let isize = match ind.index_type() {
+                gltf::accessor::sparse::IndexType::U8 => 1,
+                gltf::accessor::sparse::IndexType::U16 => 2,
+                gltf::accessor::sparse::IndexType::U32 => 4,
+            };
+            let vals = sparse.values();
+            let vbytes = self.view(&vals.view())?;
+            let ineed = n.checked_mul(isize).and_then(|x| x.checked_add(ind.offset()));
+            let vneed = n.checked_mul(elem).and_then(|x| x.checked_add(vals.offset()));
+            if !ineed.is_some_and(|x| x <= ibytes.len()) || !vneed.is_some_and(|x| x <= vbytes.len()) {
+                return Err(format!("has {n} sparse values that reach past the end of their buffer views"));
+            }
+            for k in 0..n {
+                let o = ind.offset() + k * isize;
+                let idx = match isize {
+                    1 => ibytes[o] as usize,
+                    2 => u16::from_le_bytes([ibytes[o], ibytes[o + 1]]) as usize,
+                    _ => u32::from_le_bytes([ibytes[o], ibytes[o + 1], ibytes[o + 2], ibytes[o + 3]]) as usize,
+                };
+                if idx >= count {
+                    return Err(format!("has sparse index {idx} at position {k}, but only {count} elements"));
+                }
+                for c in 0..comps {
+                    let o = vals.offset() + k * elem + c * csize;
+                    out[idx * comps + c] = component(&vbytes[o..o + csize], ctype, norm);
+                }
+            }
+        }
+        Ok((out, comps))
+    }
+}
+
+fn component(b: &[u8], t: DataType, norm: bool) -> f64 {
+    match t {
+        DataType::I8 => {
+            let v = b[0] as i8 as f64;
+            if norm {
+                (v / 127.0).max(-1.0)
+            } else {
+                v
+            }
+        }
+        DataType::U8 => {
+            let v = b[0] as f64;
+            if norm {
+                v / 255.0
+            } else {
+                v
+            }
+        }
+        DataType::I16 => {
+            let v = i16::from_le_bytes([b[0], b[1]]) as f64;
+            if norm {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
+        }
+        DataType::U16 => {
+            let v = u16::from_le_bytes([b[0], b[1]]) as f64;
+            if norm {
+                v / 65535.0
+            } else {
+                v
+            }
+        }
+        DataType::U32 => {
+            let v = u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64;
+            if norm {
+                v / 4294967295.0
+            } else {
+                v
+            }
+        }
+        DataType::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+    }
+}
+
+/// Decode a `data:` URI's payload (base64 or percent-encoded).
+fn data_uri(uri: &str) -> Option<Result<Vec<u8>, String>> {
+    let rest = uri.strip_prefix("data:")?;
+    let Some((meta, payload)) = rest.split_once(',') else {
+        return Some(Err("is a data: URI without a ',' before its payload".into()));
+    };
+    if meta.ends_with(";base64") {
+        Some(base64(payload).ok_or_else(|| "is a data: URI whose base64 payload is malformed".to_string()))
+    } else {
+        Some(Ok(percent_decode(payload).into_bytes()))
+    }
+}
+
+fn base64(s: &str) -> Option<Vec<u8>> {
+    let mut out = Vec::with_capacity(s.len() / 4 * 3);
+    let mut acc = 0u32;
+    let mut bits = 0;
+    for c in s.bytes() {
+        let v = match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' | b'-' => 62,
+            b'/' | b'_' => 63,
+            b'=' => break,
+            b' ' | b'\n' | b'\r' | b'\t' => continue,
+            _ => return None,
+        };
+        acc = (acc << 6) | v as u32;
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            out.push((acc >> bits) as u8);
+            acc &= (1 << bits) - 1;
+        }
+    }
+    Some(out)
+}
+
+fn percent_decode(s: &str) -> String {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'%' && i + 2 < b.len() {
+            let hex = |c: u8| (c as char).to_digit(16);
+            if let (Some(h), Some(l)) = (hex(b[i + 1]), hex(b[i + 2])) {
+                out.push((h * 16 + l) as u8);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(b[i]);
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Read a file a glTF URI names, relative to the glTF's folder.
+fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
+    if let Some(r) = data_uri(uri) {
+        return r;
+    }
+    if uri.contains("://") {
+        return Err(format!("is at \"{uri}\", which is not a local file"));
+    }
+    let rel = percent_decode(uri);
+    let p: PathBuf = super::resolve_file(dir, &rel).unwrap_or_else(|| dir.join(&rel));
+    std::fs::read(&p).map_err(|e| format!("cannot be read from \"{}\": {e}", p.display()))
+}
+
+fn mat_mul(a: &Mat4, b: &Mat4) -> Mat4 {
+    let mut r = [[0.0; 4]; 4];
+    for c in 0..4 {
+        for row in 0..4 {
+            r[c][row] = (0..4).map(|k| a[k][row] * b[c][k]).sum();
+        }
+    }
+    r
+}
+
+fn trs(t: [f64; 3], q: [f64; 4], s: [f64; 3]) -> Mat4 {
+    let [x, y, z, w] = q;
+    let n = (x * x + y * y + z * z + w * w).sqrt();
+    let (x, y, z, w) = if n > 0.0 { (x / n, y / n, z / n, w / n) } else { (0.0, 0.0, 0.0, 1.0) };
+    let r = [
+        [1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y + z * w), 2.0 * (x * z - y * w)],
+        [2.0 * (x * y - z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z + x * w)],
+        [2.0 * (x * z + y * w), 2.0 * (y * z - x * w), 1.0 - 2.0 * (x * x + y * y)],
+    ];
+    let mut m = IDENTITY;
+    for c in 0..3 {
+        for row in 0..3 {
+            m[c][row] = r[c][row] * s[c];
+        }
+    }
+    m[3] = [t[0], t[1], t[2], 1.0];
+    m
+}
+
+fn det3(m: &Mat4) -> f64 {
+    m[0][0] * (m[1][1] * m[2][2] - m[2][1] * m[1][2]) - m[1][0] * (m[0][1] * m[2][2] - m[2][1] * m[0][2])
+        + m[2][0] * (m[0][1] * m[1][2] - m[1][1] * m[0][2])
+}
+
+/// Cofactor matrix of the upper 3×3 (`det · M⁻ᵀ`), as rows: it maps normals
+/// like the inverse transpose up to a positive factor (after the sign of
+/// the determinant is applied), and exists even for singular matrices.
+fn normal_matrix(m: &Mat4) -> [[f64; 3]; 3] {
+    // a(row, col) = m[col][row]
+    let a = |r: usize, c: usize| m[c][r];
+    let mut cof = [[0.0; 3]; 3];
+    for (r, row) in cof.iter_mut().enumerate() {
+        for (c, v) in row.iter_mut().enumerate() {
+            let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
+            let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
+            *v = a(r1, c1) * a(r2, c2) - a(r1, c2) * a(r2, c1);
+        }
+    }
+    let s = if det3(m) < 0.0 { -1.0 } else { 1.0 };
+    cof.map(|row| row.map(|v| v * s))
+}
+
+fn normalize3(v: [f64; 3]) -> Option<[f64; 3]> {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    (l > 0.0 && l.is_finite()).then(|| [v[0] / l, v[1] / l, v[2] / l])
+}
+
+fn mode_name(m: Mode) -> &'static str {
+    match m {
+        Mode::Points => "POINTS",
+        Mode::Lines => "LINES",
+        Mode::LineLoop => "LINE_LOOP",
+        Mode::LineStrip => "LINE_STRIP",
+        Mode::Triangles => "TRIANGLES",
+        Mode::TriangleStrip => "TRIANGLE_STRIP",
+        Mode::TriangleFan => "TRIANGLE_FAN",
+    }
+}
+
+fn wrap_of(m: gltf::texture::WrappingMode) -> Wrap {
+    match m {
+        gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+        gltf::texture::WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+        gltf::texture::WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+    }
+}
+
+/// Context for reading one file.
+struct Reader<'a> {
+    path: &'a Path,
+    dir: PathBuf,
+    buffers: Buffers,
+    limits: &'a LoadLimits,
+    textures: Vec<Texture>,
+    /// (image, sRGB, wrap) → index in `textures`.
+    texture_cache: HashMap<(usize, bool, [u8; 2]), usize>,
+}
+
+impl Reader<'_> {
+    fn err(&self, problem: String) -> Error {
+        Error::invalid(self.path, problem)
+    }
+
+    /// Read an accessor that must have `comps` components per element, as
+    /// `f32` vectors, all finite. `ctx` names the mesh, primitive and
+    /// attribute for messages.
+    fn floats<const N: usize>(&self, acc: &gltf::Accessor, ctx: &str, max_count: usize) -> Result<Vec<[f32; N]>> {
+        let (v, comps) =
+            self.buffers.read(acc, max_count).map_err(|e| self.err(format!("{ctx} accessor {} {e}", acc.index())))?;
+        if comps != N {
+            return Err(
+                self.err(format!("{ctx} accessor {} has {comps} components per element; {N} are needed", acc.index()))
+            );
+        }
+        let mut out = Vec::with_capacity(v.len() / N);
+        for (i, ch) in v.chunks_exact(N).enumerate() {
+            let mut e = [0.0f32; N];
+            for (k, x) in ch.iter().enumerate() {
+                let f = *x as f32;
+                if !f.is_finite() {
+                    return Err(self.err(format!("{ctx} accessor {} holds {x} at vertex {i}", acc.index())));
+                }
+                e[k] = f;
+            }
+            out.push(e);
+        }
+        Ok(out)
+    }
+
+    /// The texture for a texture info, decoded once per (image, colour space, wrap).
+    fn texture(
+        &mut self,
+        doc: &gltf::Document,
+        tex: gltf::texture::Texture,
+        srgb: bool,
+        material: &str,
+        slot: &str,
+    ) -> Result<usize> {
+        let img = tex.source();
+        let sampler = tex.sampler();
+        let wrap = [wrap_of(sampler.wrap_s()), wrap_of(sampler.wrap_t())];
+        let key = (img.index(), srgb, wrap.map(|w| w as u8));
+        if let Some(&i) = self.texture_cache.get(&key) {
+            return Ok(i);
+        }
+        // The image's JSON is read directly: `Image::source` panics on an
+        // image with a buffer view but no MIME type, or with neither.
+        let json = doc.as_json().images.get(img.index());
+        let view = json.and_then(|j| j.buffer_view).map(|v| v.value());
+        let uri = json.and_then(|j| j.uri.as_deref());
+        let (name, bytes) = match (view, uri) {
+            (Some(v), _) => {
+                let name = img.name().map(str::to_string).unwrap_or_else(|| format!("image {}", img.index()));
+                let bytes = match doc.views().nth(v) {
+                    Some(view) => self.buffers.view(&view).map(|b| b.to_vec()),
+                    None => Err(format!("uses buffer view {v}, which does not exist")),
+                };
+                (name, bytes)
+            }
+            (None, None) => (format!("image {}", img.index()), Err("has neither a uri nor a bufferView".to_string())),
+            (None, Some(uri)) => {
+                let name = img.name().map(str::to_string).unwrap_or_else(|| {
+                    if uri.starts_with("data:") {
+                        format!("image {}", img.index())
+                    } else {
+                        percent_decode(uri)
+                    }
+                });
+                (name, read_uri(&self.dir, uri))
+            }
+        };
+        let what = format!("material \"{material}\": {slot} texture {} (\"{name}\")", tex.index());
+        let bytes = bytes.map_err(|e| self.err(format!("{what} {e}")))?;
+        let t = decode(&bytes, &name, srgb, wrap, self.limits).map_err(|e| self.err(format!("{what} {e}")))?;
+        self.textures.push(t);
+        let i = self.textures.len() - 1;
+        self.texture_cache.insert(key, i);
+        Ok(i)
+    }
+}
+
+fn uv_transform_json(v: Option<&serde_json::Value>) -> (UvTransform, Option<u32>) {
+    let mut t = UvTransform::default();
+    let Some(v) = v else { return (t, None) };
+    let pair = |k: &str, d: [f32; 2]| -> [f32; 2] {
+        v.get(k)
+            .and_then(|a| a.as_array())
+            .filter(|a| a.len() == 2)
+            .map(|a| [a[0].as_f64().unwrap_or(d[0] as f64) as f32, a[1].as_f64().unwrap_or(d[1] as f64) as f32])
+            .unwrap_or(d)
+    };
+    t.offset = pair("offset", [0.0, 0.0]);
+    t.scale = pair("scale", [1.0, 1.0]);
+    t.rotation_rad = v.get("rotation").and_then(|r| r.as_f64()).unwrap_or(0.0) as f32;
+    let tc = v.get("texCoord").and_then(|x| x.as_u64()).map(|x| x.min(u32::MAX as u64) as u32);
+    (t, tc)
+}
+
+fn texture_ref(info: &gltf::texture::Info, texture: usize) -> TextureRef {
+    let mut uv_set = info.tex_coord() as usize;
+    let mut transform = UvTransform::default();
+    if let Some(tt) = info.texture_transform() {
+        transform = UvTransform { offset: tt.offset(), rotation_rad: tt.rotation(), scale: tt.scale() };
+        if let Some(tc) = tt.tex_coord() {
+            uv_set = tc as usize;
+        }
+    }
+    TextureRef { texture, uv_set, transform }
+}
+
+impl GltfSource {
+    pub(crate) fn open(path: &Path, limits: &LoadLimits) -> Result<GltfSource> {
+        // Everything here checks what it reads; the guard is for the `gltf`
+        // crate's accessors, which unwrap what its validation should have
+        // checked.
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| Self::open_checked(path, limits))).unwrap_or_else(
+            |_| {
+                Err(Error::invalid(
+                    path,
+                    "the glTF reader failed on this file (it is malformed in a way not diagnosed more precisely)",
+                ))
+            },
+        )
+    }
+
+    fn open_checked(path: &Path, limits: &LoadLimits) -> Result<GltfSource> {
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let g = parse(&bytes).map_err(|e| Error::invalid(path, format!("not a valid glTF 2.0 file: {e}")))?;
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let doc = &g.document;
+        let mut warnings = Vec::new();
+        let file = file_name(path);
+
+        for ext in doc.extensions_required() {
+            if !matches!(ext, "KHR_texture_transform" | "KHR_lights_punctual" | "KHR_materials_emissive_strength") {
+                return Err(Error::invalid(
+                    path,
+                    format!("requires the glTF extension {ext}, which this loader does not support"),
+                ));
+            }
+        }
+
+        // Buffers.
+        let mut data = Vec::new();
+        for b in doc.buffers() {
+            let d = match b.source() {
+                gltf::buffer::Source::Bin => g.blob.clone().ok_or_else(|| {
+                    Error::invalid(
+                        path,
+                        format!("buffer {} refers to the GLB binary chunk, but the file has none", b.index()),
+                    )
+                })?,
+                gltf::buffer::Source::Uri(uri) => {
+                    read_uri(&dir, uri).map_err(|e| Error::invalid(path, format!("buffer {} {e}", b.index())))?
+                }
+            };
+            if d.len() < b.length() {
+                return Err(Error::invalid(
+                    path,
+                    format!("buffer {} declares {} bytes but holds only {}", b.index(), b.length(), d.len()),
+                ));
+            }
+            data.push(d);
+        }
+        let mut rd = Reader {
+            path,
+            dir,
+            buffers: Buffers { data },
+            limits,
+            textures: Vec::new(),
+            texture_cache: HashMap::new(),
+        };
+
+        // The scene's node hierarchy, parent before child, refusing cycles.
+        let scene = doc.default_scene().or_else(|| doc.scenes().next());
+        let all_nodes: Vec<gltf::Node> = doc.nodes().collect();
+        let n_nodes = all_nodes.len();
+        let mut order = Vec::new();
+        let mut seen = vec![false; n_nodes];
+        if let Some(scene) = &scene {
+            let mut stack: Vec<(usize, Option<usize>)> = scene.nodes().map(|n| (n.index(), None)).collect();
+            stack.reverse();
+            while let Some((n, parent)) = stack.pop() {
+                if std::mem::replace(&mut seen[n], true) {
+                    return Err(Error::invalid(
+                        path,
+                        format!(
+                            "node {n} is reached twice in scene {}: the node hierarchy must be a tree",
+                            scene.index()
+                        ),
+                    ));
+                }
+                order.push((n, parent));
+                if let Some(node) = all_nodes.get(n) {
+                    let mut kids: Vec<_> = node.children().map(|c| (c.index(), Some(n))).collect();
+                    kids.reverse();
+                    stack.extend(kids);
+                }
+            }
+        }
+
+        // How many times each mesh is drawn, to refuse oversized scenes
+        // before reading them.
+        let mut instances = vec![0usize; doc.meshes().len()];
+        for &(n, _) in &order {
+            if let Some(m) = all_nodes.get(n).and_then(|n| n.mesh()) {
+                instances[m.index()] += 1;
+            }
+        }
+        let mut total: u128 = 0;
+        for m in doc.meshes() {
+            for p in m.primitives() {
+                let n = p
+                    .indices()
+                    .map(|a| a.count())
+                    .or_else(|| p.get(&Semantic::Positions).map(|a| a.count()))
+                    .unwrap_or(0);
+                let tris = match p.mode() {
+                    Mode::Triangles => n / 3,
+                    Mode::TriangleStrip | Mode::TriangleFan => n.saturating_sub(2),
+                    _ => 0,
+                };
+                total += tris as u128 * instances[m.index()] as u128;
+                if total > limits.max_triangles as u128 {
+                    return Err(Error::invalid(
+                        path,
+                        format!(
+                            "mesh {} primitive {}: the scene reaches {total} triangles here, more than the limit of {}",
+                            mesh_label(&m),
+                            p.index(),
+                            limits.max_triangles
+                        ),
+                    ));
+                }
+            }
+        }
+
+        // Materials (and the textures they use).
+        let mut materials = Vec::new();
+        for m in doc.materials() {
+            let name = m.name().map(str::to_string).unwrap_or_else(|| format!("#{}", m.index().unwrap_or(0)));
+            let pbr = m.pbr_metallic_roughness();
+            let base = pbr.base_color_factor();
+            let metallic = pbr.metallic_factor().clamp(0.0, 1.0);
+            let roughness = pbr.roughness_factor().clamp(0.0, 1.0);
+            // Metallic-roughness to the shader's Phong terms. A metal
+            // reflects its base colour specularly and has no diffuse part; a
+            // dielectric reflects 4 % specularly (F0 = 0.04):
+            //   specular = lerp(0.04, base.rgb, metallic)
+            //   diffuse  = base.rgb · (1 − metallic)
+            // The GGX lobe of width α = roughness² matches a Blinn-Phong
+            // lobe (N·H)^n with n = 2/α² − 2 (Walter et al. 2007, the
+            // Beckmann/Phong equivalence); α is clamped to ≥ 0.01 so a
+            // mirror-smooth material gets a finite exponent (19 998).
+            let alpha = (roughness * roughness).max(0.01);
+            let specular = [0, 1, 2].map(|k| 0.04 + (base[k] - 0.04) * metallic);
+            let mut mat = Material {
+                name: name.clone(),
+                base_colour: [
+                    base[0] * (1.0 - metallic),
+                    base[1] * (1.0 - metallic),
+                    base[2] * (1.0 - metallic),
+                    base[3],
+                ],
+                specular,
+                shininess: 2.0 / (alpha * alpha) - 2.0,
+                emissive: m.emissive_factor(),
+                double_sided: m.double_sided(),
+                ..Material::default()
+            };
+            if let Some(s) = m.emissive_strength() {
+                mat.emissive = mat.emissive.map(|e| e * s);
+            }
+            if let Some(info) = pbr.base_color_texture() {
+                let t = rd.texture(doc, info.texture(), true, &name, "base colour")?;
+                mat.base_colour_texture = Some(texture_ref(&info, t));
+            }
+            if let Some(info) = m.emissive_texture() {
+                let t = rd.texture(doc, info.texture(), true, &name, "emissive")?;
+                mat.emissive_texture = Some(texture_ref(&info, t));
+            }
+            if let Some(nt) = m.normal_texture() {
+                let t = rd.texture(doc, nt.texture(), false, &name, "normal")?;
+                let (transform, tc) = uv_transform_json(nt.extension_value("KHR_texture_transform"));
+                mat.normal_texture =
+                    Some(TextureRef { texture: t, uv_set: tc.unwrap_or(nt.tex_coord()) as usize, transform });
+                mat.normal_scale = nt.scale();
+            }
+            if pbr.metallic_roughness_texture().is_some() {
+                warnings.push(format!(
+                    "{file}: material \"{name}\": the metallic-roughness texture is not used (its factors are)"
+                ));
+            }
+            materials.push(mat);
+        }
+
+        // Geometry, in each mesh's own space.
+        let max_vertices = limits.max_triangles.saturating_mul(3).max(3);
+        let mut meshes = Vec::new();
+        for m in doc.meshes() {
+            let label = mesh_label(&m);
+            let mut prims = Vec::new();
+            for p in m.primitives() {
+                let ctx = format!("mesh {label} primitive {}:", p.index());
+                let prim = read_primitive(&mut rd, &p, &ctx, max_vertices, &materials, &mut warnings)?;
+                prims.push(prim);
+            }
+            meshes.push(MeshData {
+                label,
+                name: m.name().map(str::to_string),
+                weights: m.weights().map(<[f32]>::to_vec).unwrap_or_default(),
+                prims,
+            });
+        }
+
+        // Nodes.
+        let mut nodes = Vec::new();
+        for n in doc.nodes() {
+            let matrix = match n.transform() {
+                gltf::scene::Transform::Matrix { matrix } => Some(matrix.map(|c| c.map(|x| x as f64))),
+                _ => None,
+            };
+            let (t, r, s) = n.transform().decomposed();
+            nodes.push(NodeData {
+                name: n.name().map(str::to_string),
+                matrix,
+                translation: t.map(|x| x as f64),
+                rotation: r.map(|x| x as f64),
+                scale: s.map(|x| x as f64),
+                mesh: n.mesh().map(|m| m.index()),
+                weights: n.weights().map(<[f32]>::to_vec),
+                light: n.light().map(|l| l.index()),
+                animated: false,
+            });
+        }
+
+        // Lights.
+        let mut lights = Vec::new();
+        if let Some(ls) = doc.lights() {
+            for l in ls {
+                let c = l.color();
+                let i = l.intensity();
+                lights.push(LightDef {
+                    name: l.name().map(str::to_string).unwrap_or_else(|| format!("light {}", l.index())),
+                    kind: match l.kind() {
+                        LightKind::Directional => LightType::Directional,
+                        LightKind::Point => LightType::Point,
+                        LightKind::Spot { .. } => LightType::Spot,
+                    },
+                    rgb: [c[0] * i, c[1] * i, c[2] * i],
+                });
+            }
+        }
+
+        // Animations.
+        let mut channels = Vec::new();
+        let mut duration: Option<f64> = None;
+        for a in doc.animations() {
+            let aname = a.name().map(|s| format!("\"{s}\"")).unwrap_or_else(|| format!("#{}", a.index()));
+            for ch in a.channels() {
+                let ctx = format!("animation {aname} channel {}:", ch.index());
+                // The target is read from the JSON: the `gltf` crate does
+                // not validate it and would panic on a bad node index.
+                let target = doc
+                    .as_json()
+                    .animations
+                    .get(a.index())
+                    .and_then(|aj| aj.channels.get(ch.index()))
+                    .map(|c| &c.target);
+                let Some(target) = target else { continue };
+                let node = target.node.value();
+                if node >= n_nodes {
+                    return Err(Error::invalid(
+                        path,
+                        format!("{ctx} targets node {node}, but the file has {n_nodes} nodes"),
+                    ));
+                }
+                let property = match target.path {
+                    gltf::json::validation::Checked::Valid(p) => p,
+                    gltf::json::validation::Checked::Invalid => {
+                        return Err(Error::invalid(path, format!("{ctx} targets an unknown property")))
+                    }
+                };
+                let sampler = ch.sampler();
+                let interpolation = sampler.interpolation();
+                let times: Vec<f32> = rd
+                    .floats::<1>(&sampler.input(), &format!("{ctx} input"), usize::MAX)?
+                    .into_iter()
+                    .map(|x| x[0])
+                    .collect();
+                if times.is_empty() {
+                    return Err(Error::invalid(
+                        path,
+                        format!("{ctx} input accessor {} has no key times", sampler.input().index()),
+                    ));
+                }
+                if let Some(k) = times.windows(2).position(|w| w[1] < w[0]) {
+                    return Err(Error::invalid(
+                        path,
+                        format!(
+                            "{ctx} input accessor {}: key times go backwards at key {}",
+                            sampler.input().index(),
+                            k + 1
+                        ),
+                    ));
+                }
+                let out = sampler.output();
+                let (vals, comps) = rd
+                    .buffers
+                    .read(&out, usize::MAX)
+                    .map_err(|e| Error::invalid(path, format!("{ctx} output accessor {} {e}", out.index())))?;
+                if let Some(i) = vals.iter().position(|v| !v.is_finite()) {
+                    return Err(Error::invalid(
+                        path,
+                        format!("{ctx} output accessor {} holds {} at value {i}", out.index(), vals[i]),
+                    ));
+                }
+                let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 } * times.len();
+                let width = match property {
+                    Property::Translation | Property::Scale => 3,
+                    Property::Rotation => 4,
+                    Property::MorphTargetWeights => {
+                        if comps != 1 {
+                            0
+                        } else {
+                            vals.len() / per_key
+                        }
+                    }
+                };
+                if width == 0
+                    || vals.len() != per_key * width
+                    || (property != Property::MorphTargetWeights && comps != width)
+                {
+                    return Err(Error::invalid(
+                        path,
+                        format!(
+                            "{ctx} output accessor {} holds {} numbers, which does not fit {} keys of this property",
+                            out.index(),
+                            vals.len(),
+                            times.len()
+                        ),
+                    ));
+                }
+                if let Some(nd) = nodes.get_mut(node) {
+                    if property != Property::MorphTargetWeights {
+                        nd.animated = true;
+                    }
+                }
+                let last = *times.last().unwrap_or(&0.0) as f64;
+                duration = Some(duration.map_or(last, |d| d.max(last)));
+                channels.push(Channel {
+                    node,
+                    property,
+                    interpolation,
+                    times,
+                    values: vals.into_iter().map(|v| v as f32).collect(),
+                    width,
+                });
+            }
+        }
+
+        Ok(GltfSource { textures: rd.textures, materials, meshes, nodes, order, channels, lights, duration, warnings })
+    }
+
+    pub(crate) fn animation_duration_s(&self) -> Option<f64> {
+        self.duration
+    }
+
+    pub(crate) fn scene_at(&self, path: &Path, time_s: f64) -> Result<Scene> {
+        let file = file_name(path);
+        let n = self.nodes.len();
+        // Local transforms and morph weights at this time.
+        let mut trs_now: Vec<([f64; 3], [f64; 4], [f64; 3])> =
+            self.nodes.iter().map(|nd| (nd.translation, nd.rotation, nd.scale)).collect();
+        let mut weights: Vec<Option<Vec<f32>>> = vec![None; n];
+        for ch in &self.channels {
+            if ch.node >= n {
+                continue;
+            }
+            let v = ch.sample(time_s);
+            match ch.property {
+                Property::Translation => trs_now[ch.node].0 = [v[0], v[1], v[2]].map(|x| x as f64),
+                Property::Scale => trs_now[ch.node].2 = [v[0], v[1], v[2]].map(|x| x as f64),
+                Property::Rotation => trs_now[ch.node].1 = [v[0], v[1], v[2], v[3]].map(|x| x as f64),
+                Property::MorphTargetWeights => weights[ch.node] = Some(v),
+            }
+        }
+        let mut world = vec![IDENTITY; n];
+        for &(i, parent) in &self.order {
+            let nd = &self.nodes[i];
+            let local = match (&nd.matrix, nd.animated) {
+                (Some(m), false) => *m,
+                _ => trs(trs_now[i].0, trs_now[i].1, trs_now[i].2),
+            };
+            world[i] = match parent {
+                Some(p) => mat_mul(&world[p], &local),
+                None => local,
+            };
+        }
+
+        let mut scene = Scene {
+            source: file.clone(),
+            textures: self.textures.clone(),
+            warnings: self.warnings.clone(),
+            ..Scene::default()
+        };
+        for &(i, _) in &self.order {
+            let nd = &self.nodes[i];
+            let m = &world[i];
+            if let Some(l) = nd.light.and_then(|l| self.lights.get(l)) {
+                let pos = [m[3][0], m[3][1], m[3][2]];
+                match l.kind {
+                    LightType::Directional => {
+                        let d = normalize3([-m[2][0], -m[2][1], -m[2][2]]).unwrap_or([0.0, 0.0, -1.0]);
+                        scene.lights.push(Light::Directional { direction: d, irradiance: l.rgb, name: l.name.clone() });
+                    }
+                    LightType::Point => {
+                        scene.lights.push(Light::Point { position: pos, intensity: l.rgb, name: l.name.clone() })
+                    }
+                    LightType::Spot => {
+                        scene.warnings.push(format!(
+                            "{file}: light \"{}\" is a spot light; it is treated as a point light (no cone)",
+                            l.name
+                        ));
+                        scene.lights.push(Light::Point { position: pos, intensity: l.rgb, name: l.name.clone() })
+                    }
+                }
+            }
+            let Some(mesh) = nd.mesh.and_then(|k| self.meshes.get(k)) else { continue };
+            let w: Vec<f32> = weights[i].clone().or_else(|| nd.weights.clone()).unwrap_or_else(|| mesh.weights.clone());
+            for (pi, prim) in mesh.prims.iter().enumerate() {
+                let base = nd.name.clone().or_else(|| mesh.name.clone()).unwrap_or_else(|| format!("#{i}"));
+                let name = if mesh.prims.len() > 1 { format!("{base} primitive {pi}") } else { base };
+                if let Some(why) = &prim.skip {
+                    scene.warnings.push(format!(
+                        "{file}: object \"{name}\" (mesh {} primitive {pi}) is skipped: {why}",
+                        mesh.label
+                    ));
+                    continue;
+                }
+                let material = prim.material.and_then(|k| self.materials.get(k)).cloned().unwrap_or_default();
+                scene.objects.push(pose(prim, m, &w, name, material, &file, &mut scene.warnings));
+            }
+        }
+        finish_scene(path, &mut scene)?;
+        Ok(scene)
+    }
+}
+
+/// Parse and validate a `.gltf` or `.glb`.
+///
+/// The `gltf` crate's own validation indexes the accessor list with a
+/// primitive's POSITION index before checking it, so that index is checked
+/// here first. Missing POSITION `min`/`max` (required by the spec, left out
+/// by some exporters, and not needed here) is tolerated. As a last guard,
+/// a panic inside the crate becomes an error.
+fn parse(bytes: &[u8]) -> Result<gltf::Gltf, String> {
+    use gltf::json::validation::{Checked, Validate};
+    let run = || -> Result<gltf::Gltf, String> {
+        let g = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| e.to_string())?;
+        let root = g.document.as_json();
+        for (mi, m) in root.meshes.iter().enumerate() {
+            for (pi, p) in m.primitives.iter().enumerate() {
+                for (sem, acc) in &p.attributes {
+                    if acc.value() >= root.accessors.len() {
+                        let name = match sem {
+                            Checked::Valid(s) => s.to_string(),
+                            Checked::Invalid => "an attribute".into(),
+                        };
+                        return Err(format!(
+                            "mesh {mi} primitive {pi}: {name} uses accessor {}, but the file has {} accessors",
+                            acc.value(),
+                            root.accessors.len()
+                        ));
+                    }
+                }
+            }
+        }
+        let mut errors = Vec::new();
+        root.validate(root, gltf::json::Path::new, &mut |path: &dyn Fn() -> gltf::json::Path, e| {
+            let p = path().as_str().to_string();
+            let min_max = p.ends_with(".min") || p.ends_with(".max");
+            if !(min_max && matches!(e, gltf::json::validation::Error::Missing)) {
+                errors.push(format!("{p}: {e}"));
+            }
+        });
+        if !errors.is_empty() {
+            let more = if errors.len() > 5 { format!(" (and {} more)", errors.len() - 5) } else { String::new() };
+            return Err(format!("{}{more}", errors[..errors.len().min(5)].join("; ")));
+        }
+        Ok(g)
+    };
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(run))
+        .unwrap_or_else(|_| Err("the glTF parser failed on this file (it is malformed)".into()))
+}
+
+fn mesh_label(m: &gltf::Mesh) -> String {
+    m.name().map(|s| format!("\"{s}\"")).unwrap_or_else(|| format!("#{}", m.index()))
+}
+
+/// Read one primitive in the mesh's own space, checking everything.
+fn read_primitive(
+    rd: &mut Reader,
+    p: &gltf::Primitive,
+    ctx: &str,
+    max_vertices: usize,
+    materials: &[Material],
+    warnings: &mut Vec<String>,
+) -> Result<Prim> {
+    let file = file_name(rd.path);
+    let mode = p.mode();
+    let material = p.material().index();
+    if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        return Ok(Prim { skip: Some(format!("its mode is {}, not triangles", mode_name(mode))), ..Prim::default() });
+    }
+    let Some(pos_acc) = p.get(&Semantic::Positions) else {
+        return Ok(Prim { skip: Some("it has no POSITION attribute".into()), ..Prim::default() });
+    };
+    let positions = rd.floats::<3>(&pos_acc, &format!("{ctx} POSITION"), max_vertices)?;
+    let nv = positions.len();
+    let per_vertex = |what: &str, acc: &gltf::Accessor, len: usize| -> Result<()> {
+        if len != nv {
+            return Err(
+                rd.err(format!("{ctx} {what} accessor {} holds {len} elements, but POSITION holds {nv}", acc.index()))
+            );
+        }
+        Ok(())
+    };
+    let indices: Vec<u32> = match p.indices() {
+        Some(acc) => {
+            let (v, comps) = rd
+                .buffers
+                .read(&acc, max_vertices.saturating_mul(2))
+                .map_err(|e| rd.err(format!("{ctx} index accessor {} {e}", acc.index())))?;
+            if comps != 1 || acc.data_type() == DataType::F32 {
+                return Err(
+                    rd.err(format!("{ctx} index accessor {} is not a scalar of unsigned integers", acc.index()))
+                );
+            }
+            let mut out = Vec::with_capacity(v.len());
+            for (k, &x) in v.iter().enumerate() {
+                if x < 0.0 || x >= nv as f64 {
+                    return Err(rd.err(format!(
+                        "{ctx} index accessor {} holds index {x} at position {k}, but POSITION holds {nv} vertices",
+                        acc.index()
+                    )));
+                }
+                out.push(x as u32);
+            }
+            out
+        }
+        None => (0..nv as u32).collect(),
+    };
+    let mut triangles = Vec::new();
+    match mode {
+        Mode::Triangles => {
+            triangles.extend(indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
+        }
+        Mode::TriangleStrip => {
+            for i in 0..indices.len().saturating_sub(2) {
+                let t = if i % 2 == 0 {
+                    [indices[i], indices[i + 1], indices[i + 2]]
+                } else {
+                    [indices[i + 1], indices[i], indices[i + 2]]
+                };
+                triangles.push(t);
+            }
+        }
+        _ => {
+            for i in 1..indices.len().saturating_sub(1) {
+                triangles.push([indices[i], indices[i + 1], indices[0]]);
+            }
+        }
+    }
+    let mut prim = Prim { material, positions, triangles, ..Prim::default() };
+    if let Some(acc) = p.get(&Semantic::Normals) {
+        prim.normals = rd.floats::<3>(&acc, &format!("{ctx} NORMAL"), max_vertices)?;
+        per_vertex("NORMAL", &acc, prim.normals.len())?;
+    }
+    if let Some(acc) = p.get(&Semantic::Tangents) {
+        prim.tangents = rd.floats::<4>(&acc, &format!("{ctx} TANGENT"), max_vertices)?;
+        per_vertex("TANGENT", &acc, prim.tangents.len())?;
+    }
+    let mut set = 0u32;
+    while let Some(acc) = p.get(&Semantic::TexCoords(set)) {
+        let uv = rd.floats::<2>(&acc, &format!("{ctx} TEXCOORD_{set}"), max_vertices)?;
+        per_vertex(&format!("TEXCOORD_{set}"), &acc, uv.len())?;
+        prim.uv_sets.push(uv);
+        set += 1;
+    }
+    if let Some(acc) = p.get(&Semantic::Colors(0)) {
+        let c = match acc.dimensions() {
+            Dimensions::Vec3 => rd
+                .floats::<3>(&acc, &format!("{ctx} COLOR_0"), max_vertices)?
+                .into_iter()
+                .map(|c| [c[0], c[1], c[2], 1.0])
+                .collect(),
+            _ => rd.floats::<4>(&acc, &format!("{ctx} COLOR_0"), max_vertices)?,
+        };
+        per_vertex("COLOR_0", &acc, c.len())?;
+        prim.colours = c;
+    }
+    for (ti, t) in p.morph_targets().enumerate() {
+        let mut mt = MorphTarget::default();
+        if let Some(acc) = t.positions() {
+            mt.positions = rd.floats::<3>(&acc, &format!("{ctx} morph target {ti} POSITION"), max_vertices)?;
+            per_vertex(&format!("morph target {ti} POSITION"), &acc, mt.positions.len())?;
+        }
+        if let Some(acc) = t.normals() {
+            mt.normals = rd.floats::<3>(&acc, &format!("{ctx} morph target {ti} NORMAL"), max_vertices)?;
+            per_vertex(&format!("morph target {ti} NORMAL"), &acc, mt.normals.len())?;
+        }
+        if let Some(acc) = t.tangents() {
+            mt.tangents = rd.floats::<3>(&acc, &format!("{ctx} morph target {ti} TANGENT"), max_vertices)?;
+            per_vertex(&format!("morph target {ti} TANGENT"), &acc, mt.tangents.len())?;
+        }
+        prim.targets.push(mt);
+    }
+    // Tangents for a normal map, when the file has none.
+    if let Some(nt) = material.and_then(|k| materials.get(k)).and_then(|m| m.normal_texture.as_ref()) {
+        if prim.tangents.is_empty() {
+            let file = &file;
+            match (prim.normals.is_empty(), prim.uv_sets.get(nt.uv_set)) {
+                (true, _) => warnings.push(format!(
+                    "{file}: {ctx} the material has a normal map but the primitive has no normals; the normal map is not used"
+                )),
+                (false, None) => warnings.push(format!(
+                    "{file}: {ctx} the normal map uses TEXCOORD_{} which the primitive lacks; the normal map is not used",
+                    nt.uv_set
+                )),
+                (false, Some(uv)) => {
+                    let pos: Vec<[f64; 3]> = prim.positions.iter().map(|p| p.map(|x| x as f64)).collect();
+                    prim.tangents = generate_tangents(&pos, &prim.normals, uv, &prim.triangles);
+                }
+            }
+        }
+    }
+    Ok(prim)
+}
+
+/// A primitive morphed by `w` and moved to world space by `m`.
+fn pose(
+    prim: &Prim,
+    m: &Mat4,
+    w: &[f32],
+    name: String,
+    material: Material,
+    file: &str,
+    warnings: &mut Vec<String>,
+) -> Object {
+    let flip = det3(m) < 0.0;
+    let nm = normal_matrix(m);
+    let active: Vec<(f32, &MorphTarget)> = prim
+        .targets
+        .iter()
+        .zip(w.iter().copied().chain(std::iter::repeat(0.0)))
+        .filter(|(_, wt)| *wt != 0.0)
+        .map(|(t, wt)| (wt, t))
+        .collect();
+    let positions = prim
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let mut q = p.map(|x| x as f64);
+            for (wt, t) in &active {
+                if let Some(d) = t.positions.get(i) {
+                    for k in 0..3 {
+                        q[k] += *wt as f64 * d[k] as f64;
+                    }
+                }
+            }
+            [0, 1, 2].map(|r| m[0][r] * q[0] + m[1][r] * q[1] + m[2][r] * q[2] + m[3][r])
+        })
+        .collect();
+    let mut ok = true;
+    let normals: Vec<[f32; 3]> = prim
+        .normals
+        .iter()
+        .enumerate()
+        .map(|(i, nrm)| {
+            let mut q = nrm.map(|x| x as f64);
+            for (wt, t) in &active {
+                if let Some(d) = t.normals.get(i) {
+                    for k in 0..3 {
+                        q[k] += *wt as f64 * d[k] as f64;
+                    }
+                }
+            }
+            let v = [0, 1, 2].map(|r| nm[r][0] * q[0] + nm[r][1] * q[1] + nm[r][2] * q[2]);
+            match normalize3(v) {
+                Some(u) => u.map(|x| x as f32),
+                None => {
+                    ok = false;
+                    [0.0, 0.0, 1.0]
+                }
+            }
+        })
+        .collect();
+    let normals = if ok {
+        normals
+    } else {
+        warnings.push(format!("{file}: object \"{name}\": some normals are zero; the object is shaded flat"));
+        Vec::new()
+    };
+    let mut tok = true;
+    let tangents: Vec<[f32; 4]> = prim
+        .tangents
+        .iter()
+        .enumerate()
+        .map(|(i, t4)| {
+            let mut q = [t4[0], t4[1], t4[2]].map(|x| x as f64);
+            for (wt, t) in &active {
+                if let Some(d) = t.tangents.get(i) {
+                    for k in 0..3 {
+                        q[k] += *wt as f64 * d[k] as f64;
+                    }
+                }
+            }
+            let v = [0, 1, 2].map(|r| m[0][r] * q[0] + m[1][r] * q[1] + m[2][r] * q[2]);
+            let s = if flip { -1.0 } else { 1.0 };
+            let wsign = if t4[3] < 0.0 { -s } else { s };
+            match normalize3(v) {
+                Some(u) => [u[0] as f32, u[1] as f32, u[2] as f32, wsign],
+                None => {
+                    tok = false;
+                    [1.0, 0.0, 0.0, 1.0]
+                }
+            }
+        })
+        .collect();
+    let tangents = if tok && !normals.is_empty() {
+        tangents
+    } else {
+        if !prim.tangents.is_empty() {
+            warnings.push(format!("{file}: object \"{name}\": tangents unusable; its normal map is not used"));
+        }
+        Vec::new()
+    };
+    let triangles =
+        if flip { prim.triangles.iter().map(|t| [t[0], t[2], t[1]]).collect() } else { prim.triangles.clone() };
+    Object {
+        name,
+        positions,
+        normals,
+        tangents,
+        uv_sets: prim.uv_sets.clone(),
+        colours: prim.colours.clone(),
+        triangles,
+        material,
+    }
+}
+
+impl Channel {
+    /// The property's value at `t` (clamped to the key times).
+    fn sample(&self, t: f64) -> Vec<f32> {
+        let w = self.width;
+        let cubic = self.interpolation == Interpolation::CubicSpline;
+        let key = |k: usize, part: usize| -> &[f32] {
+            let e = if cubic { 3 * k + part } else { k };
+            &self.values[e * w..(e + 1) * w]
+        };
+        let n = self.times.len();
+        let mid = usize::from(cubic);
+        let t = t as f32;
+        if n == 1 || t <= self.times[0] {
+            return key(0, mid).to_vec();
+        }
+        if t >= self.times[n - 1] {
+            return key(n - 1, mid).to_vec();
+        }
+        let k = self.times.partition_point(|&x| x <= t).saturating_sub(1).min(n - 2);
+        let (t0, t1) = (self.times[k], self.times[k + 1]);
+        let dt = t1 - t0;
+        let s = if dt > 0.0 { (t - t0) / dt } else { 0.0 };
+        let rotation = self.property == Property::Rotation;
+        let mut v: Vec<f32> = match self.interpolation {
+            Interpolation::Step => key(k, 0).to_vec(),
+            Interpolation::Linear => {
+                let (a, b) = (key(k, 0), key(k + 1, 0));
+                if rotation {
+                    return slerp(a, b, s);
+                }
+                a.iter().zip(b).map(|(x, y)| x + (y - x) * s).collect()
+            }
+            Interpolation::CubicSpline => {
+                let (v0, b0) = (key(k, 1), key(k, 2));
+                let (a1, v1) = (key(k + 1, 0), key(k + 1, 1));
+                let (s2, s3) = (s * s, s * s * s);
+                let h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
+                let h10 = s3 - 2.0 * s2 + s;
+                let h01 = -2.0 * s3 + 3.0 * s2;
+                let h11 = s3 - s2;
+                (0..w).map(|c| h00 * v0[c] + h10 * dt * b0[c] + h01 * v1[c] + h11 * dt * a1[c]).collect()
+            }
+        };
+        if rotation {
+            let l = v.iter().map(|x| x * x).sum::<f32>().sqrt();
+            if l > 0.0 {
+                v.iter_mut().for_each(|x| *x /= l);
+            }
+        }
+        v
+    }
+}
+
+fn slerp(a: &[f32], b: &[f32], s: f32) -> Vec<f32> {
+    let mut d: f32 = a.iter().zip(b).map(|(x, y)| x * y).sum();
+    let mut b: Vec<f32> = b.to_vec();
+    if d < 0.0 {
+        d = -d;
+        b.iter_mut().for_each(|x| *x = -*x);
+    }
+    let (wa, wb) = if d > 0.9995 {
+        (1.0 - s, s)
+    } else {
+        let th = d.min(1.0).acos();
+        let st = th.sin();
+        (((1.0 - s) * th).sin() / st, (s * th).sin() / st)
+    };
+    let mut v: Vec<f32> = a.iter().zip(&b).map(|(x, y)| wa * x + wb * y).collect();
+    let l = v.iter().map(|x| x * x).sum::<f32>().sqrt();
+    if l > 0.0 {
+        v.iter_mut().for_each(|x| *x /= l);
+    }
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn channel(
+        interpolation: Interpolation,
+        property: Property,
+        times: &[f32],
+        values: &[f32],
+        width: usize,
+    ) -> Channel {
+        Channel { node: 0, property, interpolation, times: times.to_vec(), values: values.to_vec(), width }
+    }
+
+    #[test]
+    fn step_linear_and_clamping() {
+        let c = channel(Interpolation::Linear, Property::Translation, &[1.0, 3.0], &[0.0, 0.0, 0.0, 2.0, 4.0, 6.0], 3);
+        assert_eq!(c.sample(0.0), vec![0.0, 0.0, 0.0]);
+        assert_eq!(c.sample(2.0), vec![1.0, 2.0, 3.0]);
+        assert_eq!(c.sample(9.0), vec![2.0, 4.0, 6.0]);
+        let s = channel(Interpolation::Step, Property::Translation, &[1.0, 3.0], &[0.0, 0.0, 0.0, 2.0, 4.0, 6.0], 3);
+        assert_eq!(s.sample(2.9), vec![0.0, 0.0, 0.0]);
+        assert_eq!(s.sample(3.0), vec![2.0, 4.0, 6.0]);
+    }
+
+    #[test]
+    fn cubic_spline_is_hermite() {
+        // One weight; keys (in, value, out): at t=0 value 0 out-tangent 0, at t=2 value 1 in-tangent 0.
+        let c = channel(
+            Interpolation::CubicSpline,
+            Property::MorphTargetWeights,
+            &[0.0, 2.0],
+            &[9.0, 0.0, 0.0, 0.0, 1.0, 9.0],
+            1,
+        );
+        assert_eq!(c.sample(0.0), vec![0.0]);
+        assert!((c.sample(1.0)[0] - 0.5).abs() < 1e-6);
+        assert_eq!(c.sample(2.0), vec![1.0]);
+        // Smoothstep at s = 0.25: 3s² − 2s³.
+        assert!((c.sample(0.5)[0] - 0.15625).abs() < 1e-6);
+    }
+
+    #[test]
+    fn rotation_slerps_and_stays_unit() {
+        let h = std::f32::consts::FRAC_1_SQRT_2;
+        let c =
+            channel(Interpolation::Linear, Property::Rotation, &[0.0, 1.0], &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, h, h], 4);
+        let q = c.sample(0.5);
+        let want = (std::f32::consts::PI / 8.0).sin_cos();
+        assert!((q[2] - want.0).abs() < 1e-5 && (q[3] - want.1).abs() < 1e-5, "{q:?}");
+    }
+
+    #[test]
+    fn mirrored_matrix_normals() {
+        let m = trs([0.0; 3], [0.0, 0.0, 0.0, 1.0], [-1.0, 2.0, 1.0]);
+        assert!(det3(&m) < 0.0);
+        let n = normal_matrix(&m);
+        // Inverse transpose of diag(−1, 2, 1) is diag(−1, 0.5, 1), up to a positive factor.
+        assert!(n[0][0] < 0.0 && n[1][1] > 0.0 && n[2][2] > 0.0);
+        assert!((n[0][0] / n[2][2] + 1.0).abs() < 1e-12 && (n[1][1] / n[2][2] - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn base64_and_percent() {
+        assert_eq!(base64("aGVsbG8=").unwrap(), b"hello");
+        assert_eq!(percent_decode("a%20b%zz%"), "a b%zz%");
+    }
+}
