@@ -6,9 +6,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use crate::format::{FileInfo, HoloFile, WriteOptions};
+use crate::format::{FileInfo, HoloFile};
 use crate::layout;
-use crate::pattern::{Pattern, PatternKind};
 use crate::Result;
 
 /// `holo info`: the headers plus, when asked, the value range of every frame.
@@ -145,7 +144,15 @@ impl fmt::Display for Info {
 /// What `holo demo` made.
 #[derive(Clone, Debug, Serialize)]
 pub struct Demo {
-    /// The pattern file written.
+    /// The bundled scene, written out so it can be looked at and converted again.
+    pub scene: PathBuf,
+    /// Triangles in it.
+    pub triangles: usize,
+    /// Where the scene was placed.
+    pub placement: String,
+    /// Seconds spent rendering it into modulation.
+    pub convert_seconds: f64,
+    /// The `.holo` file written.
     pub holo_file: PathBuf,
     /// Its `info`.
     pub info: Info,
@@ -159,25 +166,40 @@ pub struct Demo {
     pub assemble_seconds: f64,
 }
 
-/// The main job on built-in defaults: a Mark III colour-bar pattern written
-/// to `dir/demo.holo`, assembled into Mark III fringes in `dir/fringes`,
-/// and reconstructed by scalar diffraction into what viewers at three
-/// positions see (`dir/view-*.png`). An earlier demo's files are replaced.
+/// The bundled scene: Spot the cow (Keenan Crane, public domain), decimated
+/// to 500 triangles, with its texture (fixtures/SOURCES.md).
+const DEMO_SCENE: [(&str, &[u8]); 3] = [
+    ("spot.obj", include_bytes!("../fixtures/mesh/spot/spot.obj")),
+    ("spot.mtl", include_bytes!("../fixtures/mesh/spot/spot.mtl")),
+    ("spot_texture.png", include_bytes!("../fixtures/mesh/spot/spot_texture.png")),
+];
+
+/// The main job on built-in defaults: the bundled textured mesh rendered for
+/// every Mark III emitter and view into `dir/demo.holo`, assembled into
+/// Mark III fringes in `dir/fringes`, and reconstructed by scalar diffraction
+/// into what viewers at three positions see (`dir/view-*.png`). An earlier
+/// demo's files are replaced.
 pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
     use crate::assemble::output::{assemble_file, AssembleOptions, FringeFormat};
+    use crate::mesh::convert::{convert_mesh, ConvertOptions};
     use crate::reconstruct::files::{view_file, EyeAt};
     let dir = dir.as_ref();
-    std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
+    let scene_dir = dir.join("spot");
+    std::fs::create_dir_all(&scene_dir).map_err(|e| crate::Error::io(&scene_dir, e))?;
+    for (name, bytes) in DEMO_SCENE {
+        let path = scene_dir.join(name);
+        std::fs::write(&path, bytes).map_err(|e| crate::Error::io(&path, e))?;
+    }
+    let scene = scene_dir.join("spot.obj");
     let layout = layout::mark3();
-    let pattern = Pattern::new(PatternKind::ColourBars);
-    let m = pattern.render(&layout.geometry)?;
     let holo_file = dir.join("demo.holo");
-    let options = WriteOptions {
-        source: format!("{} layout=mark3", pattern.describe()),
-        overwrite: true,
-        ..WriteOptions::default()
-    };
-    crate::format::write(&holo_file, &m, &options)?;
+    let mut options = ConvertOptions::default();
+    options.write.overwrite = true;
+    // Turn the cow to show its side and face.
+    options.placement.rotate_deg = [0.0, -60.0, 0.0];
+    let started = std::time::Instant::now();
+    let converted = convert_mesh(&scene, &layout.geometry, &holo_file, &options, &|_, _, _| {})?;
+    let convert_seconds = started.elapsed().as_secs_f64();
     let info = info(&holo_file, true)?;
     let fringes = dir.join("fringes");
     let started = std::time::Instant::now();
@@ -199,13 +221,32 @@ pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
         picture.write_png(&path, 1.0, true)?;
         views.push((*x, path));
     }
-    Ok(Demo { holo_file, info, fringes, fringe_files: assembled.files, views, assemble_seconds })
+    Ok(Demo {
+        scene,
+        triangles: converted.triangles,
+        placement: converted.placed.to_string(),
+        convert_seconds,
+        holo_file,
+        info,
+        fringes,
+        fringe_files: assembled.files,
+        views,
+        assemble_seconds,
+    })
 }
 
 impl fmt::Display for Demo {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.info)?;
-        writeln!(f, "\nThe demo wrote a Mark III colour-bar pattern to {},", self.holo_file.display())?;
+        writeln!(
+            f,
+            "\nThe demo rendered {} ({} triangles) for every Mark III emitter and view in {:.2} s\n  ({}),\ninto {},",
+            self.scene.display(),
+            self.triangles,
+            self.convert_seconds,
+            self.placement,
+            self.holo_file.display()
+        )?;
         writeln!(
             f,
             "assembled it into Mark III fringes in {:.2} s ({}),",

@@ -107,6 +107,9 @@ enum Command {
         #[command(flatten)]
         write: WriteArgs,
     },
+    /// Convert content into a .holo file.
+    #[command(subcommand)]
+    Convert(ConvertCommand),
     /// Assemble hologram fringes: one image per head (or colour layer) per
     /// frame, laid out as the layout's frame buffer expects.
     Assemble {
@@ -204,6 +207,57 @@ enum Command {
     },
 }
 
+#[derive(Subcommand)]
+enum ConvertCommand {
+    /// Render a glTF (.gltf/.glb), OBJ or PLY scene for every emitter and
+    /// view of a layout (animated glTF: one frame per 1/fps).
+    Mesh {
+        /// The scene file.
+        scene: PathBuf,
+        /// Display layout: a built-in name or a .toml/.json profile.
+        #[arg(long, default_value = "mark3")]
+        layout: String,
+        /// Frames to convert (animated glTF): N, A..B or A..=B; default all.
+        #[arg(long, value_parser = parse_frames)]
+        frames: Option<std::ops::Range<usize>>,
+        /// Frames per second at which animations are sampled.
+        #[arg(long, default_value_t = 30.0)]
+        fps: f64,
+        /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN.
+        #[arg(long, default_value = "2x2", value_parser = parse_supersample)]
+        supersample: holo::mesh::render::Supersample,
+        /// Specular lobe: blinn (N·H)^n or phong (R·V)^n.
+        #[arg(long, default_value = "blinn", value_parser = parse_specular)]
+        specular: holo::mesh::shade::SpecularModel,
+        /// A light (repeatable): dir:DX,DY,DZ[:R,G,B], point:X,Y,Z[:R,G,B] (mm) or ambient:R,G,B.
+        #[arg(long)]
+        light: Vec<String>,
+        /// A file of lights, one per line in --light's form.
+        #[arg(long)]
+        lights: Option<PathBuf>,
+        /// Ignore the scene's own lights (glTF KHR_lights_punctual).
+        #[arg(long)]
+        no_scene_lights: bool,
+        /// Rotation before fitting, degrees about x, y, z: RX,RY,RZ.
+        #[arg(long, value_parser = parse_triple)]
+        rotate: Option<[f64; 3]>,
+        /// Display millimetres per scene unit, instead of fitting the scene to the display.
+        #[arg(long)]
+        scale: Option<f64>,
+        /// Offset after centring, millimetres: X,Y,Z.
+        #[arg(long, value_parser = parse_triple)]
+        translate: Option<[f64; 3]>,
+        /// A row-major 4x4 matrix (16 numbers, scene units to display metres) instead of fitting.
+        #[arg(long, value_parser = parse_matrix)]
+        matrix: Option<[[f64; 4]; 4]>,
+        /// Render with the reference ray caster (slow; for checking).
+        #[arg(long)]
+        reference: bool,
+        #[command(flatten)]
+        write: WriteArgs,
+    },
+}
+
 #[derive(Args)]
 struct WriteArgs {
     /// Output .holo file.
@@ -256,6 +310,53 @@ fn parse_eye(s: &str) -> Result<(f64, f64), String> {
         Some((x, y)) => Ok((number(x).ok_or_else(bad)?, number(y).ok_or_else(bad)?)),
         None => Ok((number(s).ok_or_else(bad)?, 0.0)),
     }
+}
+
+fn parse_supersample(s: &str) -> Result<holo::mesh::render::Supersample, String> {
+    let n = |t: &str| t.trim().parse::<usize>().ok().filter(|&n| (1..=64).contains(&n));
+    let bad = || format!("--supersample {s:?} is not N or EXV with factors 1 to 64");
+    let (e, v) = match s.split_once(['x', 'X']) {
+        Some((a, b)) => (n(a).ok_or_else(bad)?, n(b).ok_or_else(bad)?),
+        None => {
+            let k = n(s).ok_or_else(bad)?;
+            (k, k)
+        }
+    };
+    Ok(holo::mesh::render::Supersample { emitter: e, view: v })
+}
+
+fn parse_specular(s: &str) -> Result<holo::mesh::shade::SpecularModel, String> {
+    match s {
+        "blinn" => Ok(holo::mesh::shade::SpecularModel::Blinn),
+        "phong" => Ok(holo::mesh::shade::SpecularModel::Phong),
+        _ => Err(format!("--specular {s:?}: choose blinn or phong")),
+    }
+}
+
+fn parse_numbers(s: &str, n: usize) -> Result<Vec<f64>, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+        .collect::<Option<_>>()
+        .ok_or_else(|| format!("{s:?} is not {n} comma-separated numbers"))?;
+    if v.len() != n {
+        return Err(format!("{s:?} has {} numbers, not {n}", v.len()));
+    }
+    Ok(v)
+}
+
+fn parse_triple(s: &str) -> Result<[f64; 3], String> {
+    let v = parse_numbers(s, 3)?;
+    Ok([v[0], v[1], v[2]])
+}
+
+fn parse_matrix(s: &str) -> Result<[[f64; 4]; 4], String> {
+    let v = parse_numbers(s, 16)?;
+    let mut m = [[0.0; 4]; 4];
+    for (i, x) in v.into_iter().enumerate() {
+        m[i / 4][i % 4] = x;
+    }
+    Ok(m)
 }
 
 fn parse_fringe_format(s: &str) -> Result<FringeFormat, String> {
@@ -435,6 +536,95 @@ fn run(cli: Cli) -> Outcome {
             } else {
                 print!("{}", layout.to_toml());
             }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Convert(ConvertCommand::Mesh {
+            scene,
+            layout,
+            frames,
+            fps,
+            supersample,
+            specular,
+            light,
+            lights,
+            no_scene_lights,
+            rotate,
+            scale,
+            translate,
+            matrix,
+            reference,
+            write,
+        }) => {
+            use holo::mesh::convert::{convert_mesh, ConvertOptions};
+            use holo::mesh::place::{display_volume, Placement};
+            use holo::mesh::render::{Engine, RenderOptions};
+            let g = layout_geometry(&layout)?;
+            let (lo, hi) = display_volume(&g);
+            let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), g.emitter_z_m];
+            let mut user_lights = Vec::new();
+            if let Some(path) = &lights {
+                user_lights.extend(holo::mesh::shade::read_lights(path, centre).map_err(|e| e.to_string())?);
+            }
+            for spec in &light {
+                user_lights.push(holo::mesh::shade::parse_light(spec, centre)?);
+            }
+            if let Some(s) = scale {
+                if !(s.is_finite() && s > 0.0) {
+                    return Err(format!("--scale {s}: give a positive number of millimetres per scene unit"));
+                }
+            }
+            let options = ConvertOptions {
+                placement: Placement {
+                    rotate_deg: rotate.unwrap_or([0.0; 3]),
+                    scale: scale.map(|s| s * 1e-3),
+                    translate_m: translate.map_or([0.0; 3], |t| [t[0] * 1e-3, t[1] * 1e-3, t[2] * 1e-3]),
+                    matrix,
+                },
+                render: RenderOptions {
+                    supersample,
+                    lighting: holo::mesh::shade::Lighting { lights: vec![], model: specular },
+                    engine: if reference { Engine::Reference } else { Engine::Fast },
+                },
+                user_lights,
+                use_scene_lights: !no_scene_lights,
+                frames,
+                fps,
+                write: WriteOptions {
+                    sample_type: if write.f32 { SampleType::F32 } else { SampleType::F16 },
+                    compression: write.compression,
+                    overwrite: write.force,
+                    ..WriteOptions::default()
+                },
+            };
+            let bar = indicatif::ProgressBar::new(0).with_style(
+                indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} hololines, {eta} left")
+                    .expect("a valid template"),
+            );
+            let started = std::time::Instant::now();
+            let report = convert_mesh(&scene, &g, &write.output, &options, &|frame, done, total| {
+                bar.set_message(format!("frame {frame}"));
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            })
+            .map_err(|e| e.to_string())?;
+            bar.finish_and_clear();
+            for w in &report.warnings {
+                eprintln!("holo: warning: {w}");
+            }
+            for w in &report.written.warnings {
+                eprintln!("holo: warning: {}: {w}", report.path.display());
+            }
+            println!(
+                "converted {} ({} triangles in {} objects) into {} frame(s) of {} in {:.2} s",
+                scene.display(),
+                report.triangles,
+                report.objects,
+                report.frames.len(),
+                report.path.display(),
+                started.elapsed().as_secs_f64()
+            );
+            println!("{}", report.placed);
+            println!("{} light(s); {} segments rasterised, {} sub-rays shaded", report.lights.len(), report.stats.segments, report.stats.shaded);
             Ok(ExitCode::SUCCESS)
         }
         Command::Demo { out } => {

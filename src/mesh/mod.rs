@@ -10,6 +10,7 @@
 //! viewer, hologram at `z = 0`). Colours are linear: loaders decode sRGB.
 
 pub mod bvh;
+pub mod convert;
 pub mod epi;
 mod fastshade;
 pub mod load;
