@@ -69,5 +69,5 @@ fn reconstructed_views_match_a_direct_render_mark1() {
 
 #[test]
 fn reconstructed_views_match_a_direct_render_mark3() {
-    end_to_end(&holo::layout::mark3(), 0.25);
+    end_to_end(&holo::layout::mark3(), 0.12);
 }

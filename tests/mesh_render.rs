@@ -232,3 +232,71 @@ fn bad_scenes_are_errors_naming_the_object() {
     let options = RenderOptions { supersample: Supersample { emitter: 0, view: 1 }, ..RenderOptions::default() };
     assert!(render(&random_scene(&mut rng, 9), &g, &options, &|_, _| {}).is_err());
 }
+
+/// The layouts' own emitter and view geometry, on a band of `rows`
+/// hololines through the middle (the reference is slow).
+fn band(layout: &holo::layout::Layout, rows: usize) -> Geometry {
+    let mut g = layout.geometry.clone();
+    let mid = g.hololines / 2;
+    g.hololine_top_y_m = g.hololine_y_m(mid.saturating_sub(rows / 2));
+    g.hololines = rows;
+    g
+}
+
+fn shared_data() -> Option<std::path::PathBuf> {
+    let dir = std::env::var("HOLO_SHARED_DATA")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|_| std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data")));
+    dir.is_dir().then_some(dir)
+}
+
+#[test]
+fn fast_equals_reference_on_real_models_at_several_layouts() {
+    use holo::mesh::load::SceneSource;
+    use holo::mesh::place::{place, Placement};
+    let mut models = vec![std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/mesh/spot/spot.obj"))];
+    match shared_data() {
+        Some(d) => {
+            models.push(d.join("gltf_khronos_BoxTextured/glTF-Binary/BoxTextured.glb"));
+            models.push(d.join("mesh_utah_teapot/teapot.obj"));
+            models.push(d.join("gltf_khronos_ClearCoatTest_normalmaps/glTF/ClearCoatTest.gltf"));
+        }
+        None => println!("SKIPPED (partly): ../shared/data not present; only the bundled spot model ran"),
+    }
+    let layouts = [holo::layout::mark3(), holo::layout::mark1(), holo::layout::mark4()];
+    for path in &models {
+        let found = if path.exists() {
+            path.clone()
+        } else {
+            // Find the model by extension in its folder (names differ between samples).
+            let dir = path.parent().unwrap();
+            let ext = path.extension().unwrap().to_owned();
+            match std::fs::read_dir(dir).ok().and_then(|r| r.flatten().map(|e| e.path()).find(|p| p.extension() == Some(&ext))) {
+                Some(p) => p,
+                None => panic!("no {:?} model in {}", ext, dir.display()),
+            }
+        };
+        let source = SceneSource::open(&found).unwrap();
+        for (li, layout) in layouts.iter().enumerate() {
+            // Mark IV is large: fewer hololines there.
+            let g = band(layout, if li == 2 { 2 } else { 6 });
+            let mut scene = source.scene_at(0.0).unwrap();
+            let placement = Placement { rotate_deg: [10.0, 30.0 * li as f64, 0.0], ..Placement::default() };
+            // Fit to the whole layout, then render the band.
+            place(&mut scene, &layout.geometry, &placement).unwrap();
+            let options = RenderOptions { supersample: Supersample { emitter: 1, view: 1 }, lighting: lighting(SpecularModel::Blinn), engine: Engine::Fast };
+            let (fast, reference, stats) = both(&scene, &g, &options);
+            let (off, mean) = compare(&fast, &reference);
+            println!(
+                "{} on {}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean ({} segments)",
+                found.file_name().unwrap().to_string_lossy(),
+                layout.name,
+                off * 100.0,
+                mean,
+                stats.segments
+            );
+            assert!(reference.samples().iter().any(|&v| v > 0.0), "the band sees the model");
+            assert!(off < 0.005 && mean < 0.005, "{} on {}", found.display(), layout.name);
+        }
+    }
+}
