@@ -131,7 +131,7 @@ impl Bvh {
             }
             for tri in &self.triangles[node.start as usize..(node.start + node.count) as usize] {
                 if let Some((t, b1, b2)) = intersect(tri, origin, dir) {
-                    if t > t_min && best.is_none_or(|b| t < b.t) {
+                    if t > t_min && best.map_or(true, |b| t < b.t) {
                         let n = cross(sub(tri.p[1], tri.p[0]), sub(tri.p[2], tri.p[0]));
                         if accept(tri, n) {
                             best = Some(RayHit { t, object: tri.object, triangle: tri.triangle, b1, b2 });
@@ -145,11 +145,7 @@ impl Bvh {
 }
 
 fn centroid(t: &Triangle) -> [f64; 3] {
-    let mut c = [0.0; 3];
-    for k in 0..3 {
-        c[k] = (t.p[0][k] + t.p[1][k] + t.p[2][k]) / 3.0;
-    }
-    c
+    std::array::from_fn(|k| (t.p[0][k] + t.p[1][k] + t.p[2][k]) / 3.0)
 }
 
 fn slab(n: &Node, o: [f64; 3], inv: [f64; 3], t_min: f64, t_max: f64) -> bool {
