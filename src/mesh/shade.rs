@@ -423,7 +423,7 @@ mod tests {
         for view in [[0.0, 0.0, 1.0], normalize([0.5, 0.1, 1.0])] {
             let r = radiance(&s, &l, &hit, view);
             for c in r {
-                assert!((c - 1.0).abs() < 1e-12, "{r:?}");
+                assert!((c - 1.0).abs() < 1e-6, "{r:?}"); // E is π rounded to f32
             }
         }
     }
