@@ -258,7 +258,7 @@ impl HololineRenderer for EpiRenderer<'_> {
                     // Sub-emitters with lo ≤ x < hi.
                     let i0 = ((lo - x_first) / dx).ceil().max(0.0);
                     let i1 = ((hi - x_first) / dx).ceil().min(n_sub as f64);
-                    if !(i0 < i1) {
+                    if i0 >= i1 || i0.is_nan() || i1.is_nan() {
                         continue;
                     }
                     let (i0, i1) = (i0 as usize, i1 as usize);

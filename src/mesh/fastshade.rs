@@ -3,6 +3,7 @@
 //! looked up per hit. Along one hololine's segment every attribute is affine
 //! in the segment parameter, so this is exact up to f32 rounding; the tests
 //! compare the two renderers, which holds the two shaders together.
+#![allow(clippy::needless_range_loop)] // RGB loops read best with the index
 
 use super::shade::{sample, Lighting, SpecularModel};
 use super::{Light, Material, Object, Scene, TextureRef};
@@ -157,6 +158,7 @@ impl Attrs {
 /// normal `face` (already facing the viewer), seen along unit `view`.
 /// `flip`: the point is on a back face (double-sided), so the vertex normal flips.
 #[inline]
+#[allow(clippy::too_many_arguments)] // the per-pixel inputs, kept apart so nothing is recomputed
 pub(crate) fn radiance(
     scene: &Scene,
     lights: &FastLights,
