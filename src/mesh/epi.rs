@@ -42,6 +42,8 @@ struct Segment {
     /// The object has vertex normals / tangents.
     has_normals: bool,
     has_tangents: bool,
+    /// The interpolated vertex normal never nears zero ([`fastshade::normals_nonzero`]).
+    normals_nonzero: bool,
     /// `(X, Z)` of the ends.
     a: [f64; 2],
     b: [f64; 2],
@@ -213,6 +215,7 @@ impl<'a> EpiRenderer<'a> {
                 a: [pa[0], pa[2]],
                 b: [pb[0], pb[2]],
                 attrs_delta: attrs_a.delta(&attrs_b),
+                normals_nonzero: fastshade::normals_nonzero(&attrs_a, &attrs_a.delta(&attrs_b)),
                 attrs_a,
                 face: [face[0] as f32, face[1] as f32, face[2] as f32],
                 nx,
@@ -392,6 +395,7 @@ impl EpiRenderer<'_> {
                             flip: !front,
                             has_normals: seg.has_normals,
                             has_tangents: seg.has_tangents,
+                            normals_nonzero: seg.normals_nonzero,
                         };
                         let [ar, ag, ab] = &mut acc;
                         let acc = [&mut ar[i..end], &mut ag[i..end], &mut ab[i..end]];

@@ -235,6 +235,8 @@ pub(crate) struct Run<'a> {
     pub flip: bool,
     pub has_normals: bool,
     pub has_tangents: bool,
+    /// [`normals_nonzero`] of the segment.
+    pub normals_nonzero: bool,
 }
 
 /// Shade a run: for each segment parameter in `params` (clamped to
@@ -430,19 +432,20 @@ impl Run<'_> {
             && m.emissive_texture.is_none()
             && (m.normal_texture.is_none() || !self.has_tangents)
             && lights.point.is_empty()
-            && (!self.has_normals || self.normals_nonzero())
+            && (!self.has_normals || self.normals_nonzero)
     }
 
-    /// The interpolated vertex normal stays well away from zero along the
-    /// segment (so the batch need not fall back to the face normal):
-    /// `min over t ∈ [0, 1] of |a + t·d|²` against a floor.
-    fn normals_nonzero(&self) -> bool {
-        let (a, d) = (self.a.normal, self.delta.normal);
-        let (aa, ad, dd) = (dot(a, a), dot(a, d), dot(d, d));
-        let t = if dd > 0.0 { (-ad / dd).clamp(0.0, 1.0) } else { 0.0 };
-        let min = aa + t * (2.0 * ad + t * dd);
-        min > 1e-12 && (aa + 2.0 * ad + dd) <= 1e30 && aa <= 1e30
-    }
+}
+
+/// The interpolated vertex normal `a + t·d` stays well away from zero (and
+/// finite) for `t ∈ [0, 1]`, so the batch need not fall back to the face
+/// normal: `min over t of |a + t·d|²` against a floor.
+pub(crate) fn normals_nonzero(a: &Attrs, d: &Attrs) -> bool {
+    let (a, d) = (a.normal, d.normal);
+    let (aa, ad, dd) = (dot(a, a), dot(a, d), dot(d, d));
+    let t = if dd > 0.0 { (-ad / dd).clamp(0.0, 1.0) } else { 0.0 };
+    let min = aa + t * (2.0 * ad + t * dd);
+    min > 1e-12 && (aa + 2.0 * ad + dd) <= 1e30 && aa <= 1e30
 }
 
 /// One view column's pixels in structure-of-arrays form, for the
