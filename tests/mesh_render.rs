@@ -300,3 +300,51 @@ fn fast_equals_reference_on_real_models_at_several_layouts() {
         }
     }
 }
+
+/// Directional lights only (no point lights, no textures): the rasteriser
+/// shades whole view columns through its vectorised batch, here with smooth
+/// vertex normals and with flat faces, both lobes, several supersamplings.
+#[test]
+fn fast_equals_reference_with_directional_lights_and_vertex_normals() {
+    for (seed, z_e, model, ss, smooth) in [
+        (4, 0.0, SpecularModel::Blinn, Supersample { emitter: 1, view: 1 }, true),
+        (5, 0.01, SpecularModel::Phong, Supersample { emitter: 2, view: 3 }, true),
+        (6, -0.02, SpecularModel::Blinn, Supersample { emitter: 3, view: 1 }, false),
+    ] {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut scene = random_scene(&mut rng, 60);
+        if smooth {
+            for o in &mut scene.objects {
+                // Each vertex normal: the face normal tilted at random (up to ~35°).
+                let mut normals = vec![[0.0f32; 3]; o.positions.len()];
+                for t in &o.triangles {
+                    let p = t.map(|i| o.positions[i as usize]);
+                    let (a, b) = ([0, 1, 2].map(|k| p[1][k] - p[0][k]), [0, 1, 2].map(|k| p[2][k] - p[0][k]));
+                    let n = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+                    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+                    for &i in t {
+                        let v = [0, 1, 2].map(|k| n[k] / l + rng.gen_range(-0.4..0.4));
+                        let lv = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                        normals[i as usize] = v.map(|x| (x / lv) as f32);
+                    }
+                }
+                o.normals = normals;
+            }
+        }
+        let g = small_geometry(z_e);
+        let lights = Lighting {
+            lights: vec![
+                Light::Directional { direction: [0.3, -0.5, -1.0], irradiance: [2.0, 2.0, 2.0], name: "key".into() },
+                Light::Directional { direction: [-0.6, 0.2, -0.5], irradiance: [0.5, 0.7, 0.9], name: "fill".into() },
+                Light::Ambient { radiance: [0.05; 3] },
+            ],
+            model,
+        };
+        let options = RenderOptions { supersample: ss, lighting: lights, engine: Engine::Fast };
+        let (fast, reference, stats) = both(&scene, &g, &options);
+        let (off, mean) = compare(&fast, &reference);
+        println!("seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}", off * 100.0, mean);
+        assert!(reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10, "scene covers the display");
+        assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
+    }
+}

@@ -228,26 +228,34 @@ fn run(
     let (h, e, v, c) = (geometry.hololines, geometry.emitters, geometry.views.count, geometry.channels.len());
     let per_line = c * e * v;
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let lines: Vec<(Vec<f32>, RenderStats)> = (0..h)
-        .into_par_iter()
-        .map(|j| {
-            let mut out = vec![0.0f32; per_line];
-            let stats = engine.render_hololine(j, &mut out);
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            progress(n, h);
-            (out, stats)
-        })
-        .collect();
     let mut m = Modulation::zeros(geometry.clone())?;
-    let mut stats = RenderStats::default();
-    let samples = m.samples_mut();
-    for (j, (line, s)) in lines.into_iter().enumerate() {
-        stats += s;
-        for ch in 0..c {
-            let at = (ch * h + j) * e * v;
-            samples[at..at + e * v].copy_from_slice(&line[ch * e * v..(ch + 1) * e * v]);
-        }
+    // Each hololine's rows, one per channel: the samples are (C, H, E × V).
+    let mut rows: Vec<Vec<&mut [f32]>> = (0..h).map(|_| Vec::with_capacity(c)).collect();
+    for (i, row) in m.samples_mut().chunks_exact_mut(e * v).enumerate() {
+        rows[i % h].push(row);
     }
+    // One line buffer per worker, reused, and copied straight into the frame
+    // (not a buffer per hololine, all alive at once, copied afterwards).
+    let stats = rows
+        .into_par_iter()
+        .enumerate()
+        .map_init(
+            || vec![0.0f32; per_line],
+            |line, (j, rows)| {
+                line.fill(0.0);
+                let stats = engine.render_hololine(j, line);
+                for (ch, row) in rows.into_iter().enumerate() {
+                    row.copy_from_slice(&line[ch * e * v..(ch + 1) * e * v]);
+                }
+                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                progress(n, h);
+                stats
+            },
+        )
+        .reduce(RenderStats::default, |mut a, b| {
+            a += b;
+            a
+        });
     Ok((m, stats))
 }
 

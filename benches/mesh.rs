@@ -1,0 +1,228 @@
+//! Mesh rendering speed: Mark III frames (440 hololines × 336 emitters ×
+//! 96 views) of a ~500-triangle and a ~37k-triangle model with the fast EPI
+//! rasteriser, the reference ray caster in the same run on a band of
+//! hololines (its time scaled up to a frame, labelled so), and a table of
+//! supersampling factor against run time and error.
+//! `cargo bench --bench mesh` (`-- --test`: one quick pass, as CI runs it).
+//!
+//! The models are built here ([`model`]); when the loaders land, `model`
+//! is the one place to switch to the real spot / ClearCoatTest files.
+
+use std::time::Instant;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use holo::geometry::Geometry;
+use holo::mesh::place::{place, Placement};
+use holo::mesh::render::{render, Engine, RenderOptions, Supersample};
+use holo::mesh::{Material, Object, Scene};
+use holo::Modulation;
+
+/// The two test models.
+#[derive(Clone, Copy, Debug)]
+enum Model {
+    /// A ~500-triangle closed smooth sphere with a vertex-colour pattern.
+    Small,
+    /// A ~37k-triangle bumpy torus with vertex colours and a sharper highlight.
+    Large,
+}
+
+impl Model {
+    fn label(self) -> &'static str {
+        match self {
+            Model::Small => "500",
+            Model::Large => "37k",
+        }
+    }
+}
+
+/// The model, fitted to `g`.
+fn model(which: Model, g: &Geometry) -> Scene {
+    let object = match which {
+        // 16 × 16 × 2 = 512 triangles.
+        Model::Small => surface(16, 16, 30.0, |u, v| {
+            let (th, ph) = (std::f64::consts::PI * v, 2.0 * std::f64::consts::PI * u);
+            [th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()]
+        }),
+        // 192 × 96 × 2 = 36 864 triangles.
+        Model::Large => surface(192, 96, 80.0, |u, v| {
+            let (a, b) = (2.0 * std::f64::consts::PI * u, 2.0 * std::f64::consts::PI * v);
+            let r = 0.35 * (1.0 + 0.12 * (7.0 * a).sin() * (5.0 * b).cos());
+            let ring = 1.0 + r * b.cos();
+            [ring * a.cos(), r * b.sin(), ring * a.sin()]
+        }),
+    };
+    let mut scene = Scene { source: format!("procedural {which:?}"), objects: vec![object], ..Scene::default() };
+    place(&mut scene, g, &Placement::default()).expect("placement");
+    scene
+}
+
+/// A closed parametric surface over `[0, 1)²` (`nu × nv` quads, wrapping in
+/// `u`; in `v` it wraps too unless the ends are poles), with smooth normals
+/// averaged from the faces and a colour pattern.
+fn surface(nu: usize, nv: usize, shininess: f32, f: impl Fn(f64, f64) -> [f64; 3]) -> Object {
+    let mut o = Object {
+        name: "procedural".into(),
+        material: Material { base_colour: [1.0; 4], specular: [0.3; 3], shininess, ..Material::default() },
+        ..Object::default()
+    };
+    for j in 0..nv {
+        for i in 0..nu {
+            let (u, v) = (i as f64 / nu as f64, j as f64 / nv as f64);
+            o.positions.push(f(u, v));
+            let c = 0.5 + 0.4 * (12.0 * u).sin() as f32 * (9.0 * v).cos() as f32;
+            o.colours.push([c, 0.6 * (1.0 - c) + 0.2, 0.3 + 0.5 * v as f32, 1.0]);
+        }
+    }
+    let at = |i: usize, j: usize| ((j % nv) * nu + i % nu) as u32;
+    for j in 0..nv {
+        for i in 0..nu {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            o.triangles.push([a, d, b]);
+            o.triangles.push([b, d, c]);
+        }
+    }
+    // Smooth normals: area-weighted face normals, summed per vertex.
+    let mut n = vec![[0.0f64; 3]; o.positions.len()];
+    for t in &o.triangles {
+        let p = t.map(|i| o.positions[i as usize]);
+        let (e1, e2) = ([0, 1, 2].map(|k| p[1][k] - p[0][k]), [0, 1, 2].map(|k| p[2][k] - p[0][k]));
+        let c = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
+        for &i in t {
+            for k in 0..3 {
+                n[i as usize][k] += c[k];
+            }
+        }
+    }
+    o.normals = n
+        .iter()
+        .map(|v| {
+            let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-30);
+            [(v[0] / l) as f32, (v[1] / l) as f32, (v[2] / l) as f32]
+        })
+        .collect();
+    // Make the front faces face outward: flip every triangle if most normals point in.
+    let centre: Vec<f64> = (0..3).map(|k| o.positions.iter().map(|p| p[k]).sum::<f64>() / o.positions.len() as f64).collect();
+    let inward = o
+        .positions
+        .iter()
+        .zip(&o.normals)
+        .filter(|(p, nn)| (0..3).map(|k| (p[k] - centre[k]) * nn[k] as f64).sum::<f64>() < 0.0)
+        .count();
+    if inward * 2 > o.positions.len() {
+        for t in &mut o.triangles {
+            t.swap(1, 2);
+        }
+        for nn in &mut o.normals {
+            *nn = nn.map(|x| -x);
+        }
+    }
+    o
+}
+
+/// `band` hololines from the middle of `g`.
+fn band(g: &Geometry, hololines: usize) -> Geometry {
+    let first = (g.hololines - hololines) / 2;
+    Geometry { hololines, hololine_top_y_m: g.hololine_y_m(first), ..g.clone() }
+}
+
+fn options(ss: usize, engine: Engine) -> RenderOptions {
+    RenderOptions { supersample: Supersample { emitter: ss, view: ss }, engine, ..RenderOptions::default() }
+}
+
+fn frame(scene: &Scene, g: &Geometry, o: &RenderOptions) -> Modulation {
+    render(scene, g, o, &|_, _| {}).expect("render").0
+}
+
+/// The fastest of `runs` renders, seconds.
+fn time(runs: usize, mut f: impl FnMut()) -> f64 {
+    (0..runs)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// (mean |a − b| / mean b, fraction of samples off by > 1% of b's peak), as in tests/mesh_render.rs.
+fn error(a: &Modulation, b: &Modulation) -> (f64, f64) {
+    let peak = b.samples().iter().fold(0.0f32, |x, &y| x.max(y)) as f64;
+    let mean = b.samples().iter().map(|&v| v as f64).sum::<f64>() / b.samples().len() as f64;
+    let (mut sum, mut off) = (0.0, 0usize);
+    for (x, y) in a.samples().iter().zip(b.samples()) {
+        let d = (*x as f64 - *y as f64).abs();
+        sum += d;
+        off += (d > 0.01 * peak) as usize;
+    }
+    let n = a.samples().len() as f64;
+    (sum / n / mean.max(1e-30), off as f64 / n)
+}
+
+/// The tables: fast against reference, and supersampling, printed as markdown.
+fn tables(quick: bool) {
+    let g = holo::layout::mark3().geometry;
+    let runs = if quick { 1 } else { 3 };
+    const BAND: usize = 8;
+    let scale = g.hololines as f64 / BAND as f64;
+    let b = band(&g, BAND);
+    println!("\n## Mark III ({} × {} × {} views), fast path against the reference ray caster", g.hololines, g.emitters, g.views.count);
+    println!("Reference: a band of {BAND} central hololines, its time × {scale:.0} = per frame. Best of {runs}; {} threads.\n", rayon::current_num_threads());
+    println!("| model | triangles | ss | fast s/frame | fast frames/s | reference s/frame (band × {scale:.0}) | fast/reference speed-up | fast vs reference on the band: mean abs diff / mean, samples off >1% of peak |");
+    println!("|---|---|---|---|---|---|---|---|");
+    for which in [Model::Small, Model::Large] {
+        let scene = model(which, &g);
+        for ss in [1, 2] {
+            let fast = time(runs, || drop(frame(&scene, &g, &options(ss, Engine::Fast))));
+            let mut reference_band = None;
+            let reference = time(runs, || reference_band = Some(frame(&scene, &b, &options(ss, Engine::Reference)))) * scale;
+            let (mean, off) = error(&frame(&scene, &b, &options(ss, Engine::Fast)), &reference_band.unwrap());
+            println!(
+                "| {} | {} | {ss}×{ss} | {fast:.3} | {:.1} | {reference:.2} | {:.0}× | {mean:.1e}, {:.3}% |",
+                which.label(),
+                scene.triangle_count(),
+                1.0 / fast,
+                reference / fast,
+                off * 100.0
+            );
+        }
+    }
+    // Supersampling: error against the fast path at 8 × 8 on the band
+    // (the fast path equals the reference within the tests' bounds, and 8 × 8
+    // of the reference would take minutes).
+    let which = Model::Large;
+    let scene = model(which, &g);
+    let truth = frame(&scene, &b, &options(8, Engine::Fast));
+    println!("\n## Supersampling (emitter × view), {}-triangle model, fast path", scene.triangle_count());
+    println!("Time: full Mark III frames, best of {runs}. Error: against the fast path at 8×8 on the band of {BAND} central hololines.\n");
+    println!("| ss | s/frame | frames/s | mean abs error / mean | samples off >1% of peak |");
+    println!("|---|---|---|---|---|");
+    for ss in [1, 2, 3, 4] {
+        let o = options(ss, Engine::Fast);
+        let t = time(runs, || drop(frame(&scene, &g, &o)));
+        let (mean, off) = error(&frame(&scene, &b, &o), &truth);
+        println!("| {ss}×{ss} | {t:.3} | {:.1} | {mean:.2e} | {:.2}% |", 1.0 / t, off * 100.0);
+    }
+    println!();
+}
+
+fn bench(c: &mut Criterion) {
+    let quick = std::env::args().any(|a| a == "--test");
+    tables(quick);
+    let g = holo::layout::mark3().geometry;
+    for which in [Model::Small, Model::Large] {
+        let scene = model(which, &g);
+        let mut group = c.benchmark_group(format!("mark3_mesh_{}", which.label()));
+        group.sample_size(10).measurement_time(std::time::Duration::from_secs(10));
+        group.throughput(Throughput::Elements(1));
+        for ss in [1, 2] {
+            group.bench_function(format!("fast_frame_ss{ss}"), |bch| bch.iter(|| frame(&scene, &g, &options(ss, Engine::Fast))));
+        }
+        // Not a frame: 8 hololines of 440 (so its "elements/s" are bands, ×55 for frames).
+        let b = band(&g, 8);
+        group.bench_function("reference_band_of_8_hololines_ss1", |bch| bch.iter(|| frame(&scene, &b, &options(1, Engine::Reference))));
+        group.finish();
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
