@@ -5,8 +5,10 @@
 //! supersampling factor against run time and error.
 //! `cargo bench --bench mesh` (`-- --test`: one quick pass, as CI runs it).
 //!
-//! The models are built here ([`model`]); when the loaders land, `model`
-//! is the one place to switch to the real spot / ClearCoatTest files.
+//! The models: the bundled 500-triangle textured Spot, the 37k-triangle
+//! ClearCoatTest from `../shared/data` (skipped, and said so, without it),
+//! and two procedural stand-ins without textures that take the vectorised
+//! shading path ([`model`]).
 
 use std::time::Instant;
 
@@ -20,6 +22,10 @@ use holo::Modulation;
 /// The two test models.
 #[derive(Clone, Copy, Debug)]
 enum Model {
+    /// fixtures/mesh/spot: 500 triangles, textured, flat-shaded.
+    Spot,
+    /// Khronos ClearCoatTest: ~37k triangles, normal maps, several materials.
+    ClearCoat,
     /// A ~500-triangle closed smooth sphere with a vertex-colour pattern.
     Small,
     /// A ~37k-triangle bumpy torus with vertex colours and a sharper highlight.
@@ -29,15 +35,32 @@ enum Model {
 impl Model {
     fn label(self) -> &'static str {
         match self {
-            Model::Small => "500",
-            Model::Large => "37k",
+            Model::Spot => "spot",
+            Model::ClearCoat => "clearcoat",
+            Model::Small => "sphere500",
+            Model::Large => "torus37k",
         }
     }
 }
 
-/// The model, fitted to `g`.
-fn model(which: Model, g: &Geometry) -> Scene {
+/// The model, fitted to `g`; `None` (with a note) when its file is absent.
+fn model(which: Model, g: &Geometry) -> Option<Scene> {
+    let file = |path: std::path::PathBuf| -> Option<Scene> {
+        if !path.exists() {
+            println!("SKIPPED {which:?}: {} not present", path.display());
+            return None;
+        }
+        let mut scene = holo::mesh::load::SceneSource::open(&path).and_then(|s| s.scene_at(0.0)).expect("load");
+        place(&mut scene, g, &Placement::default()).expect("placement");
+        Some(scene)
+    };
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let object = match which {
+        Model::Spot => return file(root.join("fixtures/mesh/spot/spot.obj")),
+        Model::ClearCoat => {
+            let shared = std::env::var("HOLO_SHARED_DATA").map(std::path::PathBuf::from).unwrap_or_else(|_| root.join("../shared/data"));
+            return file(shared.join("gltf_khronos_ClearCoatTest_normalmaps/glTF/ClearCoatTest.gltf"));
+        }
         // 16 × 16 × 2 = 512 triangles.
         Model::Small => surface(16, 16, 30.0, |u, v| {
             let (th, ph) = (std::f64::consts::PI * v, 2.0 * std::f64::consts::PI * u);
@@ -53,7 +76,7 @@ fn model(which: Model, g: &Geometry) -> Scene {
     };
     let mut scene = Scene { source: format!("procedural {which:?}"), objects: vec![object], ..Scene::default() };
     place(&mut scene, g, &Placement::default()).expect("placement");
-    scene
+    Some(scene)
 }
 
 /// A closed parametric surface over `[0, 1)²` (`nu × nv` quads, wrapping in
@@ -169,8 +192,8 @@ fn tables(quick: bool) {
     println!("Reference: a band of {BAND} central hololines, its time × {scale:.0} = per frame. Best of {runs}; {} threads.\n", rayon::current_num_threads());
     println!("| model | triangles | ss | fast s/frame | fast frames/s | reference s/frame (band × {scale:.0}) | fast/reference speed-up | fast vs reference on the band: mean abs diff / mean, samples off >1% of peak |");
     println!("|---|---|---|---|---|---|---|---|");
-    for which in [Model::Small, Model::Large] {
-        let scene = model(which, &g);
+    for which in [Model::Spot, Model::ClearCoat, Model::Small, Model::Large] {
+        let Some(scene) = model(which, &g) else { continue };
         for ss in [1, 2] {
             let fast = time(runs, || drop(frame(&scene, &g, &options(ss, Engine::Fast))));
             let mut reference_band = None;
@@ -189,8 +212,7 @@ fn tables(quick: bool) {
     // Supersampling: error against the fast path at 8 × 8 on the band
     // (the fast path equals the reference within the tests' bounds, and 8 × 8
     // of the reference would take minutes).
-    let which = Model::Large;
-    let scene = model(which, &g);
+    let scene = model(Model::ClearCoat, &g).or_else(|| model(Model::Large, &g)).expect("a procedural model");
     let truth = frame(&scene, &b, &options(8, Engine::Fast));
     println!("\n## Supersampling (emitter × view), {}-triangle model, fast path", scene.triangle_count());
     println!("Time: full Mark III frames, best of {runs}. Error: against the fast path at 8×8 on the band of {BAND} central hololines.\n");
@@ -209,8 +231,8 @@ fn bench(c: &mut Criterion) {
     let quick = std::env::args().any(|a| a == "--test");
     tables(quick);
     let g = holo::layout::mark3().geometry;
-    for which in [Model::Small, Model::Large] {
-        let scene = model(which, &g);
+    for which in [Model::Spot, Model::ClearCoat] {
+        let Some(scene) = model(which, &g) else { continue };
         let mut group = c.benchmark_group(format!("mark3_mesh_{}", which.label()));
         group.sample_size(10).measurement_time(std::time::Duration::from_secs(10));
         group.throughput(Throughput::Elements(1));

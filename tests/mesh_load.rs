@@ -6,13 +6,8 @@ use std::path::{Path, PathBuf};
 use holo::mesh::load::{LoadLimits, SceneSource};
 use holo::mesh::Scene;
 
-/// The shared test data folder (`$HOLO_SHARED_DATA`, else `../shared/data`).
-fn shared_data() -> Option<PathBuf> {
-    let d = std::env::var("HOLO_SHARED_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|_| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data")));
-    d.is_dir().then_some(d)
-}
+mod common;
+use common::shared_data;
 
 /// The shared test data folder, or `None` (after saying so) when absent.
 fn data_dir() -> Option<PathBuf> {

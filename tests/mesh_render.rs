@@ -7,6 +7,9 @@ use holo::mesh::render::{render, Engine, RenderOptions, RenderStats, Supersample
 use holo::mesh::shade::{Lighting, SpecularModel};
 use holo::mesh::{Light, Material, Object, Scene};
 use holo::Modulation;
+
+mod common;
+use common::shared_data;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -241,13 +244,6 @@ fn band(layout: &holo::layout::Layout, rows: usize) -> Geometry {
     g.hololine_top_y_m = g.hololine_y_m(mid.saturating_sub(rows / 2));
     g.hololines = rows;
     g
-}
-
-fn shared_data() -> Option<std::path::PathBuf> {
-    let dir = std::env::var("HOLO_SHARED_DATA")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|_| std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data")));
-    dir.is_dir().then_some(dir)
 }
 
 #[test]

@@ -208,14 +208,15 @@ impl<'a> EpiRenderer<'a> {
             let face = normalize_or(t.normal, [0.0, 0.0, 1.0]);
             let attrs_a = Attrs::at(o, t.triangle as usize, wa, face);
             let attrs_b = Attrs::at(o, t.triangle as usize, wb, face);
+            let attrs_delta = attrs_a.delta(&attrs_b);
             out.push(Segment {
                 object: t.object,
                 has_normals: !o.normals.is_empty(),
                 has_tangents: !o.tangents.is_empty(),
                 a: [pa[0], pa[2]],
                 b: [pb[0], pb[2]],
-                attrs_delta: attrs_a.delta(&attrs_b),
-                normals_nonzero: fastshade::normals_nonzero(&attrs_a, &attrs_a.delta(&attrs_b)),
+                normals_nonzero: fastshade::normals_nonzero(&attrs_a, &attrs_delta),
+                attrs_delta,
                 attrs_a,
                 face: [face[0] as f32, face[1] as f32, face[2] as f32],
                 nx,
