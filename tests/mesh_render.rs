@@ -344,3 +344,70 @@ fn fast_equals_reference_with_directional_lights_and_vertex_normals() {
         assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
     }
 }
+
+/// Random textures on random scenes with directional lights: base-colour
+/// textures go through the vectorised batch (lookups located column-wide),
+/// an emissive texture and a transformed texture through the per-pixel
+/// shader, both kinds of segment in one hololine. Texture coordinates run
+/// past [0, 1] so every wrap mode is used.
+#[test]
+fn fast_equals_reference_with_textures_in_and_out_of_the_batch() {
+    use holo::mesh::{Texture, TextureRef, UvTransform, Wrap};
+    for (seed, model, ss) in [
+        (7, SpecularModel::Blinn, Supersample { emitter: 1, view: 1 }),
+        (8, SpecularModel::Phong, Supersample { emitter: 2, view: 2 }),
+    ] {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut scene = random_scene(&mut rng, 90);
+        let wraps = [[Wrap::Repeat, Wrap::MirroredRepeat], [Wrap::ClampToEdge, Wrap::Repeat], [Wrap::MirroredRepeat; 2]];
+        for (k, wrap) in wraps.into_iter().enumerate() {
+            let (width, height) = [(37, 23), (64, 64), (5, 3)][k];
+            let texels = (0..width * height).map(|_| [rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), 1.0]).collect();
+            scene.textures.push(Texture { name: format!("random {k}"), width, height, texels, wrap });
+        }
+        for (k, o) in scene.objects.iter_mut().enumerate() {
+            o.uv_sets = vec![(0..o.positions.len()).map(|_| [rng.gen_range(-0.3..1.3), rng.gen_range(-0.3..1.3)]).collect()];
+            let plain = TextureRef { texture: k, uv_set: 0, transform: UvTransform::default() };
+            match k {
+                0 => o.material.base_colour_texture = Some(plain),
+                1 => {
+                    o.material.base_colour_texture = Some(plain.clone());
+                    o.material.emissive = [0.3, 0.2, 0.1];
+                    o.material.emissive_texture = Some(plain);
+                }
+                _ => {
+                    let transform = UvTransform { offset: [0.1, -0.2], rotation_rad: 0.3, scale: [1.5, 0.8] };
+                    o.material.base_colour_texture = Some(TextureRef { transform, ..plain });
+                }
+            }
+        }
+        let g = small_geometry(0.005);
+        let lights = Lighting {
+            lights: vec![
+                Light::Directional { direction: [0.3, -0.5, -1.0], irradiance: [2.0, 2.0, 2.0], name: "key".into() },
+                Light::Ambient { radiance: [0.05; 3] },
+            ],
+            model,
+        };
+        let options = RenderOptions { supersample: ss, lighting: lights, engine: Engine::Fast };
+        let (fast, reference, stats) = both(&scene, &g, &options);
+        let (off, mean) = compare(&fast, &reference);
+        println!("seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}", off * 100.0, mean);
+        assert!(reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10, "scene covers the display");
+        assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
+    }
+}
+
+/// `render_into` overwrites every sample of the frame it is given.
+#[test]
+fn render_into_a_used_frame_equals_a_fresh_render() {
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let scene = random_scene(&mut rng, 30);
+    let g = small_geometry(0.0);
+    let options = RenderOptions { lighting: lighting(SpecularModel::Blinn), ..RenderOptions::default() };
+    let (fresh, _) = render(&scene, &g, &options, &|_, _| {}).unwrap();
+    let mut used = Modulation::zeros(g.clone()).unwrap();
+    used.samples_mut().iter_mut().enumerate().for_each(|(i, v)| *v = (i % 7) as f32 + 0.5);
+    holo::mesh::render::render_into(&scene, &options, &|_, _| {}, &mut used).unwrap();
+    assert_eq!(fresh.samples(), used.samples());
+}

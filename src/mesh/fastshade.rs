@@ -5,7 +5,7 @@
 //! compare the two renderers, which holds the two shaders together.
 
 use super::shade::{sample, Lighting, SpecularModel};
-use super::{Light, Material, Object, Scene, TextureRef};
+use super::{Light, Material, Object, Scene, Texture, TextureRef};
 
 /// A material in the form the per-pixel loop wants.
 pub(crate) struct FastMaterial {
@@ -84,6 +84,12 @@ impl FastLights {
     /// The CPU has AVX2 and FMA.
     pub(crate) fn avx2(&self) -> bool {
         self.avx2
+    }
+
+    /// Take the portable (SSE2) loops even where AVX2 is there.
+    #[cfg(test)]
+    pub(crate) fn portable(&mut self) {
+        self.avx2 = false;
     }
 
     pub(crate) fn new(l: &Lighting) -> Self {
@@ -287,7 +293,7 @@ pub(crate) fn shade_run(
             if len2 > 0.0 && len2.is_finite() {
                 let tangent = scale(tangent, 1.0 / len2.sqrt());
                 let bitangent = scale(cross(normal, tangent), if w < 0.0 { -1.0 } else { 1.0 });
-                let texel = sample(&scene.textures[r.texture], uv(r));
+                let texel = sample_fast(&scene.textures[r.texture], uv(r));
                 let nx = (texel[0] * 2.0 - 1.0) * m.normal_scale;
                 let ny = (texel[1] * 2.0 - 1.0) * m.normal_scale;
                 let nz = texel[2] * 2.0 - 1.0;
@@ -298,12 +304,12 @@ pub(crate) fn shade_run(
         let colour = lerp3(a.colour, d.colour, t);
         let mut base = [m.base[0] * colour[0], m.base[1] * colour[1], m.base[2] * colour[2]];
         if let Some(r) = &m.base_texture {
-            let texel = sample(&scene.textures[r.texture], uv(r));
+            let texel = sample_fast(&scene.textures[r.texture], uv(r));
             base = [base[0] * texel[0], base[1] * texel[1], base[2] * texel[2]];
         }
         let mut emitted = m.emissive;
         if let Some(r) = &m.emissive_texture {
-            let texel = sample(&scene.textures[r.texture], uv(r));
+            let texel = sample_fast(&scene.textures[r.texture], uv(r));
             emitted = [emitted[0] * texel[0], emitted[1] * texel[1], emitted[2] * texel[2]];
         }
         // Σ E·cos_i (diffuse) and Σ E·cos_i·lobe (specular).
@@ -424,17 +430,44 @@ pub(crate) fn pow01(x: f32, n: f32) -> f32 {
 }
 
 impl Run<'_> {
-    /// The run can go through a [`Batch`]: no textures, no normal map and
-    /// no point lights (their per-pixel work stays in [`shade_run`]).
+    /// The run can go through a [`Batch`]: no emissive texture, no normal
+    /// map, no point lights and no texture transform (their per-pixel work
+    /// stays in [`shade_run`]); a base-colour texture is looked up while
+    /// gathering.
     pub(crate) fn is_simple(&self, lights: &FastLights) -> bool {
         let m = self.material;
-        m.base_texture.is_none()
-            && m.emissive_texture.is_none()
+        m.emissive_texture.is_none()
+            && m.base_texture.as_ref().map_or(true, |r| r.transform == super::UvTransform::default())
             && (m.normal_texture.is_none() || !self.has_tangents)
             && lights.point.is_empty()
             && (!self.has_normals || self.normals_nonzero)
     }
+}
 
+/// [`sample`] with the same result bit for bit, faster where it matters:
+/// a lookup whose 2 × 2 texels lie inside the texture (almost all of them)
+/// needs neither `floor` nor the wrap modes (for `x ≥ 0`, truncation is
+/// `floor`). Everything else, NaN included, goes to [`sample`].
+#[inline(always)]
+pub(crate) fn sample_fast(tex: &Texture, uv: [f32; 2]) -> [f32; 4] {
+    let (w, h) = (tex.width, tex.height);
+    let x = uv[0] as f64 * w as f64 - 0.5;
+    let y = uv[1] as f64 * h as f64 - 0.5;
+    if !(x >= 0.0 && y >= 0.0 && x < w as f64 - 1.0 && y < h as f64 - 1.0) {
+        return sample(tex, uv);
+    }
+    let (i, j) = (x as usize, y as usize);
+    let (fx, fy) = ((x - i as f64) as f32, (y - j as f64) as f32);
+    let at = j * w + i;
+    let (top, bottom) = (&tex.texels[at..at + 2], &tex.texels[at + w..at + w + 2]);
+    let (a, b, c, d) = (top[0], top[1], bottom[0], bottom[1]);
+    let mut out = [0.0; 4];
+    for k in 0..4 {
+        let top = a[k] + (b[k] - a[k]) * fx;
+        let bottom = c[k] + (d[k] - c[k]) * fx;
+        out[k] = top + (bottom - top) * fy;
+    }
+    out
 }
 
 /// The interpolated vertex normal `a + t·d` stays well away from zero (and
@@ -448,24 +481,111 @@ pub(crate) fn normals_nonzero(a: &Attrs, d: &Attrs) -> bool {
     min > 1e-12 && (aa + 2.0 * ad + dd) <= 1e30 && aa <= 1e30
 }
 
+/// The shading inputs of one hololine's segments that [`Batch::gather`]
+/// looks up by each pixel's segment (entries of segments that are not
+/// [`Run::is_simple`] are unused).
+#[derive(Default)]
+pub(crate) struct SegmentTable {
+    simple: Vec<bool>,
+    /// Shading normal at the start and its change to the end (the face
+    /// normal and zero when flat), before facing is applied.
+    normal_a: Vec<[f32; 3]>,
+    normal_d: Vec<[f32; 3]>,
+    colour_a: Vec<[f32; 3]>,
+    colour_d: Vec<[f32; 3]>,
+    base: Vec<[f32; 3]>,
+    emissive: Vec<[f32; 3]>,
+    /// `k_s` × lobe normalisation (zero without specular).
+    ks: Vec<[f32; 3]>,
+    exponent: Vec<f32>,
+    x_min: Vec<f32>,
+    /// Base-colour texture (`u32::MAX`: none), its size (zero: none) and
+    /// its coordinates.
+    texture: Vec<u32>,
+    texture_size: Vec<[f64; 2]>,
+    texture_width: Vec<i32>,
+    uv_a: Vec<[f32; 2]>,
+    uv_d: Vec<[f32; 2]>,
+    /// Per view column: +1 where the segment faces the rays, −1 where its
+    /// back (double-sided) is seen.
+    sign: Vec<f32>,
+}
+
+impl SegmentTable {
+    /// Add the next segment, `run` as seen from its front; it is simple
+    /// when [`Run::is_simple`].
+    pub(crate) fn push(&mut self, scene: &Scene, lights: &FastLights, run: &Run) {
+        let m = run.material;
+        let (a, d) = (run.a, run.delta);
+        let (na, nd) = if run.has_normals { (a.normal, d.normal) } else { (run.face, [0.0; 3]) };
+        self.normal_a.push(na);
+        self.normal_d.push(nd);
+        self.colour_a.push(a.colour);
+        self.colour_d.push(d.colour);
+        self.base.push(m.base);
+        self.emissive.push(m.emissive);
+        self.ks.push(scale(m.ks, if m.specular { m.lobe_norm } else { 0.0 }));
+        self.exponent.push(m.exponent);
+        self.x_min.push(m.x_min);
+        // Texel indices of the vectorised lookup must fit an i32.
+        let size = m.base_texture.as_ref().map(|r| (scene.textures[r.texture].width, scene.textures[r.texture].height));
+        let fits = size.map_or(true, |(w, h)| w.checked_mul(h).is_some_and(|n| n <= i32::MAX as usize));
+        self.simple.push(run.is_simple(lights) && fits);
+        let (w, h) = size.unwrap_or((0, 0));
+        self.texture_size.push([w as f64, h as f64]);
+        self.texture_width.push(w as i32);
+        match &m.base_texture {
+            Some(r) => {
+                self.texture.push(r.texture as u32);
+                let (ua, ud) = if r.uv_set < 2 { (a.uv[r.uv_set], d.uv[r.uv_set]) } else { ([0.0; 2], [0.0; 2]) };
+                self.uv_a.push(ua);
+                self.uv_d.push(ud);
+            }
+            None => {
+                self.texture.push(u32::MAX);
+                self.uv_a.push([0.0; 2]);
+                self.uv_d.push([0.0; 2]);
+            }
+        }
+        self.sign.push(1.0);
+    }
+
+    /// Segment `i` goes through the batch.
+    #[inline]
+    pub(crate) fn simple(&self, i: usize) -> bool {
+        self.simple[i]
+    }
+
+    /// Set segment `i`'s facing for the current view column.
+    #[inline]
+    pub(crate) fn set_front(&mut self, i: usize, front: bool) {
+        self.sign[i] = if front { 1.0 } else { -1.0 };
+    }
+}
+
 /// One view column's pixels in structure-of-arrays form, for the
-/// vectorised part of the shader: runs are appended one after another
-/// ([`Batch::gather`]: attributes interpolated, the view-independent
-/// emissive and ambient terms added to the output straight away), then
-/// [`Batch::shade`] does the directional lights for all of them at once and
-/// adds them to each run's pixels. The loops run 8 lanes wide with AVX2 +
-/// FMA when the CPU has them (checked at run time), SSE2 otherwise; the
-/// compiler does not contract into FMA, so both give the same bits, from
-/// the same formulas as [`shade_run`].
+/// vectorised part of the shader: the pixels of simple segments are
+/// listed as they are found ([`Batch::push`]), their attributes are
+/// interpolated column-wide from the [`SegmentTable`] with the
+/// view-independent emissive and ambient terms added to the output straight
+/// away ([`Batch::gather`]), then [`Batch::shade`] does the directional
+/// lights for all of them at once. Column-wide, not run by run: with fine
+/// meshes a run of one segment is a few pixels, too short to vectorise.
+/// The loops run 8 lanes wide with AVX2 + FMA when the CPU has them
+/// (checked at run time), SSE2 otherwise; the compiler does not contract
+/// into FMA, so both give the same bits, from the same formulas as
+/// [`shade_run`].
 #[derive(Default)]
 pub(crate) struct Batch {
-    /// Pixels gathered.
+    /// Pixels listed.
     count: usize,
-    /// `(first pixel of the column, length)` of each run gathered, in order.
-    runs: Vec<(usize, usize)>,
+    /// Each pixel's place in the column, segment and parameter (in `[0, 1]`).
+    pixel: Vec<u32>,
+    owner: Vec<u32>,
+    t: Vec<f32>,
     /// Interpolated (not unit) shading normal, facing the viewer.
     n: [Vec<f32>; 3],
-    /// Base colour × vertex colour.
+    /// Base colour × vertex colour × texture.
     albedo: [Vec<f32>; 3],
     /// `k_s` × lobe normalisation.
     ks: [Vec<f32>; 3],
@@ -474,6 +594,15 @@ pub(crate) struct Batch {
     /// Σ E·cos_i and Σ E·cos_i·lobe over the lights.
     diffuse: [Vec<f32>; 3],
     specular: [Vec<f32>; 3],
+    /// Texture lookups: coordinates and texture size per pixel, then the
+    /// top-left texel of the 2 × 2 footprint (−1: not wholly inside, use
+    /// [`sample`]) and the bilinear weights.
+    uv: [Vec<f32>; 2],
+    size: [Vec<f64>; 2],
+    width: Vec<i32>,
+    index: Vec<i32>,
+    fx: Vec<f32>,
+    fy: Vec<f32>,
 }
 
 impl Batch {
@@ -485,34 +614,86 @@ impl Batch {
             .chain([&mut self.exponent, &mut self.x_min])
             .chain(&mut self.diffuse)
             .chain(&mut self.specular)
+            .chain(&mut self.uv)
+            .chain([&mut self.fx, &mut self.fy])
     }
 
-    /// Take in a run (one of [`Run::is_simple`]) covering pixels
-    /// `first..first + params.len()` of the column, adding its emissive
-    /// and ambient terms to `acc` (those pixels).
-    pub(crate) fn gather(&mut self, lights: &FastLights, run: &Run, first: usize, params: &[f64], acc: [&mut [f32]; 3]) {
-        let (at, len) = (self.count, params.len());
-        self.count += len;
-        self.runs.push((first, len));
+    /// Pixels listed so far in this column.
+    pub(crate) fn len(&self) -> usize {
+        self.count
+    }
+
+    /// List every pixel `first + i` of the column that shows a segment
+    /// (`owner[i]` is not `none`): all segments of the hololine are simple. Branch-free: each
+    /// pixel is written and kept by advancing the count or not.
+    pub(crate) fn push_all(&mut self, first: usize, owner: &[u32], param: &[f64], none: u32) {
+        let n = owner.len();
+        for v in [&mut self.pixel, &mut self.owner] {
+            if v.len() < self.count + n {
+                v.resize(self.count + n, 0);
+            }
+        }
+        if self.t.len() < self.count + n {
+            self.t.resize(self.count + n, 0.0);
+        }
+        let mut at = self.count;
+        let (pixel, own, ts) = (&mut self.pixel[..], &mut self.owner[..], &mut self.t[..]);
+        for (i, (&o, &t)) in owner.iter().zip(param).enumerate() {
+            pixel[at] = (first + i) as u32;
+            own[at] = o;
+            ts[at] = t.clamp(0.0, 1.0) as f32;
+            at += (o != none) as usize;
+        }
+        self.count = at;
+    }
+
+    /// List pixel `pixel` of the column, showing simple segment `owner` at
+    /// parameter `t`.
+    #[inline]
+    pub(crate) fn push(&mut self, pixel: usize, owner: u32, t: f64) {
+        let at = self.count;
+        for v in [&mut self.pixel, &mut self.owner] {
+            if v.len() <= at {
+                v.resize(at + 64, 0);
+            }
+        }
+        if self.t.len() <= at {
+            self.t.resize(at + 64, 0.0);
+        }
+        self.pixel[at] = pixel as u32;
+        self.owner[at] = owner;
+        self.t[at] = t.clamp(0.0, 1.0) as f32;
+        self.count += 1;
+    }
+
+    /// Interpolate the listed pixels' attributes and add their emissive and
+    /// ambient terms to `acc` (the column).
+    pub(crate) fn gather(&mut self, scene: &Scene, table: &SegmentTable, lights: &FastLights, acc: [&mut [f32]; 3]) {
         let need = (self.count + 7) & !7;
         if self.n[0].len() < need {
+            let size = need.max(64) * 2;
             for b in self.buffers() {
-                b.resize(need.max(64) * 2, 0.0);
+                b.resize(size, 0.0);
             }
+            for b in &mut self.size {
+                b.resize(size, 0.0);
+            }
+            self.width.resize(size, 0);
+            self.index.resize(size, 0);
         }
         #[cfg(target_arch = "x86_64")]
         {
             if lights.avx2 {
                 // SAFETY: the CPU has AVX2 and FMA (checked in FastLights::new).
-                unsafe { gather_avx2(self, lights, run, at, params, acc) };
+                unsafe { gather_avx2(self, scene, table, lights, acc) };
                 return;
             }
         }
-        gather_kernel(self, lights, run, at, params, acc);
+        gather_kernel(self, scene, table, lights, acc);
     }
 
     /// Add the directional lights' diffuse and specular terms of every
-    /// gathered pixel to `acc` (the column), and start a new column.
+    /// listed pixel to `acc` (the column), and start a new column.
     pub(crate) fn shade(&mut self, lights: &FastLights, column: &Column, acc: [&mut [f32]; 3]) {
         if self.count > 0 {
             // The padding lanes: a valid normal and nothing to add.
@@ -533,72 +714,114 @@ impl Batch {
             if !done {
                 shade_kernel(self, lights, column, padded);
             }
-            // The radiance is in `diffuse`, run after run.
-            let mut at = 0;
+            // The radiance is in `diffuse`.
             let [acc_r, acc_g, acc_b] = acc;
-            for &(first, len) in &self.runs {
-                for (acc, rgb) in [&mut *acc_r, &mut *acc_g, &mut *acc_b].into_iter().zip(&self.diffuse) {
-                    for (a, x) in acc[first..first + len].iter_mut().zip(&rgb[at..at + len]) {
-                        *a += x;
-                    }
+            for (acc, rgb) in [acc_r, acc_g, acc_b].into_iter().zip(&self.diffuse) {
+                for (&p, x) in self.pixel[..count].iter().zip(&rgb[..count]) {
+                    acc[p as usize] += x;
                 }
-                at += len;
             }
         }
         self.count = 0;
-        self.runs.clear();
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn gather_avx2(b: &mut Batch, lights: &FastLights, run: &Run, at: usize, params: &[f64], acc: [&mut [f32]; 3]) {
-    gather_kernel(b, lights, run, at, params, acc);
+unsafe fn gather_avx2(b: &mut Batch, scene: &Scene, table: &SegmentTable, lights: &FastLights, acc: [&mut [f32]; 3]) {
+    gather_kernel(b, scene, table, lights, acc);
 }
 
 #[inline(always)]
-fn gather_kernel(b: &mut Batch, lights: &FastLights, run: &Run, at: usize, params: &[f64], acc: [&mut [f32]; 3]) {
-    let m = run.material;
-    let len = params.len();
-    let (a, d) = (run.a, run.delta);
-    // Flat shading: the face normal, as a constant "interpolation".
-    let sign = if run.flip { -1.0 } else { 1.0 };
-    let (a_n, d_n) = if run.has_normals { (scale(a.normal, sign), scale(d.normal, sign)) } else { (run.face, [0.0; 3]) };
-    let ks = scale(m.ks, if m.specular { m.lobe_norm } else { 0.0 });
+fn gather_kernel(b: &mut Batch, scene: &Scene, table: &SegmentTable, lights: &FastLights, acc: [&mut [f32]; 3]) {
+    let len = b.count;
+    let (owner, ts) = (&b.owner[..len], &b.t[..len]);
     let [nx, ny, nz] = &mut b.n;
-    let (nx, ny, nz) = (&mut nx[at..at + len], &mut ny[at..at + len], &mut nz[at..at + len]);
+    let (nx, ny, nz) = (&mut nx[..len], &mut ny[..len], &mut nz[..len]);
     let [alr, alg, alb] = &mut b.albedo;
-    let (alr, alg, alb) = (&mut alr[at..at + len], &mut alg[at..at + len], &mut alb[at..at + len]);
-    let [acc_r, acc_g, acc_b] = acc;
-    let (acc_r, acc_g, acc_b) = (&mut acc_r[..len], &mut acc_g[..len], &mut acc_b[..len]);
-    for i in 0..len {
-        let t = params[i].clamp(0.0, 1.0) as f32;
-        let x = a_n[0] + d_n[0] * t;
-        let y = a_n[1] + d_n[1] * t;
-        let z = a_n[2] + d_n[2] * t;
-        nx[i] = x;
-        ny[i] = y;
-        nz[i] = z;
-        let r = m.base[0] * (a.colour[0] + d.colour[0] * t);
-        let g = m.base[1] * (a.colour[1] + d.colour[1] * t);
-        let bl = m.base[2] * (a.colour[2] + d.colour[2] * t);
-        alr[i] = r;
-        alg[i] = g;
-        alb[i] = bl;
-        acc_r[i] += m.emissive[0] + r * lights.ambient[0];
-        acc_g[i] += m.emissive[1] + g * lights.ambient[1];
-        acc_b[i] += m.emissive[2] + bl * lights.ambient[2];
-    }
-    // Runs are short with fine meshes: plain stores, not five memset calls.
+    let (alr, alg, alb) = (&mut alr[..len], &mut alg[..len], &mut alb[..len]);
     let [kr, kg, kb] = &mut b.ks;
-    let (kr, kg, kb) = (&mut kr[at..at + len], &mut kg[at..at + len], &mut kb[at..at + len]);
-    let (ex, xm) = (&mut b.exponent[at..at + len], &mut b.x_min[at..at + len]);
+    let (kr, kg, kb) = (&mut kr[..len], &mut kg[..len], &mut kb[..len]);
+    let (ex, xm) = (&mut b.exponent[..len], &mut b.x_min[..len]);
+    let mut textured = false;
     for i in 0..len {
+        let (o, t) = (owner[i] as usize, ts[i]);
+        let (na, nd, sign) = (table.normal_a[o], table.normal_d[o], table.sign[o]);
+        nx[i] = na[0] * sign + nd[0] * sign * t;
+        ny[i] = na[1] * sign + nd[1] * sign * t;
+        nz[i] = na[2] * sign + nd[2] * sign * t;
+        let (ca, cd, base) = (table.colour_a[o], table.colour_d[o], table.base[o]);
+        alr[i] = base[0] * (ca[0] + cd[0] * t);
+        alg[i] = base[1] * (ca[1] + cd[1] * t);
+        alb[i] = base[2] * (ca[2] + cd[2] * t);
+        let ks = table.ks[o];
         kr[i] = ks[0];
         kg[i] = ks[1];
         kb[i] = ks[2];
-        ex[i] = m.exponent;
-        xm[i] = m.x_min;
+        ex[i] = table.exponent[o];
+        xm[i] = table.x_min[o];
+        textured |= table.texture[o] != u32::MAX;
+    }
+    if textured {
+        // The lookups of [`sample`], bit for bit, in three passes: the
+        // coordinates and sizes fetched by segment; the footprints located
+        // (f64 as in `sample`; for the non-negative coordinates kept,
+        // truncation is `floor`) in a loop that vectorises; the texels
+        // fetched and blended. Footprints that wrap or leave the texture
+        // (and NaN) go to `sample` itself.
+        let [us, vs] = &mut b.uv;
+        let (us, vs) = (&mut us[..len], &mut vs[..len]);
+        let [ws, hs] = &mut b.size;
+        let (ws, hs, wi) = (&mut ws[..len], &mut hs[..len], &mut b.width[..len]);
+        for i in 0..len {
+            let (o, t) = (owner[i] as usize, ts[i]);
+            let (ua, ud) = (table.uv_a[o], table.uv_d[o]);
+            us[i] = ua[0] + ud[0] * t;
+            vs[i] = ua[1] + ud[1] * t;
+            [ws[i], hs[i]] = table.texture_size[o];
+            wi[i] = table.texture_width[o];
+        }
+        let (index, fxs, fys) = (&mut b.index[..len], &mut b.fx[..len], &mut b.fy[..len]);
+        for i in 0..len {
+            let x = us[i] as f64 * ws[i] - 0.5;
+            let y = vs[i] as f64 * hs[i] - 0.5;
+            let inside = (x >= 0.0) & (y >= 0.0) & (x < ws[i] - 1.0) & (y < hs[i] - 1.0);
+            let (xi, yi) = if inside { (x as i32, y as i32) } else { (0, 0) };
+            fxs[i] = (x - xi as f64) as f32;
+            fys[i] = (y - yi as f64) as f32;
+            index[i] = if inside { yi * wi[i] + xi } else { -1 };
+        }
+        for i in 0..len {
+            let texture = table.texture[owner[i] as usize];
+            if texture == u32::MAX {
+                continue;
+            }
+            let tex = &scene.textures[texture as usize];
+            let texel = if index[i] >= 0 {
+                let (at, w) = (index[i] as usize, tex.width);
+                let (top, bottom) = (&tex.texels[at..at + 2], &tex.texels[at + w..at + w + 2]);
+                let (fx, fy) = (fxs[i], fys[i]);
+                let mut out = [0.0f32; 4];
+                for (k, o) in out.iter_mut().enumerate() {
+                    let t = top[0][k] + (top[1][k] - top[0][k]) * fx;
+                    let b = bottom[0][k] + (bottom[1][k] - bottom[0][k]) * fx;
+                    *o = t + (b - t) * fy;
+                }
+                out
+            } else {
+                sample(tex, [us[i], vs[i]])
+            };
+            alr[i] *= texel[0];
+            alg[i] *= texel[1];
+            alb[i] *= texel[2];
+        }
+    }
+    let [acc_r, acc_g, acc_b] = acc;
+    for (i, &p) in b.pixel[..len].iter().enumerate() {
+        let (p, e) = (p as usize, table.emissive[owner[i] as usize]);
+        acc_r[p] += e[0] + alr[i] * lights.ambient[0];
+        acc_g[p] += e[1] + alg[i] * lights.ambient[1];
+        acc_b[p] += e[2] + alb[i] * lights.ambient[2];
     }
 }
 
@@ -732,6 +955,29 @@ mod tests {
         assert_eq!(pow01(1.0, 500.0), 1.0);
         assert_eq!(pow01(0.0, 3.0), 0.0);
         assert_eq!(pow01(0.7, 0.0), 1.0);
+    }
+
+    #[test]
+    fn fast_texture_lookup_is_the_reference_bit_for_bit() {
+        use crate::mesh::Wrap;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        for (w, h) in [(1, 1), (1, 7), (5, 1), (2, 2), (17, 9), (64, 64)] {
+            for wrap in [[Wrap::Repeat, Wrap::ClampToEdge], [Wrap::MirroredRepeat, Wrap::Repeat], [Wrap::ClampToEdge; 2]] {
+                let texels = (0..w * h).map(|_| std::array::from_fn(|_| rng.gen_range(0.0f32..1.0))).collect();
+                let tex = Texture { name: "random".into(), width: w, height: h, texels, wrap };
+                for k in 0..20_000 {
+                    let uv: [f32; 2] = match k % 4 {
+                        0 => [rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0)],
+                        1 => [rng.gen_range(-3.0..3.0), rng.gen_range(-3.0..3.0)],
+                        // On texel centres and edges, where floor and truncation could differ.
+                        2 => [(rng.gen_range(0..=2 * w) as f32) / (2 * w) as f32, (rng.gen_range(0..=2 * h) as f32) / (2 * h) as f32],
+                        _ => [[f32::NAN, 1e30, -1e30, 0.5][k / 4 % 4], rng.gen_range(-1.0..1.0)],
+                    };
+                    let (fast, slow) = (sample_fast(&tex, uv), sample(&tex, uv));
+                    assert_eq!(fast.map(f32::to_bits), slow.map(f32::to_bits), "{w}×{h} {wrap:?} at {uv:?}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -181,10 +181,10 @@ pub fn view_theta_at(views: &Views, f: f64) -> f64 {
     }
 }
 
-/// What an engine does for one hololine: fill `out` (`C × E × V`, the
-/// modulation's order) and count its work.
+/// What an engine does for one hololine: fill `rows` completely (one per
+/// channel, each `E × V` in the modulation's order) and count its work.
 pub(crate) trait HololineRenderer: Sync {
-    fn render_hololine(&self, j: usize, out: &mut [f32]) -> RenderStats;
+    fn render_hololine(&self, j: usize, rows: &mut [&mut [f32]]) -> RenderStats;
 }
 
 /// Render a placed scene (display metres) into one frame of modulation.
@@ -195,6 +195,20 @@ pub fn render(
     options: &RenderOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<(Modulation, RenderStats)> {
+    let mut frame = Modulation::zeros(geometry.clone())?;
+    let stats = render_into(scene, options, progress, &mut frame)?;
+    Ok((frame, stats))
+}
+
+/// [`render`] into an existing frame of the geometry wanted (every sample
+/// is overwritten): a movie reuses one frame's memory for all its frames.
+pub fn render_into(
+    scene: &Scene,
+    options: &RenderOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    frame: &mut Modulation,
+) -> Result<RenderStats> {
+    let geometry = &frame.geometry().clone();
     let rays = Rays::new(geometry, options.supersample)?;
     if let Some(problem) = scene.problem() {
         return Err(Error::Usage(format!("{}: {problem}", scene.source)));
@@ -205,10 +219,10 @@ pub fn render(
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);
     let shading = Shading { scene, lighting: &options.lighting, weights: &weights, rays: &rays, geometry };
-    match options.engine {
-        Engine::Fast => run(&super::epi::EpiRenderer::new(shading), geometry, progress),
-        Engine::Reference => run(&super::trace::TraceRenderer::new(shading), geometry, progress),
-    }
+    Ok(match options.engine {
+        Engine::Fast => run(&super::epi::EpiRenderer::new(shading), frame, progress),
+        Engine::Reference => run(&super::trace::TraceRenderer::new(shading), frame, progress),
+    })
 }
 
 /// What both engines share.
@@ -220,43 +234,28 @@ pub(crate) struct Shading<'a> {
     pub geometry: &'a Geometry,
 }
 
-fn run(
-    engine: &dyn HololineRenderer,
-    geometry: &Geometry,
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<(Modulation, RenderStats)> {
-    let (h, e, v, c) = (geometry.hololines, geometry.emitters, geometry.views.count, geometry.channels.len());
-    let per_line = c * e * v;
+fn run(engine: &dyn HololineRenderer, frame: &mut Modulation, progress: &(dyn Fn(usize, usize) + Sync)) -> RenderStats {
+    let g = frame.geometry();
+    let (h, e, v, c) = (g.hololines, g.emitters, g.views.count, g.channels.len());
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let mut m = Modulation::zeros(geometry.clone())?;
     // Each hololine's rows, one per channel: the samples are (C, H, E × V).
+    // The engines write straight into them.
     let mut rows: Vec<Vec<&mut [f32]>> = (0..h).map(|_| Vec::with_capacity(c)).collect();
-    for (i, row) in m.samples_mut().chunks_exact_mut(e * v).enumerate() {
+    for (i, row) in frame.samples_mut().chunks_exact_mut(e * v).enumerate() {
         rows[i % h].push(row);
     }
-    // One line buffer per worker, reused, and copied straight into the frame
-    // (not a buffer per hololine, all alive at once, copied afterwards).
-    let stats = rows
-        .into_par_iter()
+    rows.into_par_iter()
         .enumerate()
-        .map_init(
-            || vec![0.0f32; per_line],
-            |line, (j, rows)| {
-                line.fill(0.0);
-                let stats = engine.render_hololine(j, line);
-                for (ch, row) in rows.into_iter().enumerate() {
-                    row.copy_from_slice(&line[ch * e * v..(ch + 1) * e * v]);
-                }
-                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                progress(n, h);
-                stats
-            },
-        )
+        .map(|(j, mut rows)| {
+            let stats = engine.render_hololine(j, &mut rows);
+            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            progress(n, h);
+            stats
+        })
         .reduce(RenderStats::default, |mut a, b| {
             a += b;
             a
-        });
-    Ok((m, stats))
+        })
 }
 
 fn light_is_finite(l: &super::Light) -> bool {

@@ -37,7 +37,7 @@ impl<'a> TraceRenderer<'a> {
 }
 
 impl HololineRenderer for TraceRenderer<'_> {
-    fn render_hololine(&self, j: usize, out: &mut [f32]) -> RenderStats {
+    fn render_hololine(&self, j: usize, rows: &mut [&mut [f32]]) -> RenderStats {
         let r = self.s.rays;
         let g = self.s.geometry;
         let (e_count, v_count) = (g.emitters, g.views.count);
@@ -62,7 +62,7 @@ impl HololineRenderer for TraceRenderer<'_> {
                 }
                 for (ch, w) in self.s.weights.iter().enumerate() {
                     let value = (w[0] * sum[0] + w[1] * sum[1] + w[2] * sum[2]) * norm;
-                    out[(ch * e_count + e) * v_count + v] = value as f32;
+                    rows[ch][e * v_count + v] = value as f32;
                 }
             }
         }
