@@ -58,7 +58,9 @@ fn model(which: Model, g: &Geometry) -> Option<Scene> {
     let object = match which {
         Model::Spot => return file(root.join("fixtures/mesh/spot/spot.obj")),
         Model::ClearCoat => {
-            let shared = std::env::var("HOLO_SHARED_DATA").map(std::path::PathBuf::from).unwrap_or_else(|_| root.join("../shared/data"));
+            let shared = std::env::var("HOLO_SHARED_DATA")
+                .map(std::path::PathBuf::from)
+                .unwrap_or_else(|_| root.join("../shared/data"));
             return file(shared.join("gltf_khronos_ClearCoatTest_normalmaps/glTF/ClearCoatTest.gltf"));
         }
         // 16 × 16 × 2 = 512 triangles.
@@ -124,7 +126,8 @@ fn surface(nu: usize, nv: usize, shininess: f32, f: impl Fn(f64, f64) -> [f64; 3
         })
         .collect();
     // Make the front faces face outward: flip every triangle if most normals point in.
-    let centre: Vec<f64> = (0..3).map(|k| o.positions.iter().map(|p| p[k]).sum::<f64>() / o.positions.len() as f64).collect();
+    let centre: Vec<f64> =
+        (0..3).map(|k| o.positions.iter().map(|p| p[k]).sum::<f64>() / o.positions.len() as f64).collect();
     let inward = o
         .positions
         .iter()
@@ -194,7 +197,10 @@ fn tables(quick: bool) {
     const BAND: usize = 8;
     let scale = g.hololines as f64 / BAND as f64;
     let b = band(&g, BAND);
-    println!("\n## Mark III ({} × {} × {} views), fast path against the reference ray caster", g.hololines, g.emitters, g.views.count);
+    println!(
+        "\n## Mark III ({} × {} × {} views), fast path against the reference ray caster",
+        g.hololines, g.emitters, g.views.count
+    );
     println!("Reference: a band of {BAND} central hololines, its time × {scale:.0} = per frame. Best of {runs}; {} threads.\n", rayon::current_num_threads());
     println!("Fast: rendering into one reused frame, as a movie conversion does; \"new frame\": allocating (and faulting in) a fresh frame each time.\n");
     println!("| model | triangles | ss | fast s/frame | fast frames/s | new frame s/frame | reference s/frame (band × {scale:.0}) | fast/reference speed-up | fast vs reference on the band: mean abs diff / mean, samples off >1% of peak |");
@@ -206,7 +212,8 @@ fn tables(quick: bool) {
             let fast = time(runs, || frame_into(&scene, &options(ss, Engine::Fast), &mut reused));
             let fresh = time(runs, || drop(frame(&scene, &g, &options(ss, Engine::Fast))));
             let mut reference_band = None;
-            let reference = time(runs, || reference_band = Some(frame(&scene, &b, &options(ss, Engine::Reference)))) * scale;
+            let reference =
+                time(runs, || reference_band = Some(frame(&scene, &b, &options(ss, Engine::Reference)))) * scale;
             let (mean, off) = error(&frame(&scene, &b, &options(ss, Engine::Fast)), &reference_band.unwrap());
             println!(
                 "| {} | {} | {ss}×{ss} | {fast:.3} | {:.1} | {fresh:.3} | {reference:.2} | {:.0}× | {mean:.1e}, {:.3}% |",
@@ -248,11 +255,15 @@ fn bench(c: &mut Criterion) {
         group.throughput(Throughput::Elements(1));
         let mut reused = Modulation::zeros(g.clone()).expect("frame");
         for ss in [1, 2] {
-            group.bench_function(format!("fast_frame_ss{ss}"), |bch| bch.iter(|| frame_into(&scene, &options(ss, Engine::Fast), &mut reused)));
+            group.bench_function(format!("fast_frame_ss{ss}"), |bch| {
+                bch.iter(|| frame_into(&scene, &options(ss, Engine::Fast), &mut reused))
+            });
         }
         // Not a frame: 8 hololines of 440 (so its "elements/s" are bands, ×55 for frames).
         let b = band(&g, 8);
-        group.bench_function("reference_band_of_8_hololines_ss1", |bch| bch.iter(|| frame(&scene, &b, &options(1, Engine::Reference))));
+        group.bench_function("reference_band_of_8_hololines_ss1", |bch| {
+            bch.iter(|| frame(&scene, &b, &options(1, Engine::Reference)))
+        });
         group.finish();
     }
 }

@@ -16,12 +16,22 @@ use rand_chacha::ChaCha8Rng;
 /// A small display: 21 hololines, 48 emitters of 1 mm, 32 views over ±20°,
 /// emitter plane at 0, viewer at 500 mm.
 fn small_geometry(emitter_z_m: f64) -> Geometry {
-    Geometry::centred(21, 48, Views::tan_spaced(32, -20f64.to_radians(), 20f64.to_radians()), 1e-3, 1e-3, emitter_z_m, 0.5, rgb_channels())
+    Geometry::centred(
+        21,
+        48,
+        Views::tan_spaced(32, -20f64.to_radians(), 20f64.to_radians()),
+        1e-3,
+        1e-3,
+        emitter_z_m,
+        0.5,
+        rgb_channels(),
+    )
 }
 
 fn both(scene: &Scene, g: &Geometry, options: &RenderOptions) -> (Modulation, Modulation, RenderStats) {
     let fast = render(scene, g, &RenderOptions { engine: Engine::Fast, ..options.clone() }, &|_, _| {}).unwrap();
-    let reference = render(scene, g, &RenderOptions { engine: Engine::Reference, ..options.clone() }, &|_, _| {}).unwrap();
+    let reference =
+        render(scene, g, &RenderOptions { engine: Engine::Reference, ..options.clone() }, &|_, _| {}).unwrap();
     (fast.0, reference.0, fast.1)
 }
 
@@ -100,8 +110,15 @@ fn fast_equals_reference_on_random_scenes() {
         let options = RenderOptions { supersample: ss, lighting: lighting(model), engine: Engine::Fast };
         let (fast, reference, stats) = both(&scene, &g, &options);
         let (off, mean) = compare(&fast, &reference);
-        println!("seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}", off * 100.0, mean);
-        assert!(reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10, "scene covers the display");
+        println!(
+            "seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}",
+            off * 100.0,
+            mean
+        );
+        assert!(
+            reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10,
+            "scene covers the display"
+        );
         assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
     }
 }
@@ -120,11 +137,23 @@ fn occlusion_has_the_known_answer_in_every_view() {
         ..Object::default()
     };
     let scene = Scene {
-        objects: vec![square("red", 0.02, 0.002, 0.012, [1.0, 0.0, 0.0]), square("green", -0.02, -0.012, 0.012, [0.0, 1.0, 0.0])],
+        objects: vec![
+            square("red", 0.02, 0.002, 0.012, [1.0, 0.0, 0.0]),
+            square("green", -0.02, -0.012, 0.012, [0.0, 1.0, 0.0]),
+        ],
         ..Scene::default()
     };
     // One emitter at x = 0, one hololine at the viewer's height, views over ±40°.
-    let g = Geometry::centred(1, 1, Views::tan_spaced(81, -40f64.to_radians(), 40f64.to_radians()), 1e-3, 1e-4, 0.0, 0.5, rgb_channels());
+    let g = Geometry::centred(
+        1,
+        1,
+        Views::tan_spaced(81, -40f64.to_radians(), 40f64.to_radians()),
+        1e-3,
+        1e-4,
+        0.0,
+        0.5,
+        rgb_channels(),
+    );
     let options = RenderOptions {
         supersample: Supersample { emitter: 1, view: 1 },
         lighting: Lighting { lights: vec![], model: SpecularModel::Blinn },
@@ -148,7 +177,13 @@ fn occlusion_has_the_known_answer_in_every_view() {
             }
             let got = [m.get(0, 0, 0, v) as f64, m.get(1, 0, 0, v) as f64];
             assert_eq!(got, expected, "{engine:?}: view {v}, tan θ = {s:.3}");
-            seen[if got[0] > 0.0 { 0 } else if got[1] > 0.0 { 1 } else { 2 }] += 1;
+            seen[if got[0] > 0.0 {
+                0
+            } else if got[1] > 0.0 {
+                1
+            } else {
+                2
+            }] += 1;
         }
         assert!(seen.iter().all(|&n| n > 3), "every case occurs: {seen:?}");
     }
@@ -163,17 +198,34 @@ fn highlights_move_across_views_as_the_formulas_say() {
         name: "plane".into(),
         positions: vec![[-0.1, -0.1, 0.0], [0.1, -0.1, 0.0], [0.1, 0.1, 0.0], [-0.1, 0.1, 0.0]],
         triangles: vec![[0, 1, 2], [0, 2, 3]],
-        material: Material { base_colour: [0.0, 0.0, 0.0, 1.0], specular: [1.0; 3], shininess: 200.0, ..Material::default() },
+        material: Material {
+            base_colour: [0.0, 0.0, 0.0, 1.0],
+            specular: [1.0; 3],
+            shininess: 200.0,
+            ..Material::default()
+        },
         ..Object::default()
     };
     let scene = Scene { objects: vec![plane], ..Scene::default() };
     let light_x = -0.01;
     let light_z = 0.1;
-    let g = Geometry::centred(1, 41, Views::tan_spaced(161, -30f64.to_radians(), 30f64.to_radians()), 1e-3, 1e-3, 0.0, 0.5, rgb_channels());
+    let g = Geometry::centred(
+        1,
+        41,
+        Views::tan_spaced(161, -30f64.to_radians(), 30f64.to_radians()),
+        1e-3,
+        1e-3,
+        0.0,
+        0.5,
+        rgb_channels(),
+    );
     for model in [SpecularModel::Phong, SpecularModel::Blinn] {
         let options = RenderOptions {
             supersample: Supersample { emitter: 1, view: 1 },
-            lighting: Lighting { lights: vec![Light::Point { position: [light_x, 0.0, light_z], intensity: [1.0; 3], name: "p".into() }], model },
+            lighting: Lighting {
+                lights: vec![Light::Point { position: [light_x, 0.0, light_z], intensity: [1.0; 3], name: "p".into() }],
+                model,
+            },
             engine: Engine::Fast,
         };
         let (m, _) = render(&scene, &g, &options, &|_, _| {}).unwrap();
@@ -184,7 +236,10 @@ fn highlights_move_across_views_as_the_formulas_say() {
             let peak = (0..views.len()).max_by(|&a, &b| views[a].total_cmp(&views[b])).unwrap();
             let expected = ((x - light_x) / light_z).atan();
             let spacing = (g.views.theta_rad(1) - g.views.theta_rad(0)).abs();
-            assert!((g.views.theta_rad(peak) - expected).abs() <= spacing, "{model:?} emitter {e}: peak at view {peak}");
+            assert!(
+                (g.views.theta_rad(peak) - expected).abs() <= spacing,
+                "{model:?} emitter {e}: peak at view {peak}"
+            );
             moved.push(peak);
             // The lobe one view either side of the peak, from the formula.
             let to_light = {
@@ -210,10 +265,16 @@ fn highlights_move_across_views_as_the_formulas_say() {
                 };
                 let expected = e_irr * to_light[2] * lobe;
                 let got = m.get(0, 0, e, v) as f64;
-                assert!((got - expected).abs() <= 2e-4 * expected.max(1.0), "{model:?} e {e} v {v}: {got} vs {expected}");
+                assert!(
+                    (got - expected).abs() <= 2e-4 * expected.max(1.0),
+                    "{model:?} e {e} v {v}: {got} vs {expected}"
+                );
             }
         }
-        assert!(moved.windows(2).all(|w| w[1] >= w[0]) && moved[40] > moved[0] + 20, "{model:?}: highlight moves: {moved:?}");
+        assert!(
+            moved.windows(2).all(|w| w[1] >= w[0]) && moved[40] > moved[0] + 20,
+            "{model:?}: highlight moves: {moved:?}"
+        );
     }
 }
 
@@ -250,7 +311,8 @@ fn band(layout: &holo::layout::Layout, rows: usize) -> Geometry {
 fn fast_equals_reference_on_real_models_at_several_layouts() {
     use holo::mesh::load::SceneSource;
     use holo::mesh::place::{place, Placement};
-    let mut models = vec![std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/mesh/spot/spot.obj"))];
+    let mut models =
+        vec![std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/mesh/spot/spot.obj"))];
     match shared_data() {
         Some(d) => {
             models.push(d.join("gltf_khronos_BoxTextured/glTF-Binary/BoxTextured.glb"));
@@ -267,7 +329,10 @@ fn fast_equals_reference_on_real_models_at_several_layouts() {
             // Find the model by extension in its folder (names differ between samples).
             let dir = path.parent().unwrap();
             let ext = path.extension().unwrap().to_owned();
-            match std::fs::read_dir(dir).ok().and_then(|r| r.flatten().map(|e| e.path()).find(|p| p.extension() == Some(&ext))) {
+            match std::fs::read_dir(dir)
+                .ok()
+                .and_then(|r| r.flatten().map(|e| e.path()).find(|p| p.extension() == Some(&ext)))
+            {
                 Some(p) => p,
                 None => panic!("no {:?} model in {}", ext, dir.display()),
             }
@@ -280,7 +345,11 @@ fn fast_equals_reference_on_real_models_at_several_layouts() {
             let placement = Placement { rotate_deg: [10.0, 30.0 * li as f64, 0.0], ..Placement::default() };
             // Fit to the whole layout, then render the band.
             place(&mut scene, &layout.geometry, &placement).unwrap();
-            let options = RenderOptions { supersample: Supersample { emitter: 1, view: 1 }, lighting: lighting(SpecularModel::Blinn), engine: Engine::Fast };
+            let options = RenderOptions {
+                supersample: Supersample { emitter: 1, view: 1 },
+                lighting: lighting(SpecularModel::Blinn),
+                engine: Engine::Fast,
+            };
             let (fast, reference, stats) = both(&scene, &g, &options);
             let (off, mean) = compare(&fast, &reference);
             println!(
@@ -339,8 +408,15 @@ fn fast_equals_reference_with_directional_lights_and_vertex_normals() {
         let options = RenderOptions { supersample: ss, lighting: lights, engine: Engine::Fast };
         let (fast, reference, stats) = both(&scene, &g, &options);
         let (off, mean) = compare(&fast, &reference);
-        println!("seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}", off * 100.0, mean);
-        assert!(reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10, "scene covers the display");
+        println!(
+            "seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}",
+            off * 100.0,
+            mean
+        );
+        assert!(
+            reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10,
+            "scene covers the display"
+        );
         assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
     }
 }
@@ -359,14 +435,18 @@ fn fast_equals_reference_with_textures_in_and_out_of_the_batch() {
     ] {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut scene = random_scene(&mut rng, 90);
-        let wraps = [[Wrap::Repeat, Wrap::MirroredRepeat], [Wrap::ClampToEdge, Wrap::Repeat], [Wrap::MirroredRepeat; 2]];
+        let wraps =
+            [[Wrap::Repeat, Wrap::MirroredRepeat], [Wrap::ClampToEdge, Wrap::Repeat], [Wrap::MirroredRepeat; 2]];
         for (k, wrap) in wraps.into_iter().enumerate() {
             let (width, height) = [(37, 23), (64, 64), (5, 3)][k];
-            let texels = (0..width * height).map(|_| [rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), 1.0]).collect();
+            let texels = (0..width * height)
+                .map(|_| [rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), 1.0])
+                .collect();
             scene.textures.push(Texture { name: format!("random {k}"), width, height, texels, wrap });
         }
         for (k, o) in scene.objects.iter_mut().enumerate() {
-            o.uv_sets = vec![(0..o.positions.len()).map(|_| [rng.gen_range(-0.3..1.3), rng.gen_range(-0.3..1.3)]).collect()];
+            o.uv_sets =
+                vec![(0..o.positions.len()).map(|_| [rng.gen_range(-0.3..1.3), rng.gen_range(-0.3..1.3)]).collect()];
             let plain = TextureRef { texture: k, uv_set: 0, transform: UvTransform::default() };
             match k {
                 0 => o.material.base_colour_texture = Some(plain),
@@ -392,8 +472,15 @@ fn fast_equals_reference_with_textures_in_and_out_of_the_batch() {
         let options = RenderOptions { supersample: ss, lighting: lights, engine: Engine::Fast };
         let (fast, reference, stats) = both(&scene, &g, &options);
         let (off, mean) = compare(&fast, &reference);
-        println!("seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}", off * 100.0, mean);
-        assert!(reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10, "scene covers the display");
+        println!(
+            "seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}",
+            off * 100.0,
+            mean
+        );
+        assert!(
+            reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10,
+            "scene covers the display"
+        );
         assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
     }
 }

@@ -626,7 +626,12 @@ fn run(cli: Cli) -> Outcome {
                 started.elapsed().as_secs_f64()
             );
             println!("{}", report.placed);
-            println!("{} light(s); {} segments rasterised, {} sub-rays shaded", report.lights.len(), report.stats.segments, report.stats.shaded);
+            println!(
+                "{} light(s); {} segments rasterised, {} sub-rays shaded",
+                report.lights.len(),
+                report.stats.segments,
+                report.stats.shaded
+            );
             Ok(ExitCode::SUCCESS)
         }
         Command::Demo { out } => {

@@ -147,11 +147,8 @@ impl HoloFile {
         };
         // exr starts a thread pool per parallel read; below a megabyte that
         // costs more than it saves (and its threads outlive the call).
-        let parallel = if file_bytes >= PARALLEL_DECODE_MIN_BYTES {
-            chunks.parallel_decompressor(false)
-        } else {
-            Err(chunks)
-        };
+        let parallel =
+            if file_bytes >= PARALLEL_DECODE_MIN_BYTES { chunks.parallel_decompressor(false) } else { Err(chunks) };
         match parallel {
             Ok(mut decompressor) => {
                 while let Some(block) = decompressor.decompress_next_block() {

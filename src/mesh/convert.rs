@@ -42,7 +42,10 @@ impl Default for ConvertOptions {
     fn default() -> Self {
         ConvertOptions {
             placement: Placement::default(),
-            render: RenderOptions { lighting: super::shade::Lighting { lights: vec![], model: Default::default() }, ..RenderOptions::default() },
+            render: RenderOptions {
+                lighting: super::shade::Lighting { lights: vec![], model: Default::default() },
+                ..RenderOptions::default()
+            },
             user_lights: vec![],
             use_scene_lights: true,
             frames: None,

@@ -135,8 +135,7 @@ impl<'a> EpiRenderer<'a> {
                 fill[j] += 1;
             }
         }
-        let materials =
-            s.scene.objects.iter().map(|o| FastMaterial::new(&o.material, s.lighting.model)).collect();
+        let materials = s.scene.objects.iter().map(|o| FastMaterial::new(&o.material, s.lighting.model)).collect();
         let lights = FastLights::new(s.lighting);
         let lights_avx2 = lights.avx2();
         EpiRenderer { s, tris, start, bucket, materials, lights, lights_avx2 }
@@ -496,8 +495,16 @@ mod tests {
     #[test]
     fn simd_and_portable_loops_agree_bit_for_bit() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(21);
-        let texels = (0..19 * 11).map(|_| [rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), 1.0]).collect();
-        let texture = Texture { name: "random".into(), width: 19, height: 11, texels, wrap: [Wrap::Repeat, Wrap::MirroredRepeat] };
+        let texels = (0..19 * 11)
+            .map(|_| [rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), 1.0])
+            .collect();
+        let texture = Texture {
+            name: "random".into(),
+            width: 19,
+            height: 11,
+            texels,
+            wrap: [Wrap::Repeat, Wrap::MirroredRepeat],
+        };
         let mut objects = Vec::new();
         for k in 0..2 {
             let mut o = Object {
@@ -506,7 +513,11 @@ mod tests {
                     base_colour: [0.9, 0.7, 0.5, 1.0],
                     specular: [0.4; 3],
                     shininess: 40.0,
-                    base_colour_texture: (k == 0).then(|| TextureRef { texture: 0, uv_set: 0, transform: UvTransform::default() }),
+                    base_colour_texture: (k == 0).then(|| TextureRef {
+                        texture: 0,
+                        uv_set: 0,
+                        transform: UvTransform::default(),
+                    }),
                     double_sided: k == 1,
                     ..Material::default()
                 },
@@ -522,7 +533,8 @@ mod tests {
                 }
                 o.triangles.push([3 * t, 3 * t + 1, 3 * t + 2]);
             }
-            o.uv_sets = vec![(0..o.positions.len()).map(|_| [rng.gen_range(-0.5..1.5), rng.gen_range(-0.5..1.5)]).collect()];
+            o.uv_sets =
+                vec![(0..o.positions.len()).map(|_| [rng.gen_range(-0.5..1.5), rng.gen_range(-0.5..1.5)]).collect()];
             objects.push(o);
         }
         let scene = Scene { source: "random".into(), objects, textures: vec![texture], ..Scene::default() };
@@ -531,14 +543,19 @@ mod tests {
             let lighting = Lighting {
                 lights: vec![
                     Light::Directional { direction: [0.3, -0.5, -1.0], irradiance: [2.0; 3], name: "key".into() },
-                    Light::Directional { direction: [-0.5, 0.1, -0.6], irradiance: [0.4, 0.6, 0.8], name: "fill".into() },
+                    Light::Directional {
+                        direction: [-0.5, 0.1, -0.6],
+                        irradiance: [0.4, 0.6, 0.8],
+                        name: "fill".into(),
+                    },
                     Light::Ambient { radiance: [0.05; 3] },
                 ],
                 model,
             };
             let rays = Rays::new(&g, Supersample { emitter: 2, view: 2 }).unwrap();
             let weights = channel_weights(&["R", "G", "B"]);
-            let shading = || Shading { scene: &scene, lighting: &lighting, weights: &weights, rays: &rays, geometry: &g };
+            let shading =
+                || Shading { scene: &scene, lighting: &lighting, weights: &weights, rays: &rays, geometry: &g };
             let simd = EpiRenderer::new(shading());
             let mut portable = EpiRenderer::new(shading());
             portable.lights.portable();
@@ -551,7 +568,11 @@ mod tests {
                 shaded += simd.render_hololine(j, &mut rows_a).shaded;
                 let mut rows_b: Vec<&mut [f32]> = b.chunks_exact_mut(line).collect();
                 portable.render_hololine(j, &mut rows_b);
-                assert_eq!(a.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), b.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), "hololine {j}");
+                assert_eq!(
+                    a.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    b.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    "hololine {j}"
+                );
             }
             assert!(shaded > 1000, "the scene is seen ({shaded} samples)");
         }

@@ -272,11 +272,8 @@ pub(crate) fn shade_run(
     let [acc_r, acc_g, acc_b] = acc;
     for (px, &t) in params.iter().enumerate() {
         let t = t.clamp(0.0, 1.0) as f32;
-        let mut normal = if run.has_normals {
-            scale(normalize_or(lerp3(a.normal, d.normal, t), run.face), sign)
-        } else {
-            run.face
-        };
+        let mut normal =
+            if run.has_normals { scale(normalize_or(lerp3(a.normal, d.normal, t), run.face), sign) } else { run.face };
         let uv = |r: &TextureRef| -> [f32; 2] {
             let c = if r.uv_set < 2 {
                 [a.uv[r.uv_set][0] + d.uv[r.uv_set][0] * t, a.uv[r.uv_set][1] + d.uv[r.uv_set][1] * t]
@@ -371,7 +368,9 @@ pub(crate) fn shade_run(
             }
         }
         let rgb: [f32; 3] = std::array::from_fn(|c| {
-            emitted[c] + base[c] * (lights.ambient[c] + diffuse[c] * std::f32::consts::FRAC_1_PI) + m.ks[c] * specular[c]
+            emitted[c]
+                + base[c] * (lights.ambient[c] + diffuse[c] * std::f32::consts::FRAC_1_PI)
+                + m.ks[c] * specular[c]
         });
         acc_r[px] += rgb[0];
         acc_g[px] += rgb[1];
@@ -399,7 +398,7 @@ const LOBE_FLOOR: f64 = 1e-6;
 #[inline(always)]
 pub(crate) fn pow01(x: f32, n: f32) -> f32 {
     let xc = x.clamp(f32::MIN_POSITIVE, 1.0); // NaN → MIN_POSITIVE
-    // log₂ x = e + log₂ m.
+                                              // log₂ x = e + log₂ m.
     let bits = xc.to_bits();
     let e = ((bits >> 23) & 0xff) as i32 - 127;
     let m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000); // [1, 2)
@@ -962,7 +961,9 @@ mod tests {
         use crate::mesh::Wrap;
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
         for (w, h) in [(1, 1), (1, 7), (5, 1), (2, 2), (17, 9), (64, 64)] {
-            for wrap in [[Wrap::Repeat, Wrap::ClampToEdge], [Wrap::MirroredRepeat, Wrap::Repeat], [Wrap::ClampToEdge; 2]] {
+            for wrap in
+                [[Wrap::Repeat, Wrap::ClampToEdge], [Wrap::MirroredRepeat, Wrap::Repeat], [Wrap::ClampToEdge; 2]]
+            {
                 let texels = (0..w * h).map(|_| std::array::from_fn(|_| rng.gen_range(0.0f32..1.0))).collect();
                 let tex = Texture { name: "random".into(), width: w, height: h, texels, wrap };
                 for k in 0..20_000 {
@@ -970,7 +971,10 @@ mod tests {
                         0 => [rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0)],
                         1 => [rng.gen_range(-3.0..3.0), rng.gen_range(-3.0..3.0)],
                         // On texel centres and edges, where floor and truncation could differ.
-                        2 => [(rng.gen_range(0..=2 * w) as f32) / (2 * w) as f32, (rng.gen_range(0..=2 * h) as f32) / (2 * h) as f32],
+                        2 => [
+                            (rng.gen_range(0..=2 * w) as f32) / (2 * w) as f32,
+                            (rng.gen_range(0..=2 * h) as f32) / (2 * h) as f32,
+                        ],
                         _ => [[f32::NAN, 1e30, -1e30, 0.5][k / 4 % 4], rng.gen_range(-1.0..1.0)],
                     };
                     let (fast, slow) = (sample_fast(&tex, uv), sample(&tex, uv));

@@ -219,7 +219,8 @@ impl Scene {
             if let Some(t) = o.triangles.iter().position(|t| t.iter().any(|&i| i as usize >= n)) {
                 return Some(format!("object {name:?}: triangle {t} uses a vertex past the {n} it has"));
             }
-            for (what, len) in [("normals", o.normals.len()), ("tangents", o.tangents.len()), ("colours", o.colours.len())]
+            for (what, len) in
+                [("normals", o.normals.len()), ("tangents", o.tangents.len()), ("colours", o.colours.len())]
             {
                 if len != 0 && len != n {
                     return Some(format!("object {name:?}: {len} {what} for {n} vertices"));
@@ -231,13 +232,24 @@ impl Scene {
             let m = &o.material;
             for r in [&m.base_colour_texture, &m.normal_texture, &m.emissive_texture].into_iter().flatten() {
                 if r.texture >= self.textures.len() {
-                    return Some(format!("object {name:?}: material {:?} uses texture {} of {}", m.name, r.texture, self.textures.len()));
+                    return Some(format!(
+                        "object {name:?}: material {:?} uses texture {} of {}",
+                        m.name,
+                        r.texture,
+                        self.textures.len()
+                    ));
                 }
             }
         }
         for (i, t) in self.textures.iter().enumerate() {
             if t.texels.len() != t.width * t.height {
-                return Some(format!("texture {i} ({:?}): {} texels for {}x{}", t.name, t.texels.len(), t.width, t.height));
+                return Some(format!(
+                    "texture {i} ({:?}): {} texels for {}x{}",
+                    t.name,
+                    t.texels.len(),
+                    t.width,
+                    t.height
+                ));
             }
         }
         None

@@ -118,11 +118,7 @@ pub fn place(scene: &mut Scene, g: &Geometry, placement: &Placement) -> Result<P
                     }
                 }
             };
-            let target = [
-                0.5 * (volume.0[0] + volume.1[0]),
-                0.5 * (volume.0[1] + volume.1[1]),
-                g.emitter_z_m,
-            ];
+            let target = [0.5 * (volume.0[0] + volume.1[0]), 0.5 * (volume.0[1] + volume.1[1]), g.emitter_z_m];
             let mut m = [[0.0; 4]; 4];
             for row in 0..3 {
                 for col in 0..3 {

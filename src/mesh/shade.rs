@@ -60,7 +60,11 @@ impl Lighting {
     pub fn default_lights() -> Vec<Light> {
         let d = normalize([1.0, -1.0, -1.0]);
         vec![
-            Light::Directional { direction: d, irradiance: [std::f32::consts::PI; 3], name: "default key light".into() },
+            Light::Directional {
+                direction: d,
+                irradiance: [std::f32::consts::PI; 3],
+                name: "default key light".into(),
+            },
             Light::Ambient { radiance: [0.08; 3] },
         ]
     }
@@ -76,9 +80,15 @@ impl Lighting {
 ///   volume (so its intensity is `E·d²`);
 /// - `ambient:R,G,B`: ambient radiance.
 pub fn parse_light(spec: &str, centre_m: [f64; 3]) -> Result<Light, String> {
-    let bad = |why: &str| format!("light {spec:?}: {why}; expected dir:DX,DY,DZ[:R,G,B], point:X,Y,Z[:R,G,B] or ambient:R,G,B");
+    let bad = |why: &str| {
+        format!("light {spec:?}: {why}; expected dir:DX,DY,DZ[:R,G,B], point:X,Y,Z[:R,G,B] or ambient:R,G,B")
+    };
     let numbers = |t: &str| -> Result<[f64; 3], String> {
-        let v: Vec<f64> = t.split(',').map(|x| x.trim().parse::<f64>()).collect::<std::result::Result<_, _>>().map_err(|_| bad("not numbers"))?;
+        let v: Vec<f64> = t
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<std::result::Result<_, _>>()
+            .map_err(|_| bad("not numbers"))?;
         match v.as_slice() {
             [a, b, c] if v.iter().all(|x| x.is_finite()) => Ok([*a, *b, *c]),
             _ => Err(bad("three finite numbers needed")),
@@ -430,7 +440,12 @@ mod tests {
 
     #[test]
     fn lobes_peak_at_the_mirror_direction_with_their_formulas() {
-        let s = plane(Material { base_colour: [0.0, 0.0, 0.0, 1.0], specular: [1.0; 3], shininess: 40.0, ..Material::default() });
+        let s = plane(Material {
+            base_colour: [0.0, 0.0, 0.0, 1.0],
+            specular: [1.0; 3],
+            shininess: 40.0,
+            ..Material::default()
+        });
         let to_light = normalize([-0.4, 0.0, 1.0]);
         let light = Light::Directional { direction: scale(to_light, -1.0), irradiance: [1.0; 3], name: "l".into() };
         let mirror = [-to_light[0], 0.0, to_light[2]];
