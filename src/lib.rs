@@ -7,6 +7,7 @@
 #![deny(missing_docs)]
 
 pub mod assemble;
+pub mod cameras;
 mod error;
 pub mod format;
 pub mod geometry;

@@ -1,0 +1,284 @@
+//! Camera arrays to modulation (issue 5): rigs of calibrated pinhole
+//! cameras, the readers for the conventions captures come in, and the
+//! resampling of every modulation ray from the cameras' pictures.
+//!
+//! Conventions (the same as OpenCV's and Middlebury's `K [R | t]`): a
+//! camera looks along its `+z`, with `+x` right and `+y` down in the
+//! picture; a world point `X` is at `x_c = R (X − C)` in the camera, and at
+//! pixel `(f_x x_c/z_c + c_x, f_y y_c/z_c + c_y)`, where pixel `(0, 0)` is
+//! the *centre* of the top-left pixel. World ("capture") units are whatever
+//! the rig says; [`Rig::metres_per_unit`] converts them to metres.
+
+use std::path::PathBuf;
+
+/// Pinhole intrinsics in pixels (no lens distortion: captures are expected
+/// undistorted, as the benchmark data sets are).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Intrinsics {
+    /// Focal length in pixels, horizontally and vertically.
+    pub fx: f64,
+    /// Vertical focal length in pixels.
+    pub fy: f64,
+    /// Principal point in pixels (pixel centres at integers, `(0, 0)` top left).
+    pub cx: f64,
+    /// Vertical principal point in pixels.
+    pub cy: f64,
+}
+
+/// Where a camera is and where it looks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    /// World to camera: the rows are the camera's `x` (right), `y` (down)
+    /// and `z` (viewing direction) axes in world coordinates.
+    pub rotation: [[f64; 3]; 3],
+    /// Centre of projection, world units.
+    pub centre: [f64; 3],
+}
+
+/// Where a camera's picture comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ImageSource {
+    /// A whole image file (PNG, JPEG; 8 or 16 bits, sRGB-encoded unless the
+    /// rig says linear).
+    File(PathBuf),
+    /// A rectangle of an image file (a quilt tile): `x`, `y` of its top-left
+    /// pixel, and its size.
+    Tile {
+        /// The image file.
+        file: PathBuf,
+        /// Left column of the tile.
+        x: usize,
+        /// Top row of the tile.
+        y: usize,
+        /// Tile width in pixels.
+        width: usize,
+        /// Tile height in pixels.
+        height: usize,
+    },
+}
+
+/// What a depth map's samples mean.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DepthKind {
+    /// Camera `z` (distance along the viewing direction) = sample × `scale`,
+    /// in world units.
+    Z {
+        /// World units per sample unit.
+        scale: f64,
+    },
+    /// Disparity in pixels: camera `z = numerator / (sample + offset)`, world
+    /// units (for parallel cameras focused at distance `F` with baseline `b`
+    /// and focal length `f` pixels: `numerator = b·f`, `offset = b·f/F`).
+    Disparity {
+        /// `b·f`, world units × pixels.
+        numerator: f64,
+        /// `b·f/F`, pixels.
+        offset: f64,
+    },
+}
+
+/// A per-pixel depth or disparity map of one camera (PFM, same size as the
+/// picture).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DepthSource {
+    /// The PFM file.
+    pub file: PathBuf,
+    /// What its samples mean.
+    pub kind: DepthKind,
+}
+
+/// One camera of a rig.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    /// For messages: the file name or the rig's name for it.
+    pub name: String,
+    /// Where its picture is.
+    pub image: ImageSource,
+    /// The picture's size in pixels.
+    pub width: usize,
+    /// Picture height in pixels.
+    pub height: usize,
+    /// Focal lengths and principal point.
+    pub intrinsics: Intrinsics,
+    /// Position and orientation.
+    pub pose: Pose,
+    /// A depth or disparity map, where the capture has one.
+    pub depth: Option<DepthSource>,
+}
+
+/// A set of calibrated cameras that photographed one scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rig {
+    /// Where it came from (rig file, folder, quilt), for messages.
+    pub source: String,
+    /// The cameras, in the capture's order.
+    pub cameras: Vec<Camera>,
+    /// Metres per world unit (1 for a rig in metres, 0.001 in millimetres).
+    pub metres_per_unit: f64,
+    /// The distance from the cameras at which the capture is in focus, world
+    /// units, when the capture says (HCI `focus_distance_m`, a quilt's focal
+    /// plane); the resampler's default focus depth.
+    pub focus_distance: Option<f64>,
+    /// The pictures hold linear values already (not sRGB-encoded).
+    pub linear: bool,
+}
+
+impl Camera {
+    /// Pixel coordinates of world point `p` and its camera `z`, or `None`
+    /// when `p` is not in front of the camera.
+    pub fn project(&self, p: [f64; 3]) -> Option<([f64; 2], f64)> {
+        let d = [p[0] - self.pose.centre[0], p[1] - self.pose.centre[1], p[2] - self.pose.centre[2]];
+        let r = &self.pose.rotation;
+        let c = [0, 1, 2].map(|i| r[i][0] * d[0] + r[i][1] * d[1] + r[i][2] * d[2]);
+        if !(c[2] > 0.0) {
+            return None;
+        }
+        let k = &self.intrinsics;
+        Some(([k.fx * c[0] / c[2] + k.cx, k.fy * c[1] / c[2] + k.cy], c[2]))
+    }
+
+    /// The viewing direction (unit, world).
+    pub fn axis(&self) -> [f64; 3] {
+        self.pose.rotation[2]
+    }
+
+    /// The unit world direction of the ray through pixel `(u, v)`.
+    pub fn ray(&self, u: f64, v: f64) -> [f64; 3] {
+        let k = &self.intrinsics;
+        let c = [(u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0];
+        let r = &self.pose.rotation;
+        let w = [0, 1, 2].map(|i| r[0][i] * c[0] + r[1][i] * c[1] + r[2][i] * c[2]);
+        let l = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+        w.map(|x| x / l)
+    }
+
+    /// What is wrong with this camera's numbers, if anything (names it).
+    pub fn problem(&self) -> Option<String> {
+        let k = &self.intrinsics;
+        let finite = [k.fx, k.fy, k.cx, k.cy]
+            .iter()
+            .chain(self.pose.centre.iter())
+            .chain(self.pose.rotation.iter().flatten())
+            .all(|x| x.is_finite());
+        if !finite {
+            return Some(format!("camera {}: calibration is not finite (NaN or infinite)", self.name));
+        }
+        if !(k.fx > 0.0 && k.fy > 0.0) {
+            return Some(format!("camera {}: focal length must be positive (fx {}, fy {})", self.name, k.fx, k.fy));
+        }
+        if self.width == 0 || self.height == 0 {
+            return Some(format!("camera {}: the picture is empty ({}×{})", self.name, self.width, self.height));
+        }
+        // Rotation: orthonormal to a tolerance that calibration files (printed
+        // to 6–8 digits) meet.
+        let r = &self.pose.rotation;
+        for i in 0..3 {
+            for j in 0..3 {
+                let d: f64 = (0..3).map(|k| r[i][k] * r[j][k]).sum();
+                let want = if i == j { 1.0 } else { 0.0 };
+                if (d - want).abs() > 1e-4 {
+                    return Some(format!(
+                        "camera {}: the rotation is not orthonormal (row {i}·row {j} = {d:.6})",
+                        self.name
+                    ));
+                }
+            }
+        }
+        let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
+            + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+        if det < 0.0 {
+            return Some(format!("camera {}: the rotation is a reflection (determinant {det:.3})", self.name));
+        }
+        None
+    }
+}
+
+/// The rotation whose camera looks along `forward` with `down` as near the
+/// picture's `+y` as it can be (both world vectors, not necessarily unit).
+pub fn look_rotation(forward: [f64; 3], down: [f64; 3]) -> [[f64; 3]; 3] {
+    let unit = |v: [f64; 3]| {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|x| x / l)
+    };
+    let cross =
+        |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let z = unit(forward);
+    let x = unit(cross(down, z));
+    let y = cross(z, x);
+    [x, y, z]
+}
+
+impl Rig {
+    /// The first thing wrong with the rig, naming the camera: no cameras,
+    /// bad calibration, two cameras at one place.
+    pub fn problem(&self) -> Option<String> {
+        if self.cameras.is_empty() {
+            return Some(format!("{}: the rig has no cameras", self.source));
+        }
+        if !(self.metres_per_unit > 0.0 && self.metres_per_unit.is_finite()) {
+            return Some(format!(
+                "{}: units must be a positive length (metres per unit {})",
+                self.source, self.metres_per_unit
+            ));
+        }
+        if let Some(f) = self.focus_distance {
+            if !(f > 0.0 && f.is_finite()) {
+                return Some(format!("{}: the focus distance must be positive (got {f})", self.source));
+            }
+        }
+        for c in &self.cameras {
+            if let Some(p) = c.problem() {
+                return Some(format!("{}: {p}", self.source));
+            }
+        }
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera() -> Camera {
+        Camera {
+            name: "c".into(),
+            image: ImageSource::File("c.png".into()),
+            width: 64,
+            height: 48,
+            intrinsics: Intrinsics { fx: 100.0, fy: 100.0, cx: 31.5, cy: 23.5 },
+            pose: Pose { rotation: look_rotation([0.0, 0.0, -1.0], [0.0, -1.0, 0.0]), centre: [0.1, 0.0, 1.0] },
+            depth: None,
+        }
+    }
+
+    #[test]
+    fn project_and_ray_are_inverse() {
+        let c = camera();
+        // Looking down −z with y down-the-picture = world −y: world +x is picture right.
+        let (px, z) = c.project([0.1, 0.0, 0.0]).unwrap();
+        assert!((px[0] - 31.5).abs() < 1e-12 && (px[1] - 23.5).abs() < 1e-12 && (z - 1.0).abs() < 1e-12);
+        let (px, _) = c.project([0.2, 0.1, 0.0]).unwrap();
+        assert!(px[0] > 31.5 && px[1] < 23.5, "{px:?}");
+        let d = c.ray(px[0], px[1]);
+        let want = [0.1, 0.1, -1.0];
+        let l = (0.02f64 + 1.0).sqrt();
+        for k in 0..3 {
+            assert!((d[k] - want[k] / l).abs() < 1e-12);
+        }
+        assert!(c.project([0.0, 0.0, 2.0]).is_none(), "behind the camera");
+    }
+
+    #[test]
+    fn bad_calibration_is_named() {
+        let mut c = camera();
+        c.intrinsics.fx = f64::NAN;
+        assert!(c.problem().unwrap().contains("camera c"));
+        let mut c = camera();
+        c.pose.rotation[0][0] = 2.0;
+        assert!(c.problem().unwrap().contains("orthonormal"));
+        let mut c = camera();
+        c.pose.rotation[0] = c.pose.rotation[0].map(|x| -x);
+        assert!(c.problem().unwrap().contains("reflection"));
+        assert!(camera().problem().is_none());
+    }
+}
