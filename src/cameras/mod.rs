@@ -9,6 +9,9 @@
 //! the *centre* of the top-left pixel. World ("capture") units are whatever
 //! the rig says; [`Rig::metres_per_unit`] converts them to metres.
 
+pub mod filter;
+pub mod resample;
+
 use std::path::PathBuf;
 
 /// Pinhole intrinsics in pixels (no lens distortion: captures are expected

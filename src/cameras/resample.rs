@@ -1,0 +1,791 @@
+//! Every modulation ray from the cameras' pictures (issue 5).
+//!
+//! A ray `(j, e, v)` of the display (DESIGN.md §2) is carried into the
+//! capture's space by the [`Placement`]. There it is located among the
+//! cameras on the rig's *camera surface*: for a rail or a planar grid whose
+//! cameras look across their plane, the point where the ray crosses that
+//! plane (the two-plane light field of Levoy and Hanrahan); for a ring or
+//! any rig whose cameras look inward, the ray's direction (azimuth and
+//! elevation in the display-aligned frame), compared with each camera's
+//! direction from the scene centre. The cameras' points on that surface are
+//! triangulated once (`spade`; a line of cameras is a 1-D list), and the
+//! ray's point gets weights by the chosen [`Blend`]. Each weighted camera
+//! then looks at the ray's *focus point* — where the ray crosses the focus
+//! plane (Isaksen, McMillan and Gortler's dynamic reparameterisation), or,
+//! with depth maps, the surface point found along the ray — and its picture
+//! is sampled there with a prefilter as wide as the display's ray spacing.
+//! Cameras that do not see the point (outside their picture, behind them, or
+//! hidden according to their own depth map) drop out and the others'
+//! weights are renormalised. Rays outside the cameras' surface hull, or seen
+//! by none, are zero and counted: nothing is invented.
+
+use spade::{DelaunayTriangulation, FloatTriangulation, Point2, Triangulation};
+
+use super::filter::Pyramid;
+use super::{Camera, Rig};
+use crate::geometry::Geometry;
+use crate::mesh::shade::channel_weights;
+use crate::{Error, Modulation, Result};
+
+/// How the cameras around a ray are weighted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Blend {
+    /// The nearest camera on the camera surface.
+    Nearest,
+    /// Linear along a rail, barycentric in the cameras' Delaunay triangle.
+    Linear,
+    /// Sibson's natural-neighbour coordinates (linear along a rail).
+    NaturalNeighbour,
+}
+
+impl Blend {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Blend::Nearest => "nearest",
+            Blend::Linear => "linear",
+            Blend::NaturalNeighbour => "natural",
+        }
+    }
+
+    /// Parse a command-line name.
+    pub fn parse(s: &str) -> Result<Blend> {
+        match s {
+            "nearest" => Ok(Blend::Nearest),
+            "linear" | "barycentric" => Ok(Blend::Linear),
+            "natural" | "natural-neighbour" | "natural-neighbor" => Ok(Blend::NaturalNeighbour),
+            _ => Err(Error::Usage(format!("unknown blending {s:?}: expected nearest, linear or natural"))),
+        }
+    }
+}
+
+/// How the capture's space sits in the display's: display point
+/// `P_d = scale · R (P_c − centre) + (0, 0, z_e)`, with `R`'s rows the
+/// display's `x`, `y`, `z` axes in capture coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    /// Capture to display rotation (rows: display axes in capture coordinates).
+    pub rotation: [[f64; 3]; 3],
+    /// The capture point shown at the middle of the emitter plane.
+    pub centre: [f64; 3],
+    /// Display metres per capture unit.
+    pub scale: f64,
+}
+
+/// What the user asked for (each `None`: chosen from the rig).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PlacementRequest {
+    /// Display metres per capture unit.
+    pub scale: Option<f64>,
+    /// The capture point to show at the middle of the emitter plane.
+    pub centre: Option<[f64; 3]>,
+    /// Focus distance from the cameras, capture units.
+    pub focus: Option<f64>,
+    /// Scale so the middle camera's view at the focus fills the display's
+    /// width, instead of putting the cameras at the viewer's distance.
+    pub fill_width: bool,
+}
+
+/// Options of [`resample_rig`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraOptions {
+    /// Camera weighting.
+    pub blend: Blend,
+    /// Placement and focus.
+    pub placement: PlacementRequest,
+    /// Use the cameras' depth maps where they have them.
+    pub use_depth: bool,
+    /// Return a mask of the rays no camera sees.
+    pub want_mask: bool,
+}
+
+impl Default for CameraOptions {
+    fn default() -> Self {
+        CameraOptions {
+            blend: Blend::Linear,
+            placement: PlacementRequest::default(),
+            use_depth: true,
+            want_mask: false,
+        }
+    }
+}
+
+/// A camera's picture and (optionally) depth map, ready to sample.
+pub struct CameraView {
+    /// The picture, prefiltered.
+    pub picture: Pyramid,
+    /// Camera `z` (world units) per pixel, top row first, where the rig
+    /// gives a depth map (`INFINITY` where the map says nothing is there).
+    pub depth_z: Option<Vec<f32>>,
+}
+
+/// What a resampling did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CameraReport {
+    /// The placement used, in words (what was chosen and why).
+    pub placement: String,
+    /// Display metres per capture unit, as used.
+    pub scale: f64,
+    /// The capture point at the middle of the emitter plane, as used.
+    pub centre: [f64; 3],
+    /// The camera surface: "rail", "grid" or "directions" and the camera count.
+    pub surface: String,
+    /// Rays resampled (hololines × emitters × views).
+    pub rays: u64,
+    /// Rays no camera sees (left zero).
+    pub unseen: u64,
+    /// Per ray (hololine, emitter, view order), `true` where unseen, on request.
+    pub mask: Option<Vec<bool>>,
+}
+
+/// The geometry of the rig that every ray uses: placement, camera surface,
+/// focus plane.
+pub struct RigGeometry {
+    placement: Placement,
+    surface: Surface,
+    cameras_on_surface: Interpolator,
+    /// A point of the focus plane and its unit normal (capture).
+    focus_point: [f64; 3],
+    focus_normal: [f64; 3],
+    /// Words for the report.
+    placement_words: String,
+}
+
+enum Surface {
+    /// Rays are located where they cross this plane: `u`, `v` in-plane
+    /// unit axes, `normal` unit.
+    Plane { origin: [f64; 3], u: [f64; 3], v: [f64; 3], normal: [f64; 3] },
+    /// Rays are located by their direction, cameras by theirs from
+    /// `centre`: azimuth and elevation in the display-aligned frame.
+    Directions { centre: [f64; 3] },
+}
+
+/// Cameras' points on the surface and the weights of a query point.
+enum Interpolator {
+    /// One camera: it takes every ray.
+    Single,
+    /// Cameras on a line: their coordinate along `axis` from `origin`, sorted, with camera indices.
+    Line { origin: [f64; 2], axis: [f64; 2], sorted: Vec<(f64, usize)> },
+    /// Scattered: the Delaunay triangulation; vertex `k` is camera `cameras[k]`.
+    Triangles { triangulation: DelaunayTriangulation<Point2<f64>>, cameras: Vec<usize> },
+}
+
+impl RigGeometry {
+    /// Work out the placement and the camera surface for `rig` shown on `g`.
+    pub fn new(rig: &Rig, g: &Geometry, request: &PlacementRequest) -> Result<RigGeometry> {
+        if let Some(p) = rig.problem() {
+            return Err(Error::Usage(p));
+        }
+        let n = rig.cameras.len();
+        let centres: Vec<[f64; 3]> = rig.cameras.iter().map(|c| c.pose.centre).collect();
+        let mean_centre = mean(&centres);
+        let mean_axis = mean(&rig.cameras.iter().map(|c| c.axis()).collect::<Vec<_>>());
+        let axes_agree = norm(mean_axis) > 0.7;
+        let (axes, spread, extent) = principal_axes(&centres);
+        // Display axes in capture coordinates: x along the cameras' mean
+        // right, y against their mean down, z against their mean view.
+        let right = mean(&rig.cameras.iter().map(|c| c.pose.rotation[0]).collect::<Vec<_>>());
+        let down = mean(&rig.cameras.iter().map(|c| c.pose.rotation[1]).collect::<Vec<_>>());
+        let z_d = if axes_agree { unit(scale(mean_axis, -1.0)) } else { unit(cross(right, scale(down, -1.0))) };
+        let x_d = unit(sub(right, scale(z_d, dot(right, z_d))));
+        let y_d = cross(z_d, x_d);
+        let rotation = [x_d, y_d, z_d];
+        // Where the capture is in focus: on the mean axis at the focus
+        // distance, or where inward-looking axes meet.
+        let focus_distance = request.focus.or(rig.focus_distance);
+        let (focus_point, focus_words) = if axes_agree {
+            let f = focus_distance.ok_or_else(|| {
+                Error::Usage(format!(
+                    "{}: the capture does not say where it is in focus; give --focus (distance from the cameras, in the rig's units)",
+                    rig.source
+                ))
+            })?;
+            if !(f > 0.0 && f.is_finite()) {
+                return Err(Error::Usage(format!("--focus must be a positive distance (got {f})")));
+            }
+            (add(mean_centre, scale(unit(mean_axis), f)), format!("focus {f:.4} units in front of the cameras"))
+        } else {
+            let p = axes_meet(&rig.cameras).ok_or_else(|| {
+                Error::Usage(format!("{}: the cameras look in different directions whose axes do not meet", rig.source))
+            })?;
+            (p, "focus where the camera axes meet".to_string())
+        };
+        // The surface.
+        // A rail: the second spread tiny next to the first (calibrated rails
+        // are straight to better than 1%); a plane likewise in the third.
+        let surface = if n == 1 {
+            Surface::Plane { origin: mean_centre, u: x_d, v: y_d, normal: z_d }
+        } else if extent == 0.0 {
+            return Err(Error::Usage(format!(
+                "{}: cameras {} and {} are at the same place",
+                rig.source, rig.cameras[0].name, rig.cameras[1].name
+            )));
+        } else if axes_agree && spread[1] <= 0.01 * spread[0] {
+            // A rail: the plane through it, as square to the mean axis as it can be.
+            let along = axes[0];
+            let normal = unit(sub(z_d, scale(along, dot(z_d, along))));
+            Surface::Plane { origin: mean_centre, u: along, v: cross(normal, along), normal }
+        } else if axes_agree && spread[2] <= 0.02 * spread[1] && dot(axes[2], z_d).abs() > 0.7 {
+            let normal = if dot(axes[2], z_d) > 0.0 { axes[2] } else { scale(axes[2], -1.0) };
+            let u = unit(sub(x_d, scale(normal, dot(x_d, normal))));
+            Surface::Plane { origin: mean_centre, u, v: cross(normal, u), normal }
+        } else {
+            Surface::Directions { centre: focus_point }
+        };
+        let points: Vec<[f64; 2]> = centres
+            .iter()
+            .map(|&c| match &surface {
+                Surface::Plane { origin, u, v, .. } => [dot(sub(c, *origin), *u), dot(sub(c, *origin), *v)],
+                Surface::Directions { centre } => direction_coords(unit(sub(c, *centre)), &rotation),
+            })
+            .collect();
+        let cameras_on_surface = Interpolator::new(&points, rig)?;
+        // Placement: the focus point at the middle of the emitter plane, and
+        // by default the cameras as far from it as the viewer line is from
+        // the emitter plane. Then a rail's vertical centre of projection is
+        // the display's (HPO images are astigmatic, DESIGN.md §2), so content
+        // off the focus plane keeps its vertical perspective. `fill_width`
+        // instead fills the display's width with the middle camera's view.
+        let middle = (0..n)
+            .min_by(|&a, &b| norm(sub(centres[a], mean_centre)).total_cmp(&norm(sub(centres[b], mean_centre))))
+            .expect("cameras");
+        let cam = &rig.cameras[middle];
+        let focus_depth = dot(sub(focus_point, cam.pose.centre), cam.axis()).abs();
+        let view_width = cam.width as f64 / cam.intrinsics.fx * focus_depth;
+        let display_width = g.emitters as f64 * g.emitter_pitch_m;
+        let viewer_span = g.viewer_distance_m - g.emitter_z_m;
+        let (scale_d, scale_words) = match request.scale {
+            Some(s) if s > 0.0 && s.is_finite() => (s, format!("scale {s} m per unit (given)")),
+            Some(s) => return Err(Error::Usage(format!("--scale must be positive (got {s})"))),
+            None if request.fill_width || !(viewer_span > 0.0) => (
+                display_width / view_width,
+                format!(
+                    "scale {:.4e} m per unit: camera {}'s view at the focus ({view_width:.4} units wide) fills the display's {:.1} mm",
+                    display_width / view_width,
+                    cam.name,
+                    display_width * 1e3
+                ),
+            ),
+            None => {
+                let s = viewer_span / focus_depth;
+                (
+                    s,
+                    format!(
+                        "scale {s:.4e} m per unit: the cameras ({focus_depth:.4} units from the focus) at the viewer's {:.0} mm; camera {}'s view at the focus spans {:.1} mm of the display's {:.1} mm",
+                        viewer_span * 1e3,
+                        cam.name,
+                        view_width * s * 1e3,
+                        display_width * 1e3
+                    ),
+                )
+            }
+        };
+        let centre = request.centre.unwrap_or(focus_point);
+        let placement = Placement { rotation, centre, scale: scale_d };
+        let placement_words = format!(
+            "{focus_words}; capture point ({:.4}, {:.4}, {:.4}) at the middle of the emitter plane; {scale_words}",
+            centre[0], centre[1], centre[2]
+        );
+        Ok(RigGeometry { placement, surface, cameras_on_surface, focus_point, focus_normal: z_d, placement_words })
+    }
+
+    /// The placement chosen.
+    pub fn placement(&self) -> &Placement {
+        &self.placement
+    }
+
+    /// "rail", "grid", "directions (ring)", "single camera".
+    fn surface_words(&self, n: usize) -> String {
+        let kind = match (&self.surface, &self.cameras_on_surface) {
+            (_, Interpolator::Single) => "single camera",
+            (Surface::Plane { .. }, Interpolator::Line { .. }) => "rail",
+            (Surface::Plane { .. }, Interpolator::Triangles { .. }) => "planar grid",
+            (Surface::Directions { .. }, Interpolator::Line { .. }) => "ring (by direction)",
+            (Surface::Directions { .. }, Interpolator::Triangles { .. }) => "cameras around the scene (by direction)",
+        };
+        format!("{kind}, {n} cameras")
+    }
+
+    /// Capture-space origin and direction (toward the viewer) of display
+    /// ray from `(x, y, z_e)` with direction `(sx, sy, 1)`.
+    fn capture_ray(&self, x: f64, y: f64, sx: f64, sy: f64) -> ([f64; 3], [f64; 3]) {
+        let p = &self.placement;
+        let r = &p.rotation;
+        let d_display = [x / p.scale, y / p.scale, 0.0];
+        let origin =
+            add(p.centre, [0, 1, 2].map(|k| r[0][k] * d_display[0] + r[1][k] * d_display[1] + r[2][k] * d_display[2]));
+        let dir = unit([0, 1, 2].map(|k| r[0][k] * sx + r[1][k] * sy + r[2][k]));
+        (origin, dir)
+    }
+
+    /// The ray's point on the camera surface, or `None` when it misses it.
+    fn surface_point(&self, origin: [f64; 3], dir: [f64; 3]) -> Option<[f64; 2]> {
+        match &self.surface {
+            Surface::Plane { origin: o, u, v, normal } => {
+                let t = dot(sub(*o, origin), *normal) / dot(dir, *normal);
+                if !t.is_finite() {
+                    return None;
+                }
+                let p = sub(add(origin, scale(dir, t)), *o);
+                Some([dot(p, *u), dot(p, *v)])
+            }
+            Surface::Directions { .. } => Some(direction_coords(dir, &self.placement.rotation)),
+        }
+    }
+
+    /// Where the ray crosses the focus plane.
+    fn focus_on_ray(&self, origin: [f64; 3], dir: [f64; 3]) -> Option<[f64; 3]> {
+        let t = dot(sub(self.focus_point, origin), self.focus_normal) / dot(dir, self.focus_normal);
+        t.is_finite().then(|| add(origin, scale(dir, t)))
+    }
+}
+
+impl Interpolator {
+    fn new(points: &[[f64; 2]], rig: &Rig) -> Result<Interpolator> {
+        let n = points.len();
+        if n == 1 {
+            return Ok(Interpolator::Single);
+        }
+        // Coincident points first: every method needs them distinct.
+        let extent = points.iter().flat_map(|p| p.iter()).fold(0.0f64, |a, &b| a.max(b.abs()));
+        for a in 0..n {
+            for b in a + 1..n {
+                let d = ((points[a][0] - points[b][0]).powi(2) + (points[a][1] - points[b][1]).powi(2)).sqrt();
+                if d <= 1e-9 * extent.max(1e-300) {
+                    return Err(Error::Usage(format!(
+                        "{}: cameras {} and {} are at the same place on the camera surface (the same position{})",
+                        rig.source,
+                        rig.cameras[a].name,
+                        rig.cameras[b].name,
+                        if extent > 0.0 { " or direction" } else { "" }
+                    )));
+                }
+            }
+        }
+        // Collinear: a 1-D list along the principal direction.
+        let c =
+            [points.iter().map(|p| p[0]).sum::<f64>() / n as f64, points.iter().map(|p| p[1]).sum::<f64>() / n as f64];
+        let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+        for p in points {
+            let (x, y) = (p[0] - c[0], p[1] - c[1]);
+            sxx += x * x;
+            sxy += x * y;
+            syy += y * y;
+        }
+        let tr = sxx + syy;
+        let det = sxx * syy - sxy * sxy;
+        let l1 = tr / 2.0 + (tr * tr / 4.0 - det).max(0.0).sqrt();
+        let l2 = (tr - l1).max(0.0);
+        if l2 <= 1e-10 * l1 {
+            let axis = if sxy.abs() > 1e-300 || sxx >= syy {
+                let a = if sxy.abs() > 1e-300 { [l1 - syy, sxy] } else { [1.0, 0.0] };
+                let l = (a[0] * a[0] + a[1] * a[1]).sqrt();
+                [a[0] / l, a[1] / l]
+            } else {
+                [0.0, 1.0]
+            };
+            let mut sorted: Vec<(f64, usize)> = points
+                .iter()
+                .enumerate()
+                .map(|(i, p)| ((p[0] - c[0]) * axis[0] + (p[1] - c[1]) * axis[1], i))
+                .collect();
+            sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+            return Ok(Interpolator::Line { origin: c, axis, sorted });
+        }
+        let mut triangulation = DelaunayTriangulation::<Point2<f64>>::new();
+        let mut cameras: Vec<usize> = Vec::with_capacity(n);
+        for (i, p) in points.iter().enumerate() {
+            let h: spade::handles::FixedVertexHandle = triangulation
+                .insert(Point2::new(p[0], p[1]))
+                .map_err(|e| Error::Usage(format!("{}: camera {}: {e:?}", rig.source, rig.cameras[i].name)))?;
+            if h.index() != cameras.len() {
+                return Err(Error::Usage(format!(
+                    "{}: cameras {} and {} are at the same place on the camera surface",
+                    rig.source,
+                    rig.cameras[cameras[h.index()]].name,
+                    rig.cameras[i].name
+                )));
+            }
+            cameras.push(i);
+        }
+        Ok(Interpolator::Triangles { triangulation, cameras })
+    }
+
+    /// Camera weights at `q` (summing to 1), empty outside the cameras' hull.
+    fn weights(
+        &self,
+        q: [f64; 2],
+        blend: Blend,
+        out: &mut Vec<(usize, f64)>,
+        scratch: &mut Vec<(spade::handles::FixedVertexHandle, f64)>,
+    ) {
+        out.clear();
+        match self {
+            Interpolator::Single => out.push((0, 1.0)),
+            Interpolator::Line { origin, axis, sorted } => {
+                let s = (q[0] - origin[0]) * axis[0] + (q[1] - origin[1]) * axis[1];
+                let (first, last) = (sorted[0].0, sorted[sorted.len() - 1].0);
+                if !(s >= first && s <= last) {
+                    return;
+                }
+                // The last camera at or before s.
+                let i = sorted.partition_point(|&(x, _)| x <= s).saturating_sub(1).min(sorted.len() - 2);
+                let (a, b) = (sorted[i], sorted[i + 1]);
+                let t = ((s - a.0) / (b.0 - a.0)).clamp(0.0, 1.0);
+                match blend {
+                    Blend::Nearest => out.push((if t < 0.5 { a.1 } else { b.1 }, 1.0)),
+                    Blend::Linear | Blend::NaturalNeighbour => {
+                        out.push((a.1, 1.0 - t));
+                        out.push((b.1, t));
+                    }
+                }
+            }
+            Interpolator::Triangles { triangulation, cameras } => {
+                let p = Point2::new(q[0], q[1]);
+                if !(q[0].is_finite() && q[1].is_finite()) {
+                    return;
+                }
+                match blend {
+                    Blend::Linear => triangulation.barycentric().get_weights(p, scratch),
+                    Blend::NaturalNeighbour => triangulation.natural_neighbor().get_weights(p, scratch),
+                    Blend::Nearest => {
+                        triangulation.barycentric().get_weights(p, scratch);
+                        if scratch.is_empty() {
+                            return;
+                        }
+                        if let Some(v) = triangulation.nearest_neighbor(p) {
+                            out.push((cameras[v.fix().index()], 1.0));
+                        }
+                        return;
+                    }
+                }
+                out.extend(scratch.iter().filter(|w| w.1 > 0.0).map(|&(h, w)| (cameras[h.index()], w)));
+            }
+        }
+    }
+}
+
+/// Resample the rig's pictures (`views`, one per camera, in the rig's
+/// order) into one frame of modulation on `g`.
+pub fn resample_rig(
+    rig: &Rig,
+    views: &[CameraView],
+    g: &Geometry,
+    options: &CameraOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<(Modulation, CameraReport)> {
+    use rayon::prelude::*;
+    if views.len() != rig.cameras.len() {
+        return Err(Error::Usage(format!(
+            "{}: {} pictures for {} cameras",
+            rig.source,
+            views.len(),
+            rig.cameras.len()
+        )));
+    }
+    let geo = RigGeometry::new(rig, g, &options.placement)?;
+    let names: Vec<&str> = g.channels.iter().map(|c| c.name.as_str()).collect();
+    let weights = channel_weights(&names);
+    let mut frame = Modulation::zeros(g.clone())?;
+    let (h, e, v, c) = (g.hololines, g.emitters, g.views.count, g.channels.len());
+    let mut rows: Vec<Vec<&mut [f32]>> = (0..h).map(|_| Vec::with_capacity(c)).collect();
+    for (i, row) in frame.samples_mut().chunks_exact_mut(e * v).enumerate() {
+        rows[i % h].push(row);
+    }
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let slopes: Vec<f64> = (0..v).map(|k| g.views.theta_rad(k).tan()).collect();
+    let span = g.viewer_distance_m - g.emitter_z_m;
+    let pitch = (g.emitter_pitch_m * g.hololine_pitch_m).sqrt();
+    let per_line: Vec<(u64, Vec<bool>)> = rows
+        .into_par_iter()
+        .enumerate()
+        .map(|(j, mut rows)| {
+            let y = g.hololine_y_m(j);
+            // Vertically every ray of the hololine goes through the viewer line.
+            let sy = (g.viewer_height_m - y) / span;
+            let mut mask = if options.want_mask { vec![false; e * v] } else { Vec::new() };
+            let mut unseen = 0u64;
+            let (mut w, mut scratch) = (Vec::new(), Vec::new());
+            for ei in 0..e {
+                let x = g.emitter_x_m(ei);
+                for (vi, &sx) in slopes.iter().enumerate() {
+                    let rgb = ray_radiance(&geo, rig, views, options, x, y, sx, sy, pitch, &mut w, &mut scratch);
+                    let at = ei * v + vi;
+                    match rgb {
+                        Some(rgb) => {
+                            for (row, wc) in rows.iter_mut().zip(&weights) {
+                                row[at] = (wc[0] * rgb[0] + wc[1] * rgb[1] + wc[2] * rgb[2]) as f32;
+                            }
+                        }
+                        None => {
+                            for row in rows.iter_mut() {
+                                row[at] = 0.0;
+                            }
+                            unseen += 1;
+                            if options.want_mask {
+                                mask[at] = true;
+                            }
+                        }
+                    }
+                }
+            }
+            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            progress(n, h);
+            (unseen, mask)
+        })
+        .collect();
+    let unseen = per_line.iter().map(|l| l.0).sum();
+    let mask = options.want_mask.then(|| per_line.into_iter().flat_map(|l| l.1).collect());
+    let report = CameraReport {
+        placement: geo.placement_words.clone(),
+        scale: geo.placement.scale,
+        centre: geo.placement.centre,
+        surface: geo.surface_words(rig.cameras.len()),
+        rays: (h * e * v) as u64,
+        unseen,
+        mask,
+    };
+    Ok((frame, report))
+}
+
+/// Linear RGB along one display ray, or `None` when no camera sees it.
+#[allow(clippy::too_many_arguments)]
+fn ray_radiance(
+    geo: &RigGeometry,
+    rig: &Rig,
+    views: &[CameraView],
+    options: &CameraOptions,
+    x: f64,
+    y: f64,
+    sx: f64,
+    sy: f64,
+    pitch_m: f64,
+    w: &mut Vec<(usize, f64)>,
+    scratch: &mut Vec<(spade::handles::FixedVertexHandle, f64)>,
+) -> Option<[f64; 3]> {
+    let (origin, dir) = geo.capture_ray(x, y, sx, sy);
+    let q = geo.surface_point(origin, dir)?;
+    geo.cameras_on_surface.weights(q, options.blend, w, scratch);
+    if w.is_empty() {
+        return None;
+    }
+    let mut point = geo.focus_on_ray(origin, dir)?;
+    if options.use_depth {
+        point = refine_with_depth(rig, views, w, origin, dir, point);
+    }
+    let footprint_capture = pitch_m / geo.placement.scale;
+    let (mut sum, mut total) = ([0.0f64; 3], 0.0);
+    for &(ci, wi) in w.iter() {
+        let cam = &rig.cameras[ci];
+        let Some((px, z)) = cam.project(point) else { continue };
+        if options.use_depth && !visible_in(cam, &views[ci], px, z) {
+            continue;
+        }
+        let footprint_px = footprint_capture * cam.intrinsics.fx / z;
+        let Some(rgb) = views[ci].picture.sample(px[0], px[1], footprint_px) else { continue };
+        for k in 0..3 {
+            sum[k] += wi * rgb[k] as f64;
+        }
+        total += wi;
+    }
+    (total > 0.0).then(|| sum.map(|s| s / total))
+}
+
+/// The surface point along the ray according to the depth map of the
+/// most-weighted camera that has one: a few fixed-point steps from the
+/// focus point (project, read the depth, move to that depth along the ray).
+fn refine_with_depth(
+    rig: &Rig,
+    views: &[CameraView],
+    w: &[(usize, f64)],
+    origin: [f64; 3],
+    dir: [f64; 3],
+    start: [f64; 3],
+) -> [f64; 3] {
+    let Some(&(ci, _)) = w.iter().filter(|(ci, _)| views[*ci].depth_z.is_some()).max_by(|a, b| a.1.total_cmp(&b.1))
+    else {
+        return start;
+    };
+    let cam = &rig.cameras[ci];
+    let depth = views[ci].depth_z.as_ref().expect("filtered");
+    let axis = cam.axis();
+    let along = dot(dir, axis);
+    if along.abs() < 1e-12 {
+        return start;
+    }
+    let mut p = start;
+    for _ in 0..8 {
+        let Some((px, _)) = cam.project(p) else { return p };
+        let Some(z) = depth_at(cam, depth, px) else { return p };
+        if !z.is_finite() {
+            return p;
+        }
+        // The point of the ray whose camera z is `z`.
+        let t = (z - dot(sub(origin, cam.pose.centre), axis)) / along;
+        let next = add(origin, scale(dir, t));
+        let moved = norm(sub(next, p));
+        p = next;
+        if moved <= 1e-9 * z.abs().max(1e-300) {
+            break;
+        }
+    }
+    p
+}
+
+/// The depth map's camera `z` at the pixel nearest `px`.
+fn depth_at(cam: &Camera, depth: &[f32], px: [f64; 2]) -> Option<f64> {
+    let (u, v) = (px[0].round(), px[1].round());
+    if !(u >= 0.0 && v >= 0.0 && u < cam.width as f64 && v < cam.height as f64) {
+        return None;
+    }
+    Some(depth[v as usize * cam.width + u as usize] as f64)
+}
+
+/// The point at camera depth `z` projecting to `px` is what the camera
+/// saw (not hidden behind a nearer surface), by its own depth map: within
+/// 1% of the depth (and two pixels' worth of the slope) of the map.
+fn visible_in(cam: &Camera, view: &CameraView, px: [f64; 2], z: f64) -> bool {
+    let Some(depth) = &view.depth_z else { return true };
+    match depth_at(cam, depth, px) {
+        Some(d) => z <= d * 1.01 + 1e-12,
+        None => false,
+    }
+}
+
+fn mean(v: &[[f64; 3]]) -> [f64; 3] {
+    let n = v.len().max(1) as f64;
+    let mut m = [0.0; 3];
+    for p in v {
+        for k in 0..3 {
+            m[k] += p[k] / n;
+        }
+    }
+    m
+}
+
+/// The principal axes of points (unit, by decreasing spread), the
+/// standard deviations along them, and the largest distance from their mean.
+fn principal_axes(points: &[[f64; 3]]) -> ([[f64; 3]; 3], [f64; 3], f64) {
+    let m = mean(points);
+    let mut cov = [[0.0; 3]; 3];
+    let mut extent = 0.0f64;
+    for p in points {
+        let d = sub(*p, m);
+        extent = extent.max(norm(d));
+        for a in 0..3 {
+            for b in 0..3 {
+                cov[a][b] += d[a] * d[b] / points.len() as f64;
+            }
+        }
+    }
+    let (vectors, values) = symmetric_eigen(cov);
+    (vectors, values.map(|x| x.max(0.0).sqrt()), extent)
+}
+
+/// Eigenvectors (rows, unit) and eigenvalues of a symmetric 3 × 3 matrix,
+/// by decreasing eigenvalue: cyclic Jacobi rotations, f64, to convergence.
+fn symmetric_eigen(mut a: [[f64; 3]; 3]) -> ([[f64; 3]; 3], [f64; 3]) {
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..64 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        let diag = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
+        if off <= 1e-15 * diag || off == 0.0 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let (c, s) = (1.0 / (t * t + 1.0).sqrt(), t / (t * t + 1.0).sqrt());
+            // A ← Jᵀ A J with J the rotation in the (p, q) plane.
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            for row in &mut v {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    // Columns of v are the eigenvectors.
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&i, &j| a[j][j].total_cmp(&a[i][i]));
+    let vectors = order.map(|i| [v[0][i], v[1][i], v[2][i]]);
+    (vectors, order.map(|i| a[i][i]))
+}
+
+/// Where the cameras' axes come closest to meeting (least squares), if
+/// they are not all parallel.
+fn axes_meet(cameras: &[Camera]) -> Option<[f64; 3]> {
+    // Σ (I − a aᵀ) p = Σ (I − a aᵀ) c.
+    let mut m = [[0.0; 3]; 3];
+    let mut r = [0.0; 3];
+    for cam in cameras {
+        let a = cam.axis();
+        for i in 0..3 {
+            for j in 0..3 {
+                let e = if i == j { 1.0 } else { 0.0 } - a[i] * a[j];
+                m[i][j] += e;
+                r[i] += e * cam.pose.centre[j];
+            }
+        }
+    }
+    solve3(m, r)
+}
+
+fn solve3(m: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
+    let det = dot(m[0], cross(m[1], m[2]));
+    let scale_m = m.iter().flatten().fold(0.0f64, |a, &b| a.max(b.abs()));
+    if !(det.abs() > 1e-9 * scale_m.powi(3)) {
+        return None;
+    }
+    // Cramer's rule, columns replaced by r.
+    let col = |k: usize| -> f64 {
+        let mut c = m;
+        for i in 0..3 {
+            c[i][k] = r[i];
+        }
+        dot(c[0], cross(c[1], c[2])) / det
+    };
+    Some([col(0), col(1), col(2)])
+}
+
+/// Azimuth (toward display `x`) and elevation (toward display `y`) of a
+/// unit direction, in the display-aligned frame `rotation`.
+fn direction_coords(d: [f64; 3], rotation: &[[f64; 3]; 3]) -> [f64; 2] {
+    let (x, y, z) = (dot(d, rotation[0]), dot(d, rotation[1]), dot(d, rotation[2]));
+    [x.atan2(z), y.clamp(-1.0, 1.0).asin()]
+}
+
+fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+fn unit(a: [f64; 3]) -> [f64; 3] {
+    scale(a, 1.0 / norm(a))
+}
