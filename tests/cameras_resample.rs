@@ -92,7 +92,7 @@ fn error_with(n: usize, blend: Blend, plane_z: f64, use_depth: bool, placement: 
     let rig = rail(n);
     let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, plane_z)).collect();
     let fill = placement.fill_width;
-    let options = CameraOptions { blend, use_depth, want_mask: true, placement };
+    let options = CameraOptions { blend, use_depth, want_mask: true, placement, reference: false };
     let (m, report) = resample_rig(&rig, &views, &g, &options, &|_, _| {}).unwrap();
     // Auto placement: the focus point (0, 0, 0) at the emitter plane, the
     // cameras (1 m away) at the viewer's 500 mm.
@@ -196,4 +196,37 @@ fn coincident_cameras_and_missing_focus_are_errors_naming_them() {
     rig.cameras[3].intrinsics.cx = f64::NAN;
     let e = resample_rig(&rig, &views, &g, &CameraOptions::default(), &|_, _| {}).unwrap_err().to_string();
     assert!(e.contains("rail3") && e.contains("not finite"), "{e}");
+}
+
+/// A scattered planar rig (a jittered 5 × 4 grid): the fast location of
+/// rays (spade's walk) gives the brute-force reference's weights.
+#[test]
+fn fast_location_equals_the_brute_force_reference_on_a_scattered_grid() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    let g = display();
+    let mut cameras = Vec::new();
+    for r in 0..4 {
+        for c in 0..5 {
+            let x = -0.4 + 0.2 * c as f64 + rng.gen_range(-0.05..0.05);
+            let y = -0.15 + 0.1 * r as f64 + rng.gen_range(-0.03..0.03);
+            cameras.push(camera(format!("grid{r}{c}"), [x, y, 1.0]));
+        }
+    }
+    let rig =
+        Rig { source: "jittered grid".into(), cameras, metres_per_unit: 1.0, focus_distance: Some(1.0), linear: true };
+    let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, -0.05)).collect();
+    for blend in [Blend::Nearest, Blend::Linear] {
+        let fast = CameraOptions { blend, use_depth: false, want_mask: true, ..CameraOptions::default() };
+        let reference = CameraOptions { reference: true, ..fast.clone() };
+        let (a, ra) = resample_rig(&rig, &views, &g, &fast, &|_, _| {}).unwrap();
+        let (b, rb) = resample_rig(&rig, &views, &g, &reference, &|_, _| {}).unwrap();
+        assert!(ra.surface.contains("planar grid"), "{}", ra.surface);
+        assert_eq!(ra.unseen, rb.unseen);
+        let worst = a.samples().iter().zip(b.samples()).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+        let seen = ra.rays - ra.unseen;
+        println!("{}: {seen} of {} rays seen, largest difference {worst:.2e}", blend.name(), ra.rays);
+        assert!(seen > ra.rays / 4, "the grid sees a good part of the display");
+        assert!(worst < 1e-5, "{blend:?}: {worst}");
+    }
 }

@@ -97,6 +97,9 @@ pub struct CameraOptions {
     pub use_depth: bool,
     /// Return a mask of the rays no camera sees.
     pub want_mask: bool,
+    /// Locate every ray among the cameras by brute force (the slow,
+    /// obviously correct reference the tests and benchmarks compare with).
+    pub reference: bool,
 }
 
 impl Default for CameraOptions {
@@ -106,6 +109,7 @@ impl Default for CameraOptions {
             placement: PlacementRequest::default(),
             use_depth: true,
             want_mask: false,
+            reference: false,
         }
     }
 }
@@ -161,6 +165,9 @@ enum Surface {
 }
 
 /// Cameras' points on the surface and the weights of a query point.
+/// [`Interpolator::weights`] locates the point by binary search or by
+/// spade's walk; [`Interpolator::weights_reference`] by trying every
+/// interval or triangle, the slow and obvious way the tests compare with.
 enum Interpolator {
     /// One camera: it takes every ray.
     Single,
@@ -341,6 +348,83 @@ impl RigGeometry {
 }
 
 impl Interpolator {
+    /// [`Interpolator::weights`] found by brute force: every pair of
+    /// neighbours on a line, every Delaunay triangle (barycentric
+    /// coordinates in f64 from the vertices), every camera for the nearest.
+    /// Natural-neighbour weights have no second implementation here and
+    /// come from spade.
+    fn weights_reference(
+        &self,
+        q: [f64; 2],
+        blend: Blend,
+        out: &mut Vec<(usize, f64)>,
+        scratch: &mut Vec<(spade::handles::FixedVertexHandle, f64)>,
+    ) {
+        out.clear();
+        match self {
+            Interpolator::Single => out.push((0, 1.0)),
+            Interpolator::Line { origin, axis, sorted } => {
+                let s = (q[0] - origin[0]) * axis[0] + (q[1] - origin[1]) * axis[1];
+                for pair in sorted.windows(2) {
+                    let (a, b) = (pair[0], pair[1]);
+                    if s >= a.0 && s <= b.0 {
+                        let t = ((s - a.0) / (b.0 - a.0)).clamp(0.0, 1.0);
+                        match blend {
+                            Blend::Nearest => out.push((if t < 0.5 { a.1 } else { b.1 }, 1.0)),
+                            _ => {
+                                out.push((a.1, 1.0 - t));
+                                out.push((b.1, t));
+                            }
+                        }
+                        return;
+                    }
+                }
+            }
+            Interpolator::Triangles { triangulation, cameras } => {
+                if blend == Blend::NaturalNeighbour {
+                    return self.weights(q, blend, out, scratch);
+                }
+                for face in triangulation.inner_faces() {
+                    let v = face.vertices();
+                    let p = v.map(|v| [v.position().x, v.position().y]);
+                    let det = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+                    let l1 = ((q[0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (q[1] - p[0][1])) / det;
+                    let l2 = ((p[1][0] - p[0][0]) * (q[1] - p[0][1]) - (q[0] - p[0][0]) * (p[1][1] - p[0][1])) / det;
+                    let l0 = 1.0 - l1 - l2;
+                    let eps = -1e-12;
+                    if l0 >= eps && l1 >= eps && l2 >= eps {
+                        let ids = v.map(|v| cameras[v.fix().index()]);
+                        if blend == Blend::Nearest {
+                            let d = |i: usize| {
+                                (q[0]
+                                    - triangulation
+                                        .vertex(spade::handles::FixedVertexHandle::from_index(i))
+                                        .position()
+                                        .x)
+                                    .powi(2)
+                                    + (q[1]
+                                        - triangulation
+                                            .vertex(spade::handles::FixedVertexHandle::from_index(i))
+                                            .position()
+                                            .y)
+                                        .powi(2)
+                            };
+                            let best = (0..cameras.len()).min_by(|&a, &b| d(a).total_cmp(&d(b))).expect("cameras");
+                            out.push((cameras[best], 1.0));
+                        } else {
+                            out.extend(
+                                [(ids[0], l0.max(0.0)), (ids[1], l1.max(0.0)), (ids[2], l2.max(0.0))]
+                                    .into_iter()
+                                    .filter(|w| w.1 > 0.0),
+                            );
+                        }
+                        return;
+                    }
+                }
+            }
+        }
+    }
+
     fn new(points: &[[f64; 2]], rig: &Rig) -> Result<Interpolator> {
         let n = points.len();
         if n == 1 {
@@ -565,7 +649,11 @@ fn ray_radiance(
 ) -> Option<[f64; 3]> {
     let (origin, dir) = geo.capture_ray(x, y, sx, sy);
     let q = geo.surface_point(origin, dir)?;
-    geo.cameras_on_surface.weights(q, options.blend, w, scratch);
+    if options.reference {
+        geo.cameras_on_surface.weights_reference(q, options.blend, w, scratch);
+    } else {
+        geo.cameras_on_surface.weights(q, options.blend, w, scratch);
+    }
     if w.is_empty() {
         return None;
     }
