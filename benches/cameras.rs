@@ -59,7 +59,8 @@ fn rig() -> (Rig, Vec<CameraView>) {
             CameraView { picture: Pyramid::new(SIZE, SIZE, rgb), depth_z: None }
         })
         .collect();
-    let rig = Rig { source: "9 × 9 grid".into(), cameras, metres_per_unit: 1.0, focus_distance: Some(FOCUS), linear: true };
+    let rig =
+        Rig { source: "9 × 9 grid".into(), cameras, metres_per_unit: 1.0, focus_distance: Some(FOCUS), linear: true };
     (rig, views)
 }
 
@@ -84,7 +85,10 @@ fn tables(quick: bool, rig: &Rig, views: &[CameraView]) {
     const BAND: usize = 8;
     let scale = g.hololines as f64 / BAND as f64;
     let b = band(&g, BAND);
-    println!("\n## 9 × 9 grid of 512 × 512 pictures → Mark III ({} × {} × {} views)", g.hololines, g.emitters, g.views.count);
+    println!(
+        "\n## 9 × 9 grid of 512 × 512 pictures → Mark III ({} × {} × {} views)",
+        g.hololines, g.emitters, g.views.count
+    );
     println!("Reference: brute-force location of every ray, on {BAND} central hololines, time × {scale:.0}. Best of {runs}; {} threads.\n", rayon::current_num_threads());
     println!("| blend | fast s/frame | reference s/frame (band × {scale:.0}) | speed-up | unseen rays | fast = reference on the band (largest difference) |");
     println!("|---|---|---|---|---|---|");
@@ -97,10 +101,22 @@ fn tables(quick: bool, rig: &Rig, views: &[CameraView]) {
             unseen = r.unseen as f64 / r.rays as f64;
         });
         let mut band_ref = None;
-        let t_ref = time(runs, || band_ref = Some(resample_rig(rig, views, &b, &reference, &|_, _| {}).expect("resample").0)) * scale;
+        let t_ref =
+            time(runs, || band_ref = Some(resample_rig(rig, views, &b, &reference, &|_, _| {}).expect("resample").0))
+                * scale;
         let band_fast = resample_rig(rig, views, &b, &fast, &|_, _| {}).expect("resample").0;
-        let worst = band_fast.samples().iter().zip(band_ref.unwrap().samples()).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
-        println!("| {} | {t_fast:.3} | {t_ref:.2} | {:.1}× | {:.1}% | {worst:.1e} |", blend.name(), t_ref / t_fast, unseen * 100.0);
+        let worst = band_fast
+            .samples()
+            .iter()
+            .zip(band_ref.unwrap().samples())
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0f32, f32::max);
+        println!(
+            "| {} | {t_fast:.3} | {t_ref:.2} | {:.1}× | {:.1}% | {worst:.1e} |",
+            blend.name(),
+            t_ref / t_fast,
+            unseen * 100.0
+        );
     }
     println!();
 }
@@ -117,7 +133,9 @@ fn bench(c: &mut Criterion) {
     group.throughput(Throughput::Elements(1));
     for blend in [Blend::Linear, Blend::NaturalNeighbour] {
         let o = CameraOptions { blend, use_depth: false, ..CameraOptions::default() };
-        group.bench_function(format!("fast_frame_{}", blend.name()), |bch| bch.iter(|| resample_rig(&rig, &views, &g, &o, &|_, _| {}).expect("resample")));
+        group.bench_function(format!("fast_frame_{}", blend.name()), |bch| {
+            bch.iter(|| resample_rig(&rig, &views, &g, &o, &|_, _| {}).expect("resample"))
+        });
     }
     group.finish();
 }

@@ -9,6 +9,7 @@
 //! the *centre* of the top-left pixel. World ("capture") units are whatever
 //! the rig says; [`Rig::metres_per_unit`] converts them to metres.
 
+pub mod convert;
 pub mod filter;
 pub mod resample;
 

@@ -1,0 +1,114 @@
+//! `holo convert cameras`: a rig's pictures to a `.holo` file.
+//!
+//! The pictures are loaded (in parallel, each checked against its camera)
+//! and prefiltered once; the frame is resampled hololine by hololine
+//! straight into the frame that is written, so memory is the pictures plus
+//! one frame.
+
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+
+use super::resample::{resample_rig, CameraOptions, CameraReport, CameraView};
+use super::{Camera, Rig};
+use crate::format::{write_frames, WriteOptions, WriteReport};
+use crate::geometry::Geometry;
+use crate::{Error, Result};
+
+/// Everything `convert cameras` takes besides the rig, geometry and output.
+#[derive(Clone, Debug, Default)]
+pub struct CameraConvertOptions {
+    /// Blending, placement, focus, depth.
+    pub resample: CameraOptions,
+    /// Also write a PNG (emitters × hololines) whose grey level is the
+    /// fraction of each emitter's views that no camera sees.
+    pub unseen_png: Option<PathBuf>,
+    /// How to write the file.
+    pub write: WriteOptions,
+}
+
+/// What a conversion did.
+#[derive(Clone, Debug)]
+pub struct CameraConvertReport {
+    /// The output file.
+    pub path: PathBuf,
+    /// Cameras used.
+    pub cameras: usize,
+    /// The resampler's report (placement chosen, camera surface, unseen rays).
+    pub resample: CameraReport,
+    /// The writer's report.
+    pub written: WriteReport,
+}
+
+/// Load `rig`'s pictures with `load` (one camera's linear picture and
+/// depth map), then resample and write `output` for `geometry`.
+/// `progress(hololines_done, hololines)`.
+pub fn convert_cameras(
+    rig: &Rig,
+    load: &(dyn Fn(&Camera) -> Result<CameraView> + Sync),
+    geometry: &Geometry,
+    output: &Path,
+    options: &CameraConvertOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<CameraConvertReport> {
+    if let Some(p) = rig.problem() {
+        return Err(Error::Usage(p));
+    }
+    if !options.write.overwrite {
+        for path in std::iter::once(output).chain(options.unseen_png.as_deref()) {
+            if path.exists() {
+                return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", path.display())));
+            }
+        }
+    }
+    let views: Vec<CameraView> = rig.cameras.par_iter().map(load).collect::<Result<_>>()?;
+    for (cam, view) in rig.cameras.iter().zip(&views) {
+        if view.picture.size() != (cam.width, cam.height) {
+            let (w, h) = view.picture.size();
+            return Err(Error::Usage(format!(
+                "{}: camera {}: the picture is {w}×{h}, the rig says {}×{}",
+                rig.source, cam.name, cam.width, cam.height
+            )));
+        }
+    }
+    let mut resample_options = options.resample.clone();
+    resample_options.want_mask |= options.unseen_png.is_some();
+    let (frame, mut report) = resample_rig(rig, &views, geometry, &resample_options, progress)?;
+    drop(views);
+    let mut write = options.write.clone();
+    if write.source.is_empty() {
+        write.source = format!(
+            "holo convert cameras {} ({}; {} blending{}; {})",
+            rig.source,
+            report.surface,
+            options.resample.blend.name(),
+            if options.resample.use_depth && rig.cameras.iter().any(|c| c.depth.is_some()) {
+                ", depth maps"
+            } else {
+                ""
+            },
+            report.placement
+        );
+    }
+    let written = write_frames(output, geometry, 1, &write, |_| Ok(Cow::Borrowed(&frame)))?;
+    if let (Some(path), Some(mask)) = (&options.unseen_png, &report.mask) {
+        write_unseen_png(path, geometry, mask)?;
+    }
+    if !options.resample.want_mask {
+        report.mask = None;
+    }
+    Ok(CameraConvertReport { path: output.to_path_buf(), cameras: rig.cameras.len(), resample: report, written })
+}
+
+/// Grey = fraction of the emitter's views unseen, one pixel per (emitter, hololine).
+fn write_unseen_png(path: &Path, g: &Geometry, mask: &[bool]) -> Result<()> {
+    let v = g.views.count;
+    let grey: Vec<u8> = mask
+        .chunks_exact(v)
+        .map(|views| (255.0 * views.iter().filter(|&&u| u).count() as f64 / v as f64).round() as u8)
+        .collect();
+    let img = image::GrayImage::from_raw(g.emitters as u32, g.hololines as u32, grey)
+        .ok_or_else(|| Error::Usage("unseen mask: size mismatch".into()))?;
+    img.save(path).map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+}
