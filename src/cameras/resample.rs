@@ -19,7 +19,8 @@
 //! weights are renormalised. Rays outside the cameras' surface hull, or seen
 //! by none, are zero and counted: nothing is invented.
 
-use spade::{DelaunayTriangulation, FloatTriangulation, Point2, Triangulation};
+use spade::handles::FixedVertexHandle;
+use spade::{DelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
 
 use super::filter::Pyramid;
 use super::{Camera, Rig};
@@ -162,6 +163,54 @@ enum Surface {
     /// Rays are located by their direction, cameras by theirs from
     /// `centre`: azimuth and elevation in the display-aligned frame.
     Directions { centre: [f64; 3] },
+}
+
+/// A worker's reusable state for [`Interpolator::weights`].
+#[derive(Default)]
+struct Scratch {
+    weights: Vec<(FixedVertexHandle, f64)>,
+    /// The vertex to start the next walk from.
+    hint: usize,
+}
+
+/// Barycentric weights of `p` in its Delaunay triangle (two on an edge,
+/// one on a vertex, none outside the hull), located by a walk from vertex
+/// `hint`, which is moved to a vertex of the triangle found.
+fn barycentric_with_hint(
+    t: &DelaunayTriangulation<Point2<f64>>,
+    p: Point2<f64>,
+    hint: &mut usize,
+    out: &mut Vec<(FixedVertexHandle, f64)>,
+) {
+    out.clear();
+    let start = FixedVertexHandle::from_index((*hint).min(t.num_vertices() - 1));
+    match t.locate_with_hint(p, start) {
+        PositionInTriangulation::OnVertex(v) => {
+            *hint = v.index();
+            out.push((v, 1.0));
+        }
+        PositionInTriangulation::OnEdge(e) => {
+            let e = t.directed_edge(e);
+            let (a, b) = (e.from(), e.to());
+            *hint = a.fix().index();
+            let (pa, pb) = (a.position(), b.position());
+            let (dx, dy) = (pb.x - pa.x, pb.y - pa.y);
+            let s = (((p.x - pa.x) * dx + (p.y - pa.y) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+            out.push((a.fix(), 1.0 - s));
+            out.push((b.fix(), s));
+        }
+        PositionInTriangulation::OnFace(f) => {
+            let v = t.face(f).vertices();
+            *hint = v[0].fix().index();
+            let q = v.map(|v| v.position());
+            let det = (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y);
+            let l1 = ((p.x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (p.y - q[0].y)) / det;
+            let l2 = ((q[1].x - q[0].x) * (p.y - q[0].y) - (p.x - q[0].x) * (q[1].y - q[0].y)) / det;
+            out.extend([(v[0].fix(), 1.0 - l1 - l2), (v[1].fix(), l1), (v[2].fix(), l2)]);
+        }
+        PositionInTriangulation::OutsideOfConvexHull(e) => *hint = t.directed_edge(e).from().fix().index(),
+        PositionInTriangulation::NoTriangulation => {}
+    }
 }
 
 /// Cameras' points on the surface and the weights of a query point.
@@ -353,13 +402,7 @@ impl Interpolator {
     /// coordinates in f64 from the vertices), every camera for the nearest.
     /// Natural-neighbour weights have no second implementation here and
     /// come from spade.
-    fn weights_reference(
-        &self,
-        q: [f64; 2],
-        blend: Blend,
-        out: &mut Vec<(usize, f64)>,
-        scratch: &mut Vec<(spade::handles::FixedVertexHandle, f64)>,
-    ) {
+    fn weights_reference(&self, q: [f64; 2], blend: Blend, out: &mut Vec<(usize, f64)>, scratch: &mut Scratch) {
         out.clear();
         match self {
             Interpolator::Single => out.push((0, 1.0)),
@@ -396,17 +439,8 @@ impl Interpolator {
                         let ids = v.map(|v| cameras[v.fix().index()]);
                         if blend == Blend::Nearest {
                             let d = |i: usize| {
-                                (q[0]
-                                    - triangulation
-                                        .vertex(spade::handles::FixedVertexHandle::from_index(i))
-                                        .position()
-                                        .x)
-                                    .powi(2)
-                                    + (q[1]
-                                        - triangulation
-                                            .vertex(spade::handles::FixedVertexHandle::from_index(i))
-                                            .position()
-                                            .y)
+                                (q[0] - triangulation.vertex(FixedVertexHandle::from_index(i)).position().x).powi(2)
+                                    + (q[1] - triangulation.vertex(FixedVertexHandle::from_index(i)).position().y)
                                         .powi(2)
                             };
                             let best = (0..cameras.len()).min_by(|&a, &b| d(a).total_cmp(&d(b))).expect("cameras");
@@ -479,7 +513,7 @@ impl Interpolator {
         let mut triangulation = DelaunayTriangulation::<Point2<f64>>::new();
         let mut cameras: Vec<usize> = Vec::with_capacity(n);
         for (i, p) in points.iter().enumerate() {
-            let h: spade::handles::FixedVertexHandle = triangulation
+            let h: FixedVertexHandle = triangulation
                 .insert(Point2::new(p[0], p[1]))
                 .map_err(|e| Error::Usage(format!("{}: camera {}: {e:?}", rig.source, rig.cameras[i].name)))?;
             if h.index() != cameras.len() {
@@ -496,13 +530,7 @@ impl Interpolator {
     }
 
     /// Camera weights at `q` (summing to 1), empty outside the cameras' hull.
-    fn weights(
-        &self,
-        q: [f64; 2],
-        blend: Blend,
-        out: &mut Vec<(usize, f64)>,
-        scratch: &mut Vec<(spade::handles::FixedVertexHandle, f64)>,
-    ) {
+    fn weights(&self, q: [f64; 2], blend: Blend, out: &mut Vec<(usize, f64)>, scratch: &mut Scratch) {
         out.clear();
         match self {
             Interpolator::Single => out.push((0, 1.0)),
@@ -530,11 +558,16 @@ impl Interpolator {
                     return;
                 }
                 match blend {
-                    Blend::Linear => triangulation.barycentric().get_weights(p, scratch),
-                    Blend::NaturalNeighbour => triangulation.natural_neighbor().get_weights(p, scratch),
+                    Blend::Linear => {
+                        // Located by walking from the last ray's vertex (the
+                        // neighbouring ray's triangle, usually): spade's own
+                        // hint is shared between threads.
+                        barycentric_with_hint(triangulation, p, &mut scratch.hint, &mut scratch.weights);
+                    }
+                    Blend::NaturalNeighbour => triangulation.natural_neighbor().get_weights(p, &mut scratch.weights),
                     Blend::Nearest => {
-                        triangulation.barycentric().get_weights(p, scratch);
-                        if scratch.is_empty() {
+                        barycentric_with_hint(triangulation, p, &mut scratch.hint, &mut scratch.weights);
+                        if scratch.weights.is_empty() {
                             return;
                         }
                         if let Some(v) = triangulation.nearest_neighbor(p) {
@@ -543,7 +576,7 @@ impl Interpolator {
                         return;
                     }
                 }
-                out.extend(scratch.iter().filter(|w| w.1 > 0.0).map(|&(h, w)| (cameras[h.index()], w)));
+                out.extend(scratch.weights.iter().filter(|w| w.1 > 0.0).map(|&(h, w)| (cameras[h.index()], w)));
             }
         }
     }
@@ -589,7 +622,7 @@ pub fn resample_rig(
             let sy = (g.viewer_height_m - y) / span;
             let mut mask = if options.want_mask { vec![false; e * v] } else { Vec::new() };
             let mut unseen = 0u64;
-            let (mut w, mut scratch) = (Vec::new(), Vec::new());
+            let (mut w, mut scratch) = (Vec::new(), Scratch::default());
             for ei in 0..e {
                 let x = g.emitter_x_m(ei);
                 for (vi, &sx) in slopes.iter().enumerate() {
@@ -645,7 +678,7 @@ fn ray_radiance(
     sy: f64,
     pitch_m: f64,
     w: &mut Vec<(usize, f64)>,
-    scratch: &mut Vec<(spade::handles::FixedVertexHandle, f64)>,
+    scratch: &mut Scratch,
 ) -> Option<[f64; 3]> {
     let (origin, dir) = geo.capture_ray(x, y, sx, sy);
     let q = geo.surface_point(origin, dir)?;
