@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use holo::assemble::output::{assemble_file, AssembleOptions, FringeFormat, FRINGE_SIDECAR};
+use holo::cameras::quilt::{QuiltOptions, QuiltSpec};
 use holo::format::{Compression, SampleType, WriteOptions};
 use holo::geometry::{mono_channel, rgb_channels, Geometry};
 use holo::layout::Layout;
@@ -93,6 +94,47 @@ enum Command {
         #[arg(long, default_value = "1")]
         white: String,
         /// Replace existing PNGs.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Write a frame as a Looking Glass quilt (8-bit sRGB PNG): one view per
+    /// camera on a horizontal rail facing the display, view 0 (leftmost) in the
+    /// bottom-left tile, named NAME_qsCxRaA.png for the Looking Glass software.
+    ExportQuilt {
+        /// The .holo file.
+        file: PathBuf,
+        /// Output PNG (default: the quilt's conventional name next to FILE).
+        #[arg(long, short, conflicts_with = "output_dir")]
+        output: Option<PathBuf>,
+        /// Directory for the quilt, under its conventional name (created if needed).
+        #[arg(long)]
+        output_dir: Option<PathBuf>,
+        /// Frame (0-based, in file order).
+        #[arg(long, default_value_t = 0)]
+        frame: usize,
+        /// Quilt settings of a Looking Glass: portrait (8x6 tiles of 420x560),
+        /// standard or 4k (5x9 of 819x455), go (11x6 of 372x682).
+        #[arg(long, default_value = "portrait", value_parser = parse_preset)]
+        preset: QuiltSpec,
+        /// Tiles per row, instead of the preset's.
+        #[arg(long)]
+        columns: Option<usize>,
+        /// Rows of tiles, instead of the preset's.
+        #[arg(long)]
+        rows: Option<usize>,
+        /// Tile size in pixels, WxH, instead of the preset's.
+        #[arg(long, value_parser = parse_tile)]
+        tile: Option<(usize, usize)>,
+        /// Width/height of a view as the display shows it, instead of the preset's.
+        #[arg(long)]
+        aspect: Option<f64>,
+        /// Angle between the outermost views, degrees.
+        #[arg(long, default_value_t = holo::cameras::quilt::DEFAULT_VIEW_CONE_DEG)]
+        view_cone: f64,
+        /// Sample value shown as full white, or `auto` for the quilt's 99.9th percentile.
+        #[arg(long, default_value = "auto")]
+        white: String,
+        /// Replace an existing file.
         #[arg(long)]
         force: bool,
     },
@@ -305,6 +347,20 @@ fn parse_frames(s: &str) -> Result<std::ops::Range<usize>, String> {
     Ok(range)
 }
 
+fn parse_preset(s: &str) -> Result<QuiltSpec, String> {
+    QuiltSpec::preset(s).ok_or_else(|| {
+        format!("unknown quilt preset {s:?}; choose one of {}", holo::cameras::quilt::PRESETS.join(", "))
+    })
+}
+
+fn parse_tile(s: &str) -> Result<(usize, usize), String> {
+    let n = |t: &str| t.trim().parse::<usize>().ok();
+    match s.split_once(['x', 'X']) {
+        Some((w, h)) => n(w).zip(n(h)).ok_or_else(|| format!("--tile {s:?} is not WIDTHxHEIGHT in pixels")),
+        None => Err(format!("--tile {s:?} is not WIDTHxHEIGHT in pixels")),
+    }
+}
+
 fn parse_eye(s: &str) -> Result<(f64, f64), String> {
     let number = |t: &str| t.trim().parse::<f64>().ok().filter(|x| x.is_finite());
     let bad = || format!("--eye {s:?} is not X or X,Y in millimetres");
@@ -422,6 +478,67 @@ fn run(cli: Cli) -> Outcome {
             let written =
                 holo::views::export_views(&m, &out, &ToneMapping { white, bits }, force).map_err(|e| e.to_string())?;
             println!("wrote {} view PNGs and {} to {}", written.len() - 1, SIDECAR, out.display());
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::ExportQuilt {
+            file,
+            output,
+            output_dir,
+            frame,
+            preset,
+            columns,
+            rows,
+            tile,
+            aspect,
+            view_cone,
+            white,
+            force,
+        } => {
+            let mut spec = preset;
+            spec.columns = columns.unwrap_or(spec.columns);
+            spec.rows = rows.unwrap_or(spec.rows);
+            if let Some((w, h)) = tile {
+                (spec.tile_width, spec.tile_height) = (w, h);
+            }
+            spec.aspect = aspect.unwrap_or(spec.aspect);
+            spec.view_cone_deg = view_cone;
+            let white = match white.as_str() {
+                "auto" => None,
+                w => Some(w.parse::<f32>().map_err(|_| format!("--white {w:?} is not a number or `auto`"))?),
+            };
+            let name = || {
+                let stem = file.file_stem().map_or("quilt".into(), |s| s.to_string_lossy().into_owned());
+                holo::cameras::quilt::quilt_file_name(&stem, &spec)
+            };
+            let out = match (output, output_dir) {
+                (Some(path), _) => path,
+                (None, Some(dir)) => {
+                    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+                    dir.join(name())
+                }
+                (None, None) => file.with_file_name(name()),
+            };
+            let report = holo::cameras::quilt::export_quilt(
+                &file,
+                frame,
+                &spec,
+                &out,
+                &QuiltOptions { white, overwrite: force },
+            )
+            .map_err(|e| e.to_string())?;
+            println!(
+                "wrote {}: a {}×{} quilt of {} views ({}×{} tiles of {}×{}) of frame {frame} of {}, white = {}",
+                report.path.display(),
+                report.width,
+                report.height,
+                report.views,
+                spec.columns,
+                spec.rows,
+                spec.tile_width,
+                spec.tile_height,
+                file.display(),
+                report.white
+            );
             Ok(ExitCode::SUCCESS)
         }
         Command::ImportViews { dir, geometry, white, write } => {

@@ -27,6 +27,7 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["layout", "--help"],
         &["check", "--help"],
         &["view", "--help"],
+        &["export-quilt", "--help"],
     ] {
         let o = holo(cmd, dir.path());
         assert_eq!(o.status.code(), Some(0), "{cmd:?}: {}", text(&o));
@@ -42,6 +43,9 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["assemble", "a.holo", "-o", "d", "--frames", "3..1"],
         &["view", "a.holo", "-o", "v.png", "--eye", "left"],
         &["check", "a.holo", "--hololines", "5..2"],
+        &["export-quilt", "a.holo", "--preset", "hologram"],
+        &["export-quilt", "a.holo", "--tile", "64"],
+        &["export-quilt", "a.holo", "-o", "q.png", "--output-dir", "d"],
     ] {
         let o = holo(cmd, dir.path());
         assert_eq!(o.status.code(), Some(2), "{cmd:?}: {}", text(&o));
@@ -239,4 +243,62 @@ fn check_and_view_recover_what_was_assembled() {
     let o = holo(&["check", "s.holo", "--layout", "mark1"], d);
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o).contains("s.holo") && text(&o).contains("the layout has"), "{}", text(&o));
+}
+
+#[test]
+fn export_quilt_names_its_file_and_overwrites_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    // The portrait preset, named as Looking Glass software expects, next to the input.
+    let o = holo(&["export-quilt", "ramp.holo"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let quilt = d.join("ramp_qs8x6a0.75.png");
+    let img = image::open(&quilt).unwrap();
+    assert_eq!((img.width(), img.height(), img.color()), (3360, 3360, image::ColorType::Rgb8));
+    let before = std::fs::read(&quilt).unwrap();
+    let o = holo(&["export-quilt", "ramp.holo", "--white", "0.5"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("ramp_qs8x6a0.75.png") && text(&o).contains("already exists"), "{}", text(&o));
+    assert_eq!(std::fs::read(&quilt).unwrap(), before);
+    let o = holo(&["export-quilt", "ramp.holo", "--white", "0.5", "--force", "--tile", "40x30"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(image::open(&quilt).unwrap().width(), 320);
+    // Another preset into a directory; explicit grid and aspect.
+    let o = holo(&["export-quilt", "ramp.holo", "--preset", "go", "--tile", "12x22", "--output-dir", "out"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(d.join("out/ramp_qs11x6a0.5625.png").exists());
+    let o = holo(
+        &[
+            "export-quilt",
+            "ramp.holo",
+            "--columns",
+            "5",
+            "--rows",
+            "2",
+            "--tile",
+            "16x10",
+            "--aspect",
+            "1.6",
+            "-o",
+            "x.png",
+        ],
+        d,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert_eq!(image::open(d.join("x.png")).unwrap().width(), 80);
+    for (args, needle) in [
+        (&["export-quilt", "missing.holo"][..], "missing.holo"),
+        (&["export-quilt", "ramp.holo", "--columns", "0", "-o", "y.png"], "0 columns"),
+        (&["export-quilt", "ramp.holo", "--frame", "4", "-o", "y.png"], "no frame 4"),
+        (&["export-quilt", "ramp.holo", "--aspect=-1", "-o", "y.png"], "aspect"),
+    ] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        let t = text(&o);
+        assert!(t.contains(needle), "{args:?}: {t}");
+        assert_eq!(t.lines().count(), 1, "one sentence: {t}");
+    }
+    assert!(!d.join("y.png").exists());
 }

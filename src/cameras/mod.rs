@@ -15,6 +15,8 @@ pub mod resample;
 
 use std::path::PathBuf;
 
+pub mod quilt;
+
 /// Pinhole intrinsics in pixels (no lens distortion: captures are expected
 /// undistorted, as the benchmark data sets are).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -134,7 +136,7 @@ impl Camera {
         let d = [p[0] - self.pose.centre[0], p[1] - self.pose.centre[1], p[2] - self.pose.centre[2]];
         let r = &self.pose.rotation;
         let c = [0, 1, 2].map(|i| r[i][0] * d[0] + r[i][1] * d[1] + r[i][2] * d[2]);
-        if !(c[2] > 0.0) {
+        if c[2].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
         let k = &self.intrinsics;

@@ -2,7 +2,8 @@
 //! lights, loaded from glTF, OBJ and PLY ([`load`]), placed in the display's
 //! volume ([`place`]), shaded per view ([`shade`]) and rendered for every ray
 //! (hololine, emitter, view) by a reference ray caster ([`trace`]) and by the
-//! fast epipolar-plane rasteriser ([`epi`]).
+//! fast epipolar-plane rasteriser ([`epi`]); [`camera`] renders what a
+//! calibrated camera would photograph of the same scene.
 //!
 //! A [`Scene`] is plain data in one space: the loaders give it in the file's
 //! own units with every node transform applied ("world"); [`place`] maps
@@ -10,6 +11,7 @@
 //! viewer, hologram at `z = 0`). Colours are linear: loaders decode sRGB.
 
 pub mod bvh;
+pub mod camera;
 pub mod convert;
 pub mod epi;
 mod fastshade;

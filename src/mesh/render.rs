@@ -258,7 +258,7 @@ fn run(engine: &dyn HololineRenderer, frame: &mut Modulation, progress: &(dyn Fn
         })
 }
 
-fn light_is_finite(l: &super::Light) -> bool {
+pub(crate) fn light_is_finite(l: &super::Light) -> bool {
     use super::Light;
     let ok3 = |v: &[f32; 3]| v.iter().all(|x| x.is_finite() && *x >= 0.0);
     match l {

@@ -1,0 +1,767 @@
+//! Looking Glass quilts: a frame of modulation as the pictures of a row of
+//! cameras, tiled into one image, so a `.holo` file can be looked at on the
+//! most common light-field display (issue 5, item 4); and the same cameras
+//! as a [`Rig`], so a quilt can be read back as a capture.
+//!
+//! **The quilt.** `columns × rows` tiles of `tile_width × tile_height`
+//! pixels; view 0 is the leftmost camera and fills the *bottom-left* tile,
+//! later views go left to right, then up a row, the last view top right. A
+//! tile is shown stretched to the display's aspect `aspect` (width/height of
+//! a view). The file name carries the layout the Looking Glass software
+//! reads: `NAME_qs{columns}x{rows}a{aspect}.png` ([`quilt_file_name`]).
+//!
+//! **The cameras.** All views frame the same rectangle of the display's
+//! emitter plane `z = z_e`: the emitters' and hololines' apertures (each
+//! emitter and hololine half a pitch beyond its centre), widened to the
+//! aspect `aspect` about its centre (bars above and below a wide display,
+//! beside a tall one). The cameras sit on the display's viewer line
+//! (`y = y_v`, `z = D`, a distance `s = D − z_e` from that plane), looking
+//! toward `−z` with shifted sensors (sheared frustums, no toe-in); camera
+//! `i` of `N` sees the rectangle's centre at the angle
+//! `φ_i = (i/(N − 1) − ½) · view_cone`, so it is at
+//! `x_i = x_centre + s · tan φ_i` (the HoloPlay / Looking Glass camera
+//! rule: uniform in angle, leftmost first). On the viewer line, a camera's
+//! ray through a point of the emitter plane is a ray of the display, so a
+//! tile pixel is the modulation's sample there: hololine from the point's
+//! `y`, emitter from its `x`, view from the direction
+//! `θ = atan((x_i − x)/s)` through the file's view-spacing rule, each
+//! interpolated linearly. Rays outside the emitters, hololines or views (by
+//! more than half a pitch or half a view) are black.
+//!
+//! **Presets**: Looking Glass's quilt settings per device, from its
+//! key-concepts page <https://lfdocs.lookingglassfactory.com/keyconcepts/quilts>
+//! as the Looking Glass Blender add-on (Alice/LG, the `pylightio` quilt
+//! formats: "Portrait, 48 Views", "4k Quilt, 45 Views", "Go, 66 Views") and
+//! the `quiltwright` package (`QUILT_PRESETS`, citing that page) tabulate
+//! them:
+//!
+//! | preset            | tiles  | tile    | quilt                   | aspect |
+//! |-------------------|--------|---------|-------------------------|--------|
+//! | `portrait`        | 8 × 6  | 420×560 | 3360×3360               | 0.75   |
+//! | `standard` (`4k`) | 5 × 9  | 819×455 | 4096×4096 (4095 used)   | 1.6    |
+//! | `go`              | 11 × 6 | 372×682 | 4092×4092               | 0.5625 |
+//!
+//! `standard` is the first-generation 8.9″ display's 4k quilt (its 2560×1600
+//! screen gives the aspect 1.6, the `a1.6` of the add-on's example name
+//! `quiltfilename_qs5x9a1.6.png`); the quilt written is 4095 × 4095, the
+//! tiles without Looking Glass's unused last row and column. The view cone
+//! (35°) and field of view (14°) defaults are HoloPlay's camera defaults.
+
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+
+use super::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
+use crate::geometry::{Geometry, ViewSpacing, Views};
+use crate::{Error, Modulation, Result};
+
+/// The layout of a quilt and the cameras that fill it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct QuiltSpec {
+    /// Tiles per row.
+    pub columns: usize,
+    /// Rows of tiles.
+    pub rows: usize,
+    /// Tile width in pixels.
+    pub tile_width: usize,
+    /// Tile height in pixels.
+    pub tile_height: usize,
+    /// Width over height of a view as displayed (a tile is stretched to it).
+    pub aspect: f64,
+    /// Angle between the outermost cameras' lines of sight to the centre
+    /// of the framed rectangle, degrees.
+    pub view_cone_deg: f64,
+    /// Vertical field of view of a Looking Glass capture's cameras, degrees:
+    /// with it, a quilt read as a rig puts its cameras at half the framed
+    /// height over `tan(fov/2)` from the focal plane. An exported quilt's
+    /// cameras are at the display's viewer distance instead, and
+    /// [`QuiltReport::vertical_fov_deg`] gives the field of view they have.
+    pub vertical_fov_deg: f64,
+}
+
+/// HoloPlay's default view cone, degrees.
+pub const DEFAULT_VIEW_CONE_DEG: f64 = 35.0;
+/// HoloPlay's default vertical field of view, degrees.
+pub const DEFAULT_VERTICAL_FOV_DEG: f64 = 14.0;
+/// Names of the presets, for messages and `--preset`.
+pub const PRESETS: [&str; 3] = ["portrait", "standard", "go"];
+
+/// The largest quilt made, in pixels (16384 × 16384).
+const MAX_PIXELS: usize = 1 << 28;
+
+impl QuiltSpec {
+    fn new(columns: usize, rows: usize, tile_width: usize, tile_height: usize, aspect: f64) -> QuiltSpec {
+        QuiltSpec {
+            columns,
+            rows,
+            tile_width,
+            tile_height,
+            aspect,
+            view_cone_deg: DEFAULT_VIEW_CONE_DEG,
+            vertical_fov_deg: DEFAULT_VERTICAL_FOV_DEG,
+        }
+    }
+
+    /// Looking Glass Portrait: 8 × 6 tiles of 420 × 560 (3360 × 3360), aspect 0.75.
+    pub fn portrait() -> QuiltSpec {
+        QuiltSpec::new(8, 6, 420, 560, 0.75)
+    }
+
+    /// The first-generation 8.9″ Looking Glass's 4k quilt: 5 × 9 tiles of
+    /// 819 × 455 (4095 × 4095 of its 4096 × 4096), aspect 1.6.
+    pub fn standard() -> QuiltSpec {
+        QuiltSpec::new(5, 9, 819, 455, 1.6)
+    }
+
+    /// Looking Glass Go: 11 × 6 tiles of 372 × 682 (4092 × 4092), aspect 0.5625.
+    pub fn go() -> QuiltSpec {
+        QuiltSpec::new(11, 6, 372, 682, 0.5625)
+    }
+
+    /// A preset by name ([`PRESETS`]; `4k` is `standard`).
+    pub fn preset(name: &str) -> Option<QuiltSpec> {
+        match name.to_ascii_lowercase().as_str() {
+            "portrait" => Some(QuiltSpec::portrait()),
+            "standard" | "4k" => Some(QuiltSpec::standard()),
+            "go" => Some(QuiltSpec::go()),
+            _ => None,
+        }
+    }
+
+    /// Number of views (tiles).
+    pub fn views(&self) -> usize {
+        self.columns * self.rows
+    }
+
+    /// Quilt width in pixels.
+    pub fn width(&self) -> usize {
+        self.columns * self.tile_width
+    }
+
+    /// Quilt height in pixels.
+    pub fn height(&self) -> usize {
+        self.rows * self.tile_height
+    }
+
+    /// Pixel column and row of the top-left corner of view `i`'s tile
+    /// (view 0 bottom left, then left to right, rows upward).
+    pub fn tile_origin(&self, i: usize) -> (usize, usize) {
+        let (column, row_up) = (i % self.columns, i / self.columns);
+        (column * self.tile_width, (self.rows - 1 - row_up) * self.tile_height)
+    }
+
+    /// What is wrong with the numbers, if anything.
+    pub fn problem(&self) -> Option<String> {
+        for (what, n) in [
+            ("columns", self.columns),
+            ("rows", self.rows),
+            ("tile width", self.tile_width),
+            ("tile height", self.tile_height),
+        ] {
+            if n == 0 {
+                return Some(format!("the quilt has 0 {what}; it needs at least 1"));
+            }
+        }
+        let fits = |a: usize, b: usize| a.checked_mul(b).filter(|&n| n <= MAX_PIXELS);
+        let size =
+            fits(self.columns, self.tile_width).zip(fits(self.rows, self.tile_height)).and_then(|(w, h)| fits(w, h));
+        if size.is_none() {
+            return Some(format!(
+                "a quilt of {} × {} tiles of {} × {} pixels is larger than the limit of {MAX_PIXELS} pixels",
+                self.columns, self.rows, self.tile_width, self.tile_height
+            ));
+        }
+        if !(self.aspect.is_finite() && self.aspect > 0.0) {
+            return Some(format!("the aspect {} must be a positive width/height ratio", self.aspect));
+        }
+        if !(self.view_cone_deg.is_finite() && self.view_cone_deg >= 0.0 && self.view_cone_deg < 180.0) {
+            return Some(format!("the view cone {}° must be from 0° to less than 180°", self.view_cone_deg));
+        }
+        if !(self.vertical_fov_deg.is_finite() && self.vertical_fov_deg > 0.0 && self.vertical_fov_deg < 180.0) {
+            return Some(format!("the field of view {}° must be between 0° and 180°", self.vertical_fov_deg));
+        }
+        None
+    }
+}
+
+/// `{stem}_qs{columns}x{rows}a{aspect}.png`, the aspect printed as the
+/// Looking Glass software does: shortest decimal, at most 4 places
+/// (`a0.75`, `a1.6`, `a0.5625`).
+pub fn quilt_file_name(stem: &str, spec: &QuiltSpec) -> String {
+    let aspect = format!("{:.4}", spec.aspect);
+    let aspect = aspect.trim_end_matches('0').trim_end_matches('.');
+    format!("{stem}_qs{}x{}a{aspect}.png", spec.columns, spec.rows)
+}
+
+/// Where the cameras are and what they frame.
+#[derive(Clone, Debug)]
+struct Framing {
+    /// Left and right `x` of the framed rectangle.
+    x: [f64; 2],
+    /// Bottom and top `y`.
+    y: [f64; 2],
+    /// Distance from the cameras to the rectangle.
+    s: f64,
+    /// `y` and `z` of every camera.
+    eye_yz: [f64; 2],
+    /// `x` of each camera, view 0 first.
+    eye_x: Vec<f64>,
+}
+
+impl Framing {
+    fn new(g: &Geometry, spec: &QuiltSpec) -> Framing {
+        let (pe, pj) = (g.emitter_pitch_m, g.hololine_pitch_m);
+        let left = g.emitter_left_x_m - pe / 2.0;
+        let right = g.emitter_x_m(g.emitters - 1) + pe / 2.0;
+        let top = g.hololine_top_y_m + pj / 2.0;
+        let bottom = g.hololine_y_m(g.hololines - 1) - pj / 2.0;
+        let (cx, cy) = ((left + right) / 2.0, (top + bottom) / 2.0);
+        let (mut w, mut h) = (right - left, top - bottom);
+        if w / h > spec.aspect {
+            h = w / spec.aspect;
+        } else {
+            w = h * spec.aspect;
+        }
+        let s = g.viewer_distance_m - g.emitter_z_m;
+        let n = spec.views();
+        let cone = spec.view_cone_deg.to_radians();
+        let eye_x = (0..n)
+            .map(|i| {
+                let phi = if n > 1 { (i as f64 / (n - 1) as f64 - 0.5) * cone } else { 0.0 };
+                cx + s * phi.tan()
+            })
+            .collect();
+        Framing {
+            x: [cx - w / 2.0, cx + w / 2.0],
+            y: [cy - h / 2.0, cy + h / 2.0],
+            s,
+            eye_yz: [g.viewer_height_m, g.viewer_distance_m],
+            eye_x,
+        }
+    }
+
+    /// The point of the framed rectangle at tile pixel `(u, v)` (centres at
+    /// integers, `(0, 0)` top left).
+    fn point(&self, spec: &QuiltSpec, u: f64, v: f64) -> (f64, f64) {
+        let x = self.x[0] + (u + 0.5) / spec.tile_width as f64 * (self.x[1] - self.x[0]);
+        let y = self.y[1] - (v + 0.5) / spec.tile_height as f64 * (self.y[1] - self.y[0]);
+        (x, y)
+    }
+
+    /// Camera `i` as a pinhole camera whose picture is its tile of `file`.
+    fn camera(&self, spec: &QuiltSpec, i: usize, file: &Path) -> Camera {
+        let (w, h) = (spec.tile_width as f64, spec.tile_height as f64);
+        let (fw, fh) = (self.x[1] - self.x[0], self.y[1] - self.y[0]);
+        let (ex, [ey, ez]) = (self.eye_x[i], self.eye_yz);
+        let (x, y) = spec.tile_origin(i);
+        Camera {
+            name: format!("view {i}"),
+            image: ImageSource::Tile {
+                file: file.to_path_buf(),
+                x,
+                y,
+                width: spec.tile_width,
+                height: spec.tile_height,
+            },
+            width: spec.tile_width,
+            height: spec.tile_height,
+            // u = w (x − x_left)/W − ½ and v = h (y_top − y)/H − ½ on the plane.
+            intrinsics: Intrinsics {
+                fx: self.s * w / fw,
+                fy: self.s * h / fh,
+                cx: w * (ex - self.x[0]) / fw - 0.5,
+                cy: h * (self.y[1] - ey) / fh - 0.5,
+            },
+            pose: Pose { rotation: look_rotation([0.0, 0.0, -1.0], [0.0, -1.0, 0.0]), centre: [ex, ey, ez] },
+            depth: None,
+        }
+    }
+}
+
+/// The cameras of a quilt of `spec` exported from a file of geometry `g`,
+/// as a rig whose pictures are the tiles of `file` (display metres, sRGB
+/// pictures, in focus at the emitter plane).
+pub fn quilt_rig(g: &Geometry, spec: &QuiltSpec, file: &Path) -> Result<Rig> {
+    check(g, spec).map_err(|p| Error::Usage(format!("{}: {p}", file.display())))?;
+    let f = Framing::new(g, spec);
+    Ok(Rig {
+        source: file.display().to_string(),
+        cameras: (0..spec.views()).map(|i| f.camera(spec, i, file)).collect(),
+        metres_per_unit: 1.0,
+        focus_distance: Some(f.s),
+        linear: false,
+    })
+}
+
+fn check(g: &Geometry, spec: &QuiltSpec) -> std::result::Result<(), String> {
+    if let Some(p) = spec.problem() {
+        return Err(format!("cannot make a quilt: {p}"));
+    }
+    let problems = g.problems();
+    if !problems.is_empty() {
+        return Err(format!("invalid geometry: {}", problems.join("; ")));
+    }
+    Ok(())
+}
+
+/// A quilt in linear radiance.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Quilt {
+    /// Its layout.
+    pub spec: QuiltSpec,
+    /// Width in pixels (`columns × tile_width`).
+    pub width: usize,
+    /// Height in pixels (`rows × tile_height`).
+    pub height: usize,
+    /// The modulation had one channel (`Y`): the three components are equal.
+    pub grey: bool,
+    /// Linear RGB, row by row from the top; a colour the modulation lacks is 0.
+    pub rgb: Vec<[f32; 3]>,
+    /// Pixels whose ray the modulation does not hold (black).
+    pub outside: u64,
+}
+
+/// Fractional index of the view pointing at `theta` by the spacing rule,
+/// extended beyond the first and last view (explicit lists by their end
+/// intervals): the inverse of [`crate::mesh::render::view_theta_at`].
+fn view_index(views: &Views, theta: f64) -> f64 {
+    let n = views.count;
+    if n <= 1 {
+        return 0.0;
+    }
+    let (a, b) = (views.first_theta_rad, views.last_theta_rad);
+    let t = match &views.spacing {
+        ViewSpacing::Tan => (theta.tan() - a.tan()) / (b.tan() - a.tan()),
+        ViewSpacing::Sin => (theta.sin() - a.sin()) / (b.sin() - a.sin()),
+        ViewSpacing::Angle => (theta - a) / (b - a),
+        ViewSpacing::Explicit(list) => {
+            let k = list.partition_point(|x| *x <= theta).clamp(1, n - 1);
+            let (lo, hi) = (list[k - 1], list[k]);
+            return (k - 1) as f64 + (theta - lo) / (hi - lo);
+        }
+    };
+    t * (n - 1) as f64
+}
+
+/// Linear interpolation taps of fractional index `f` among `n` samples,
+/// each sample covering `±½` about its index; `None` outside.
+fn taps(f: f64, n: usize) -> Option<[(usize, f32); 2]> {
+    if !(-0.5..=n as f64 - 0.5).contains(&f) {
+        return None;
+    }
+    if n == 1 {
+        return Some([(0, 1.0), (0, 0.0)]);
+    }
+    let f = f.clamp(0.0, (n - 1) as f64);
+    let i = (f.floor() as usize).min(n - 2);
+    let t = (f - i as f64) as f32;
+    Some([(i, 1.0 - t), (i + 1, t)])
+}
+
+/// Resample one frame of modulation into a quilt (see the module's text for
+/// the cameras and the interpolation).
+pub fn quilt_from_modulation(m: &Modulation, spec: &QuiltSpec) -> Result<Quilt> {
+    let g = m.geometry();
+    check(g, spec).map_err(Error::Usage)?;
+    let f = Framing::new(g, spec);
+    let (width, height) = (spec.width(), spec.height());
+    // Where each channel goes: R, G, B to their component, Y to all three.
+    let slots: Vec<(usize, Vec<usize>)> = g
+        .channels
+        .iter()
+        .enumerate()
+        .map(|(c, ch)| {
+            let to = match ch.name.as_str() {
+                "R" => vec![0],
+                "G" => vec![1],
+                "B" => vec![2],
+                _ => vec![0, 1, 2],
+            };
+            (c, to)
+        })
+        .collect();
+    let grey = g.channels.len() == 1 && g.channels[0].name == "Y";
+    let rows: Vec<(Vec<[f32; 3]>, u64)> = (0..height)
+        .into_par_iter()
+        .map(|py| {
+            let mut row = vec![[0f32; 3]; width];
+            let mut outside = 0u64;
+            let row_up = spec.rows - 1 - py / spec.tile_height;
+            let v = (py % spec.tile_height) as f64;
+            for (px, out) in row.iter_mut().enumerate() {
+                let i = row_up * spec.columns + px / spec.tile_width;
+                let u = (px % spec.tile_width) as f64;
+                let (x, y) = f.point(spec, u, v);
+                let theta = ((f.eye_x[i] - x) / f.s).atan();
+                let tj = taps((g.hololine_top_y_m - y) / g.hololine_pitch_m, g.hololines);
+                let te = taps((x - g.emitter_left_x_m) / g.emitter_pitch_m, g.emitters);
+                let tv =
+                    if g.views.count == 1 { taps(0.0, 1) } else { taps(view_index(&g.views, theta), g.views.count) };
+                let (Some(tj), Some(te), Some(tv)) = (tj, te, tv) else {
+                    outside += 1;
+                    continue;
+                };
+                for (c, to) in &slots {
+                    let mut value = 0f32;
+                    for (j, wj) in tj {
+                        for (e, we) in te {
+                            let w = wj * we;
+                            if w == 0.0 {
+                                continue;
+                            }
+                            let views = m.views_of(*c, j, e);
+                            value += w * (tv[0].1 * views[tv[0].0] + tv[1].1 * views[tv[1].0]);
+                        }
+                    }
+                    for &k in to {
+                        out[k] = value;
+                    }
+                }
+            }
+            (row, outside)
+        })
+        .collect();
+    let mut quilt =
+        Quilt { spec: spec.clone(), width, height, grey, rgb: Vec::with_capacity(width * height), outside: 0 };
+    for (row, outside) in rows {
+        quilt.rgb.extend(row);
+        quilt.outside += outside;
+    }
+    Ok(quilt)
+}
+
+impl Quilt {
+    /// The value shown as white when none is given: the 99.9th percentile
+    /// of every component of every pixel (so a few specular glints do not
+    /// darken the rest), else the largest value, else 1.
+    pub fn auto_white(&self) -> f32 {
+        let mut values: Vec<f32> = self.rgb.iter().flatten().copied().filter(|x| x.is_finite()).collect();
+        if values.is_empty() {
+            return 1.0;
+        }
+        let k = ((values.len() - 1) as f64 * 0.999).round() as usize;
+        let (_, p, _) = values.select_nth_unstable_by(k, f32::total_cmp);
+        let p = *p;
+        if p > 0.0 {
+            return p;
+        }
+        let max = values.iter().copied().fold(0f32, f32::max);
+        if max > 0.0 {
+            max
+        } else {
+            1.0
+        }
+    }
+
+    /// Write an 8-bit sRGB PNG (grey for a grey quilt): `linear / white`,
+    /// clamped to [0, 1], sRGB-encoded, as `holo export-views` does. An
+    /// existing file is kept unless `overwrite`.
+    pub fn write_png(&self, path: &Path, white: f32, overwrite: bool) -> Result<()> {
+        use image::codecs::png::PngEncoder;
+        use image::{ExtendedColorType, ImageEncoder};
+        if !(white.is_finite() && white > 0.0) {
+            return Err(Error::Usage(format!("{}: white {white} must be a positive brightness", path.display())));
+        }
+        let code = |x: f32| (crate::views::srgb_encode(f64::from(x / white)) * 255.0).round() as u8;
+        let (bytes, colour): (Vec<u8>, _) = if self.grey {
+            (self.rgb.iter().map(|p| code(p[0])).collect(), ExtendedColorType::L8)
+        } else {
+            (self.rgb.iter().flat_map(|p| p.map(code)).collect(), ExtendedColorType::Rgb8)
+        };
+        crate::assemble::output::write_atomic(path, overwrite, |w| {
+            PngEncoder::new(w)
+                .write_image(&bytes, self.width as u32, self.height as u32, colour)
+                .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+        })
+    }
+}
+
+/// How [`export_quilt`] tone-maps and writes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct QuiltOptions {
+    /// The sample value shown as white; `None` for [`Quilt::auto_white`].
+    pub white: Option<f32>,
+    /// Replace an existing output file.
+    pub overwrite: bool,
+}
+
+/// What [`export_quilt`] wrote.
+#[derive(Clone, Debug, PartialEq)]
+pub struct QuiltReport {
+    /// The PNG written.
+    pub path: PathBuf,
+    /// Its width in pixels.
+    pub width: usize,
+    /// Its height in pixels.
+    pub height: usize,
+    /// Number of views (tiles).
+    pub views: usize,
+    /// The sample value shown as white.
+    pub white: f32,
+    /// Pixels whose ray the file does not hold (black).
+    pub outside: u64,
+    /// The framed rectangle of the emitter plane, metres: left, right, bottom, top.
+    pub frame_m: [f64; 4],
+    /// The cameras' distance from it, metres.
+    pub distance_m: f64,
+    /// The vertical field of view the cameras have, degrees.
+    pub vertical_fov_deg: f64,
+}
+
+/// Read frame `frame` of `holo_path` and write its quilt to `out_path` (an
+/// 8-bit sRGB PNG). The output is refused before any work if it exists and
+/// `options.overwrite` is not set.
+pub fn export_quilt(
+    holo_path: &Path,
+    frame: usize,
+    spec: &QuiltSpec,
+    out_path: &Path,
+    options: &QuiltOptions,
+) -> Result<QuiltReport> {
+    if let Some(p) = spec.problem() {
+        return Err(Error::Usage(format!("{}: cannot make a quilt: {p}", out_path.display())));
+    }
+    if let Some(w) = options.white {
+        if !(w.is_finite() && w > 0.0) {
+            return Err(Error::Usage(format!("{}: white {w} must be a positive brightness", out_path.display())));
+        }
+    }
+    if !options.overwrite && out_path.exists() {
+        return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", out_path.display())));
+    }
+    let file = crate::HoloFile::open(holo_path)?;
+    let m = file.read_frame(frame)?;
+    let quilt = quilt_from_modulation(&m, spec)?;
+    let white = options.white.unwrap_or_else(|| quilt.auto_white());
+    quilt.write_png(out_path, white, options.overwrite)?;
+    let f = Framing::new(m.geometry(), spec);
+    Ok(QuiltReport {
+        path: out_path.to_path_buf(),
+        width: quilt.width,
+        height: quilt.height,
+        views: spec.views(),
+        white,
+        outside: quilt.outside,
+        frame_m: [f.x[0], f.x[1], f.y[0], f.y[1]],
+        distance_m: f.s,
+        vertical_fov_deg: (2.0 * ((f.y[1] - f.y[0]) / (2.0 * f.s)).atan()).to_degrees(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{mono_channel, rgb_channels};
+    use crate::mesh::render::view_theta_at;
+
+    /// 30 hololines of 0.5 mm, 40 emitters of 0.5 mm (20 × 15 mm), viewer at
+    /// 500 mm, emitter plane 5 mm in front of the hologram.
+    fn geometry(views: Views) -> Geometry {
+        let mut g = Geometry::centred(30, 40, views, 0.5e-3, 0.5e-3, 0.005, 0.5, rgb_channels());
+        g.viewer_height_m = 0.002;
+        g
+    }
+
+    /// 4 × 3 tiles of odd sizes (their centre pixels look at the framed
+    /// rectangle's centre).
+    fn spec() -> QuiltSpec {
+        QuiltSpec { columns: 4, rows: 3, tile_width: 41, tile_height: 31, aspect: 1.2, ..QuiltSpec::portrait() }
+    }
+
+    fn by_view(g: Geometry) -> Modulation {
+        Modulation::from_fn(g, |c, _, _, v| 0.05 + 0.07 * v as f32 + 0.001 * c as f32).unwrap()
+    }
+
+    fn centre(q: &Quilt, i: usize) -> [f32; 3] {
+        let (x, y) = q.spec.tile_origin(i);
+        q.rgb[(y + q.spec.tile_height / 2) * q.width + x + q.spec.tile_width / 2]
+    }
+
+    #[test]
+    fn each_tile_centre_shows_its_view_bottom_left_first() {
+        let s = spec();
+        let half = s.view_cone_deg.to_radians() / 2.0;
+        let views = Views { count: 12, first_theta_rad: -half, last_theta_rad: half, spacing: ViewSpacing::Angle };
+        let q = quilt_from_modulation(&by_view(geometry(views)), &s).unwrap();
+        assert_eq!((q.width, q.height, q.grey), (164, 93, false));
+        for i in 0..12 {
+            let got = centre(&q, i);
+            for c in 0..3 {
+                let want = 0.05 + 0.07 * i as f32 + 0.001 * c as f32;
+                assert!((got[c] - want).abs() < 1e-5, "view {i} channel {c}: {got:?} vs {want}");
+            }
+        }
+        // View 0 is the bottom-left tile, view 4 the left tile of the row above.
+        assert_eq!(s.tile_origin(0), (0, 62));
+        assert_eq!(s.tile_origin(3), (123, 62));
+        assert_eq!(s.tile_origin(4), (0, 31));
+        assert_eq!(s.tile_origin(11), (123, 0));
+    }
+
+    #[test]
+    fn views_are_found_by_the_spacing_rule() {
+        // Cameras at 12 angles over ±17.5°, views spaced otherwise: each tile
+        // centre is the view ramp at the inverse of the spacing rule, black
+        // beyond the views.
+        let s = spec();
+        let n = s.views();
+        let list: Vec<f64> = [-0.2, -0.15, -0.02, 0.01, 0.09, 0.2].to_vec();
+        for views in [
+            Views::tan_spaced(9, -0.2, 0.25),
+            Views { count: 7, first_theta_rad: -0.25, last_theta_rad: 0.15, spacing: ViewSpacing::Sin },
+            Views {
+                count: 6,
+                first_theta_rad: -0.2,
+                last_theta_rad: 0.2,
+                spacing: ViewSpacing::Explicit(list.clone()),
+            },
+        ] {
+            let q = quilt_from_modulation(&by_view(geometry(views.clone())), &s).unwrap();
+            for i in 0..n {
+                let phi = (i as f64 / (n - 1) as f64 - 0.5) * s.view_cone_deg.to_radians();
+                let f = view_index(&views, phi);
+                let got = centre(&q, i)[0];
+                if f < -0.5 - 1e-9 || f > views.count as f64 - 0.5 + 1e-9 {
+                    assert_eq!(got, 0.0, "{:?} view {i}", views.spacing);
+                } else {
+                    let want = 0.05 + 0.07 * f.clamp(0.0, (views.count - 1) as f64) as f32;
+                    assert!((got - want).abs() < 1e-5, "{:?} view {i}: {got} vs {want}", views.spacing);
+                }
+                // The inverse is right: the rule maps it back.
+                assert!((view_theta_at(&views, f) - phi).abs() < 1e-12, "{:?} {phi}", views.spacing);
+            }
+        }
+    }
+
+    #[test]
+    fn the_emitter_plane_has_no_parallax_and_the_frame_is_letterboxed() {
+        // One lit emitter, every view: all cameras see it in the same tile column.
+        let s =
+            QuiltSpec { columns: 3, rows: 2, tile_width: 80, tile_height: 120, aspect: 0.75, ..QuiltSpec::portrait() };
+        let g = geometry(Views::tan_spaced(32, -0.4, 0.4));
+        let m = Modulation::from_fn(g.clone(), |_, _, e, _| f32::from(e == 13)).unwrap();
+        let q = quilt_from_modulation(&m, &s).unwrap();
+        // 20 mm wide at aspect 0.75: 26.7 mm tall, taller than the 15 mm of hololines.
+        let f = Framing::new(&g, &s);
+        assert!(((f.x[1] - f.x[0]) - 0.020).abs() < 1e-12 && ((f.y[1] - f.y[0]) - 0.020 / 0.75).abs() < 1e-12);
+        // Tile column u looks at x = (u + ½)/4 − 10 mm, between emitters
+        // (x + 9.75 mm)/0.5 mm; emitter 13 is lit.
+        for i in 0..6 {
+            let (x0, y0) = s.tile_origin(i);
+            let at = |u: usize, v: usize| q.rgb[(y0 + v) * q.width + x0 + u][1];
+            for u in 0..80 {
+                let fe = ((u as f32 + 0.5) / 4.0 - 10.0 + 9.75) / 0.5;
+                let want = (1.0 - (fe - 13.0).abs()).max(0.0);
+                assert!((at(u, 60) - want).abs() < 1e-5, "tile {i} column {u}: {}", at(u, 60));
+            }
+            // Letterbox bars above and below the 15 mm of hololines.
+            assert!(at(26, 60) > 0.7);
+            assert_eq!(at(26, 2), 0.0);
+            assert_eq!(at(26, 117), 0.0);
+        }
+        assert!(q.outside > 0);
+    }
+
+    #[test]
+    fn the_rig_cameras_see_the_plane_where_the_quilt_puts_it() {
+        let s =
+            QuiltSpec { columns: 3, rows: 2, tile_width: 40, tile_height: 36, aspect: 1.6, ..QuiltSpec::standard() };
+        let g = geometry(Views::tan_spaced(8, -0.3, 0.3));
+        let rig = quilt_rig(&g, &s, Path::new("q.png")).unwrap();
+        assert!(rig.problem().is_none(), "{:?}", rig.problem());
+        let f = Framing::new(&g, &s);
+        for (i, cam) in rig.cameras.iter().enumerate() {
+            for (u, v) in [(0.0, 0.0), (17.0, 5.0), (39.0, 35.0)] {
+                let (x, y) = f.point(&s, u, v);
+                let (px, z) = cam.project([x, y, g.emitter_z_m]).unwrap();
+                assert!((px[0] - u).abs() < 1e-9 && (px[1] - v).abs() < 1e-9, "camera {i}: {px:?} vs {u} {v}");
+                assert!((z - f.s).abs() < 1e-12);
+            }
+            let ImageSource::Tile { x, y, .. } = cam.image else { panic!() };
+            assert_eq!((x, y), s.tile_origin(i));
+        }
+        // The outermost cameras see the centre at ±cone/2.
+        let c = (f.x[0] + f.x[1]) / 2.0;
+        let angle = |i: usize| ((rig.cameras[i].pose.centre[0] - c) / f.s).atan().to_degrees();
+        assert!((angle(0) + 17.5).abs() < 1e-9 && (angle(5) - 17.5).abs() < 1e-9);
+    }
+
+    #[test]
+    fn grey_files_give_grey_quilts_and_the_tone_mapping_is_that_of_the_views() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut g = geometry(Views::tan_spaced(12, -0.3, 0.3));
+        g.channels = mono_channel();
+        let m = Modulation::from_fn(g, |_, j, _, _| 0.2 + 0.01 * j as f32).unwrap();
+        let q = quilt_from_modulation(&m, &spec()).unwrap();
+        assert!(q.grey && q.rgb.iter().all(|p| p[0] == p[1] && p[1] == p[2]));
+        let path = dir.path().join("g.png");
+        q.write_png(&path, 0.5, false).unwrap();
+        let img = image::open(&path).unwrap();
+        assert_eq!(img.color(), image::ColorType::L8);
+        let img = img.to_luma8();
+        let (x, y) = spec().tile_origin(5);
+        let (u, v) = (x + 20, y + 15);
+        let want = q.rgb[v * q.width + u][0];
+        let code = img.get_pixel(u as u32, v as u32)[0];
+        assert_eq!(f64::from(code), (crate::views::srgb_encode(f64::from(want / 0.5)) * 255.0).round());
+        // Not overwritten.
+        let err = q.write_png(&path, 0.5, false).unwrap_err().to_string();
+        assert!(err.contains("g.png") && err.contains("already exists"), "{err}");
+        // Auto white: the 99.9th percentile.
+        let mut q2 = q.clone();
+        q2.rgb = (0..1000).map(|i| [i as f32; 3]).collect();
+        assert_eq!(q2.auto_white(), 998.0);
+        q2.rgb = vec![[0.0; 3]; 10];
+        assert_eq!(q2.auto_white(), 1.0);
+    }
+
+    #[test]
+    fn file_names_follow_the_looking_glass_convention() {
+        assert_eq!(quilt_file_name("scene", &QuiltSpec::portrait()), "scene_qs8x6a0.75.png");
+        assert_eq!(quilt_file_name("scene", &QuiltSpec::standard()), "scene_qs5x9a1.6.png");
+        assert_eq!(quilt_file_name("a.b", &QuiltSpec::go()), "a.b_qs11x6a0.5625.png");
+        let odd = QuiltSpec { aspect: 16.0 / 9.0, ..QuiltSpec::portrait() };
+        assert_eq!(quilt_file_name("x", &odd), "x_qs8x6a1.7778.png");
+        let one = QuiltSpec { aspect: 1.0, ..QuiltSpec::portrait() };
+        assert_eq!(quilt_file_name("x", &one), "x_qs8x6a1.png");
+        let p = QuiltSpec::portrait();
+        assert_eq!((p.width(), p.height(), p.views()), (3360, 3360, 48));
+        assert_eq!(QuiltSpec::preset("4K"), Some(QuiltSpec::standard()));
+        assert!(PRESETS.iter().all(|n| QuiltSpec::preset(n).is_some()));
+        assert_eq!(QuiltSpec::preset("nope"), None);
+    }
+
+    #[test]
+    fn bad_requests_get_clear_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let holo = dir.path().join("ramp.holo");
+        let m = by_view(geometry(Views::tan_spaced(5, -0.1, 0.1)));
+        crate::write(&holo, &m, &crate::WriteOptions::default()).unwrap();
+        let out = dir.path().join("q.png");
+        let options = QuiltOptions::default();
+        let err = export_quilt(&dir.path().join("missing.holo"), 0, &spec(), &out, &options).unwrap_err().to_string();
+        assert!(err.contains("missing.holo"), "{err}");
+        let zero = QuiltSpec { columns: 0, ..spec() };
+        let err = export_quilt(&holo, 0, &zero, &out, &options).unwrap_err().to_string();
+        assert!(err.contains("0 columns") && err.contains("q.png"), "{err}");
+        let err = export_quilt(&holo, 3, &spec(), &out, &options).unwrap_err().to_string();
+        assert!(err.contains("ramp.holo") && err.contains("no frame 3"), "{err}");
+        assert!(!out.exists());
+        let report = export_quilt(&holo, 0, &spec(), &out, &options).unwrap();
+        assert_eq!((report.width, report.height, report.views), (164, 93, 12));
+        assert!(report.white > 0.0 && report.outside > 0);
+        let err = export_quilt(&holo, 0, &spec(), &out, &options).unwrap_err().to_string();
+        assert!(err.contains("already exists"), "{err}");
+        let again = QuiltOptions { overwrite: true, white: Some(1.0) };
+        assert_eq!(export_quilt(&holo, 0, &spec(), &out, &again).unwrap().white, 1.0);
+        for bad in [
+            QuiltSpec { aspect: 0.0, ..spec() },
+            QuiltSpec { view_cone_deg: f64::NAN, ..spec() },
+            QuiltSpec { tile_width: 1 << 20, tile_height: 1 << 20, ..spec() },
+            QuiltSpec { columns: usize::MAX, ..spec() },
+        ] {
+            assert!(bad.problem().is_some(), "{bad:?}");
+            assert!(quilt_from_modulation(&m, &bad).is_err());
+        }
+    }
+}
