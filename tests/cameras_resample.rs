@@ -92,7 +92,7 @@ fn error_with(n: usize, blend: Blend, plane_z: f64, use_depth: bool, placement: 
     let rig = rail(n);
     let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, plane_z)).collect();
     let fill = placement.fill_width;
-    let options = CameraOptions { blend, use_depth, want_mask: true, placement, reference: false };
+    let options = CameraOptions { blend, use_depth, want_mask: true, placement, ..CameraOptions::default() };
     let (m, report) = resample_rig(&rig, &views, &g, &options, &|_, _| {}).unwrap();
     // Auto placement: the focus point (0, 0, 0) at the emitter plane, the
     // cameras (1 m away) at the viewer's 500 mm.
@@ -108,10 +108,10 @@ fn error_with(n: usize, blend: Blend, plane_z: f64, use_depth: bool, placement: 
                     continue;
                 }
                 let want = expected(&g, scale, [0.0; 3], plane_z, j, e, v);
-                for c in 0..3 {
+                for (c, want) in want.iter().enumerate() {
                     let got = m.samples()[((c * g.hololines + j) * e_n + e) * v_n + v];
-                    err += (got - want[c]).abs() as f64;
-                    sum += want[c] as f64;
+                    err += (got - want).abs() as f64;
+                    sum += *want as f64;
                 }
                 seen += 1;
             }

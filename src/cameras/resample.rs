@@ -29,7 +29,7 @@ use crate::mesh::shade::channel_weights;
 use crate::{Error, Modulation, Result};
 
 /// How the cameras around a ray are weighted.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Blend {
     /// The nearest camera on the camera surface.
     Nearest,
@@ -101,6 +101,10 @@ pub struct CameraOptions {
     /// Locate every ray among the cameras by brute force (the slow,
     /// obviously correct reference the tests and benchmarks compare with).
     pub reference: bool,
+    /// Rays averaged across each emitter's aperture (the mesh renderer's
+    /// emitter supersampling); `None`: as many as the middle camera has
+    /// pixels across an emitter at the focus (1 to 16).
+    pub emitter_taps: Option<usize>,
 }
 
 impl Default for CameraOptions {
@@ -111,6 +115,7 @@ impl Default for CameraOptions {
             use_depth: true,
             want_mask: false,
             reference: false,
+            emitter_taps: None,
         }
     }
 }
@@ -135,6 +140,8 @@ pub struct CameraReport {
     pub centre: [f64; 3],
     /// The camera surface: "rail", "grid" or "directions" and the camera count.
     pub surface: String,
+    /// Rays averaged across each emitter's aperture.
+    pub emitter_taps: usize,
     /// Rays resampled (hololines × emitters × views).
     pub rays: u64,
     /// Rays no camera sees (left zero).
@@ -154,6 +161,8 @@ pub struct RigGeometry {
     focus_normal: [f64; 3],
     /// Words for the report.
     placement_words: String,
+    /// The middle camera's pixel at the focus, display metres.
+    pixel_at_focus_m: f64,
 }
 
 enum Surface {
@@ -288,6 +297,13 @@ impl RigGeometry {
         } else {
             Surface::Directions { centre: focus_point }
         };
+        // Cameras around the scene: they are focused where their axes meet.
+        let (focus_point, focus_words, surface) = match (&surface, axes_meet(&rig.cameras)) {
+            (Surface::Directions { .. }, Some(p)) if request.focus.is_none() => {
+                (p, "focus where the camera axes meet".to_string(), Surface::Directions { centre: p })
+            }
+            _ => (focus_point, focus_words, surface),
+        };
         let points: Vec<[f64; 2]> = centres
             .iter()
             .map(|&c| match &surface {
@@ -313,7 +329,7 @@ impl RigGeometry {
         let (scale_d, scale_words) = match request.scale {
             Some(s) if s > 0.0 && s.is_finite() => (s, format!("scale {s} m per unit (given)")),
             Some(s) => return Err(Error::Usage(format!("--scale must be positive (got {s})"))),
-            None if request.fill_width || !(viewer_span > 0.0) => (
+            None if request.fill_width || viewer_span.is_nan() || viewer_span <= 0.0 => (
                 display_width / view_width,
                 format!(
                     "scale {:.4e} m per unit: camera {}'s view at the focus ({view_width:.4} units wide) fills the display's {:.1} mm",
@@ -342,7 +358,16 @@ impl RigGeometry {
             "{focus_words}; capture point ({:.4}, {:.4}, {:.4}) at the middle of the emitter plane; {scale_words}",
             centre[0], centre[1], centre[2]
         );
-        Ok(RigGeometry { placement, surface, cameras_on_surface, focus_point, focus_normal: z_d, placement_words })
+        let pixel_at_focus_m = focus_depth / cam.intrinsics.fx * scale_d;
+        Ok(RigGeometry {
+            placement,
+            surface,
+            cameras_on_surface,
+            focus_point,
+            focus_normal: z_d,
+            placement_words,
+            pixel_at_focus_m,
+        })
     }
 
     /// The placement chosen.
@@ -612,7 +637,15 @@ pub fn resample_rig(
     let done = std::sync::atomic::AtomicUsize::new(0);
     let slopes: Vec<f64> = (0..v).map(|k| g.views.theta_rad(k).tan()).collect();
     let span = g.viewer_distance_m - g.emitter_z_m;
-    let pitch = (g.emitter_pitch_m * g.hololine_pitch_m).sqrt();
+    // Each sample averages rays across its emitter's aperture, point-sampling
+    // the pictures: the display's own filter (the mesh renderer's emitter
+    // supersampling), not a blur the display does not have.
+    let taps = match options.emitter_taps {
+        Some(0) => return Err(Error::Usage("emitter taps must be at least 1".into())),
+        Some(n) => n,
+        None => ((g.emitter_pitch_m / geo.pixel_at_focus_m).ceil() as usize).clamp(1, 16),
+    };
+    let tap_x: Vec<f64> = (0..taps).map(|k| g.emitter_pitch_m * ((k as f64 + 0.5) / taps as f64 - 0.5)).collect();
     let per_line: Vec<(u64, Vec<bool>)> = rows
         .into_par_iter()
         .enumerate()
@@ -626,7 +659,18 @@ pub fn resample_rig(
             for ei in 0..e {
                 let x = g.emitter_x_m(ei);
                 for (vi, &sx) in slopes.iter().enumerate() {
-                    let rgb = ray_radiance(&geo, rig, views, options, x, y, sx, sy, pitch, &mut w, &mut scratch);
+                    let (mut sum, mut seen) = ([0.0f64; 3], 0usize);
+                    for dx in &tap_x {
+                        if let Some(rgb) =
+                            ray_radiance(&geo, rig, views, options, x + dx, y, sx, sy, &mut w, &mut scratch)
+                        {
+                            for k in 0..3 {
+                                sum[k] += rgb[k];
+                            }
+                            seen += 1;
+                        }
+                    }
+                    let rgb = (seen > 0).then(|| sum.map(|s| s / seen as f64));
                     let at = ei * v + vi;
                     match rgb {
                         Some(rgb) => {
@@ -657,6 +701,7 @@ pub fn resample_rig(
         placement: geo.placement_words.clone(),
         scale: geo.placement.scale,
         centre: geo.placement.centre,
+        emitter_taps: taps,
         surface: geo.surface_words(rig.cameras.len()),
         rays: (h * e * v) as u64,
         unseen,
@@ -676,7 +721,6 @@ fn ray_radiance(
     y: f64,
     sx: f64,
     sy: f64,
-    pitch_m: f64,
     w: &mut Vec<(usize, f64)>,
     scratch: &mut Scratch,
 ) -> Option<[f64; 3]> {
@@ -694,7 +738,6 @@ fn ray_radiance(
     if options.use_depth {
         point = refine_with_depth(rig, views, w, origin, dir, point);
     }
-    let footprint_capture = pitch_m / geo.placement.scale;
     let (mut sum, mut total) = ([0.0f64; 3], 0.0);
     for &(ci, wi) in w.iter() {
         let cam = &rig.cameras[ci];
@@ -702,8 +745,7 @@ fn ray_radiance(
         if options.use_depth && !visible_in(cam, &views[ci], px, z) {
             continue;
         }
-        let footprint_px = footprint_capture * cam.intrinsics.fx / z;
-        let Some(rgb) = views[ci].picture.sample(px[0], px[1], footprint_px) else { continue };
+        let Some(rgb) = views[ci].picture.sample(px[0], px[1], 1.0) else { continue };
         for k in 0..3 {
             sum[k] += wi * rgb[k] as f64;
         }
@@ -822,15 +864,15 @@ fn symmetric_eigen(mut a: [[f64; 3]; 3]) -> ([[f64; 3]; 3], [f64; 3]) {
             let t = if theta == 0.0 { 1.0 } else { t };
             let (c, s) = (1.0 / (t * t + 1.0).sqrt(), t / (t * t + 1.0).sqrt());
             // A ← Jᵀ A J with J the rotation in the (p, q) plane.
-            for k in 0..3 {
-                let (akp, akq) = (a[k][p], a[k][q]);
-                a[k][p] = c * akp - s * akq;
-                a[k][q] = s * akp + c * akq;
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
             }
+            let (rp, rq) = (a[p], a[q]);
             for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
-                a[p][k] = c * apk - s * aqk;
-                a[q][k] = s * apk + c * aqk;
+                a[p][k] = c * rp[k] - s * rq[k];
+                a[q][k] = s * rp[k] + c * rq[k];
             }
             for row in &mut v {
                 let (vp, vq) = (row[p], row[q]);
@@ -868,7 +910,7 @@ fn axes_meet(cameras: &[Camera]) -> Option<[f64; 3]> {
 fn solve3(m: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
     let det = dot(m[0], cross(m[1], m[2]));
     let scale_m = m.iter().flatten().fold(0.0f64, |a, &b| a.max(b.abs()));
-    if !(det.abs() > 1e-9 * scale_m.powi(3)) {
+    if det.is_nan() || det.abs() <= 1e-9 * scale_m.powi(3) {
         return None;
     }
     // Cramer's rule, columns replaced by r.
