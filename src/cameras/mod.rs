@@ -15,7 +15,15 @@ pub mod resample;
 
 use std::path::PathBuf;
 
+mod array;
+pub mod image;
+pub mod pfm;
 pub mod quilt;
+pub mod read;
+pub mod rig_file;
+mod vec3;
+
+pub use read::{open_rig, open_rig_with};
 
 /// Pinhole intrinsics in pixels (no lens distortion: captures are expected
 /// undistorted, as the benchmark data sets are).
@@ -136,7 +144,7 @@ impl Camera {
         let d = [p[0] - self.pose.centre[0], p[1] - self.pose.centre[1], p[2] - self.pose.centre[2]];
         let r = &self.pose.rotation;
         let c = [0, 1, 2].map(|i| r[i][0] * d[0] + r[i][1] * d[1] + r[i][2] * d[2]);
-        if c[2].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        if c[2].is_nan() || c[2] <= 0.0 {
             return None;
         }
         let k = &self.intrinsics;
@@ -160,6 +168,12 @@ impl Camera {
 
     /// What is wrong with this camera's numbers, if anything (names it).
     pub fn problem(&self) -> Option<String> {
+        self.problem_detail().map(|p| format!("camera {}: {p}", self.name))
+    }
+
+    /// What is wrong with this camera's numbers, without its name (for
+    /// readers that name cameras their own way, e.g. with their index).
+    pub fn problem_detail(&self) -> Option<String> {
         let k = &self.intrinsics;
         let finite = [k.fx, k.fy, k.cx, k.cy]
             .iter()
@@ -167,13 +181,13 @@ impl Camera {
             .chain(self.pose.rotation.iter().flatten())
             .all(|x| x.is_finite());
         if !finite {
-            return Some(format!("camera {}: calibration is not finite (NaN or infinite)", self.name));
+            return Some("calibration is not finite (NaN or infinite)".into());
         }
         if !(k.fx > 0.0 && k.fy > 0.0) {
-            return Some(format!("camera {}: focal length must be positive (fx {}, fy {})", self.name, k.fx, k.fy));
+            return Some(format!("focal length must be positive (fx {}, fy {})", k.fx, k.fy));
         }
         if self.width == 0 || self.height == 0 {
-            return Some(format!("camera {}: the picture is empty ({}×{})", self.name, self.width, self.height));
+            return Some(format!("the picture is empty ({}×{})", self.width, self.height));
         }
         // Rotation: orthonormal to a tolerance that calibration files (printed
         // to 6–8 digits) meet.
@@ -183,19 +197,41 @@ impl Camera {
                 let d: f64 = (0..3).map(|k| r[i][k] * r[j][k]).sum();
                 let want = if i == j { 1.0 } else { 0.0 };
                 if (d - want).abs() > 1e-4 {
-                    return Some(format!(
-                        "camera {}: the rotation is not orthonormal (row {i}·row {j} = {d:.6})",
-                        self.name
-                    ));
+                    return Some(format!("the rotation is not orthonormal (row {i}·row {j} = {d:.6})"));
                 }
             }
         }
         let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
             + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
         if det < 0.0 {
-            return Some(format!("camera {}: the rotation is a reflection (determinant {det:.3})", self.name));
+            return Some(format!("the rotation is a reflection (determinant {det:.3})"));
         }
         None
+    }
+
+    /// Shift the principal point so that world point `p` is pictured at the
+    /// centre of the picture, `((w − 1)/2, (h − 1)/2)`: the shifted sensor of
+    /// a parallel camera array converging at `p` (HCI, quilts, rectified
+    /// gantry captures). False, and the camera unchanged, when `p` is not in
+    /// front of the camera.
+    pub fn centre_on(&mut self, p: [f64; 3]) -> bool {
+        let d = vec3::sub(p, self.pose.centre);
+        let c = self.pose.rotation.map(|row| vec3::dot(row, d));
+        if c[2].is_nan() || c[2] <= 0.0 {
+            return false;
+        }
+        let k = &mut self.intrinsics;
+        k.cx = (self.width as f64 - 1.0) / 2.0 - k.fx * c[0] / c[2];
+        k.cy = (self.height as f64 - 1.0) / 2.0 - k.fy * c[1] / c[2];
+        true
+    }
+}
+
+impl Intrinsics {
+    /// Focal lengths `fx`, `fy` with the principal point at the centre of a
+    /// `width`×`height` picture, `((w − 1)/2, (h − 1)/2)`.
+    pub fn centred(width: usize, height: usize, fx: f64, fy: f64) -> Intrinsics {
+        Intrinsics { fx, fy, cx: (width as f64 - 1.0) / 2.0, cy: (height as f64 - 1.0) / 2.0 }
     }
 }
 
@@ -216,7 +252,7 @@ pub fn look_rotation(forward: [f64; 3], down: [f64; 3]) -> [[f64; 3]; 3] {
 
 impl Rig {
     /// The first thing wrong with the rig, naming the camera: no cameras,
-    /// bad calibration, two cameras at one place.
+    /// bad units or focus distance, bad calibration.
     pub fn problem(&self) -> Option<String> {
         if self.cameras.is_empty() {
             return Some(format!("{}: the rig has no cameras", self.source));
@@ -235,6 +271,32 @@ impl Rig {
         for c in &self.cameras {
             if let Some(p) = c.problem() {
                 return Some(format!("{}: {p}", self.source));
+            }
+        }
+        None
+    }
+
+    /// The indices of two cameras at the same position (closer than 1e-9 of
+    /// the rig's extent), if any. Not a [`Rig::problem`]: real captures
+    /// photograph one viewpoint twice (Middlebury's templeSparseRing has two
+    /// views with identical `K`, `R`, `t`); the rig-file reader refuses it,
+    /// as there it is a copy-pasted pose.
+    pub fn coincident_cameras(&self) -> Option<(usize, usize)> {
+        let centres: Vec<[f64; 3]> = self.cameras.iter().map(|c| c.pose.centre).collect();
+        let first = *centres.first()?;
+        let extent = centres.iter().map(|&c| vec3::norm(vec3::sub(c, first))).fold(0.0, f64::max);
+        let tolerance = 1e-9 * extent;
+        // Sorted along x, only neighbours within the tolerance in x can coincide.
+        let mut order: Vec<usize> = (0..centres.len()).collect();
+        order.sort_by(|&a, &b| centres[a][0].total_cmp(&centres[b][0]));
+        for (n, &a) in order.iter().enumerate() {
+            for &b in &order[n + 1..] {
+                if centres[b][0] - centres[a][0] > tolerance {
+                    break;
+                }
+                if vec3::norm(vec3::sub(centres[a], centres[b])) <= tolerance {
+                    return Some((a.min(b), a.max(b)));
+                }
             }
         }
         None
@@ -286,5 +348,34 @@ mod tests {
         c.pose.rotation[0] = c.pose.rotation[0].map(|x| -x);
         assert!(c.problem().unwrap().contains("reflection"));
         assert!(camera().problem().is_none());
+    }
+
+    #[test]
+    fn coincident_cameras_are_named() {
+        let mut b = camera();
+        b.name = "d".into();
+        let mut rig = Rig {
+            source: "r".into(),
+            cameras: vec![camera(), b.clone()],
+            metres_per_unit: 1.0,
+            focus_distance: None,
+            linear: false,
+        };
+        assert_eq!(rig.coincident_cameras(), Some((0, 1)));
+        rig.cameras[1].pose.centre[0] += 1e-3;
+        assert_eq!(rig.coincident_cameras(), None);
+        rig.cameras.push(camera());
+        assert_eq!(rig.coincident_cameras(), Some((0, 2)));
+    }
+
+    #[test]
+    fn centre_on_shifts_the_principal_point() {
+        let mut c = camera();
+        assert!(c.centre_on([0.0, 0.0, 0.0]));
+        let (px, _) = c.project([0.0, 0.0, 0.0]).unwrap();
+        assert!((px[0] - 31.5).abs() < 1e-12 && (px[1] - 23.5).abs() < 1e-12, "{px:?}");
+        // The camera is 0.1 right of the point: its sensor shifts right, cx = 31.5 + f·0.1/1.
+        assert!((c.intrinsics.cx - 41.5).abs() < 1e-12);
+        assert!(!c.centre_on([0.0, 0.0, 2.0]), "behind");
     }
 }
