@@ -300,6 +300,60 @@ enum ConvertCommand {
         #[command(flatten)]
         write: WriteArgs,
     },
+    /// Resample camera-array pictures (a rig file, an HCI or Stanford light
+    /// field folder, a Middlebury _par.txt, a Looking Glass quilt or a
+    /// folder of images on a rail) into every emitter and view of a layout.
+    Cameras {
+        /// The capture: rig file (.json/.toml), folder, _par.txt or quilt image.
+        input: PathBuf,
+        /// Display layout: a built-in name or a .toml/.json profile.
+        #[arg(long, default_value = "mark3")]
+        layout: String,
+        /// Camera weighting: nearest, linear (barycentric) or natural (natural neighbour).
+        #[arg(long, default_value = "linear")]
+        blend: String,
+        /// Focus distance from the cameras, in the rig's units (default: what the capture says).
+        #[arg(long)]
+        focus: Option<f64>,
+        /// Display millimetres per rig unit (default: cameras at the viewer's distance).
+        #[arg(long)]
+        scale: Option<f64>,
+        /// The rig point shown at the middle of the emitter plane, rig units: X,Y,Z (default: the focus point).
+        #[arg(long, value_parser = parse_triple)]
+        center: Option<[f64; 3]>,
+        /// Scale so the middle camera's view at the focus fills the display's width.
+        #[arg(long)]
+        fill_width: bool,
+        /// Ignore the rig's depth maps.
+        #[arg(long)]
+        no_depth: bool,
+        /// Rays averaged across each emitter (default: from the pictures' resolution).
+        #[arg(long)]
+        taps: Option<usize>,
+        /// Also write a PNG (emitters × hololines) of the fraction of views no camera sees.
+        #[arg(long)]
+        unseen_mask: Option<PathBuf>,
+        /// Folder of images: distance between neighbouring cameras (rig units).
+        #[arg(long)]
+        baseline: Option<f64>,
+        /// Folder or Stanford: focal length in pixels.
+        #[arg(long)]
+        focal_px: Option<f64>,
+        /// Folder or Stanford: horizontal field of view in degrees.
+        #[arg(long)]
+        fov: Option<f64>,
+        /// Quilt: angle between the first and last view, degrees.
+        #[arg(long, default_value_t = 35.0)]
+        view_cone: f64,
+        /// Quilt: vertical field of view of each view, degrees.
+        #[arg(long, default_value_t = 14.0)]
+        quilt_fov: f64,
+        /// Locate rays among the cameras by brute force (slow; for checking).
+        #[arg(long)]
+        reference: bool,
+        #[command(flatten)]
+        write: WriteArgs,
+    },
 }
 
 #[derive(Args)]
@@ -748,6 +802,93 @@ fn run(cli: Cli) -> Outcome {
                 report.lights.len(),
                 report.stats.segments,
                 report.stats.shaded
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Convert(ConvertCommand::Cameras {
+            input,
+            layout,
+            blend,
+            focus,
+            scale,
+            center,
+            fill_width,
+            no_depth,
+            taps,
+            unseen_mask,
+            baseline,
+            focal_px,
+            fov,
+            view_cone,
+            quilt_fov,
+            reference,
+            write,
+        }) => {
+            use holo::cameras::convert::{convert_camera_files, CameraConvertOptions};
+            use holo::cameras::read::OpenOptions;
+            use holo::cameras::resample::{Blend, CameraOptions, PlacementRequest};
+            let g = layout_geometry(&layout)?;
+            let mut open = OpenOptions::default();
+            open.folder.baseline = baseline;
+            open.folder.focal_length_px = focal_px;
+            open.folder.horizontal_fov_deg = fov;
+            open.folder.focus_distance = focus;
+            open.stanford.focal_length_px = focal_px;
+            open.stanford.horizontal_fov_deg = fov;
+            open.stanford.focus_distance = focus;
+            open.quilt.view_cone_deg = view_cone;
+            open.quilt.vertical_fov_deg = quilt_fov;
+            if let Some(s) = scale {
+                if !(s.is_finite() && s > 0.0) {
+                    return Err(format!("--scale {s}: give a positive number of display millimetres per rig unit"));
+                }
+            }
+            let options = CameraConvertOptions {
+                resample: CameraOptions {
+                    blend: Blend::parse(&blend).map_err(|e| e.to_string())?,
+                    placement: PlacementRequest { scale: scale.map(|s| s * 1e-3), centre: center, focus, fill_width },
+                    use_depth: !no_depth,
+                    want_mask: false,
+                    reference,
+                    emitter_taps: taps,
+                },
+                unseen_png: unseen_mask,
+                write: WriteOptions {
+                    sample_type: if write.f32 { SampleType::F32 } else { SampleType::F16 },
+                    compression: write.compression,
+                    overwrite: write.force,
+                    ..WriteOptions::default()
+                },
+            };
+            let bar = indicatif::ProgressBar::new(0).with_style(
+                indicatif::ProgressStyle::with_template("[{bar:30}] {pos}/{len} hololines, {eta} left")
+                    .expect("a valid template"),
+            );
+            let started = std::time::Instant::now();
+            let report = convert_camera_files(&input, &open, &g, &write.output, &options, &|done, total| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            })
+            .map_err(|e| e.to_string())?;
+            bar.finish_and_clear();
+            for w in report.resample.warnings.iter().chain(&report.written.warnings) {
+                eprintln!("holo: warning: {w}");
+            }
+            let r = &report.resample;
+            println!(
+                "converted {} ({}) into {} in {:.2} s",
+                input.display(),
+                r.surface,
+                report.path.display(),
+                started.elapsed().as_secs_f64()
+            );
+            println!("placement: {}", r.placement);
+            println!(
+                "{} rays, {} taps per emitter; {} ({:.1}%) seen by no camera and left black",
+                r.rays,
+                r.emitter_taps,
+                r.unseen,
+                100.0 * r.unseen as f64 / r.rays.max(1) as f64
             );
             Ok(ExitCode::SUCCESS)
         }

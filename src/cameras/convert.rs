@@ -10,6 +10,8 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
+use super::filter::Pyramid;
+use super::read::OpenOptions;
 use super::resample::{resample_rig, CameraOptions, CameraReport, CameraView};
 use super::{Camera, Rig};
 use crate::format::{write_frames, WriteOptions, WriteReport};
@@ -111,4 +113,28 @@ fn write_unseen_png(path: &Path, g: &Geometry, mask: &[bool]) -> Result<()> {
     let img = image::GrayImage::from_raw(g.emitters as u32, g.hololines as u32, grey)
         .ok_or_else(|| Error::Usage("unseen mask: size mismatch".into()))?;
     img.save(path).map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+}
+
+/// A camera's picture (linear, prefiltered) and, when `use_depth` and the
+/// rig gives one, its depth map as camera `z`.
+pub fn load_view(camera: &Camera, linear: bool, use_depth: bool) -> Result<CameraView> {
+    let picture = super::image::load_picture(camera, linear)?;
+    let depth_z = if use_depth { super::pfm::load_depth(camera)? } else { None };
+    Ok(CameraView { picture: Pyramid::new(picture.width, picture.height, picture.rgb), depth_z })
+}
+
+/// `holo convert cameras`: open `input` (a rig file, an HCI or Stanford
+/// folder, a Middlebury `_par.txt`, a Looking Glass quilt or a folder of
+/// images, see [`super::open_rig_with`]) and convert it.
+pub fn convert_camera_files(
+    input: &Path,
+    open: &OpenOptions,
+    geometry: &Geometry,
+    output: &Path,
+    options: &CameraConvertOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<CameraConvertReport> {
+    let rig = super::open_rig_with(input, open)?;
+    let (linear, use_depth) = (rig.linear, options.resample.use_depth);
+    convert_cameras(&rig, &|cam: &Camera| load_view(cam, linear, use_depth), geometry, output, options, progress)
 }

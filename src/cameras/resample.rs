@@ -148,6 +148,8 @@ pub struct CameraReport {
     pub unseen: u64,
     /// Per ray (hololine, emitter, view order), `true` where unseen, on request.
     pub mask: Option<Vec<bool>>,
+    /// Things the user should know (cameras listed twice, ...).
+    pub warnings: Vec<String>,
 }
 
 /// The geometry of the rig that every ray uses: placement, camera surface,
@@ -625,6 +627,27 @@ pub fn resample_rig(
             rig.cameras.len()
         )));
     }
+    // A camera listed twice (same position and orientation: Middlebury's
+    // temple ring has its first view again at 360°) is used once.
+    let mut warnings = Vec::new();
+    let mut keep: Vec<usize> = Vec::with_capacity(rig.cameras.len());
+    for (i, cam) in rig.cameras.iter().enumerate() {
+        match keep.iter().find(|&&k| same_pose(&rig.cameras[k], cam)) {
+            Some(&k) => warnings.push(format!(
+                "cameras {} and {} have the same position and orientation; only {} is used",
+                rig.cameras[k].name, cam.name, rig.cameras[k].name
+            )),
+            None => keep.push(i),
+        }
+    }
+    let unique;
+    let (rig, views): (&Rig, Vec<&CameraView>) = if keep.len() == rig.cameras.len() {
+        (rig, views.iter().collect())
+    } else {
+        unique = Rig { cameras: keep.iter().map(|&i| rig.cameras[i].clone()).collect(), ..rig.clone() };
+        (&unique, keep.iter().map(|&i| &views[i]).collect())
+    };
+    let views = &views[..];
     let geo = RigGeometry::new(rig, g, &options.placement)?;
     let names: Vec<&str> = g.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);
@@ -702,6 +725,7 @@ pub fn resample_rig(
         scale: geo.placement.scale,
         centre: geo.placement.centre,
         emitter_taps: taps,
+        warnings,
         surface: geo.surface_words(rig.cameras.len()),
         rays: (h * e * v) as u64,
         unseen,
@@ -715,7 +739,7 @@ pub fn resample_rig(
 fn ray_radiance(
     geo: &RigGeometry,
     rig: &Rig,
-    views: &[CameraView],
+    views: &[&CameraView],
     options: &CameraOptions,
     x: f64,
     y: f64,
@@ -742,7 +766,7 @@ fn ray_radiance(
     for &(ci, wi) in w.iter() {
         let cam = &rig.cameras[ci];
         let Some((px, z)) = cam.project(point) else { continue };
-        if options.use_depth && !visible_in(cam, &views[ci], px, z) {
+        if options.use_depth && !visible_in(cam, views[ci], px, z) {
             continue;
         }
         let Some(rgb) = views[ci].picture.sample(px[0], px[1], 1.0) else { continue };
@@ -759,7 +783,7 @@ fn ray_radiance(
 /// focus point (project, read the depth, move to that depth along the ray).
 fn refine_with_depth(
     rig: &Rig,
-    views: &[CameraView],
+    views: &[&CameraView],
     w: &[(usize, f64)],
     origin: [f64; 3],
     dir: [f64; 3],
@@ -813,6 +837,13 @@ fn visible_in(cam: &Camera, view: &CameraView, px: [f64; 2], z: f64) -> bool {
         Some(d) => z <= d * 1.01 + 1e-12,
         None => false,
     }
+}
+
+/// Two cameras at one place looking the same way (to calibration precision).
+fn same_pose(a: &Camera, b: &Camera) -> bool {
+    let scale = norm(a.pose.centre).max(norm(b.pose.centre)).max(1e-300);
+    norm(sub(a.pose.centre, b.pose.centre)) <= 1e-9 * scale
+        && (0..3).all(|i| norm(sub(a.pose.rotation[i], b.pose.rotation[i])) <= 1e-9)
 }
 
 fn mean(v: &[[f64; 3]]) -> [f64; 3] {
