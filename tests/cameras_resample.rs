@@ -180,21 +180,43 @@ fn rays_beyond_the_rail_are_unseen_and_zero() {
     println!("{}; {}", report.surface, report.placement);
 }
 
+/// The error of a resampling that must fail (without printing a frame if it does not).
+fn error_of(rig: &Rig, views: &[CameraView], g: &Geometry) -> String {
+    match resample_rig(rig, views, g, &CameraOptions::default(), &|_, _| {}) {
+        Ok(_) => panic!("{}: expected an error", rig.source),
+        Err(e) => e.to_string(),
+    }
+}
+
 #[test]
 fn coincident_cameras_and_missing_focus_are_errors_naming_them() {
     let g = display();
+    // Two cameras at one place looking different ways: the triangulation cannot separate them.
     let mut rig = rail(4);
     rig.cameras[2].pose.centre = rig.cameras[1].pose.centre;
+    rig.cameras[2].pose.rotation = look_rotation([0.05, 0.0, -1.0], [0.0, -1.0, 0.0]);
     let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, 0.0)).collect();
-    let e = resample_rig(&rig, &views, &g, &CameraOptions::default(), &|_, _| {}).unwrap_err().to_string();
+    let e = error_of(&rig, &views, &g);
     assert!(e.contains("rail1") && e.contains("rail2"), "{e}");
+    // The same camera listed twice (as Middlebury's temple ring does) is used once, with a warning.
+    let mut rig = rail(4);
+    rig.cameras[2].pose = rig.cameras[1].pose;
+    let (_, report) = resample_rig(&rig, &views, &g, &CameraOptions::default(), &|_, _| {}).unwrap();
+    assert!(report.warnings.iter().any(|w| w.contains("rail1") && w.contains("rail2")), "{:?}", report.warnings);
     let mut rig = rail(4);
     rig.focus_distance = None;
-    let e = resample_rig(&rig, &views, &g, &CameraOptions::default(), &|_, _| {}).unwrap_err().to_string();
+    let e = error_of(&rig, &views, &g);
     assert!(e.contains("--focus"), "{e}");
+    // Cameras whose pictures hold nothing of what the display would show.
+    let mut rig = rail(4);
+    for c in &mut rig.cameras {
+        c.intrinsics.cx += 5000.0;
+    }
+    let e = error_of(&rig, &views, &g);
+    assert!(e.contains("no camera sees") && e.contains("rail0"), "{e}");
     let mut rig = rail(4);
     rig.cameras[3].intrinsics.cx = f64::NAN;
-    let e = resample_rig(&rig, &views, &g, &CameraOptions::default(), &|_, _| {}).unwrap_err().to_string();
+    let e = error_of(&rig, &views, &g);
     assert!(e.contains("rail3") && e.contains("not finite"), "{e}");
 }
 

@@ -302,3 +302,39 @@ fn export_quilt_names_its_file_and_overwrites_nothing() {
     }
     assert!(!d.join("y.png").exists());
 }
+
+#[test]
+fn convert_cameras_reads_a_quilt_and_names_what_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let o =
+        holo(&["export-quilt", "ramp.holo", "--tile", "64x32", "--columns", "4", "--rows", "2", "--aspect", "2"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let quilt = "ramp_qs4x2a2.png";
+    assert!(d.join(quilt).exists());
+    let o =
+        holo(&["convert", "cameras", quilt, "--layout", "mark1", "-o", "back.holo", "--unseen-mask", "unseen.png"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("rail, 8 cameras") && text(&o).contains("placement:"), "{}", text(&o));
+    assert!(d.join("back.holo").exists() && d.join("unseen.png").exists());
+    let before = std::fs::read(d.join("back.holo")).unwrap();
+    let o = holo(&["convert", "cameras", quilt, "--layout", "mark1", "-o", "back.holo"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("back.holo") && text(&o).contains("already exists"), "{}", text(&o));
+    assert_eq!(std::fs::read(d.join("back.holo")).unwrap(), before);
+    // A rig file whose camera's picture is missing: the camera and file are named.
+    std::fs::write(
+        d.join("rig.toml"),
+        "units = \"mm\"\nfocus_distance = 500\nimage_size = [64, 32]\nfocal_length_px = 100\n[[cameras]]\nimage = \"a.png\"\nposition = [0, 0, 500]\nlook_at = [0, 0, 0]\n",
+    )
+    .unwrap();
+    let o = holo(&["convert", "cameras", "rig.toml", "--layout", "mark1", "-o", "rig.holo"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("a.png"), "{}", text(&o));
+    assert!(!d.join("rig.holo").exists());
+    let o = holo(&["convert", "cameras", "nothing-here", "--layout", "mark1", "-o", "x.holo"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("nothing-here"), "{}", text(&o));
+}

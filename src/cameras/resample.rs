@@ -165,6 +165,8 @@ pub struct RigGeometry {
     placement_words: String,
     /// The middle camera's pixel at the focus, display metres.
     pixel_at_focus_m: f64,
+    /// Cameras that do not see the focus point.
+    warnings: Vec<String>,
 }
 
 enum Surface {
@@ -361,6 +363,32 @@ impl RigGeometry {
             centre[0], centre[1], centre[2]
         );
         let pixel_at_focus_m = focus_depth / cam.intrinsics.fx * scale_d;
+        // Every camera should see the part of the scene the display shows.
+        let blind: Vec<&str> = rig
+            .cameras
+            .iter()
+            .filter(|c| {
+                let seen = c.project(focus_point).is_some_and(|(px, _)| {
+                    px[0] >= -0.5 && px[1] >= -0.5 && px[0] <= c.width as f64 - 0.5 && px[1] <= c.height as f64 - 0.5
+                });
+                !seen
+            })
+            .map(|c| c.name.as_str())
+            .collect();
+        if blind.len() == n {
+            return Err(Error::Usage(format!(
+                "{}: no camera sees the focus point ({:.4}, {:.4}, {:.4}) that the display would show (cameras {}); check the poses, --focus and --center",
+                rig.source,
+                focus_point[0],
+                focus_point[1],
+                focus_point[2],
+                list_names(&blind)
+            )));
+        }
+        let mut warnings = Vec::new();
+        if !blind.is_empty() {
+            warnings.push(format!("cameras {} do not see the focus point the display shows", list_names(&blind)));
+        }
         Ok(RigGeometry {
             placement,
             surface,
@@ -369,6 +397,7 @@ impl RigGeometry {
             focus_normal: z_d,
             placement_words,
             pixel_at_focus_m,
+            warnings,
         })
     }
 
@@ -649,6 +678,7 @@ pub fn resample_rig(
     };
     let views = &views[..];
     let geo = RigGeometry::new(rig, g, &options.placement)?;
+    warnings.extend(geo.warnings.iter().cloned());
     let names: Vec<&str> = g.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);
     let mut frame = Modulation::zeros(g.clone())?;
@@ -837,6 +867,15 @@ fn visible_in(cam: &Camera, view: &CameraView, px: [f64; 2], z: f64) -> bool {
         Some(d) => z <= d * 1.01 + 1e-12,
         None => false,
     }
+}
+
+/// Up to five names, then how many more.
+fn list_names(names: &[&str]) -> String {
+    let mut s = names.iter().take(5).copied().collect::<Vec<_>>().join(", ");
+    if names.len() > 5 {
+        s.push_str(&format!(" and {} more", names.len() - 5));
+    }
+    s
 }
 
 /// Two cameras at one place looking the same way (to calibration precision).
