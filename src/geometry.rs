@@ -66,6 +66,29 @@ impl Views {
         }
     }
 
+    /// The fractional view index pointing at `theta_rad` by the spacing
+    /// rule (the inverse of [`Views::theta_rad`]), extended beyond the first
+    /// and last view (an explicit list by its end intervals); 0 for a
+    /// single view.
+    pub fn index_at(&self, theta_rad: f64) -> f64 {
+        let n = self.count;
+        if n <= 1 {
+            return 0.0;
+        }
+        let (a, b) = (self.first_theta_rad, self.last_theta_rad);
+        let t = match &self.spacing {
+            ViewSpacing::Tan => (theta_rad.tan() - a.tan()) / (b.tan() - a.tan()),
+            ViewSpacing::Sin => (theta_rad.sin() - a.sin()) / (b.sin() - a.sin()),
+            ViewSpacing::Angle => (theta_rad - a) / (b - a),
+            ViewSpacing::Explicit(list) => {
+                let k = list.partition_point(|x| *x <= theta_rad).clamp(1, n - 1);
+                let (lo, hi) = (list[k - 1], list[k]);
+                return (k - 1) as f64 + (theta_rad - lo) / (hi - lo);
+            }
+        };
+        t * (n - 1) as f64
+    }
+
     /// Uniform-in-`tan θ` views spanning `[first, last]`.
     pub fn tan_spaced(count: usize, first_theta_rad: f64, last_theta_rad: f64) -> Self {
         Views { count, first_theta_rad, last_theta_rad, spacing: ViewSpacing::Tan }

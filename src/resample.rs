@@ -13,7 +13,7 @@
 //! and counted. Colours are matched by name; a grey (`Y`) source feeds every
 //! colour, and a grey target takes Rec. 709 luminance of an RGB source.
 
-use crate::geometry::{Geometry, ViewSpacing, Views};
+use crate::geometry::{Geometry, Views};
 use crate::{Error, Modulation, Result};
 
 /// What a resampling did.
@@ -32,21 +32,7 @@ fn view_index(views: &Views, theta_rad: f64) -> Option<f64> {
     if n == 1 {
         return ((theta_rad - views.first_theta_rad).abs() < 1e-12).then_some(0.0);
     }
-    let (a, b) = (views.first_theta_rad, views.last_theta_rad);
-    let t = match &views.spacing {
-        ViewSpacing::Tan => (theta_rad.tan() - a.tan()) / (b.tan() - a.tan()),
-        ViewSpacing::Sin => (theta_rad.sin() - a.sin()) / (b.sin() - a.sin()),
-        ViewSpacing::Angle => (theta_rad - a) / (b - a),
-        ViewSpacing::Explicit(list) => {
-            let k = list.partition_point(|x| *x <= theta_rad);
-            if k == 0 || k == n {
-                return (list.last() == Some(&theta_rad)).then_some((n - 1) as f64);
-            }
-            let (lo, hi) = (list[k - 1], list[k]);
-            return Some((k - 1) as f64 + (theta_rad - lo) / (hi - lo));
-        }
-    };
-    let f = t * (n - 1) as f64;
+    let f = views.index_at(theta_rad);
     (-1e-9..=(n - 1) as f64 + 1e-9).contains(&f).then(|| f.clamp(0.0, (n - 1) as f64))
 }
 

@@ -52,7 +52,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
-use crate::geometry::{Geometry, ViewSpacing, Views};
+use crate::geometry::Geometry;
 use crate::{Error, Modulation, Result};
 
 /// The layout of a quilt and the cameras that fill it.
@@ -321,28 +321,6 @@ pub struct Quilt {
     pub outside: u64,
 }
 
-/// Fractional index of the view pointing at `theta` by the spacing rule,
-/// extended beyond the first and last view (explicit lists by their end
-/// intervals): the inverse of [`crate::mesh::render::view_theta_at`].
-fn view_index(views: &Views, theta: f64) -> f64 {
-    let n = views.count;
-    if n <= 1 {
-        return 0.0;
-    }
-    let (a, b) = (views.first_theta_rad, views.last_theta_rad);
-    let t = match &views.spacing {
-        ViewSpacing::Tan => (theta.tan() - a.tan()) / (b.tan() - a.tan()),
-        ViewSpacing::Sin => (theta.sin() - a.sin()) / (b.sin() - a.sin()),
-        ViewSpacing::Angle => (theta - a) / (b - a),
-        ViewSpacing::Explicit(list) => {
-            let k = list.partition_point(|x| *x <= theta).clamp(1, n - 1);
-            let (lo, hi) = (list[k - 1], list[k]);
-            return (k - 1) as f64 + (theta - lo) / (hi - lo);
-        }
-    };
-    t * (n - 1) as f64
-}
-
 /// Linear interpolation taps of fractional index `f` among `n` samples,
 /// each sample covering `±½` about its index; `None` outside.
 fn taps(f: f64, n: usize) -> Option<[(usize, f32); 2]> {
@@ -395,8 +373,7 @@ pub fn quilt_from_modulation(m: &Modulation, spec: &QuiltSpec) -> Result<Quilt> 
                 let theta = ((f.eye_x[i] - x) / f.s).atan();
                 let tj = taps((g.hololine_top_y_m - y) / g.hololine_pitch_m, g.hololines);
                 let te = taps((x - g.emitter_left_x_m) / g.emitter_pitch_m, g.emitters);
-                let tv =
-                    if g.views.count == 1 { taps(0.0, 1) } else { taps(view_index(&g.views, theta), g.views.count) };
+                let tv = if g.views.count == 1 { taps(0.0, 1) } else { taps(g.views.index_at(theta), g.views.count) };
                 let (Some(tj), Some(te), Some(tv)) = (tj, te, tv) else {
                     outside += 1;
                     continue;
@@ -551,7 +528,7 @@ pub fn export_quilt(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{mono_channel, rgb_channels};
+    use crate::geometry::{mono_channel, rgb_channels, ViewSpacing, Views};
     use crate::mesh::render::view_theta_at;
 
     /// 30 hololines of 0.5 mm, 40 emitters of 0.5 mm (20 × 15 mm), viewer at
@@ -619,7 +596,7 @@ mod tests {
             let q = quilt_from_modulation(&by_view(geometry(views.clone())), &s).unwrap();
             for i in 0..n {
                 let phi = (i as f64 / (n - 1) as f64 - 0.5) * s.view_cone_deg.to_radians();
-                let f = view_index(&views, phi);
+                let f = views.index_at(phi);
                 let got = centre(&q, i)[0];
                 if f < -0.5 - 1e-9 || f > views.count as f64 - 0.5 + 1e-9 {
                     assert_eq!(got, 0.0, "{:?} view {i}", views.spacing);
