@@ -10,11 +10,13 @@
 
 use std::time::Instant;
 
+mod common;
+use common::{band, time};
+
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use holo::cameras::filter::Pyramid;
 use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView};
 use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
-use holo::geometry::Geometry;
 
 const SIZE: usize = 512;
 const GRID: usize = 9;
@@ -62,21 +64,6 @@ fn rig() -> (Rig, Vec<CameraView>) {
     let rig =
         Rig { source: "9 × 9 grid".into(), cameras, metres_per_unit: 1.0, focus_distance: Some(FOCUS), linear: true };
     (rig, views)
-}
-
-fn band(g: &Geometry, hololines: usize) -> Geometry {
-    let first = (g.hololines - hololines) / 2;
-    Geometry { hololines, hololine_top_y_m: g.hololine_y_m(first), ..g.clone() }
-}
-
-fn time(runs: usize, mut f: impl FnMut()) -> f64 {
-    (0..runs)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed().as_secs_f64()
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 fn tables(quick: bool, rig: &Rig, views: &[CameraView]) {

@@ -10,7 +10,8 @@
 //! and two procedural stand-ins without textures that take the vectorised
 //! shading path ([`model`]).
 
-use std::time::Instant;
+mod common;
+use common::{band, time};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use holo::geometry::Geometry;
@@ -145,12 +146,6 @@ fn surface(nu: usize, nv: usize, shininess: f32, f: impl Fn(f64, f64) -> [f64; 3
     o
 }
 
-/// `band` hololines from the middle of `g`.
-fn band(g: &Geometry, hololines: usize) -> Geometry {
-    let first = (g.hololines - hololines) / 2;
-    Geometry { hololines, hololine_top_y_m: g.hololine_y_m(first), ..g.clone() }
-}
-
 fn options(ss: usize, engine: Engine) -> RenderOptions {
     RenderOptions { supersample: Supersample { emitter: ss, view: ss }, engine, ..RenderOptions::default() }
 }
@@ -163,17 +158,6 @@ fn frame(scene: &Scene, g: &Geometry, o: &RenderOptions) -> Modulation {
 /// 57 MB frame to fault in each time).
 fn frame_into(scene: &Scene, o: &RenderOptions, reused: &mut Modulation) {
     render_into(scene, o, &|_, _| {}, reused).expect("render");
-}
-
-/// The fastest of `runs` renders, seconds.
-fn time(runs: usize, mut f: impl FnMut()) -> f64 {
-    (0..runs)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed().as_secs_f64()
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// (mean |a − b| / mean b, fraction of samples off by > 1% of b's peak), as in tests/mesh_render.rs.
