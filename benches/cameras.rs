@@ -14,7 +14,7 @@ mod common;
 use common::{band, time};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use holo::cameras::filter::Pyramid;
+use holo::cameras::image::Picture;
 use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView};
 use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
 
@@ -58,7 +58,7 @@ fn rig() -> (Rig, Vec<CameraView>) {
                     rgb.push(pattern(cam.pose.centre[0] + t * d[0], cam.pose.centre[1] + t * d[1]));
                 }
             }
-            CameraView { picture: Pyramid::new(SIZE, SIZE, rgb), depth_z: None }
+            CameraView { picture: Picture { width: SIZE, height: SIZE, rgb }, depth_z: None }
         })
         .collect();
     let rig =

@@ -5,7 +5,7 @@
 //! mesh directly. Printed: error against the number of cameras and the
 //! blending, for a rail, a grid, scattered positions and a ring.
 
-use holo::cameras::filter::Pyramid;
+use holo::cameras::image::Picture;
 use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView, PlacementRequest};
 use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
 use holo::geometry::{rgb_channels, Geometry, Views};
@@ -64,7 +64,7 @@ fn photograph(scene: &Scene, lighting: &Lighting, rig: &Rig) -> Vec<CameraView> 
         .iter()
         .map(|c| {
             let p = camera_picture(scene, lighting, c, 2).unwrap();
-            CameraView { picture: Pyramid::new(p.width, p.height, p.rgb), depth_z: Some(p.depth_z) }
+            CameraView { picture: Picture { width: p.width, height: p.height, rgb: p.rgb }, depth_z: Some(p.depth_z) }
         })
         .collect()
 }

@@ -2,7 +2,7 @@
 //! every pixel is known (textured planes photographed analytically), so
 //! each modulation ray has a known answer.
 
-use holo::cameras::filter::Pyramid;
+use holo::cameras::image::Picture;
 use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView, PlacementRequest};
 use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
 use holo::geometry::{rgb_channels, Geometry, Views};
@@ -60,7 +60,7 @@ fn photograph(cam: &Camera, plane_z: f64) -> CameraView {
             depth.push((cam.pose.centre[2] - plane_z) as f32);
         }
     }
-    CameraView { picture: Pyramid::new(W, H, rgb), depth_z: Some(depth) }
+    CameraView { picture: Picture { width: W, height: H, rgb }, depth_z: Some(depth) }
 }
 
 /// A rail of `n` cameras from x = −0.9 to 0.9 at z = 1, focus distance 1.

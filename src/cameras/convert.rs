@@ -1,7 +1,6 @@
 //! `holo convert cameras`: a rig's pictures to a `.holo` file.
 //!
-//! The pictures are loaded (in parallel, each checked against its camera)
-//! and prefiltered once; the frame is resampled hololine by hololine
+//! The pictures are loaded (in parallel, each checked against its camera); the frame is resampled hololine by hololine
 //! straight into the frame that is written, so memory is the pictures plus
 //! one frame.
 
@@ -10,7 +9,6 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use super::filter::Pyramid;
 use super::read::OpenOptions;
 use super::resample::{resample_rig, CameraOptions, CameraReport, CameraView};
 use super::{Camera, Rig};
@@ -115,12 +113,12 @@ fn write_unseen_png(path: &Path, g: &Geometry, mask: &[bool]) -> Result<()> {
     img.save(path).map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
 }
 
-/// A camera's picture (linear, prefiltered) and, when `use_depth` and the
+/// A camera's picture (linear) and, when `use_depth` and the
 /// rig gives one, its depth map as camera `z`.
 pub fn load_view(camera: &Camera, linear: bool, use_depth: bool) -> Result<CameraView> {
     let picture = super::image::load_picture(camera, linear)?;
     let depth_z = if use_depth { super::pfm::load_depth(camera)? } else { None };
-    Ok(CameraView { picture: Pyramid::new(picture.width, picture.height, picture.rgb), depth_z })
+    Ok(CameraView { picture, depth_z })
 }
 
 /// `holo convert cameras`: open `input` (a rig file, an HCI or Stanford

@@ -27,6 +27,33 @@ impl Picture {
     pub fn get(&self, x: usize, y: usize) -> [f32; 3] {
         self.rgb[y * self.width + x]
     }
+
+    /// Size in pixels.
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
+    }
+
+    /// The picture at pixel position `(u, v)` (pixel centres at integers),
+    /// bilinear with the edges held; `None` when `(u, v)` is more than half
+    /// a pixel outside the edge centres, or not finite.
+    pub fn sample(&self, u: f64, v: f64) -> Option<[f32; 3]> {
+        let (w, h) = (self.width, self.height);
+        let inside = u >= -0.5 && v >= -0.5 && u <= w as f64 - 0.5 && v <= h as f64 - 0.5;
+        if !inside || w == 0 || h == 0 {
+            return None;
+        }
+        let x = u.clamp(0.0, (w - 1) as f64);
+        let y = v.clamp(0.0, (h - 1) as f64);
+        let (x0, y0) = (x.floor() as usize, y.floor() as usize);
+        let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
+        let (fx, fy) = ((x - x0 as f64) as f32, (y - y0 as f64) as f32);
+        let (a, b, c, d) = (self.get(x0, y0), self.get(x1, y0), self.get(x0, y1), self.get(x1, y1));
+        Some(std::array::from_fn(|i| {
+            let top = a[i] + (b[i] - a[i]) * fx;
+            let bottom = c[i] + (d[i] - c[i]) * fx;
+            top + (bottom - top) * fy
+        }))
+    }
 }
 
 /// Width and height of an image file, from its header only (no decoding),
@@ -121,6 +148,17 @@ mod tests {
             pose: Pose { rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], centre: [0.0; 3] },
             depth: None,
         }
+    }
+
+    #[test]
+    fn bilinear_lookups_interpolate_and_stop_at_the_edges() {
+        // A 4 × 2 ramp in x.
+        let p = Picture { width: 4, height: 2, rgb: (0..8).map(|i| [(i % 4) as f32; 3]).collect() };
+        assert_eq!(p.sample(1.5, 0.0).unwrap()[0], 1.5);
+        assert_eq!(p.sample(2.25, 0.7).unwrap()[0], 2.25);
+        assert_eq!(p.sample(3.4, 1.0).unwrap()[0], 3.0, "edges held");
+        assert!(p.sample(-0.6, 0.0).is_none() && p.sample(0.0, 1.6).is_none());
+        assert!(p.sample(f64::NAN, 0.0).is_none());
     }
 
     #[test]

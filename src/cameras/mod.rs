@@ -10,7 +10,6 @@
 //! the rig says; [`Rig::metres_per_unit`] converts them to metres.
 
 pub mod convert;
-pub mod filter;
 pub mod resample;
 
 use std::path::PathBuf;

@@ -13,7 +13,10 @@
 //! then looks at the ray's *focus point* — where the ray crosses the focus
 //! plane (Isaksen, McMillan and Gortler's dynamic reparameterisation), or,
 //! with depth maps, the surface point found along the ray — and its picture
-//! is sampled there with a prefilter as wide as the display's ray spacing.
+//! is sampled there (bilinear). Each sample averages such rays across its
+//! emitter's aperture, the display's own filter (as the mesh renderer's
+//! emitter supersampling): an isotropic picture prefilter would blur
+//! vertically, which a hololine does not.
 //! Cameras that do not see the point (outside their picture, behind them, or
 //! hidden according to their own depth map) drop out and the others'
 //! weights are renormalised. Rays outside the cameras' surface hull, or seen
@@ -22,7 +25,7 @@
 use spade::handles::FixedVertexHandle;
 use spade::{DelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
 
-use super::filter::Pyramid;
+use super::image::Picture;
 use super::{Camera, Rig};
 use crate::geometry::Geometry;
 use crate::mesh::shade::channel_weights;
@@ -122,8 +125,8 @@ impl Default for CameraOptions {
 
 /// A camera's picture and (optionally) depth map, ready to sample.
 pub struct CameraView {
-    /// The picture, prefiltered.
-    pub picture: Pyramid,
+    /// The picture, linear RGB.
+    pub picture: Picture,
     /// Camera `z` (world units) per pixel, top row first, where the rig
     /// gives a depth map (`INFINITY` where the map says nothing is there).
     pub depth_z: Option<Vec<f32>>,
@@ -799,7 +802,7 @@ fn ray_radiance(
         if options.use_depth && !visible_in(cam, views[ci], px, z) {
             continue;
         }
-        let Some(rgb) = views[ci].picture.sample(px[0], px[1], 1.0) else { continue };
+        let Some(rgb) = views[ci].picture.sample(px[0], px[1]) else { continue };
         for k in 0..3 {
             sum[k] += wi * rgb[k] as f64;
         }
