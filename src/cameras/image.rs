@@ -47,12 +47,8 @@ impl Picture {
         let (x0, y0) = (x.floor() as usize, y.floor() as usize);
         let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
         let (fx, fy) = ((x - x0 as f64) as f32, (y - y0 as f64) as f32);
-        let (a, b, c, d) = (self.get(x0, y0), self.get(x1, y0), self.get(x0, y1), self.get(x1, y1));
-        Some(std::array::from_fn(|i| {
-            let top = a[i] + (b[i] - a[i]) * fx;
-            let bottom = c[i] + (d[i] - c[i]) * fx;
-            top + (bottom - top) * fy
-        }))
+        let corners = [self.get(x0, y0), self.get(x1, y0), self.get(x0, y1), self.get(x1, y1)];
+        Some(crate::mesh::shade::bilerp(corners, fx, fy))
     }
 }
 

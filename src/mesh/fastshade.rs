@@ -4,7 +4,7 @@
 //! in the segment parameter, so this is exact up to f32 rounding; the tests
 //! compare the two renderers, which holds the two shaders together.
 
-use super::shade::{sample, Lighting, SpecularModel};
+use super::shade::{bilerp, sample, Lighting, SpecularModel};
 use super::{Light, Material, Object, Scene, Texture, TextureRef};
 
 /// A material in the form the per-pixel loop wants.
@@ -459,14 +459,7 @@ pub(crate) fn sample_fast(tex: &Texture, uv: [f32; 2]) -> [f32; 4] {
     let (fx, fy) = ((x - i as f64) as f32, (y - j as f64) as f32);
     let at = j * w + i;
     let (top, bottom) = (&tex.texels[at..at + 2], &tex.texels[at + w..at + w + 2]);
-    let (a, b, c, d) = (top[0], top[1], bottom[0], bottom[1]);
-    let mut out = [0.0; 4];
-    for k in 0..4 {
-        let top = a[k] + (b[k] - a[k]) * fx;
-        let bottom = c[k] + (d[k] - c[k]) * fx;
-        out[k] = top + (bottom - top) * fy;
-    }
-    out
+    bilerp([top[0], top[1], bottom[0], bottom[1]], fx, fy)
 }
 
 /// The interpolated vertex normal `a + t·d` stays well away from zero (and
@@ -799,14 +792,7 @@ fn gather_kernel(b: &mut Batch, scene: &Scene, table: &SegmentTable, lights: &Fa
             let texel = if index[i] >= 0 {
                 let (at, w) = (index[i] as usize, tex.width);
                 let (top, bottom) = (&tex.texels[at..at + 2], &tex.texels[at + w..at + w + 2]);
-                let (fx, fy) = (fxs[i], fys[i]);
-                let mut out = [0.0f32; 4];
-                for (k, o) in out.iter_mut().enumerate() {
-                    let t = top[0][k] + (top[1][k] - top[0][k]) * fx;
-                    let b = bottom[0][k] + (bottom[1][k] - bottom[0][k]) * fx;
-                    *o = t + (b - t) * fy;
-                }
-                out
+                bilerp([top[0], top[1], bottom[0], bottom[1]], fxs[i], fys[i])
             } else {
                 sample(tex, [us[i], vs[i]])
             };

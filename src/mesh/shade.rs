@@ -313,9 +313,18 @@ pub fn sample(tex: &Texture, uv: [f32; 2]) -> [f32; 4] {
         let r = wrap(j as i64, tex.height, tex.wrap[1]);
         tex.texels[r * tex.width + c]
     };
-    let (a, b, c, d) = (at(x0, y0), at(x0 + 1.0, y0), at(x0, y0 + 1.0), at(x0 + 1.0, y0 + 1.0));
-    let mut out = [0.0; 4];
-    for k in 0..4 {
+    bilerp([at(x0, y0), at(x0 + 1.0, y0), at(x0, y0 + 1.0), at(x0 + 1.0, y0 + 1.0)], fx, fy)
+}
+
+/// Bilinear blend of the corners `[top left, top right, bottom left,
+/// bottom right]` at fractions `fx`, `fy`, in one fixed order of
+/// operations: every texture and picture lookup uses it, so the fast paths
+/// can match the reference bit for bit.
+#[inline(always)]
+pub fn bilerp<const N: usize>(corners: [[f32; N]; 4], fx: f32, fy: f32) -> [f32; N] {
+    let [a, b, c, d] = corners;
+    let mut out = [0.0; N];
+    for k in 0..N {
         let top = a[k] + (b[k] - a[k]) * fx;
         let bottom = c[k] + (d[k] - c[k]) * fx;
         out[k] = top + (bottom - top) * fy;
