@@ -622,10 +622,7 @@ fn run(cli: Cli) -> Outcome {
         Command::Assemble { file, layout, out, frames, format, resample, force } => {
             let layout = Layout::load(&layout).map_err(|e| e.to_string())?;
             let options = AssembleOptions { frames, format, overwrite: force, resample };
-            let bar = indicatif::ProgressBar::new(0).with_style(
-                indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} frames, {eta} left")
-                    .expect("a valid template"),
-            );
+            let bar = progress_bar("frames", true);
             bar.set_message("assembling");
             let started = std::time::Instant::now();
             let report = assemble_file(&file, &layout, &out, &options, &mut |done, total| {
@@ -762,17 +759,9 @@ fn run(cli: Cli) -> Outcome {
                 use_scene_lights: !no_scene_lights,
                 frames,
                 fps,
-                write: WriteOptions {
-                    sample_type: if write.f32 { SampleType::F32 } else { SampleType::F16 },
-                    compression: write.compression,
-                    overwrite: write.force,
-                    ..WriteOptions::default()
-                },
+                write: write.options(String::new()),
             };
-            let bar = indicatif::ProgressBar::new(0).with_style(
-                indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} hololines, {eta} left")
-                    .expect("a valid template"),
-            );
+            let bar = progress_bar("hololines", true);
             let started = std::time::Instant::now();
             let report = convert_mesh(&scene, &g, &write.output, &options, &|frame, done, total| {
                 bar.set_message(format!("frame {frame}"));
@@ -853,17 +842,9 @@ fn run(cli: Cli) -> Outcome {
                     emitter_taps: taps,
                 },
                 unseen_png: unseen_mask,
-                write: WriteOptions {
-                    sample_type: if write.f32 { SampleType::F32 } else { SampleType::F16 },
-                    compression: write.compression,
-                    overwrite: write.force,
-                    ..WriteOptions::default()
-                },
+                write: write.options(String::new()),
             };
-            let bar = indicatif::ProgressBar::new(0).with_style(
-                indicatif::ProgressStyle::with_template("[{bar:30}] {pos}/{len} hololines, {eta} left")
-                    .expect("a valid template"),
-            );
+            let bar = progress_bar("hololines", false);
             let started = std::time::Instant::now();
             let report = convert_camera_files(&input, &open, &g, &write.output, &options, &|done, total| {
                 bar.set_length(total as u64);
@@ -911,14 +892,29 @@ fn layout_geometry(name: &str) -> Result<Geometry, String> {
     Layout::load(name).map(|l| l.geometry).map_err(|e| e.to_string())
 }
 
+impl WriteArgs {
+    /// The write options these arguments ask for, with provenance `source`
+    /// (empty: the converter writes its own).
+    fn options(&self, source: String) -> WriteOptions {
+        WriteOptions {
+            sample_type: if self.f32 { SampleType::F32 } else { SampleType::F16 },
+            compression: self.compression,
+            source,
+            overwrite: self.force,
+            ..WriteOptions::default()
+        }
+    }
+}
+
+/// A progress bar counting `unit` (with a message in front when `message`).
+fn progress_bar(unit: &str, message: bool) -> indicatif::ProgressBar {
+    let template = format!("{}[{{bar:30}}] {{pos}}/{{len}} {unit}, {{eta}} left", if message { "{msg} " } else { "" });
+    indicatif::ProgressBar::new(0)
+        .with_style(indicatif::ProgressStyle::with_template(&template).expect("a valid template"))
+}
+
 fn write_file(m: &holo::Modulation, args: &WriteArgs, source: String) -> Outcome {
-    let options = WriteOptions {
-        sample_type: if args.f32 { SampleType::F32 } else { SampleType::F16 },
-        compression: args.compression,
-        source,
-        overwrite: args.force,
-        ..WriteOptions::default()
-    };
+    let options = args.options(source);
     let report = holo::write(&args.output, m, &options).map_err(|e| e.to_string())?;
     for w in &report.warnings {
         eprintln!("holo: warning: {}: {w}", args.output.display());
