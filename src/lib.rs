@@ -23,4 +23,4 @@ pub mod views;
 pub use error::{Error, Result};
 pub use format::{read, write, HoloFile, WriteOptions};
 pub use geometry::Geometry;
-pub use modulation::Modulation;
+pub use modulation::{Band, Modulation};

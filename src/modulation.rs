@@ -107,32 +107,108 @@ impl Modulation {
     /// The first sample that is NaN, infinite or negative, as
     /// (channel, hololine, emitter, view, value, why).
     pub fn first_bad_sample(&self) -> Option<(usize, usize, usize, usize, f32, &'static str)> {
-        // A branch-free scan first (it vectorises; frames are tens of millions
-        // of samples), then the search for the first offender.
-        let good = |x: &f32| *x >= 0.0 && *x <= f32::MAX;
-        let all_good = {
-            use rayon::prelude::*;
-            self.samples.par_chunks(1 << 16).all(|chunk| chunk.iter().fold(true, |ok, x| ok & good(x)))
-        };
-        if all_good {
-            return None;
-        }
-        let i = self.samples.iter().position(|x| !good(x))?;
-        let x = self.samples[i];
-        let g = &self.geometry;
-        let v = i % g.views.count;
-        let e = (i / g.views.count) % g.emitters;
-        let j = (i / (g.views.count * g.emitters)) % g.hololines;
-        let c = i / (g.views.count * g.emitters * g.hololines);
-        let why = if x.is_nan() {
-            "not a number"
-        } else if x.is_infinite() {
-            "infinite"
-        } else {
-            "negative (radiance cannot be)"
-        };
-        Some((c, j, e, v, x, why))
+        first_bad(&self.geometry, &self.samples, 0..self.geometry.hololines)
     }
+}
+
+/// Some consecutive hololines of one frame, every channel: what a converter
+/// fills when the frame is produced band by band (memory bounded by the band,
+/// not the frame). Samples in (channel, hololine, emitter, view) order like
+/// [`Modulation`], hololines counted from the frame's first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Band {
+    geometry: Geometry,
+    hololines: std::ops::Range<usize>,
+    samples: Vec<f32>,
+}
+
+impl Band {
+    /// All-zero band of `hololines` of a (valid) geometry.
+    pub fn zeros(geometry: Geometry, hololines: std::ops::Range<usize>) -> Result<Self> {
+        check_geometry(&geometry)?;
+        if hololines.start >= hololines.end || hololines.end > geometry.hololines {
+            return Err(Error::Usage(format!(
+                "hololines {}..{} are not a band of a geometry of {} hololines",
+                hololines.start, hololines.end, geometry.hololines
+            )));
+        }
+        let per_line = geometry.emitters as u64 * geometry.views.count as u64 * geometry.channels.len() as u64;
+        let n = usize::try_from(per_line * hololines.len() as u64).map_err(|_| too_big(&geometry))?;
+        Ok(Band { samples: vec![0.0; n], geometry, hololines })
+    }
+
+    /// The frame's geometry.
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+    /// The hololines this band holds.
+    pub fn hololines(&self) -> std::ops::Range<usize> {
+        self.hololines.clone()
+    }
+    /// All samples, (channel, hololine, emitter, view) order.
+    pub fn samples(&self) -> &[f32] {
+        &self.samples
+    }
+    /// All samples, mutable.
+    pub fn samples_mut(&mut self) -> &mut [f32] {
+        &mut self.samples
+    }
+    /// All (emitter, view) samples of one hololine (counted from the frame's first).
+    pub fn hololine(&self, channel: usize, hololine: usize) -> &[f32] {
+        let n = self.geometry.emitters * self.geometry.views.count;
+        let i = (channel * self.hololines.len() + hololine - self.hololines.start) * n;
+        &self.samples[i..i + n]
+    }
+    /// The first sample that is NaN, infinite or negative, as
+    /// (channel, hololine, emitter, view, value, why); the hololine counted
+    /// from the frame's first.
+    pub fn first_bad_sample(&self) -> Option<(usize, usize, usize, usize, f32, &'static str)> {
+        first_bad(&self.geometry, &self.samples, self.hololines.clone())
+    }
+    /// The band as a frame, when it holds every hololine.
+    pub fn into_modulation(self) -> Result<Modulation> {
+        if self.hololines != (0..self.geometry.hololines) {
+            return Err(Error::Usage(format!(
+                "a band of hololines {}..{} is not a whole frame of {}",
+                self.hololines.start, self.hololines.end, self.geometry.hololines
+            )));
+        }
+        Modulation::from_samples(self.geometry, self.samples)
+    }
+}
+
+/// The first bad sample of `samples` laid out (channel, hololine, emitter,
+/// view) over `hololines` of `g`.
+fn first_bad(
+    g: &Geometry,
+    samples: &[f32],
+    hololines: std::ops::Range<usize>,
+) -> Option<(usize, usize, usize, usize, f32, &'static str)> {
+    // A branch-free scan first (it vectorises; frames are tens of millions
+    // of samples), then the search for the first offender.
+    let good = |x: &f32| *x >= 0.0 && *x <= f32::MAX;
+    let all_good = {
+        use rayon::prelude::*;
+        samples.par_chunks(1 << 16).all(|chunk| chunk.iter().fold(true, |ok, x| ok & good(x)))
+    };
+    if all_good {
+        return None;
+    }
+    let i = samples.iter().position(|x| !good(x))?;
+    let x = samples[i];
+    let lines = hololines.len();
+    let v = i % g.views.count;
+    let e = (i / g.views.count) % g.emitters;
+    let j = hololines.start + (i / (g.views.count * g.emitters)) % lines;
+    let c = i / (g.views.count * g.emitters * lines);
+    let why = if x.is_nan() {
+        "not a number"
+    } else if x.is_infinite() {
+        "infinite"
+    } else {
+        "negative (radiance cannot be)"
+    };
+    Some((c, j, e, v, x, why))
 }
 
 fn too_big(g: &Geometry) -> Error {

@@ -229,3 +229,112 @@ fn written_files_honour_the_umask() {
     assert_ne!(mode, 0o600, "mode {mode:o}: the umask was ignored");
     assert_eq!(mode & 0o111, 0, "not executable");
 }
+
+/// A frame whose non-zero samples sit in an inner rectangle (so the written
+/// data window is cropped), copied band by band.
+fn bands_of(m: &Modulation, band: &mut holo::Band) {
+    let g = m.geometry();
+    let n = g.emitters * g.views.count;
+    let lines = band.hololines();
+    for c in 0..g.channels.len() {
+        for j in lines.clone() {
+            let at = (c * lines.len() + j - lines.start) * n;
+            band.samples_mut()[at..at + n].copy_from_slice(m.hololine(c, j));
+        }
+    }
+}
+
+#[test]
+fn banded_writes_give_the_same_bytes_as_whole_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    for (k, (h, e, v, rgb)) in [(37, 23, 5, true), (16, 9, 3, false), (1, 4, 2, false)].into_iter().enumerate() {
+        let g = geometry(h, e, v, rgb);
+        let mut m = random(g.clone(), 40 + k as u64);
+        // Zero a border so the data window is cropped on every side.
+        let (h, e, v) = (g.hololines, g.emitters, g.views.count);
+        for c in 0..g.channels.len() {
+            for j in 0..h {
+                for ei in 0..e {
+                    if (h > 2 && (j < 2 || j + 3 > h)) || ei < 1 || ei + 2 > e {
+                        for vi in 0..v {
+                            m.set(c, j, ei, vi, 0.0);
+                        }
+                    }
+                }
+            }
+        }
+        for (sample_type, compression) in [
+            (SampleType::F16, Compression::Zip),
+            (SampleType::F32, Compression::Piz),
+            (SampleType::F16, Compression::None),
+            // Lossy: the digest is made from what is read back, band by band.
+            (SampleType::F32, Compression::Pxr24),
+        ] {
+            let whole = dir.path().join(format!("{k}-{}-{sample_type:?}-whole.holo", compression.name()));
+            let written = write(&whole, &m, &options(sample_type, compression)).unwrap();
+            for band_hololines in [1, 7, 16, h + 5] {
+                let banded =
+                    dir.path().join(format!("{k}-{}-{sample_type:?}-{band_hololines}.holo", compression.name()));
+                let mut calls = 0;
+                let report = holo::format::write_frame_in_bands(
+                    &banded,
+                    &g,
+                    band_hololines,
+                    &options(sample_type, compression),
+                    |band| {
+                        calls += 1;
+                        assert!(band.hololines().len() <= band_hololines);
+                        bands_of(&m, band);
+                        Ok(())
+                    },
+                )
+                .unwrap();
+                assert_eq!(calls, h.div_ceil(band_hololines));
+                assert_eq!(report.digests, written.digests);
+                assert!(
+                    std::fs::read(&whole).unwrap() == std::fs::read(&banded).unwrap(),
+                    "{k} {compression:?} {sample_type:?}: banded ({band_hololines} lines) and whole bytes differ"
+                );
+            }
+        }
+    }
+    // Nothing is left beside the outputs: the spool and partial files are gone.
+    for entry in std::fs::read_dir(dir.path()).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(name.ends_with(".holo") && !name.starts_with('.'), "left behind: {name}");
+    }
+}
+
+#[test]
+fn banded_writes_refuse_bad_samples_and_keep_what_was_there() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = geometry(20, 6, 3, true);
+    let path = dir.path().join("kept.holo");
+    std::fs::write(&path, b"mine").unwrap();
+    let refused = holo::format::write_frame_in_bands(&path, &g, 4, &WriteOptions::default(), |_| Ok(()));
+    assert!(matches!(refused, Err(holo::Error::Usage(ref m)) if m.contains("already exists")));
+    assert_eq!(std::fs::read(&path).unwrap(), b"mine");
+
+    let out = dir.path().join("bad.holo");
+    let result = holo::format::write_frame_in_bands(&out, &g, 4, &WriteOptions::default(), |band| {
+        if band.hololines().contains(&13) {
+            let at = (2 * band.hololines().len() + 13 - band.hololines().start) * 6 * 3 + 2 * 3 + 1;
+            band.samples_mut()[at] = f32::NAN;
+        }
+        Ok(())
+    });
+    match result {
+        Err(holo::Error::BadSample { hololine, emitter, view, ref channel, .. }) => {
+            assert_eq!((hololine, emitter, view), (13, 2, 1));
+            assert_eq!(channel, &g.channels[2].name);
+        }
+        other => panic!("expected a bad-sample error, got {:?}", other.map(|r| r.path)),
+    }
+    let result = holo::format::write_frame_in_bands(&out, &g, 4, &WriteOptions::default(), |band| {
+        band.samples_mut()[0] = 1.0e6;
+        Ok(())
+    });
+    assert!(matches!(result, Err(holo::Error::BadSample { why, .. }) if why.contains("f16")));
+    assert!(!out.exists());
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "only the user's file remains");
+}

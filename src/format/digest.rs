@@ -9,6 +9,7 @@ use sha2::{Digest, Sha256};
 
 use super::channels::ChannelOrder;
 use super::SampleType;
+use crate::geometry::Geometry;
 use crate::Modulation;
 
 /// Prefix of the stored digest text.
@@ -18,33 +19,66 @@ pub const DIGEST_PREFIX: &str = "sha256:";
 pub fn frame_digest(m: &Modulation, sample_type: SampleType) -> String {
     let g = m.geometry();
     let order = ChannelOrder::new(g);
-    let (emitters, views, colours) = (g.emitters, g.views.count, g.channels.len());
-    let bytes_per_sample = sample_type.bytes();
-    let mut row = vec![0u8; order.len() * emitters * bytes_per_sample];
-    let mut hasher = Sha256::new();
+    let mut row = vec![0u8; row_bytes(g, sample_type)];
+    let mut digest = RowDigest::default();
     for j in 0..g.hololines {
-        for c in 0..colours {
-            let line = m.hololine(c, j);
-            for e in 0..emitters {
-                for v in 0..views {
-                    let slot = order.slot_of(v, c) * emitters + e;
-                    let x = line[e * views + v];
-                    let at = slot * bytes_per_sample;
-                    match sample_type {
-                        SampleType::F16 => row[at..at + 2].copy_from_slice(&half::f16::from_f32(x).to_le_bytes()),
-                        SampleType::F32 => row[at..at + 4].copy_from_slice(&x.to_le_bytes()),
-                    }
+        stored_row(g, &order, sample_type, |c| m.hololine(c, j), &mut row);
+        digest.update(&row);
+    }
+    digest.finish()
+}
+
+/// Bytes of one stored row of the display window (every channel, every emitter).
+pub(crate) fn row_bytes(g: &Geometry, sample_type: SampleType) -> usize {
+    g.views.count * g.channels.len() * g.emitters * sample_type.bytes()
+}
+
+/// One hololine as the digest hashes it (and as an uncompressed EXR scan line
+/// of the display window holds it): channel by channel in list order, emitter
+/// by emitter, little-endian samples of the stored type. `line(c)` gives
+/// colour `c`'s (emitter, view) samples; `out` is [`row_bytes`] long.
+pub(crate) fn stored_row<'a>(
+    g: &Geometry,
+    order: &ChannelOrder,
+    sample_type: SampleType,
+    line: impl Fn(usize) -> &'a [f32],
+    out: &mut [u8],
+) {
+    let (emitters, views) = (g.emitters, g.views.count);
+    let bytes_per_sample = sample_type.bytes();
+    for c in 0..g.channels.len() {
+        let line = line(c);
+        for e in 0..emitters {
+            for v in 0..views {
+                let at = (order.slot_of(v, c) * emitters + e) * bytes_per_sample;
+                let x = line[e * views + v];
+                match sample_type {
+                    SampleType::F16 => out[at..at + 2].copy_from_slice(&half::f16::from_f32(x).to_le_bytes()),
+                    SampleType::F32 => out[at..at + 4].copy_from_slice(&x.to_le_bytes()),
                 }
             }
         }
-        hasher.update(&row);
     }
-    let mut out = String::with_capacity(DIGEST_PREFIX.len() + 64);
-    out.push_str(DIGEST_PREFIX);
-    for b in hasher.finalize() {
-        out.push_str(&format!("{b:02x}"));
+}
+
+/// The digest fed row by row, so a frame need not be whole in memory.
+#[derive(Default)]
+pub(crate) struct RowDigest(Sha256);
+
+impl RowDigest {
+    /// Hash the next row (rows in increasing hololine order).
+    pub(crate) fn update(&mut self, row: &[u8]) {
+        self.0.update(row);
     }
-    out
+    /// The stored text.
+    pub(crate) fn finish(self) -> String {
+        let mut out = String::with_capacity(DIGEST_PREFIX.len() + 64);
+        out.push_str(DIGEST_PREFIX);
+        for b in self.0.finalize() {
+            out.push_str(&format!("{b:02x}"));
+        }
+        out
+    }
 }
 
 /// Whether a stored digest text is well formed.

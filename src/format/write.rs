@@ -16,10 +16,10 @@ use smallvec::SmallVec;
 
 use super::attributes::{self, geometry_attributes, name, Radiometry};
 use super::channels::ChannelOrder;
-use super::digest::{frame_digest, DIGEST_PREFIX};
+use super::digest::{frame_digest, row_bytes, stored_row, RowDigest, DIGEST_PREFIX};
 use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SIDE};
 use crate::geometry::Geometry;
-use crate::{Error, Modulation, Result};
+use crate::{Band, Error, Modulation, Result};
 
 /// How to write.
 #[derive(Clone, Debug)]
@@ -87,6 +87,138 @@ pub fn write_frames<'a>(
 ) -> Result<WriteReport> {
     let path = path.as_ref();
     check_writable(path, geometry, frame_count, options)?;
+    // One frame: look at it first, so the header can carry its data window and digest.
+    let mut first = None;
+    let mut digests = vec![placeholder(); frame_count];
+    let mut windows = vec![full_window(geometry); frame_count];
+    if frame_count == 1 {
+        let m = frame(0)?;
+        check_frame(path, geometry, &m, options, 0)?;
+        digests[0] = frame_digest(&m, options.sample_type);
+        windows[0] = covered_window(&m);
+        first = Some(Rows::Whole(m));
+    }
+    write_parts(path, geometry, options, windows, digests, first, |part| {
+        let m = frame(part)?;
+        check_frame(path, geometry, &m, options, part)?;
+        Ok((frame_digest(&m, options.sample_type), Rows::Whole(m)))
+    })
+}
+
+/// Write one frame produced band by band: `fill(band)` fills each band of at
+/// most `band_hololines` hololines, top to bottom. Memory is bounded by a band
+/// (and a few compressed blocks), not by the frame: the bands are checked,
+/// hashed and kept in stored form in a spool file beside the destination
+/// until the data window is known. The bytes written are exactly those
+/// [`write`] writes for the same samples.
+pub fn write_frame_in_bands(
+    path: impl AsRef<Path>,
+    geometry: &Geometry,
+    band_hololines: usize,
+    options: &WriteOptions,
+    mut fill: impl FnMut(&mut Band) -> Result<()>,
+) -> Result<WriteReport> {
+    let path = path.as_ref();
+    check_writable(path, geometry, 1, options)?;
+    if band_hololines == 0 {
+        return Err(Error::Usage(format!("{}: bands must hold at least one hololine", path.display())));
+    }
+    let order = ChannelOrder::new(geometry);
+    let row_len = row_bytes(geometry, options.sample_type);
+    let spool = tempfile::Builder::new()
+        .prefix(&format!(".{}.", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default()))
+        .suffix(".spool")
+        .tempfile_in(directory_of(path))
+        .map_err(|e| Error::io(directory_of(path), e))?;
+    let mut spool_out = BufWriter::with_capacity(1 << 20, spool.as_file());
+    let mut digest = RowDigest::default();
+    let mut row = vec![0u8; row_len];
+    let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+    let mut top = 0;
+    while top < geometry.hololines {
+        let lines = top..(top + band_hololines).min(geometry.hololines);
+        let mut band = Band::zeros(geometry.clone(), lines.clone())?;
+        fill(&mut band)?;
+        if band.geometry() != geometry || band.hololines() != lines {
+            return Err(Error::Usage(format!(
+                "{}: band of hololines {lines:?} came back with a different shape",
+                path.display()
+            )));
+        }
+        check_samples(path, geometry, options, 0, band.first_bad_sample(), || {
+            first_f16_overflow(geometry, band.samples(), lines.clone())
+        })?;
+        for j in lines.clone() {
+            stored_row(geometry, &order, options.sample_type, |c| band.hololine(c, j), &mut row);
+            digest.update(&row);
+            spool_out.write_all(&row).map_err(|e| Error::io(spool.path(), e))?;
+            if let Some((e0, e1)) = row_coverage(geometry, |c| band.hololine(c, j)) {
+                (x0, x1, y0, y1) = (x0.min(e0), x1.max(e1), y0.min(j), y1.max(j));
+            }
+        }
+        top = lines.end;
+    }
+    spool_out.flush().map_err(|e| Error::io(spool.path(), e))?;
+    drop(spool_out);
+    let window = window_from(x0, y0, x1, y1);
+    let rows = Rows::Spooled { file: std::sync::Mutex::new(spool.reopen().map_err(|e| Error::io(spool.path(), e))?) };
+    write_parts(path, geometry, options, vec![window], vec![digest.finish()], Some(rows), |_| {
+        Err(Error::Usage("internal: a one-frame write asked for a second frame".into()))
+    })
+}
+
+/// Where one frame's stored rows come from while its blocks are written.
+enum Rows<'a> {
+    /// A whole frame in memory: rows are made as blocks ask for them.
+    Whole(Cow<'a, Modulation>),
+    /// Rows already in stored form (little-endian, display-window wide) in a spool file.
+    Spooled { file: std::sync::Mutex<std::fs::File> },
+}
+
+impl Rows<'_> {
+    /// Stored rows `first..first + out.len() / row_bytes` into `out`.
+    fn read(
+        &self,
+        g: &Geometry,
+        order: &ChannelOrder,
+        sample_type: SampleType,
+        first: usize,
+        out: &mut [u8],
+    ) -> std::io::Result<()> {
+        let row_len = row_bytes(g, sample_type);
+        match self {
+            Rows::Whole(m) => {
+                for (k, row) in out.chunks_exact_mut(row_len).enumerate() {
+                    stored_row(g, order, sample_type, |c| m.hololine(c, first + k), row);
+                }
+                Ok(())
+            }
+            Rows::Spooled { file } => {
+                let mut file = file.lock().map_err(|_| std::io::Error::other("spool lock poisoned"))?;
+                file.seek(SeekFrom::Start((first * row_len) as u64))?;
+                file.read_exact(out)
+            }
+        }
+    }
+}
+
+/// Blocks built ahead of the compressor: enough to keep every core busy, few
+/// enough that memory stays a small multiple of one block.
+const BATCH_BYTES: usize = 16 << 20;
+
+/// The writer proper: headers for `windows`, then every part's blocks from
+/// `first` (part 0, when the caller already has it) and `next(part)` (its
+/// digest and rows), written beside `path` and renamed into place.
+fn write_parts<'a>(
+    path: &Path,
+    geometry: &Geometry,
+    options: &WriteOptions,
+    windows: Vec<IntegerBounds>,
+    mut digests: Vec<String>,
+    mut first: Option<Rows<'a>>,
+    mut next: impl FnMut(usize) -> Result<(String, Rows<'a>)>,
+) -> Result<WriteReport> {
+    let frame_count = windows.len();
     let mut warnings = Vec::new();
     if !options.compression.is_lossless_for(options.sample_type) {
         warnings.push(format!(
@@ -95,25 +227,10 @@ pub fn write_frames<'a>(
             options.sample_type
         ));
     }
-
-    // One frame: look at it first, so the header can carry its data window and digest.
-    let mut first: Option<Cow<'a, Modulation>> = None;
-    let mut digests = vec![placeholder(); frame_count];
-    let mut windows = vec![full_window(geometry); frame_count];
-    if frame_count == 1 {
-        let m = frame(0)?;
-        check_frame(path, geometry, &m, options, 0)?;
-        digests[0] = frame_digest(&m, options.sample_type);
-        windows[0] = covered_window(&m);
-        first = Some(m);
-    }
     let headers: Vec<Header> =
         (0..frame_count).map(|i| part_header(geometry, options, i, frame_count, &windows[i], &digests[i])).collect();
 
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let dir = directory_of(path);
     let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let prefix = format!(".{file_name}.");
     let mut builder = tempfile::Builder::new();
@@ -125,36 +242,38 @@ pub fn write_frames<'a>(
 
     let mut failure: Option<Error> = None;
     let order = ChannelOrder::new(geometry);
+    let row_len = row_bytes(geometry, options.sample_type);
     let written = {
         let out = BufWriter::with_capacity(1 << 20, temp.as_file());
         exr::block::write(out, headers.into(), true, |meta, chunk_writer| {
-            #[allow(clippy::needless_range_loop)] // `part` is also the EXR part index
-            for part in 0..frame_count {
-                let m = match first.take() {
-                    Some(m) => m,
-                    None => match frame(part).and_then(|m| check_frame(path, geometry, &m, options, part).map(|_| m)) {
-                        Ok(m) => m,
+            for (part, digest) in digests.iter_mut().enumerate() {
+                let rows = match first.take() {
+                    Some(rows) => rows,
+                    None => match next(part) {
+                        Ok((d, rows)) => {
+                            *digest = d;
+                            rows
+                        }
                         Err(e) => {
                             failure = Some(e);
                             return Err(exr::error::Error::Aborted);
                         }
                     },
                 };
-                if frame_count > 1 {
-                    digests[part] = frame_digest(&m, options.sample_type);
-                }
                 let header = &meta.headers[part];
                 let mut compressor = chunk_writer.sequential_blocks_compressor(&meta);
-                // Compress blocks in parallel batches; indices stay in increasing y.
+                // Build blocks in parallel batches; indices stay in increasing y.
                 let tiles: Vec<_> = header.blocks_increasing_y_order().enumerate().collect();
-                for batch in tiles.chunks(64) {
+                let block_bytes = row_len * header.compression.scan_lines_per_block();
+                for batch in tiles.chunks((BATCH_BYTES / block_bytes.max(1)).clamp(1, 64)) {
                     let chunks: Vec<exr::error::Result<(usize, UncompressedBlock)>> = {
                         use rayon::prelude::*;
                         batch
                             .par_iter()
                             .map(|(index, tile)| {
                                 let bounds = header.get_absolute_block_pixel_coordinates(tile.location)?;
-                                Ok((*index, block(&m, &order, header, part, bounds, options.sample_type)))
+                                let block = block(&rows, geometry, &order, header, part, bounds, options.sample_type)?;
+                                Ok((*index, block))
                             })
                             .collect()
                     };
@@ -172,10 +291,22 @@ pub fn write_frames<'a>(
     }
     written.map_err(|e| Error::exr(temp.path(), e))?;
     if !options.compression.is_lossless_for(options.sample_type) {
-        // The digest must describe what a reader will decode, not what was asked for.
+        // The digest must describe what a reader will decode, not what was
+        // asked for; read back band by band, so memory stays bounded.
         let stored = super::read::HoloFile::open(temp.path())?;
+        let mut row = vec![0u8; row_len];
         for (i, d) in digests.iter_mut().enumerate() {
-            *d = frame_digest(&stored.read_region(i, &super::read::Region::all(geometry))?, options.sample_type);
+            let mut digest = RowDigest::default();
+            for top in (0..geometry.hololines).step_by(64) {
+                let lines = top..(top + 64).min(geometry.hololines);
+                let region = super::read::Region { hololines: lines.clone(), ..super::read::Region::all(geometry) };
+                let band = stored.read_region(i, &region)?;
+                for j in 0..lines.len() {
+                    stored_row(geometry, &order, options.sample_type, |c| band.hololine(c, j), &mut row);
+                    digest.update(&row);
+                }
+            }
+            *d = digest.finish();
         }
     }
     canonicalize_headers(temp.path(), &digests)?;
@@ -183,6 +314,14 @@ pub fn write_frames<'a>(
     let file_bytes = temp.as_file().metadata().map_err(|e| Error::io(temp.path(), e))?.len();
     persist(temp, path, options.overwrite)?;
     Ok(WriteReport { path: path.to_path_buf(), file_bytes, digests, warnings })
+}
+
+/// The directory a file is written in (`.` for a bare name).
+fn directory_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
 }
 
 /// Rename a finished temporary file into place: an existing `path` is kept
@@ -227,28 +366,45 @@ fn check_frame(path: &Path, g: &Geometry, m: &Modulation, options: &WriteOptions
     if m.geometry() != g {
         return Err(Error::Usage(format!("{}: frame {part} has a different geometry from the file", path.display())));
     }
-    let bad = |(c, j, e, v, value, why): (usize, usize, usize, usize, f32, &'static str)| Error::BadSample {
-        path: path.into(),
-        frame: part,
-        hololine: j,
-        emitter: e,
-        view: v,
-        channel: g.channels[c].name.clone(),
-        value,
-        why,
-    };
-    if let Some(b) = m.first_bad_sample() {
-        return Err(bad(b));
+    check_samples(path, g, options, part, m.first_bad_sample(), || first_f16_overflow(g, m.samples(), 0..g.hololines))
+}
+
+type BadSample = (usize, usize, usize, usize, f32, &'static str);
+
+/// An error for the first bad sample, or for the first too large for f16
+/// when f16 is what is stored.
+fn check_samples(
+    path: &Path,
+    g: &Geometry,
+    options: &WriteOptions,
+    part: usize,
+    bad: Option<BadSample>,
+    f16_overflow: impl FnOnce() -> Option<BadSample>,
+) -> Result<()> {
+    let bad = bad.or_else(|| if options.sample_type == SampleType::F16 { f16_overflow() } else { None });
+    match bad {
+        None => Ok(()),
+        Some((c, j, e, v, value, why)) => Err(Error::BadSample {
+            path: path.into(),
+            frame: part,
+            hololine: j,
+            emitter: e,
+            view: v,
+            channel: g.channels[c].name.clone(),
+            value,
+            why,
+        }),
     }
-    if options.sample_type == SampleType::F16 {
-        if let Some(i) = m.samples().iter().position(|x| half::f16::from_f32(*x).is_infinite()) {
-            let vc = g.views.count;
-            let (v, e, j, c) =
-                (i % vc, (i / vc) % g.emitters, (i / vc / g.emitters) % g.hololines, i / vc / g.emitters / g.hololines);
-            return Err(bad((c, j, e, v, m.samples()[i], "too large for f16 (max 65504); write f32")));
-        }
-    }
-    Ok(())
+}
+
+/// The first sample of (channel, hololine, emitter, view)-ordered `samples`
+/// over `hololines` that f16 cannot hold.
+fn first_f16_overflow(g: &Geometry, samples: &[f32], hololines: std::ops::Range<usize>) -> Option<BadSample> {
+    let i = samples.iter().position(|x| half::f16::from_f32(*x).is_infinite())?;
+    let (vc, lines) = (g.views.count, hololines.len());
+    let (v, e, j, c) =
+        (i % vc, (i / vc) % g.emitters, hololines.start + (i / vc / g.emitters) % lines, i / vc / g.emitters / lines);
+    Some((c, j, e, v, samples[i], "too large for f16 (max 65504); write f32"))
 }
 
 fn placeholder() -> String {
@@ -263,19 +419,33 @@ fn full_window(g: &Geometry) -> IntegerBounds {
 fn covered_window(m: &Modulation) -> IntegerBounds {
     let g = m.geometry();
     let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+    for j in 0..g.hololines {
+        if let Some((e0, e1)) = row_coverage(g, |c| m.hololine(c, j)) {
+            (x0, x1, y0, y1) = (x0.min(e0), x1.max(e1), y0.min(j), y1.max(j));
+        }
+    }
+    window_from(x0, y0, x1, y1)
+}
+
+/// The first and last emitter of a hololine with a non-zero sample in any
+/// channel; `line(c)` gives colour `c`'s (emitter, view) samples.
+fn row_coverage<'a>(g: &Geometry, line: impl Fn(usize) -> &'a [f32]) -> Option<(usize, usize)> {
+    let views = g.views.count;
+    let mut covered: Option<(usize, usize)> = None;
     for c in 0..g.channels.len() {
-        for j in 0..g.hololines {
-            let line = m.hololine(c, j);
-            for e in 0..g.emitters {
-                if line[e * g.views.count..(e + 1) * g.views.count].iter().any(|x| *x != 0.0) {
-                    x0 = x0.min(e);
-                    x1 = x1.max(e);
-                    y0 = y0.min(j);
-                    y1 = y1.max(j);
-                }
+        let line = line(c);
+        for e in 0..g.emitters {
+            if line[e * views..(e + 1) * views].iter().any(|x| *x != 0.0) {
+                covered = Some(covered.map_or((e, e), |(a, b)| (a.min(e), b.max(e))));
             }
         }
     }
+    covered
+}
+
+/// The window of inclusive emitter and hololine extents (1×1 at the origin
+/// when nothing was covered: `x0 == usize::MAX`).
+fn window_from(x0: usize, y0: usize, x1: usize, y1: usize) -> IntegerBounds {
     if x0 == usize::MAX {
         return IntegerBounds::new(Vec2(0, 0), Vec2(1, 1));
     }
@@ -318,37 +488,36 @@ fn part_header(
 }
 
 /// The uncompressed bytes of one block: line by line, channel by channel in
-/// list order, emitter by emitter, native-endian.
+/// list order, emitter by emitter, native-endian; cut from the stored rows.
 fn block(
-    m: &Modulation,
+    rows: &Rows,
+    g: &Geometry,
     order: &ChannelOrder,
     header: &Header,
     part: usize,
     bounds: IntegerBounds,
     sample_type: SampleType,
-) -> UncompressedBlock {
-    let g = m.geometry();
+) -> exr::error::Result<UncompressedBlock> {
     let (x0, y0) = (header.own_attributes.layer_position.0 as usize, header.own_attributes.layer_position.1 as usize);
     let (bx, by) = (bounds.position.0 as usize, bounds.position.1 as usize);
     let (w, h) = (bounds.size.0, bounds.size.1);
-    let views = g.views.count;
-    let mut data = Vec::with_capacity(w * h * order.len() * sample_type.bytes());
-    for line in 0..h {
-        let j = y0 + by + line;
+    let (bytes, row_len) = (sample_type.bytes(), row_bytes(g, sample_type));
+    let mut stored = vec![0u8; row_len * h];
+    rows.read(g, order, sample_type, y0 + by, &mut stored)?;
+    let mut data = Vec::with_capacity(w * h * order.len() * bytes);
+    for row in stored.chunks_exact(row_len) {
         for slot in 0..order.len() {
-            let (v, c) = order.pair_at(slot);
-            let samples = m.hololine(c, j);
-            let columns = (x0 + bx..x0 + bx + w).map(|e| samples[e * views + v]);
-            match sample_type {
-                SampleType::F16 => columns.for_each(|x| data.extend_from_slice(&half::f16::from_f32(x).to_ne_bytes())),
-                SampleType::F32 => columns.for_each(|x| data.extend_from_slice(&x.to_ne_bytes())),
-            }
+            let at = (slot * g.emitters + x0 + bx) * bytes;
+            data.extend_from_slice(&row[at..at + w * bytes]);
         }
     }
-    UncompressedBlock {
+    if cfg!(target_endian = "big") {
+        data.chunks_exact_mut(bytes).for_each(|sample| sample.reverse());
+    }
+    Ok(UncompressedBlock {
         index: BlockIndex { layer: part, pixel_position: Vec2(bx, by), pixel_size: Vec2(w, h), level: Vec2(0, 0) },
         data,
-    }
+    })
 }
 
 /// Rewrite each header's attributes in name order (OpenEXR's own order; the
