@@ -1,18 +1,17 @@
 //! `holo convert cameras`: a rig's pictures to a `.holo` file.
 //!
-//! The pictures are loaded (in parallel, each checked against its camera); the frame is resampled hololine by hololine
-//! straight into the frame that is written, so memory is the pictures plus
-//! one frame.
+//! The pictures are loaded (in parallel, each checked against its camera);
+//! the frame is resampled and written a band of hololines at a time, so
+//! memory is the pictures plus one band, whatever the display's size.
 
-use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
 use super::read::OpenOptions;
-use super::resample::{resample_rig, CameraOptions, CameraReport, CameraView};
+use super::resample::{CameraOptions, CameraReport, CameraView, RigResampler};
 use super::{Camera, Rig};
-use crate::format::{write_frames, WriteOptions, WriteReport};
+use crate::format::{write_frame_in_bands, WriteOptions, WriteReport};
 use crate::geometry::Geometry;
 use crate::{Error, Result};
 
@@ -74,40 +73,56 @@ pub fn convert_cameras(
     }
     let mut resample_options = options.resample.clone();
     resample_options.want_mask |= options.unseen_png.is_some();
-    let (frame, mut report) = resample_rig(rig, &views, geometry, &resample_options, progress)?;
-    drop(views);
+    let resampler = RigResampler::new(rig, &views, geometry, &resample_options)?;
     let mut write = options.write.clone();
     if write.source.is_empty() {
+        let words = resampler.report(0, None);
         write.source = format!(
             "holo convert cameras {} ({}; {} blending{}; {})",
             rig.source,
-            report.surface,
+            words.surface,
             options.resample.blend.name(),
             if options.resample.use_depth && rig.cameras.iter().any(|c| c.depth.is_some()) {
                 ", depth maps"
             } else {
                 ""
             },
-            report.placement
+            words.placement
         );
     }
-    let written = write_frames(output, geometry, 1, &write, |_| Ok(Cow::Borrowed(&frame)))?;
-    if let (Some(path), Some(mask)) = (&options.unseen_png, &report.mask) {
-        write_unseen_png(path, geometry, mask)?;
+    // Band by band: memory is the pictures plus a band of hololines (and,
+    // for the unseen picture, a byte per emitter), never the whole frame.
+    let (mut unseen, mut mask) = (0u64, Vec::new());
+    let mut unseen_grey = Vec::new();
+    let band_hololines = 4 * rayon::current_num_threads().max(4);
+    let written = write_frame_in_bands(output, geometry, band_hololines, &write, |band| {
+        let (n, band_mask) = resampler.fill(band, progress);
+        unseen += n;
+        if options.unseen_png.is_some() {
+            unseen_grey.extend(unseen_fraction_grey(geometry, &band_mask));
+        }
+        if options.resample.want_mask {
+            mask.extend(band_mask);
+        }
+        Ok(())
+    })?;
+    if let Some(path) = &options.unseen_png {
+        write_unseen_png(path, geometry, unseen_grey)?;
     }
-    if !options.resample.want_mask {
-        report.mask = None;
-    }
+    let report = resampler.report(unseen, options.resample.want_mask.then_some(mask));
     Ok(CameraConvertReport { path: output.to_path_buf(), cameras: rig.cameras.len(), resample: report, written })
 }
 
-/// Grey = fraction of the emitter's views unseen, one pixel per (emitter, hololine).
-fn write_unseen_png(path: &Path, g: &Geometry, mask: &[bool]) -> Result<()> {
+/// Grey = fraction of the emitter's views unseen, one byte per (hololine,
+/// emitter) of a band's per-ray mask.
+fn unseen_fraction_grey<'m>(g: &Geometry, mask: &'m [bool]) -> impl Iterator<Item = u8> + 'm {
     let v = g.views.count;
-    let grey: Vec<u8> = mask
-        .chunks_exact(v)
-        .map(|views| (255.0 * views.iter().filter(|&&u| u).count() as f64 / v as f64).round() as u8)
-        .collect();
+    mask.chunks_exact(v)
+        .map(move |views| (255.0 * views.iter().filter(|&&u| u).count() as f64 / v as f64).round() as u8)
+}
+
+/// The unseen picture: one pixel per (emitter, hololine).
+fn write_unseen_png(path: &Path, g: &Geometry, grey: Vec<u8>) -> Result<()> {
     let img = image::GrayImage::from_raw(g.emitters as u32, g.hololines as u32, grey)
         .ok_or_else(|| Error::Usage("unseen mask: size mismatch".into()))?;
     img.save(path).map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))

@@ -22,6 +22,8 @@
 //! weights are renormalised. Rays outside the cameras' surface hull, or seen
 //! by none, are zero and counted: nothing is invented.
 
+use std::borrow::Cow;
+
 use spade::handles::FixedVertexHandle;
 use spade::{DelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
 
@@ -29,7 +31,7 @@ use super::image::Picture;
 use super::{Camera, Rig};
 use crate::geometry::Geometry;
 use crate::mesh::shade::channel_weights;
-use crate::{Error, Modulation, Result};
+use crate::{Band, Error, Modulation, Result};
 
 /// How the cameras around a ray are weighted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -124,6 +126,7 @@ impl Default for CameraOptions {
 }
 
 /// A camera's picture and (optionally) depth map, ready to sample.
+#[derive(Clone, Debug)]
 pub struct CameraView {
     /// The picture, linear RGB.
     pub picture: Picture,
@@ -650,121 +653,177 @@ pub fn resample_rig(
     options: &CameraOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<(Modulation, CameraReport)> {
-    use rayon::prelude::*;
-    if views.len() != rig.cameras.len() {
-        return Err(Error::Usage(format!(
-            "{}: {} pictures for {} cameras",
-            rig.source,
-            views.len(),
-            rig.cameras.len()
-        )));
-    }
-    // A camera listed twice (same position and orientation: Middlebury's
-    // temple ring has its first view again at 360°) is used once.
-    let mut warnings = Vec::new();
-    let mut keep: Vec<usize> = Vec::with_capacity(rig.cameras.len());
-    for (i, cam) in rig.cameras.iter().enumerate() {
-        match keep.iter().find(|&&k| same_pose(&rig.cameras[k], cam)) {
-            Some(&k) => warnings.push(format!(
-                "cameras {} and {} have the same position and orientation; only {} is used",
-                rig.cameras[k].name, cam.name, rig.cameras[k].name
-            )),
-            None => keep.push(i),
+    let resampler = RigResampler::new(rig, views, g, options)?;
+    let mut frame = Band::zeros(g.clone(), 0..g.hololines)?;
+    let (unseen, mask) = resampler.fill(&mut frame, progress);
+    Ok((frame.into_modulation()?, resampler.report(unseen, options.want_mask.then_some(mask))))
+}
+
+/// A rig made ready to resample: cameras listed twice dropped, the placement
+/// and camera surface found, the emitter taps chosen. It fills any band of
+/// hololines, so a frame can be made (and written) a band at a time.
+pub struct RigResampler<'a> {
+    rig: Cow<'a, Rig>,
+    views: Vec<&'a CameraView>,
+    g: Geometry,
+    options: CameraOptions,
+    geo: RigGeometry,
+    warnings: Vec<String>,
+    /// Channel weights of linear RGB, per channel.
+    weights: Vec<[f64; 3]>,
+    /// tan θ of every view.
+    slopes: Vec<f64>,
+    /// Offsets across an emitter's aperture of the rays averaged, metres.
+    tap_x_m: Vec<f64>,
+    /// Hololines done so far (for progress).
+    done: std::sync::atomic::AtomicUsize,
+}
+
+impl<'a> RigResampler<'a> {
+    /// Check and prepare `rig` with its pictures `views` (one per camera, in
+    /// the rig's order) for `g`.
+    pub fn new(rig: &'a Rig, views: &'a [CameraView], g: &Geometry, options: &CameraOptions) -> Result<Self> {
+        if views.len() != rig.cameras.len() {
+            return Err(Error::Usage(format!(
+                "{}: {} pictures for {} cameras",
+                rig.source,
+                views.len(),
+                rig.cameras.len()
+            )));
         }
+        // A camera listed twice (same position and orientation: Middlebury's
+        // temple ring has its first view again at 360°) is used once.
+        let mut warnings = Vec::new();
+        let mut keep: Vec<usize> = Vec::with_capacity(rig.cameras.len());
+        for (i, cam) in rig.cameras.iter().enumerate() {
+            match keep.iter().find(|&&k| same_pose(&rig.cameras[k], cam)) {
+                Some(&k) => warnings.push(format!(
+                    "cameras {} and {} have the same position and orientation; only {} is used",
+                    rig.cameras[k].name, cam.name, rig.cameras[k].name
+                )),
+                None => keep.push(i),
+            }
+        }
+        let (rig, views): (Cow<'a, Rig>, Vec<&'a CameraView>) = if keep.len() == rig.cameras.len() {
+            (Cow::Borrowed(rig), views.iter().collect())
+        } else {
+            let unique = Rig { cameras: keep.iter().map(|&i| rig.cameras[i].clone()).collect(), ..rig.clone() };
+            (Cow::Owned(unique), keep.iter().map(|&i| &views[i]).collect())
+        };
+        let geo = RigGeometry::new(&rig, g, &options.placement)?;
+        warnings.extend(geo.warnings.iter().cloned());
+        let names: Vec<&str> = g.channels.iter().map(|c| c.name.as_str()).collect();
+        // Each sample averages rays across its emitter's aperture, point-sampling
+        // the pictures: the display's own filter (the mesh renderer's emitter
+        // supersampling), not a blur the display does not have.
+        let taps = match options.emitter_taps {
+            Some(0) => return Err(Error::Usage("emitter taps must be at least 1".into())),
+            Some(n) => n,
+            None => ((g.emitter_pitch_m / geo.pixel_at_focus_m).ceil() as usize).clamp(1, 16),
+        };
+        Ok(RigResampler {
+            views,
+            weights: channel_weights(&names),
+            slopes: (0..g.views.count).map(|k| g.views.theta_rad(k).tan()).collect(),
+            tap_x_m: (0..taps).map(|k| g.emitter_pitch_m * ((k as f64 + 0.5) / taps as f64 - 0.5)).collect(),
+            rig,
+            g: g.clone(),
+            options: options.clone(),
+            geo,
+            warnings,
+            done: std::sync::atomic::AtomicUsize::new(0),
+        })
     }
-    let unique;
-    let (rig, views): (&Rig, Vec<&CameraView>) = if keep.len() == rig.cameras.len() {
-        (rig, views.iter().collect())
-    } else {
-        unique = Rig { cameras: keep.iter().map(|&i| rig.cameras[i].clone()).collect(), ..rig.clone() };
-        (&unique, keep.iter().map(|&i| &views[i]).collect())
-    };
-    let views = &views[..];
-    let geo = RigGeometry::new(rig, g, &options.placement)?;
-    warnings.extend(geo.warnings.iter().cloned());
-    let names: Vec<&str> = g.channels.iter().map(|c| c.name.as_str()).collect();
-    let weights = channel_weights(&names);
-    let mut frame = Modulation::zeros(g.clone())?;
-    let (h, e, v, c) = (g.hololines, g.emitters, g.views.count, g.channels.len());
-    let mut rows: Vec<Vec<&mut [f32]>> = (0..h).map(|_| Vec::with_capacity(c)).collect();
-    for (i, row) in frame.samples_mut().chunks_exact_mut(e * v).enumerate() {
-        rows[i % h].push(row);
-    }
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    let slopes: Vec<f64> = (0..v).map(|k| g.views.theta_rad(k).tan()).collect();
-    let span = g.viewer_distance_m - g.emitter_z_m;
-    // Each sample averages rays across its emitter's aperture, point-sampling
-    // the pictures: the display's own filter (the mesh renderer's emitter
-    // supersampling), not a blur the display does not have.
-    let taps = match options.emitter_taps {
-        Some(0) => return Err(Error::Usage("emitter taps must be at least 1".into())),
-        Some(n) => n,
-        None => ((g.emitter_pitch_m / geo.pixel_at_focus_m).ceil() as usize).clamp(1, 16),
-    };
-    let tap_x: Vec<f64> = (0..taps).map(|k| g.emitter_pitch_m * ((k as f64 + 0.5) / taps as f64 - 0.5)).collect();
-    let per_line: Vec<(u64, Vec<bool>)> = rows
-        .into_par_iter()
-        .enumerate()
-        .map(|(j, mut rows)| {
-            let y = g.hololine_y_m(j);
-            // Vertically every ray of the hololine goes through the viewer line.
-            let sy = (g.viewer_height_m - y) / span;
-            let mut mask = if options.want_mask { vec![false; e * v] } else { Vec::new() };
-            let mut unseen = 0u64;
-            let (mut w, mut scratch) = (Vec::new(), Scratch::default());
-            for ei in 0..e {
-                let x = g.emitter_x_m(ei);
-                for (vi, &sx) in slopes.iter().enumerate() {
-                    let (mut sum, mut seen) = ([0.0f64; 3], 0usize);
-                    for dx in &tap_x {
-                        if let Some(rgb) =
-                            ray_radiance(&geo, rig, views, options, x + dx, y, sx, sy, &mut w, &mut scratch)
-                        {
-                            for k in 0..3 {
-                                sum[k] += rgb[k];
+
+    /// Fill `band` (of this resampler's geometry), hololines in parallel;
+    /// `progress(hololines done, hololines)` counts across bands. Returns
+    /// the rays no camera sees (left zero) and, when the options ask for a
+    /// mask, which they are (band's hololine, emitter, view order).
+    pub fn fill(&self, band: &mut Band, progress: &(dyn Fn(usize, usize) + Sync)) -> (u64, Vec<bool>) {
+        use rayon::prelude::*;
+        let g = &self.g;
+        let lines = band.hololines();
+        let (e, v, c) = (g.emitters, g.views.count, g.channels.len());
+        let mut rows: Vec<Vec<&mut [f32]>> = lines.clone().map(|_| Vec::with_capacity(c)).collect();
+        for (i, row) in band.samples_mut().chunks_exact_mut(e * v).enumerate() {
+            rows[i % lines.len()].push(row);
+        }
+        let span = g.viewer_distance_m - g.emitter_z_m;
+        let want_mask = self.options.want_mask;
+        let per_line: Vec<(u64, Vec<bool>)> = rows
+            .into_par_iter()
+            .zip(lines.clone())
+            .map(|(mut rows, j)| {
+                let y = g.hololine_y_m(j);
+                // Vertically every ray of the hololine goes through the viewer line.
+                let sy = (g.viewer_height_m - y) / span;
+                let mut mask = if want_mask { vec![false; e * v] } else { Vec::new() };
+                let mut unseen = 0u64;
+                let (mut w, mut scratch) = (Vec::new(), Scratch::default());
+                for ei in 0..e {
+                    let x = g.emitter_x_m(ei);
+                    for (vi, &sx) in self.slopes.iter().enumerate() {
+                        let (mut sum, mut seen) = ([0.0f64; 3], 0usize);
+                        for dx in &self.tap_x_m {
+                            if let Some(rgb) = ray_radiance(
+                                &self.geo,
+                                &self.rig,
+                                &self.views,
+                                &self.options,
+                                x + dx,
+                                y,
+                                sx,
+                                sy,
+                                &mut w,
+                                &mut scratch,
+                            ) {
+                                for k in 0..3 {
+                                    sum[k] += rgb[k];
+                                }
+                                seen += 1;
                             }
-                            seen += 1;
                         }
-                    }
-                    let rgb = (seen > 0).then(|| sum.map(|s| s / seen as f64));
-                    let at = ei * v + vi;
-                    match rgb {
-                        Some(rgb) => {
-                            for (row, wc) in rows.iter_mut().zip(&weights) {
+                        let at = ei * v + vi;
+                        if seen > 0 {
+                            let rgb = sum.map(|s| s / seen as f64);
+                            for (row, wc) in rows.iter_mut().zip(&self.weights) {
                                 row[at] = (wc[0] * rgb[0] + wc[1] * rgb[1] + wc[2] * rgb[2]) as f32;
                             }
-                        }
-                        None => {
+                        } else {
                             for row in rows.iter_mut() {
                                 row[at] = 0.0;
                             }
                             unseen += 1;
-                            if options.want_mask {
+                            if want_mask {
                                 mask[at] = true;
                             }
                         }
                     }
                 }
-            }
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            progress(n, h);
-            (unseen, mask)
-        })
-        .collect();
-    let unseen = per_line.iter().map(|l| l.0).sum();
-    let mask = options.want_mask.then(|| per_line.into_iter().flat_map(|l| l.1).collect());
-    let report = CameraReport {
-        placement: geo.placement_words.clone(),
-        scale: geo.placement.scale,
-        centre: geo.placement.centre,
-        emitter_taps: taps,
-        warnings,
-        surface: geo.surface_words(rig.cameras.len()),
-        rays: (h * e * v) as u64,
-        unseen,
-        mask,
-    };
-    Ok((frame, report))
+                let n = self.done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                progress(n, g.hololines);
+                (unseen, mask)
+            })
+            .collect();
+        let unseen = per_line.iter().map(|l| l.0).sum();
+        (unseen, per_line.into_iter().flat_map(|l| l.1).collect())
+    }
+
+    /// The report of a resampling that left `unseen` rays unseen.
+    pub fn report(&self, unseen: u64, mask: Option<Vec<bool>>) -> CameraReport {
+        let g = &self.g;
+        CameraReport {
+            placement: self.geo.placement_words.clone(),
+            scale: self.geo.placement.scale,
+            centre: self.geo.placement.centre,
+            emitter_taps: self.tap_x_m.len(),
+            warnings: self.warnings.clone(),
+            surface: self.geo.surface_words(self.rig.cameras.len()),
+            rays: (g.hololines * g.emitters * g.views.count) as u64,
+            unseen,
+            mask,
+        }
+    }
 }
 
 /// Linear RGB along one display ray, or `None` when no camera sees it.

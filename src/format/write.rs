@@ -204,7 +204,7 @@ impl Rows<'_> {
 
 /// Blocks built ahead of the compressor: enough to keep every core busy, few
 /// enough that memory stays a small multiple of one block.
-const BATCH_BYTES: usize = 16 << 20;
+const BATCH_BYTES: usize = 4 << 20;
 
 /// The writer proper: headers for `windows`, then every part's blocks from
 /// `first` (part 0, when the caller already has it) and `next(part)` (its

@@ -1,0 +1,143 @@
+//! `convert cameras` holds the pictures and a band of hololines, not the
+//! frame: peak heap measured by a counting allocator stays far below one
+//! frame and does not grow with the display's hololines, while resampling a
+//! whole frame in memory needs at least the frame. The banded conversion
+//! writes exactly the frame the whole-frame resampler makes.
+//!
+//! One test in this binary: the allocator counts every thread, so nothing
+//! else may run beside it.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use holo::cameras::convert::{convert_cameras, CameraConvertOptions};
+use holo::cameras::image::Picture;
+use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView};
+use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
+use holo::format::{SampleType, WriteOptions};
+use holo::geometry::{rgb_channels, Geometry, Views};
+
+struct Counting;
+
+static NOW: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let p = System.alloc(layout);
+        if !p.is_null() {
+            let now = NOW.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
+            PEAK.fetch_max(now, Ordering::Relaxed);
+        }
+        p
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout);
+        NOW.fetch_sub(layout.size(), Ordering::Relaxed);
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// Peak heap above what was live when `f` started.
+fn peak_during<T>(f: impl FnOnce() -> T) -> (T, usize) {
+    let base = NOW.load(Ordering::Relaxed);
+    PEAK.store(base, Ordering::Relaxed);
+    let out = f();
+    (out, PEAK.load(Ordering::Relaxed) - base)
+}
+
+/// A display 192 mm tall of `hololines`, 96 emitters of 1 mm, 48 views.
+fn display(hololines: usize) -> Geometry {
+    Geometry::centred(
+        hololines,
+        96,
+        Views::tan_spaced(48, -15f64.to_radians(), 15f64.to_radians()),
+        0.192 / hololines as f64,
+        1e-3,
+        0.0,
+        0.5,
+        rgb_channels(),
+    )
+}
+
+/// A 3×3 grid (0.3 m apart) of 64×64 cameras 1 m from a patterned focus plane.
+fn rig_and_views() -> (Rig, Vec<CameraView>) {
+    let (w, h) = (64usize, 64usize);
+    let mut cameras = Vec::new();
+    let mut views = Vec::new();
+    for (k, (x, y)) in (0..9).map(|k| (k, (0.3 * (k % 3) as f64 - 0.3, 0.3 * (k / 3) as f64 - 0.3))) {
+        cameras.push(Camera {
+            name: format!("cam{k}"),
+            image: ImageSource::File(format!("cam{k}.png").into()),
+            width: w,
+            height: h,
+            intrinsics: Intrinsics { fx: 60.0, fy: 60.0, cx: 31.5, cy: 31.5 },
+            pose: Pose { rotation: look_rotation([0.0, 0.0, -1.0], [0.0, -1.0, 0.0]), centre: [x, y, 1.0] },
+            depth: None,
+        });
+        let rgb = (0..w * h)
+            .map(|i| {
+                let (u, v) = ((i % w) as f32, (i / w) as f32);
+                [0.5 + 0.4 * (u * 0.3 + k as f32).sin(), 0.5 + 0.4 * (v * 0.2).cos(), 0.3 + 0.002 * (u + v)]
+            })
+            .collect();
+        views.push(CameraView { picture: Picture { width: w, height: h, rgb }, depth_z: None });
+    }
+    let rig = Rig {
+        source: "memory test grid".into(),
+        cameras,
+        metres_per_unit: 1.0,
+        focus_distance: Some(1.0),
+        linear: true,
+    };
+    (rig, views)
+}
+
+#[test]
+fn converting_holds_a_band_not_the_frame() {
+    let (rig, views) = rig_and_views();
+    let dir = tempfile::tempdir().unwrap();
+    let resample = CameraOptions { blend: Blend::Nearest, emitter_taps: Some(1), ..CameraOptions::default() };
+    let options = CameraConvertOptions {
+        resample: resample.clone(),
+        unseen_png: None,
+        write: WriteOptions { sample_type: SampleType::F32, ..WriteOptions::default() },
+    };
+    let mut peaks = Vec::new();
+    for hololines in [384, 768] {
+        let g = display(hololines);
+        let frame_bytes = g.samples_per_frame() as usize * 4;
+        let out = dir.path().join(format!("{hololines}.holo"));
+        let (report, peak) = peak_during(|| {
+            convert_cameras(
+                &rig,
+                &|c: &Camera| Ok(views[rig.cameras.iter().position(|k| k.name == c.name).unwrap()].clone()),
+                &g,
+                &out,
+                &options,
+                &|_, _| {},
+            )
+            .unwrap()
+        });
+        println!(
+            "{hololines} hololines: frame {:.1} MB, banded conversion peak heap {:.1} MB",
+            frame_bytes as f64 / 1e6,
+            peak as f64 / 1e6
+        );
+        assert!(report.resample.unseen < report.resample.rays / 10);
+        assert!(peak < frame_bytes / 2, "peak {peak} bytes for a frame of {frame_bytes}");
+        peaks.push(peak);
+
+        // The whole-frame resampler: at least the frame, and the same samples.
+        let ((whole, _), whole_peak) = peak_during(|| resample_rig(&rig, &views, &g, &resample, &|_, _| {}).unwrap());
+        println!("{hololines} hololines: whole-frame resampling peak heap {:.1} MB", whole_peak as f64 / 1e6);
+        assert!(whole_peak >= frame_bytes);
+        assert!(holo::format::read(&out).unwrap() == whole, "banded conversion differs from the whole frame");
+    }
+    // Twice the hololines (and twice the frame): the peak hardly moves.
+    let growth = peaks[1] as f64 - peaks[0] as f64;
+    let frame_growth = (display(768).samples_per_frame() - display(384).samples_per_frame()) as f64 * 4.0;
+    assert!(growth < 0.05 * frame_growth, "peak grew by {growth} bytes for {frame_growth} more bytes of frame");
+}
