@@ -218,6 +218,23 @@ fn coincident_cameras_and_missing_focus_are_errors_naming_them() {
     rig.cameras[3].intrinsics.cx = f64::NAN;
     let e = error_of(&rig, &views, &g);
     assert!(e.contains("rail3") && e.contains("not finite"), "{e}");
+    // Collinear cameras are a rail: across the horizontal parallax (even
+    // slanted by 30°) they convert; running up and down they cannot fill
+    // the views, and the error names the line's end cameras.
+    for (degrees, ok) in [(30.0f64, true), (60.0, false), (90.0, false)] {
+        let (c, s) = (degrees.to_radians().cos(), degrees.to_radians().sin());
+        let cameras =
+            (0..5).map(|i| camera(format!("line{i}"), [0.2 * c * (i as f64 - 2.0), 0.2 * s * (i as f64 - 2.0), 1.0]));
+        let rig = Rig { source: format!("rail at {degrees}°"), cameras: cameras.collect(), ..rail(2) };
+        let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, 0.0)).collect();
+        if ok {
+            let (_, report) = resample_rig(&rig, &views, &g, &CameraOptions::default(), &|_, _| {}).unwrap();
+            assert!(report.surface.contains("rail"), "{}", report.surface);
+        } else {
+            let e = error_of(&rig, &views, &g);
+            assert!(e.contains("collinear") && e.contains("line0") && e.contains("line4"), "{e}");
+        }
+    }
 }
 
 /// A scattered planar rig (a jittered 5 × 4 grid): the fast location of

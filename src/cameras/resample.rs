@@ -322,6 +322,33 @@ impl RigGeometry {
             })
             .collect();
         let cameras_on_surface = Interpolator::new(&points, rig)?;
+        // Collinear cameras are a rail, which samples parallax along its
+        // line only: across the display's horizontal parallax it works, but a
+        // line running up and down would give every view of a hololine the
+        // same camera. Such a rig needs cameras off the line (a grid).
+        if let Interpolator::Line { axis, sorted, .. } = &cameras_on_surface {
+            let horizontal = match &surface {
+                Surface::Plane { u, v, .. } => dot(add(scale(*u, axis[0]), scale(*v, axis[1])), x_d).abs(),
+                Surface::Directions { .. } => axis[0].abs(),
+            };
+            if horizontal < std::f64::consts::FRAC_1_SQRT_2 || g.parallax == crate::geometry::Parallax::Full {
+                let (first, last) = (sorted[0].1, sorted[sorted.len() - 1].1);
+                return Err(Error::Usage(format!(
+                    "{}: cameras {} to {} are collinear, on a line {:.0}° from the display's horizontal{}: \
+                     a rail gives parallax only along its line, so these cameras cannot fill the display's views; \
+                     add cameras off the line (a grid) or turn the rail across the horizontal parallax",
+                    rig.source,
+                    rig.cameras[first].name,
+                    rig.cameras[last].name,
+                    horizontal.clamp(0.0, 1.0).acos().to_degrees(),
+                    if g.parallax == crate::geometry::Parallax::Full {
+                        " and the display has full parallax"
+                    } else {
+                        ""
+                    }
+                )));
+            }
+        }
         // Placement: the focus point at the middle of the emitter plane, and
         // by default the cameras as far from it as the viewer line is from
         // the emitter plane. Then a rail's vertical centre of projection is
