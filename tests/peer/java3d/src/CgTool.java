@@ -293,7 +293,7 @@ public final class CgTool {
         double[] cs = CgProbe.centerAndScale(stream);
         int[] counts = CgProbe.streamCounts(stream);
         boolean[] fmt = CgProbe.streamFormat(stream);
-        System.out.println("input " + in + " vertices " + ply.vertex.length + " triangles " + nt
+        System.out.println("input " + new File(in).getName() + " vertices " + ply.vertex.length + " triangles " + nt
                 + " normals " + (normals ? 1 : 0) + " colors " + (colors ? (rgb ? "rgb" : "rgba") : "none"));
         System.out.println("options pos " + pb + " color " + cb + " normal " + nb + " stripify " + (stripify ? 1 : 0));
         System.out.println("stream vertices " + counts[0] + " meshrefs " + counts[1]
@@ -302,10 +302,11 @@ public final class CgTool {
         System.out.println("model_bounds " + pt(mb[0]) + " " + pt(mb[1]));
         System.out.println("normalized_bounds " + pt(nbnd[0]) + " " + pt(nbnd[1]));
         System.out.println("center " + cs[0] + " " + cs[1] + " " + cs[2] + " scale " + cs[3]);
-        System.out.println("output " + out + " objects " + objs.length + " stream_bytes " + h.size
+        System.out.println("output " + new File(out).getName() + " objects " + objs.length + " stream_bytes " + h.size
                 + " file_bytes " + new File(out).length() + " data_present " + h.bufferDataPresent);
         System.out.printf("bytes_per_triangle %.4f (stream bytes / input triangles)%n", h.size / (double) nt);
-        System.out.printf("encode_ms %.1f%n", (t1 - t0) / 1e6);
+        // Timing on stderr, so that stdout is the same on every run (it is a fixture).
+        System.err.printf("encode_ms %.1f%n", (t1 - t0) / 1e6);
     }
 
     static String pt(Point3d p) {
