@@ -11,8 +11,10 @@
 #     (bounds, centre, scale, sizes) from them;
 #   - Java 3D's decoder (CgTool decode) reads the frozen .cg files to exactly the frozen text;
 #   - the decoded non-degenerate triangles are the PLY's, quantized (cgcheck.py against-ply).
-# With HOLO_CG set (a command implementing `decode` like CgTool, see README.md), holo's
-# decoder must also read every frozen .cg to the same triangles as Java 3D.
+# With HOLO_CG set (a command with CgTool's `encode` and `decode` interface, see README.md):
+#   - Java 3D decodes holo's encoding of each PLY to the PLY's quantized triangles (holo's
+#     encode report gives the centre and scale), and holo decodes it to the same triangles;
+#   - holo decodes every frozen Java 3D .cg to exactly Java 3D's triangles.
 set -uo pipefail
 cd "$(dirname "$0")/../../.."
 root=$(pwd)
@@ -103,7 +105,37 @@ for v in "${vectors[@]}"; do
         fail "$name: cgcheck.py against-ply"
         sed 's/^/info   /' "$work/$name.check"
     fi
-    if [ -n "${HOLO_CG:-}" ]; then
+    if [ -n "${HOLO_CG:-}" ] && [ "$write" = 0 ]; then
+        # holo -> Java 3D: holo encodes the same PLY; Java 3D must decode it to the PLY's
+        # triangles quantized as holo's report says, and holo must decode it to the same.
+        hcg=$work/$name.holo.cg
+        if $HOLO_CG encode "$ply" "$hcg" "${opts[@]}" >"$work/$name.holo.encode.txt" 2>"$work/$name.err" &&
+            cgtool decode --indexed "$hcg" >"$work/$name.holo.java.txt" 2>>"$work/$name.err"; then
+            pass "Java 3D decodes holo's encoding of ico$level.ply (${opts[*]})"
+            if python3 tests/peer/java3d/cgcheck.py against-ply "$ply" "$work/$name.holo.encode.txt" \
+                "$work/$name.holo.java.txt" >"$work/$name.check" 2>&1; then
+                pass "holo's $name stream, decoded by Java 3D: non-degenerate triangles = ico$level.ply quantized"
+            else
+                fail "holo's $name stream, decoded by Java 3D: non-degenerate triangles = ico$level.ply quantized"
+                sed 's/^/info   /' "$work/$name.check" | head -n 8
+            fi
+            if $HOLO_CG decode "$hcg" >"$work/$name.holo.holo.txt" 2>"$work/$name.err" &&
+                python3 tests/peer/java3d/cgcheck.py compare "$work/$name.holo.java.txt" "$work/$name.holo.holo.txt" \
+                    --keep-degenerate >"$work/$name.cmp" 2>&1; then
+                pass "holo and Java 3D decode holo's $name stream to the same triangles"
+            else
+                fail "holo and Java 3D decode holo's $name stream to the same triangles"
+                sed 's/^/info   /' "$work/$name.cmp" "$work/$name.err" 2>/dev/null | head -n 8
+            fi
+            if cmp -s "$hcg" "$fixtures/$name.cg"; then
+                echo "info holo's $name.cg is byte-identical to Java 3D's"
+            else
+                echo "info holo's $name.cg differs from Java 3D's ($(stat -c %s "$hcg") vs $(stat -c %s "$fixtures/$name.cg") bytes)"
+            fi
+        else
+            fail "holo encodes ico$level.ply (${opts[*]}) and Java 3D decodes it: $(head -n 3 "$work/$name.err")"
+        fi
+        # Java 3D -> holo: holo decodes Java 3D's frozen stream to Java 3D's triangles.
         if $HOLO_CG decode "$cg" >"$work/$name.holo.txt" 2>"$work/$name.err" &&
             python3 tests/peer/java3d/cgcheck.py compare "$work/$name.decoded.txt" "$work/$name.holo.txt" \
                 --keep-degenerate >"$work/$name.cmp" 2>&1; then
