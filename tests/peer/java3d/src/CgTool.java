@@ -3,7 +3,7 @@
  * Written for the holo project; see tests/peer/java3d/README.md.
  *
  *   decode [--hex|--quantized] [--stream|--indexed] FILE.cg
- *   encode IN.ply OUT.cg POSBITS COLORBITS NORMALBITS [--no-stripify] [--rgb] [--no-normals] [--no-colors]
+ *   encode IN.ply OUT.cg POSBITS COLORBITS NORMALBITS [--no-stripify] [--rgb] [--no-normals] [--no-colors] [--append]
  *   time FILE.cg N
  */
 import com.sun.j3d.utils.geometry.GeometryInfo;
@@ -36,7 +36,7 @@ public final class CgTool {
         System.err.println(String.join("\n",
                 "usage: CgTool decode [--hex|--quantized] [--stream|--indexed] FILE.cg",
                 "       CgTool encode IN.ply OUT.cg POSBITS COLORBITS NORMALBITS"
-                        + " [--no-stripify] [--rgb] [--no-normals] [--no-colors]",
+                        + " [--no-stripify] [--rgb] [--no-normals] [--no-colors] [--append]",
                 "       CgTool time FILE.cg N"));
         System.exit(2);
     }
@@ -242,13 +242,14 @@ public final class CgTool {
         if (a.length < 5) usage();
         String in = a[0], out = a[1];
         int pb = Integer.parseInt(a[2]), cb = Integer.parseInt(a[3]), nb = Integer.parseInt(a[4]);
-        boolean stripify = true, rgb = false, normals = true, colors = true;
+        boolean stripify = true, rgb = false, normals = true, colors = true, append = false;
         for (int i = 5; i < a.length; i++) {
             switch (a[i]) {
                 case "--no-stripify": stripify = false; break;
                 case "--rgb": rgb = true; break;
                 case "--no-normals": normals = false; break;
                 case "--no-colors": colors = false; break;
+                case "--append": append = true; break;
                 default: usage();
             }
         }
@@ -279,7 +280,7 @@ public final class CgTool {
 
         long t0 = System.nanoTime();
         CompressionStream stream = new CompressionStream(pb, cb, nb, new GeometryInfo[] {gi});
-        new File(out).delete();
+        if (!append) new File(out).delete();
         CompressedGeometryFile file = new CompressedGeometryFile(out, true);
         new GeometryCompressor().compress(stream, file);
         file.close();
@@ -287,7 +288,7 @@ public final class CgTool {
 
         CompressedGeometryData[] objs = readAll(out);
         CompressedGeometryData.Header h = new CompressedGeometryData.Header();
-        objs[0].getCompressedGeometryHeader(h);
+        objs[objs.length - 1].getCompressedGeometryHeader(h);
         Point3d[] mb = stream.getModelBounds();
         Point3d[] nbnd = stream.getNormalizedBounds();
         double[] cs = CgProbe.centerAndScale(stream);
