@@ -9,7 +9,8 @@
 #   - mesh_to_ply.py makes the same icosphere PLYs;
 #   - Java 3D's encoder (CgTool encode) writes byte-identical .cg files and the same report
 #     (bounds, centre, scale, sizes) from them;
-#   - Java 3D's decoder (CgTool decode) reads the frozen .cg files to exactly the frozen text;
+#   - Java 3D's decoder (CgTool decode) reads the frozen .cg files to exactly the frozen text,
+#     and so does its second, core copy (CgTool decode --core);
 #   - the decoded non-degenerate triangles are the PLY's, quantized (cgcheck.py against-ply).
 # With HOLO_CG set (a command with CgTool's `encode` and `decode` interface, see README.md):
 #   - Java 3D decodes holo's encoding of each PLY to the PLY's quantized triangles (holo's
@@ -98,6 +99,12 @@ for v in "${vectors[@]}"; do
         cp "$work/$name.decoded.txt" "$fixtures/$name.decoded.txt"
     else
         same "Java 3D decodes $name.cg to $name.decoded.txt" "$fixtures/$name.decoded.txt" "$work/$name.decoded.txt"
+    fi
+    # Java 3D has two copies of the decoder (utils and core); both must agree.
+    if cgtool decode --indexed --core "$cg" 2>"$work/$name.err" | cmp -s - "$work/$name.decoded.txt"; then
+        pass "Java 3D's core decoder (javax.media.j3d) decodes $name.cg exactly as the utils one"
+    else
+        fail "Java 3D's core decoder (javax.media.j3d) decodes $name.cg exactly as the utils one $(head -n 2 "$work/$name.err")"
     fi
     if [ "$name" = ico2_16_9_6 ]; then
         cgtool decode --indexed --quantized "$cg" >"$work/$name.quantized.txt"

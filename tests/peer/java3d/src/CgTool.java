@@ -2,7 +2,7 @@
  * holo peer harness for Java 3D 1.5.2 compressed geometry (.cg files).
  * Written for the holo project; see tests/peer/java3d/README.md.
  *
- *   decode [--hex|--quantized] [--stream|--indexed] FILE.cg
+ *   decode [--hex|--quantized] [--stream|--indexed] [--core] FILE.cg
  *   encode IN.ply OUT.cg POSBITS COLORBITS NORMALBITS [--no-stripify] [--rgb] [--no-normals] [--no-colors] [--append]
  *   time FILE.cg N
  */
@@ -34,7 +34,7 @@ public final class CgTool {
 
     static void usage() {
         System.err.println(String.join("\n",
-                "usage: CgTool decode [--hex|--quantized] [--stream|--indexed] FILE.cg",
+                "usage: CgTool decode [--hex|--quantized] [--stream|--indexed] [--core] FILE.cg",
                 "       CgTool encode IN.ply OUT.cg POSBITS COLORBITS NORMALBITS"
                         + " [--no-stripify] [--rgb] [--no-normals] [--no-colors] [--append]",
                 "       CgTool time FILE.cg N"));
@@ -89,15 +89,17 @@ public final class CgTool {
         String mode = "float";
         String layout = "triangles";
         String path = null;
+        boolean core = false;
         for (String s : a) {
-            if (s.equals("--hex")) mode = "hex";
+            if (s.equals("--core")) core = true;
+            else if (s.equals("--hex")) mode = "hex";
             else if (s.equals("--quantized")) mode = "quantized";
             else if (s.equals("--stream")) layout = "stream";
             else if (s.equals("--indexed")) layout = "indexed";
             else if (path == null) path = s;
             else usage();
         }
-        if (path == null) usage();
+        if (path == null || (core && mode.equals("quantized"))) usage();
         PrintWriter out = new PrintWriter(new BufferedWriter(new OutputStreamWriter(System.out, "UTF-8"), 1 << 16));
         out.println("# CgTool decode " + mode + " " + layout + " (Java 3D " + j3dVersion() + ")");
         out.println(fileLine(path));
@@ -106,7 +108,8 @@ public final class CgTool {
             CompressedGeometryData.Header h = new CompressedGeometryData.Header();
             objs[i].getCompressedGeometryHeader(h);
             // A fresh decoder per object, as CompressedGeometryData.decompress() does.
-            CgProbe.Result r = new CgProbe(mode.equals("quantized"), true).decode(objs[i]);
+            CgProbe.Result r = core ? coreDecode(objs[i])
+                    : new CgProbe(mode.equals("quantized"), true).decode(objs[i]);
             int degenerate = 0;
             for (CgProbe.Segment s : r.segments) degenerate += degenerate(s);
             out.println("object " + i + " type " + typeName(h.bufferType)
@@ -139,6 +142,15 @@ public final class CgTool {
         }
         out.println("end");
         out.flush();
+    }
+
+    /** The same decode through Java 3D's core copy of the decoder (javax.media.j3d). */
+    static CgProbe.Result coreDecode(CompressedGeometryData cg) {
+        CompressedGeometryData.Header h = new CompressedGeometryData.Header();
+        cg.getCompressedGeometryHeader(h);
+        byte[] data = new byte[h.size];
+        cg.getCompressedGeometry(data);
+        return javax.media.j3d.CgCoreProbe.decode(h.majorVersionNumber, h.minorVersionNumber, data, 0, h.size);
     }
 
     static int bit(int flags, int b) {

@@ -36,7 +36,7 @@ public final class CgProbe extends GeometryDecompressor {
         /** Triangles as indices into vertices, from GeneralizedStrip.toTriangles(this, FRONTFACE_CCW). */
         public int[] triangles = new int[0];
 
-        Segment(boolean normals, boolean colors, boolean alpha) {
+        public Segment(boolean normals, boolean colors, boolean alpha) {
             this.normals = normals;
             this.colors = colors;
             this.alpha = alpha;
