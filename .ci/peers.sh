@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Real clients nobody here wrote: .holo files checked by the OpenEXR project's
-# own tools in both directions.
+# own tools in both directions; compressed geometry (.cg) checked with Java 3D
+# 1.5.2's own decoder and encoder, and Google Draco run on the same mesh.
 #
 #   holo -> OpenEXR  examples/peer_vectors.rs writes .holo files and what they
 #                    must hold; Debian's `exrheader` must list the holo.*
@@ -11,10 +12,18 @@
 #                    re-encodes holo's files through OpenEXR; examples/peer_read.rs
 #                    (HoloFile::open, validate, read_frame) must read them back
 #                    exactly; so must `holo validate` once the CLI has it.
+#   Java 3D          tests/peer/java3d/selfcheck.sh: Debian's Java 3D 1.5.2 encodes
+#                    and decodes the frozen vectors in fixtures/cg/java3d/ exactly
+#                    as recorded; with HOLO_CG, holo's .cg streams decode in Java 3D
+#                    to the same quantized triangles and Java 3D's .cg files decode
+#                    in holo to Java 3D's triangles (tests/peer/java3d/README.md).
+#   Draco            tests/peer/draco.sh runs Debian's draco_encoder/draco_decoder.
 #
 # Usage: .ci/peers.sh            (from anywhere; needs network the first time)
 # Environment: PEER_VENV=DIR     virtualenv to use/create (default target/peer-venv)
 #              PEERS_KEEP=1      keep the temporary directory of files
+#              HOLO_CG=CMD       holo's .cg peer command (default: examples/cg_peer
+#                                once it exists)
 # Prints one line per check and ends with `N passed, M failed`; exit status 1
 # when anything failed.
 set -euo pipefail
@@ -193,6 +202,37 @@ if cargo build --release -q -p holo-cli 2>/dev/null && [ -x "$examples/../holo" 
     done
 else
     info "the holo CLI does not build or has no 'validate' yet: checked with examples/peer_read only"
+fi
+
+# --- Java 3D 1.5.2 compressed geometry (.cg) and Google Draco -------------------
+# tests/peer/java3d/: CgTool calls Java 3D's own decoder and encoder classes headless.
+# selfcheck.sh installs Java 3D (apt-get, through build.sh), checks Java 3D against the
+# frozen vectors in fixtures/cg/java3d/ and, with HOLO_CG set, holo against Java 3D in
+# both directions (README.md there). The hook: once examples/cg_peer.rs exists (CgTool's
+# `encode`/`decode`/`time` interface over holo's .cg reader and writer), it is built and
+# used as HOLO_CG.
+
+if [ -z "${HOLO_CG:-}" ] && [ -f examples/cg_peer.rs ]; then
+    if cargo build --release -q --example cg_peer; then
+        export HOLO_CG="$examples/cg_peer"
+        pass "example cg_peer built: holo's .cg codec checked against Java 3D"
+    else
+        fail "cargo build --release --example cg_peer"
+    fi
+fi
+[ -n "${HOLO_CG:-}" ] || info "no HOLO_CG (examples/cg_peer.rs): Java 3D checked against the frozen vectors only"
+run_counted "java3d selfcheck.sh" bash tests/peer/java3d/selfcheck.sh
+
+if ! command -v draco_encoder >/dev/null || ! command -v draco_decoder >/dev/null; then
+    info "draco_encoder missing: installing Debian's draco package"
+    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends draco >/dev/null ||
+        info "apt-get install draco failed"
+fi
+if out=$(bash tests/peer/draco.sh fixtures/cg/java3d/ico2.ply 16 8 --runs 3 2>&1) &&
+    grep -q '^draco .* bytes_per_triangle [0-9.]*$' <<<"$out" && grep -q '^decode runs 3 ' <<<"$out"; then
+    pass "draco.sh on ico2.ply ($(dpkg-query -W -f='draco ${Version}' draco 2>/dev/null)): $(head -n 1 <<<"$out" | sed 's/.*bytes_per_triangle/bytes\/triangle/')"
+else
+    fail "draco.sh on fixtures/cg/java3d/ico2.ply: $(tail -n 3 <<<"$out")"
 fi
 
 finish
