@@ -20,6 +20,7 @@ pub mod place;
 pub mod render;
 pub mod shade;
 pub mod trace;
+pub mod write;
 
 /// A whole scene: objects, the textures they use, and lights.
 #[derive(Clone, Debug, Default)]
