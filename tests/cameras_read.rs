@@ -501,6 +501,33 @@ fn stanford_names_give_positions() {
     }
 }
 
+/// File names exactly as the archive publishes them (the Lego Knights set
+/// without a trailing underscore, Amethyst with one, as cited in public code
+/// that reads them); the pixels are stand-ins.
+#[test]
+fn stanford_archive_names_as_published_are_read() {
+    for (names, x) in [
+        (
+            ["out_00_00_-381.909271_1103.376221.png", "out_00_10_-383.248383_1017.387878.png"],
+            [1103.376221, 1017.387878],
+        ),
+        (["out_00_00_-399.772888_671.237122_.png", "out_00_10_-399.770660_770.764648_.png"], [671.237122, 770.764648]),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        for name in names {
+            png(&dir.path().join(name), 8, 6);
+        }
+        let stanford =
+            StanfordOptions { focal_length_px: Some(10.0), focus_distance: Some(500.0), ..StanfordOptions::default() };
+        let rig = open_rig_with(dir.path(), &OpenOptions { stanford, ..OpenOptions::default() }).unwrap();
+        assert_eq!(rig.cameras.len(), 2);
+        let mean = (x[0] + x[1]) / 2.0;
+        for (c, x) in rig.cameras.iter().zip(x) {
+            assert!((c.pose.centre[0] - (x - mean)).abs() < 1e-9, "{}: {:?}", c.name, c.pose.centre);
+        }
+    }
+}
+
 #[test]
 fn plain_folder_is_a_rail_in_name_order() {
     let dir = tempfile::tempdir().unwrap();
