@@ -13,6 +13,7 @@
 pub mod bvh;
 pub mod camera;
 pub mod convert;
+pub mod dice;
 pub mod epi;
 mod fastshade;
 pub mod load;

@@ -1,0 +1,304 @@
+//! Dicing surfaces into micropolygons (seed 001 §8): every triangle is split
+//! until no edge is longer than the budget at its midpoint, optionally
+//! bending new vertices onto the smooth surface the vertex normals describe
+//! (Phong tessellation: Boubekeur and Alexa, "Phong Tessellation", SIGGRAPH
+//! Asia 2008, shape factor α = 3/4).
+//!
+//! Cracks: neighbouring patches must dice their shared edge identically, or
+//! rays slip between them. Here every decision about an edge — whether to
+//! split it and where its midpoint goes — is a function of that edge alone,
+//! keyed by its endpoints' positions (not their indices), and symmetric in
+//! its two ends; so two triangles that share an edge in space, in one object
+//! or in two, with shared or duplicated vertices, put bit-identical vertices
+//! on it. Where the two sides of an edge disagree about the surface (a hard
+//! edge: different normals at the same positions, or an edge on one side
+//! only, the boundary of an open surface), a bent midpoint would open a gap,
+//! so such edges are split flat: the stitch. Splits are longest-edge
+//! bisections by pattern (one, two or three edges split at once), so a
+//! triangle never has a T-junction with its neighbours.
+
+use std::collections::HashMap;
+
+use super::Object;
+use crate::{Error, Result};
+
+/// How to dice.
+#[derive(Clone, Copy, Debug)]
+pub struct DiceOptions {
+    /// Bend new vertices onto the surface the normals describe (needs normals).
+    pub smooth: bool,
+    /// Split hard and boundary edges flat (the stitch). Off only to show
+    /// what it prevents: bent hard edges open cracks.
+    pub stitch: bool,
+    /// Refuse to produce more than this many triangles per object.
+    pub max_triangles: usize,
+}
+
+impl Default for DiceOptions {
+    fn default() -> Self {
+        DiceOptions { smooth: true, stitch: true, max_triangles: 50_000_000 }
+    }
+}
+
+/// What dicing did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DiceReport {
+    /// Triangles in and out.
+    pub triangles_in: usize,
+    /// Triangles out.
+    pub triangles_out: usize,
+    /// Edges split flat because their sides disagree or one is missing.
+    pub stitched_edges: usize,
+}
+
+/// The bits of a position, so edges are keyed by where they are.
+type PositionKey = [u64; 3];
+
+fn key(p: [f64; 3]) -> PositionKey {
+    // +0.0 and −0.0 are one place.
+    p.map(|x| if x == 0.0 { 0 } else { x.to_bits() })
+}
+
+/// An edge keyed by its endpoints' positions, in order.
+fn edge_key(a: [f64; 3], b: [f64; 3]) -> (PositionKey, PositionKey) {
+    let (ka, kb) = (key(a), key(b));
+    if ka <= kb {
+        (ka, kb)
+    } else {
+        (kb, ka)
+    }
+}
+
+/// Dice `objects` together (shared edges between objects dice alike) so no
+/// micropolygon edge is longer than `max_edge_m(midpoint)`. Attributes
+/// (normals, tangents, texture coordinates, colours) are interpolated at
+/// new vertices; normals and tangents renormalised.
+pub fn dice(
+    objects: &[Object],
+    max_edge_m: &(dyn Fn([f64; 3]) -> f64 + Sync),
+    options: &DiceOptions,
+) -> Result<(Vec<Object>, DiceReport)> {
+    let mut report = DiceReport::default();
+    // The normals each side of every edge gives its ends: edges whose sides
+    // agree (and that have two sides) may bend; the rest are stitched flat.
+    let mut sides: HashMap<(PositionKey, PositionKey), EdgeSides> = HashMap::new();
+    for o in objects {
+        for t in &o.triangles {
+            for k in 0..3 {
+                let (i, j) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                let (Some(&a), Some(&b)) = (o.positions.get(i), o.positions.get(j)) else {
+                    return Err(Error::Usage(format!("object \"{}\": triangle {t:?} names a missing vertex", o.name)));
+                };
+                let (na, nb) = (o.normals.get(i).copied(), o.normals.get(j).copied());
+                let ends = if key(a) <= key(b) { (na, nb) } else { (nb, na) };
+                sides.entry(edge_key(a, b)).or_default().add(ends);
+            }
+        }
+    }
+    // Halves of an edge split flat are split flat too, in whichever object.
+    let mut flat: std::collections::HashSet<(PositionKey, PositionKey)> = Default::default();
+    let mut out = Vec::with_capacity(objects.len());
+    for o in objects {
+        report.triangles_in += o.triangles.len();
+        let mut d = Dicer {
+            o: o.clone(),
+            midpoints: HashMap::new(),
+            sides: &sides,
+            flat: &mut flat,
+            smooth: options.smooth,
+            stitch: options.stitch,
+            stitched: 0,
+        };
+        d.o.triangles.clear();
+        let mut work: Vec<[u32; 3]> = o.triangles.clone();
+        while let Some(t) = work.pop() {
+            if d.o.triangles.len() + work.len() > options.max_triangles {
+                return Err(Error::Usage(format!(
+                    "object \"{}\": dicing makes more than {} micropolygons; coarsen the budget",
+                    o.name, options.max_triangles
+                )));
+            }
+            let p = t.map(|i| d.o.positions[i as usize]);
+            let split: [bool; 3] = std::array::from_fn(|k| {
+                let (a, b) = (p[k], p[(k + 1) % 3]);
+                let m = midpoint(a, b);
+                let length = dist(a, b);
+                let budget = max_edge_m(m);
+                // Not finite or not positive: leave the edge alone.
+                length > budget && budget > 0.0 && budget.is_finite()
+            });
+            match split.iter().filter(|s| **s).count() {
+                0 => d.o.triangles.push(t),
+                1 => {
+                    // Rotate so the split edge is (a, b).
+                    let k = split.iter().position(|s| *s).unwrap_or(0);
+                    let [a, b, c] = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
+                    let m = d.midpoint(a, b)?;
+                    work.extend([[a, m, c], [m, b, c]]);
+                }
+                2 => {
+                    // Rotate so the unsplit edge is (c, a): split (a, b) and (b, c).
+                    let k = (split.iter().position(|s| !*s).unwrap_or(0) + 1) % 3;
+                    let [a, b, c] = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
+                    let (mab, mbc) = (d.midpoint(a, b)?, d.midpoint(b, c)?);
+                    work.push([mab, b, mbc]);
+                    // The quad (a, mab, mbc, c) along its shorter diagonal.
+                    let pos = |i: u32| d.o.positions[i as usize];
+                    if dist(pos(a), pos(mbc)) <= dist(pos(mab), pos(c)) {
+                        work.extend([[a, mab, mbc], [a, mbc, c]]);
+                    } else {
+                        work.extend([[a, mab, c], [mab, mbc, c]]);
+                    }
+                }
+                _ => {
+                    let [a, b, c] = t;
+                    let (mab, mbc, mca) = (d.midpoint(a, b)?, d.midpoint(b, c)?, d.midpoint(c, a)?);
+                    work.extend([[a, mab, mca], [mab, b, mbc], [mca, mbc, c], [mab, mbc, mca]]);
+                }
+            }
+        }
+        report.triangles_out += d.o.triangles.len();
+        report.stitched_edges += d.stitched;
+        out.push(d.o);
+    }
+    Ok((out, report))
+}
+
+/// The normals one triangle gives an edge's two ends (ends in key order).
+type EndNormals = (Option<[f32; 3]>, Option<[f32; 3]>);
+
+/// The normals the triangles on each side of an edge give its two ends.
+#[derive(Default)]
+struct EdgeSides {
+    count: u32,
+    ends: Option<EndNormals>,
+    agree: bool,
+}
+
+impl EdgeSides {
+    fn add(&mut self, ends: EndNormals) {
+        self.count += 1;
+        match self.ends {
+            None => {
+                self.ends = Some(ends);
+                self.agree = ends.0.is_some() && ends.1.is_some();
+            }
+            Some(first) => self.agree &= first == ends,
+        }
+    }
+    /// Two sides that agree on the normals at both ends.
+    fn may_bend(&self) -> bool {
+        self.count == 2 && self.agree
+    }
+}
+
+struct Dicer<'a> {
+    o: Object,
+    /// New vertex of each split edge (by vertex indices, either order).
+    midpoints: HashMap<(u32, u32), u32>,
+    sides: &'a HashMap<(PositionKey, PositionKey), EdgeSides>,
+    flat: &'a mut std::collections::HashSet<(PositionKey, PositionKey)>,
+    smooth: bool,
+    stitch: bool,
+    stitched: usize,
+}
+
+impl Dicer<'_> {
+    /// The vertex in the middle of edge (i, j), made once per edge.
+    fn midpoint(&mut self, i: u32, j: u32) -> Result<u32> {
+        let pair = (i.min(j), i.max(j));
+        if let Some(&m) = self.midpoints.get(&pair) {
+            return Ok(m);
+        }
+        // Work in key order so both sides compute the same bits.
+        let (pa, pb) = (self.o.positions[i as usize], self.o.positions[j as usize]);
+        let (i, j) = if key(pa) <= key(pb) { (i as usize, j as usize) } else { (j as usize, i as usize) };
+        let o = &mut self.o;
+        let (a, b) = (o.positions[i], o.positions[j]);
+        let mut p = midpoint(a, b);
+        // An edge of the input bends when its two sides agree; an edge made
+        // by dicing bends unless it is half of one split flat (edges made
+        // inside a triangle have that triangle's children on both sides,
+        // which share its normals).
+        let here = edge_key(a, b);
+        let flat = self.stitch && (self.flat.contains(&here) || self.sides.get(&here).is_some_and(|s| !s.may_bend()));
+        if self.smooth && !flat && o.normals.len() == o.positions.len() {
+            p = phong_midpoint(a, b, o.normals[i], o.normals[j]);
+        } else if flat && self.smooth {
+            self.stitched += 1;
+            self.flat.insert(edge_key(a, p));
+            self.flat.insert(edge_key(p, b));
+        }
+        let m = u32::try_from(o.positions.len())
+            .map_err(|_| Error::Usage(format!("object \"{}\": more than 2³² vertices after dicing", o.name)))?;
+        o.positions.push(p);
+        if o.normals.len() + 1 == o.positions.len() {
+            o.normals.push(normalize_f32(lerp_f32(o.normals[i], o.normals[j])));
+        }
+        if o.tangents.len() + 1 == o.positions.len() {
+            let (ta, tb) = (o.tangents[i], o.tangents[j]);
+            let t = normalize_f32(lerp_f32([ta[0], ta[1], ta[2]], [tb[0], tb[1], tb[2]]));
+            o.tangents.push([t[0], t[1], t[2], ta[3]]);
+        }
+        for set in &mut o.uv_sets {
+            if set.len() + 1 == o.positions.len() {
+                let (ua, ub) = (set[i], set[j]);
+                set.push([(ua[0] + ub[0]) * 0.5, (ua[1] + ub[1]) * 0.5]);
+            }
+        }
+        if o.colours.len() + 1 == o.positions.len() {
+            let (ca, cb) = (o.colours[i], o.colours[j]);
+            o.colours.push(std::array::from_fn(|k| (ca[k] + cb[k]) * 0.5));
+        }
+        self.midpoints.insert(pair, m);
+        Ok(m)
+    }
+}
+
+fn midpoint(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|k| (a[k] + b[k]) * 0.5)
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// The Phong-tessellation point halfway along edge (a, b): the flat midpoint
+/// moved toward its projections onto the tangent planes at both ends.
+fn phong_midpoint(a: [f64; 3], b: [f64; 3], na: [f32; 3], nb: [f32; 3]) -> [f64; 3] {
+    const ALPHA: f64 = 0.75;
+    let p = midpoint(a, b);
+    let project = |q: [f64; 3], n: [f32; 3]| {
+        let n = n.map(|x| x as f64);
+        let d = (p[0] - q[0]) * n[0] + (p[1] - q[1]) * n[1] + (p[2] - q[2]) * n[2];
+        [p[0] - d * n[0], p[1] - d * n[1], p[2] - d * n[2]]
+    };
+    let (pa, pb) = (project(a, na), project(b, nb));
+    std::array::from_fn(|k| (1.0 - ALPHA) * p[k] + ALPHA * (pa[k] + pb[k]) * 0.5)
+}
+
+fn lerp_f32(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    std::array::from_fn(|k| (a[k] + b[k]) * 0.5)
+}
+
+fn normalize_f32(v: [f32; 3]) -> [f32; 3] {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if l > 0.0 && l.is_finite() {
+        v.map(|x| x / l)
+    } else {
+        v
+    }
+}
+
+/// The budget for a display: a micropolygon no wider than what the display
+/// resolves at that depth — the emitter pitch on the emitter plane, growing
+/// as `|z − z_e| · Δθ` away from it (a point at depth `z` is spread over that
+/// width by the view spacing `Δθ`) — and no taller than a hololine, times
+/// `factor` (1 = one sample; smaller is finer).
+pub fn display_budget(g: &crate::geometry::Geometry, factor: f64) -> impl Fn([f64; 3]) -> f64 + Sync {
+    let views = g.views.count;
+    let dtheta =
+        if views < 2 { 0.0 } else { (g.views.theta_rad(views - 1) - g.views.theta_rad(0)).abs() / (views - 1) as f64 };
+    let (pitch, line, z_e) = (g.emitter_pitch_m, g.hololine_pitch_m, g.emitter_z_m);
+    move |p: [f64; 3]| factor * line.min(pitch.max((p[2] - z_e).abs() * dtheta))
+}
