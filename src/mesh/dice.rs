@@ -302,3 +302,43 @@ pub fn display_budget(g: &crate::geometry::Geometry, factor: f64) -> impl Fn([f6
     let (pitch, line, z_e) = (g.emitter_pitch_m, g.hololine_pitch_m, g.emitter_z_m);
     move |p: [f64; 3]| factor * line.min(pitch.max((p[2] - z_e).abs() * dtheta))
 }
+
+/// An object without vertex normals is shaded flat (each triangle with its
+/// face normal); per-vertex data cannot say that while faces share
+/// vertices, so give every corner its own vertex carrying the face normal.
+/// Objects with normals are returned as they are.
+pub fn with_flat_normals(o: &Object) -> Object {
+    if !o.normals.is_empty() {
+        return o.clone();
+    }
+    let mut out = Object {
+        name: o.name.clone(),
+        material: o.material.clone(),
+        uv_sets: vec![Vec::new(); o.uv_sets.len()],
+        ..Object::default()
+    };
+    for (t, tri) in o.triangles.iter().enumerate() {
+        let f = super::shade::face_normal(o, t);
+        let l = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+        let n = if l > 0.0 && l.is_finite() { f.map(|x| (x / l) as f32) } else { [0.0, 0.0, 1.0] };
+        let first = out.positions.len() as u32;
+        for &i in tri {
+            let i = i as usize;
+            out.positions.push(o.positions[i]);
+            out.normals.push(n);
+            if let Some(&tg) = o.tangents.get(i) {
+                out.tangents.push(tg);
+            }
+            for (set, src) in out.uv_sets.iter_mut().zip(&o.uv_sets) {
+                if let Some(&uv) = src.get(i) {
+                    set.push(uv);
+                }
+            }
+            if let Some(&c) = o.colours.get(i) {
+                out.colours.push(c);
+            }
+        }
+        out.triangles.push([first, first + 1, first + 2]);
+    }
+    out
+}

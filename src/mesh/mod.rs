@@ -10,6 +10,7 @@
 //! world onto display metres (DESIGN.md §2: `x` right, `y` up, `z` toward the
 //! viewer, hologram at `z = 0`). Colours are linear: loaders decode sRGB.
 
+pub mod bake;
 pub mod bvh;
 pub mod camera;
 pub mod convert;

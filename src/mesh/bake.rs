@@ -1,0 +1,135 @@
+//! Baking the view-independent light into vertex colours (seed 001 §8: the
+//! "geometry shader" lights micropolygons once; only specular is left for
+//! each view). Each vertex gets emission + ambient + Σ lights E·cos·ρ/π, with
+//! ρ the base colour (factor × vertex colour × texture at the vertex) and
+//! the normal as the reference shader sees it there (normal maps included),
+//! and, on request, each light's term only where the light reaches the
+//! vertex (shadows, by a ray through the scene).
+//!
+//! The terms are the reference shader's own ([`super::shade::radiance`] with
+//! the specular reflectance set to zero, one light at a time), so a baked
+//! vertex plus the deferred specular term is exactly what direct shading
+//! gives at that vertex.
+
+use rayon::prelude::*;
+
+use super::bvh::Bvh;
+use super::shade::{face_normal, radiance, Hit, Lighting};
+use super::{Light, Scene};
+
+/// How to bake.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BakeOptions {
+    /// Leave out each light's term where the scene blocks it.
+    pub shadows: bool,
+}
+
+/// What baking did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BakeReport {
+    /// Vertices lit.
+    pub vertices: usize,
+    /// (vertex, light) pairs found in shadow.
+    pub shadowed: usize,
+}
+
+/// Linear RGBA per vertex of every object of `scene` under `lights` (alpha:
+/// the material's base alpha times the vertex colour's). Vertices no
+/// triangle uses get zero.
+pub fn bake_diffuse(scene: &Scene, lights: &[Light], options: &BakeOptions) -> (Vec<Vec<[f32; 4]>>, BakeReport) {
+    // The reference shader with specular reflectance zero: view-independent.
+    let mut matte = scene.clone();
+    for o in &mut matte.objects {
+        o.material.specular = [0.0; 3];
+    }
+    let bvh = options.shadows.then(|| Bvh::new(scene));
+    let extent =
+        scene.bounds().map_or(1.0, |(lo, hi)| (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max).max(1e-300));
+    let unlit = Lighting { lights: Vec::new(), model: Default::default() };
+    let one: Vec<Lighting> =
+        lights.iter().map(|l| Lighting { lights: vec![l.clone()], model: Default::default() }).collect();
+    let mut report = BakeReport::default();
+    let colours = matte
+        .objects
+        .iter()
+        .enumerate()
+        .map(|(oi, o)| {
+            // One triangle (and corner) per vertex: where to evaluate it.
+            let mut corner: Vec<Option<(u32, usize)>> = vec![None; o.positions.len()];
+            for (t, tri) in o.triangles.iter().enumerate() {
+                for (k, &i) in tri.iter().enumerate() {
+                    if let Some(slot) = corner.get_mut(i as usize) {
+                        slot.get_or_insert((t as u32, k));
+                    }
+                }
+            }
+            let per_vertex: Vec<([f32; 4], usize)> = corner
+                .par_iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    let Some((t, k)) = *c else { return ([0.0; 4], 0) };
+                    let hit = Hit { object: oi as u32, triangle: t, b1: f64::from(k == 1), b2: f64::from(k == 2) };
+                    let face = face_normal(o, t as usize);
+                    let len = (face[0] * face[0] + face[1] * face[1] + face[2] * face[2]).sqrt();
+                    if len == 0.0 || !len.is_finite() {
+                        return ([0.0; 4], 0);
+                    }
+                    let view = face.map(|x| x / len);
+                    let emitted = radiance(&matte, &unlit, &hit, view);
+                    let mut sum = emitted;
+                    let mut shadowed = 0;
+                    for (light, lighting) in lights.iter().zip(&one) {
+                        let lit = radiance(&matte, lighting, &hit, view);
+                        let term = [lit[0] - emitted[0], lit[1] - emitted[1], lit[2] - emitted[2]];
+                        if term == [0.0; 3] {
+                            continue;
+                        }
+                        if let Some(bvh) = &bvh {
+                            if blocked(bvh, o.positions[i], view, light, extent) {
+                                shadowed += 1;
+                                continue;
+                            }
+                        }
+                        for c in 0..3 {
+                            sum[c] += term[c];
+                        }
+                    }
+                    let alpha = o.material.base_colour[3] * o.colours.get(i).map_or(1.0, |c| c[3]);
+                    ([sum[0] as f32, sum[1] as f32, sum[2] as f32, alpha], shadowed)
+                })
+                .collect();
+            report.vertices += per_vertex.len();
+            report.shadowed += per_vertex.iter().map(|v| v.1).sum::<usize>();
+            per_vertex.into_iter().map(|v| v.0).collect()
+        })
+        .collect();
+    (colours, report)
+}
+
+/// Whether the scene blocks `light` from `position` (a point on a surface
+/// whose front is `normal`): a ray from just off the surface toward it.
+fn blocked(bvh: &Bvh, position: [f64; 3], normal: [f64; 3], light: &Light, extent: f64) -> bool {
+    let (dir, reach) = match light {
+        Light::Ambient { .. } => return false,
+        Light::Directional { direction, .. } => (direction.map(|x| -x), f64::INFINITY),
+        Light::Point { position: p, .. } => {
+            let d = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
+            (d, (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
+        }
+    };
+    let len = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+    if len == 0.0 || !len.is_finite() {
+        return false;
+    }
+    let dir = dir.map(|x| x / len);
+    // Start just off the surface, on the side the light is (the term is
+    // non-zero, so that is the side the shader lit).
+    let side = if normal[0] * dir[0] + normal[1] * dir[1] + normal[2] * dir[2] >= 0.0 { 1.0 } else { -1.0 };
+    let eps = 1e-7 * extent;
+    let origin = [
+        position[0] + side * eps * normal[0],
+        position[1] + side * eps * normal[1],
+        position[2] + side * eps * normal[2],
+    ];
+    bvh.nearest(origin, dir, eps, |_, _| true).is_some_and(|h| h.t < reach - eps)
+}
