@@ -62,6 +62,8 @@ fn random_scene(rng: &mut ChaCha8Rng, triangles: usize) -> Scene {
                 specular: [0.3; 3],
                 shininess: rng.gen_range(5.0..60.0),
                 double_sided: o == 2,
+                // Vertex colours as baked light, lights adding specular only.
+                prelit: o == 1,
                 ..Material::default()
             },
             ..Object::default()

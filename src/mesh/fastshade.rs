@@ -16,6 +16,8 @@ pub(crate) struct FastMaterial {
     /// Lobe normalisation, `(n+2)/2π` or `(n+8)/8π`.
     lobe_norm: f32,
     specular: bool,
+    /// See [`Material::prelit`].
+    prelit: bool,
     base_texture: Option<TextureRef>,
     emissive_texture: Option<TextureRef>,
     normal_texture: Option<TextureRef>,
@@ -39,6 +41,7 @@ impl FastMaterial {
             exponent: n,
             lobe_norm,
             specular: m.specular.iter().any(|&k| k > 0.0),
+            prelit: m.prelit,
             base_texture: m.base_colour_texture.clone(),
             emissive_texture: m.emissive_texture.clone(),
             normal_texture: m.normal_texture.clone(),
@@ -309,6 +312,10 @@ pub(crate) fn shade_run(
             let texel = sample_fast(&scene.textures[r.texture], uv(r));
             emitted = [emitted[0] * texel[0], emitted[1] * texel[1], emitted[2] * texel[2]];
         }
+        if m.prelit {
+            emitted = add(emitted, base);
+            base = [0.0; 3];
+        }
         // Σ E·cos_i (diffuse) and Σ E·cos_i·lobe (specular).
         let mut diffuse = [0.0f32; 3];
         let mut specular = [0.0f32; 3];
@@ -487,6 +494,8 @@ pub(crate) struct SegmentTable {
     colour_d: Vec<[f32; 3]>,
     base: Vec<[f32; 3]>,
     emissive: Vec<[f32; 3]>,
+    /// Pre-lit: the albedo is sent as it is and takes no light.
+    prelit: Vec<bool>,
     /// `k_s` × lobe normalisation (zero without specular).
     ks: Vec<[f32; 3]>,
     exponent: Vec<f32>,
@@ -516,6 +525,7 @@ impl SegmentTable {
         self.colour_d.push(d.colour);
         self.base.push(m.base);
         self.emissive.push(m.emissive);
+        self.prelit.push(m.prelit);
         self.ks.push(scale(m.ks, if m.specular { m.lobe_norm } else { 0.0 }));
         self.exponent.push(m.exponent);
         self.x_min.push(m.x_min);
@@ -803,10 +813,19 @@ fn gather_kernel(b: &mut Batch, scene: &Scene, table: &SegmentTable, lights: &Fa
     }
     let [acc_r, acc_g, acc_b] = acc;
     for (i, &p) in b.pixel[..len].iter().enumerate() {
-        let (p, e) = (p as usize, table.emissive[owner[i] as usize]);
-        acc_r[p] += e[0] + alr[i] * lights.ambient[0];
-        acc_g[p] += e[1] + alg[i] * lights.ambient[1];
-        acc_b[p] += e[2] + alb[i] * lights.ambient[2];
+        let (p, o) = (p as usize, owner[i] as usize);
+        let e = table.emissive[o];
+        if table.prelit[o] {
+            // Sent as it is; no light reaches it but specular.
+            acc_r[p] += e[0] + alr[i];
+            acc_g[p] += e[1] + alg[i];
+            acc_b[p] += e[2] + alb[i];
+            (alr[i], alg[i], alb[i]) = (0.0, 0.0, 0.0);
+        } else {
+            acc_r[p] += e[0] + alr[i] * lights.ambient[0];
+            acc_g[p] += e[1] + alg[i] * lights.ambient[1];
+            acc_b[p] += e[2] + alb[i] * lights.ambient[2];
+        }
     }
 }
 

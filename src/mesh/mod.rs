@@ -86,6 +86,11 @@ pub struct Material {
     pub shininess: f32,
     /// Seen from both sides (glTF `doubleSided`); otherwise back faces are invisible.
     pub double_sided: bool,
+    /// Pre-lit (a HoloFlick's micropolygons, seed 001 §8): the base colour
+    /// (factor × vertex colour × texture) is the radiance the surface sends
+    /// whatever the view — emission, ambient and diffuse light already baked
+    /// in — and lights add only their specular term.
+    pub prelit: bool,
 }
 
 impl Default for Material {
@@ -103,6 +108,7 @@ impl Default for Material {
             specular: [0.04; 3],
             shininess: 10.0,
             double_sided: false,
+            prelit: false,
         }
     }
 }

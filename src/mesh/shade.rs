@@ -257,6 +257,11 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
         let texel = sample(&scene.textures[r.texture], uv(r));
         out = mul(out, [texel[0] as f64, texel[1] as f64, texel[2] as f64]);
     }
+    if m.prelit {
+        // Already lit: sent as it is; lights add their specular term only.
+        out = add(out, base);
+        base = [0.0; 3];
+    }
     let ks = [m.specular[0] as f64, m.specular[1] as f64, m.specular[2] as f64];
     let n_exp = m.shininess.max(0.0) as f64;
     let diffuse = scale(base, std::f64::consts::FRAC_1_PI);
@@ -425,6 +430,35 @@ mod tests {
             ..Object::default()
         };
         Scene { objects: vec![o], ..Scene::default() }
+    }
+
+    #[test]
+    fn prelit_surfaces_send_their_colour_and_only_specular_light() {
+        let base = [0.3f32, 0.2, 0.1, 1.0];
+        let prelit = plane(Material {
+            base_colour: base,
+            specular: [0.5; 3],
+            shininess: 30.0,
+            prelit: true,
+            ..Material::default()
+        });
+        // The specular term alone: the same plane, black, not pre-lit.
+        let black =
+            plane(Material { base_colour: [0.0, 0.0, 0.0, 1.0], prelit: false, ..prelit.objects[0].material.clone() });
+        let l = Lighting {
+            lights: vec![
+                Light::Directional { direction: normalize([0.2, 0.0, -1.0]), irradiance: [2.0; 3], name: "l".into() },
+                Light::Ambient { radiance: [0.4; 3] },
+            ],
+            model: SpecularModel::Blinn,
+        };
+        let hit = Hit { object: 0, triangle: 0, b1: 0.3, b2: 0.2 };
+        for view in [[0.0, 0.0, 1.0], normalize([-0.2, 0.0, 1.0]), normalize([0.6, 0.1, 1.0])] {
+            let (r, spec) = (radiance(&prelit, &l, &hit, view), radiance(&black, &l, &hit, view));
+            for c in 0..3 {
+                assert!((r[c] - (base[c] as f64 + spec[c])).abs() < 1e-12, "{r:?} vs {spec:?}");
+            }
+        }
     }
 
     #[test]
