@@ -18,6 +18,7 @@ pub mod dice;
 pub mod epi;
 mod fastshade;
 pub mod load;
+pub mod micro;
 pub mod place;
 pub mod render;
 pub mod shade;

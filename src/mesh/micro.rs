@@ -1,0 +1,62 @@
+//! The "geometry shader" of seed 001 §8: a scene made into lit
+//! micropolygons. Every surface is diced ([`super::dice`]) to the budget
+//! given (for a display, [`super::dice::display_budget`]), the
+//! view-independent light is baked into the vertex colours
+//! ([`super::bake`]), and each object keeps only what varies with the view:
+//! its specular reflectance and exponent, under a pre-lit material
+//! ([`super::Material::prelit`]). Rendered under the scene's lights without
+//! the ambient ones, the micropolygons give what the scene gives, up to
+//! the micropolygons' linear interpolation of the baked light (which shrinks
+//! with them) and the shadows, which direct rendering does not compute.
+//!
+//! Normal maps are baked into the diffuse light and then dropped: the
+//! deferred specular term sees the interpolated vertex normals.
+
+use super::bake::{bake_diffuse, BakeOptions, BakeReport};
+use super::dice::{dice, with_flat_normals, DiceOptions, DiceReport};
+use super::{Light, Material, Scene};
+use crate::Result;
+
+/// What making micropolygons did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MicroReport {
+    /// Dicing.
+    pub dice: DiceReport,
+    /// Baking.
+    pub bake: BakeReport,
+}
+
+/// The scene as pre-lit micropolygons (one object per object, same names
+/// and order), and the lights that still apply to it: the specular ones
+/// (every light but ambient).
+pub fn micropolygons(
+    scene: &Scene,
+    lights: &[Light],
+    max_edge_m: &(dyn Fn([f64; 3]) -> f64 + Sync),
+    dice_options: &DiceOptions,
+    bake_options: &BakeOptions,
+) -> Result<(Scene, Vec<Light>, MicroReport)> {
+    let flat: Vec<_> = scene.objects.iter().map(with_flat_normals).collect();
+    let (objects, dice_report) = dice(&flat, max_edge_m, dice_options)?;
+    let diced = Scene { objects, ..scene.clone() };
+    let (colours, bake_report) = bake_diffuse(&diced, lights, bake_options);
+    let mut out = Scene { source: scene.source.clone(), warnings: scene.warnings.clone(), ..Scene::default() };
+    for (mut o, colours) in diced.objects.into_iter().zip(colours) {
+        let m = &o.material;
+        o.material = Material {
+            name: m.name.clone(),
+            base_colour: [1.0; 4],
+            specular: m.specular,
+            shininess: m.shininess,
+            double_sided: m.double_sided,
+            prelit: true,
+            ..Material::default()
+        };
+        o.colours = colours;
+        o.tangents.clear();
+        o.uv_sets.clear();
+        out.objects.push(o);
+    }
+    let specular_lights = lights.iter().filter(|l| !matches!(l, Light::Ambient { .. })).cloned().collect();
+    Ok((out, specular_lights, MicroReport { dice: dice_report, bake: bake_report }))
+}
