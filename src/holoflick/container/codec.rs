@@ -22,6 +22,9 @@ pub(crate) fn is_critical(tag: [u8; 4]) -> bool {
     tag[0].is_ascii_uppercase()
 }
 
+/// A chunk: its tag and payload.
+pub(crate) type Chunk<'a> = ([u8; 4], &'a [u8]);
+
 /// A reader over untrusted bytes.
 pub(crate) struct Cursor<'a> {
     data: &'a [u8],
@@ -76,7 +79,7 @@ impl<'a> Cursor<'a> {
     }
 
     /// The next chunk (tag, payload) and its padding, or `None` at the end.
-    pub(crate) fn chunk(&mut self) -> Result<Option<([u8; 4], &'a [u8])>, Problem> {
+    pub(crate) fn chunk(&mut self) -> Result<Option<Chunk<'a>>, Problem> {
         if self.remaining() == 0 {
             return Ok(None);
         }
@@ -492,7 +495,7 @@ pub(crate) fn check_frame(number: u32, frame: &Frame) -> Result<(), Problem> {
         let (vector, colour) = match light {
             SpecularLight::Directional { direction, irradiance } => {
                 let len = direction.iter().map(|x| x * x).sum::<f64>().sqrt();
-                if !((len - 1.0).abs() <= UNIT_TOLERANCE) {
+                if (len - 1.0).abs().is_nan() || (len - 1.0).abs() > UNIT_TOLERANCE {
                     return Err(invalid(format!("light {i}: direction {direction:?} is not of unit length")));
                 }
                 (direction, irradiance)

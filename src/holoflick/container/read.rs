@@ -15,6 +15,9 @@ use super::error::{tag_text, At, ContainerError, Problem};
 use super::model::{Frame, GeometryBlock, Info, ObjectRecord, ResolvedFrame, ResolvedObject};
 use super::*;
 
+/// The stored objects of a key frame: id → (radiance scale, block).
+type KeyFrameObjects = HashMap<u32, (f64, GeometryBlock)>;
+
 #[derive(Clone, Copy, Debug)]
 struct IndexEntry {
     offset: u64,
@@ -30,7 +33,7 @@ pub struct HoloFlickReader {
     info: Info,
     index: Vec<IndexEntry>,
     /// The stored objects of the last key frame used: id → (radiance scale, block).
-    cache: Option<(u32, HashMap<u32, (f64, GeometryBlock)>)>,
+    cache: Option<(u32, KeyFrameObjects)>,
 }
 
 impl HoloFlickReader {
