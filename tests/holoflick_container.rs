@@ -538,3 +538,17 @@ fn random_byte_flips_never_panic() {
     // Flips in floats, padding and ignored fields may still read; most must not.
     assert!(accepted < 3000, "{accepted}");
 }
+
+#[test]
+fn an_empty_movie_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("empty.hflk");
+    let bytes = write(&path, &[]);
+    assert_eq!(bytes % 8, 0);
+    let mut r = HoloFlickReader::open(&path).unwrap();
+    assert_eq!(r.frame_count(), 0);
+    assert!(matches!(r.read_frame(0).unwrap_err(), ContainerError::Usage { .. }));
+    // Converted to the crate's error, the message keeps the file and the problem.
+    let e: holo::Error = r.read_frame(0).unwrap_err().into();
+    assert!(e.to_string().contains("empty.hflk: frame 0 asked for"), "{e}");
+}

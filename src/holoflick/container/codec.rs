@@ -594,3 +594,72 @@ pub(crate) fn transform_problem(m: &Matrix4) -> Option<String> {
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame() -> Frame {
+        Frame {
+            key_frame: false,
+            couch: ViewerCouch { min_m: [-1.0; 3], max_m: [1.0; 3] },
+            lights: vec![SpecularLight::Point { position_m: [0.0, 1.0, 0.0], intensity: [1.0; 3] }],
+            materials: vec![SpecularMaterial { specular: [0.5; 3], exponent: 10.0, model: SpecularModel::Phong }],
+            bindings: vec![Binding { object_id: 7, material: 0, lights: vec![0] }],
+            objects: vec![ObjectRecord::Reference(KeyFrameReference {
+                id: 7,
+                key_frame: 0,
+                world_from_object: IDENTITY,
+            })],
+        }
+    }
+
+    #[test]
+    fn chunks_are_padded_to_8() {
+        for len in 0..20 {
+            let mut out = Vec::new();
+            put_chunk(&mut out, *b"test", &vec![1; len]);
+            assert_eq!(out.len() % 8, 0);
+            assert_eq!(out.len(), 8 + len + padding(len as u64) as usize);
+        }
+    }
+
+    #[test]
+    fn frames_round_trip_and_skip_unknown_ancillary_chunks() {
+        let f = frame();
+        check_frame(3, &f).unwrap();
+        let bytes = encode_frame(3, &f);
+        assert_eq!(decode_frame(&bytes).unwrap(), (3, f.clone()));
+
+        // Insert an unknown ancillary sub-chunk after COUC and fix the FRAM length.
+        let mut payload = bytes[8..16].to_vec();
+        let mut rest = Cursor::new(&bytes[16..]);
+        let (tag, couc) = rest.chunk().unwrap().unwrap();
+        put_chunk(&mut payload, tag, couc);
+        put_chunk(&mut payload, *b"zzzz", b"from a later minor version");
+        payload.extend_from_slice(&bytes[16 + 8 + couc.len()..]);
+        let mut longer = Vec::new();
+        put_chunk(&mut longer, *b"FRAM", &payload);
+        assert_eq!(decode_frame(&longer).unwrap(), (3, f));
+
+        // The same chunk marked critical is refused by name.
+        let critical = [b'Z', b'z', b'z', b'z'];
+        let at = longer.windows(4).position(|w| w == b"zzzz").unwrap();
+        longer[at..at + 4].copy_from_slice(&critical);
+        assert_eq!(decode_frame(&longer).unwrap_err(), Problem::UnknownChunk(critical));
+    }
+
+    #[test]
+    fn transforms_must_be_affine_and_invertible() {
+        assert!(transform_problem(&IDENTITY).is_none());
+        let mut m = IDENTITY;
+        m[3][2] = 0.1;
+        assert!(transform_problem(&m).unwrap().contains("last row"));
+        let mut m = IDENTITY;
+        m[1] = [0.0, 0.0, 0.0, 5.0];
+        assert!(transform_problem(&m).unwrap().contains("not invertible"));
+        let mut m = IDENTITY;
+        m[0][3] = f64::INFINITY;
+        assert!(transform_problem(&m).unwrap().contains("non-finite"));
+    }
+}

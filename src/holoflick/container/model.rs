@@ -358,3 +358,32 @@ pub(crate) fn text_problem(key: &str, value: &str) -> Option<String> {
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn descriptor_bits_round_trip() {
+        for bits in 0..64u32 {
+            match Descriptor::from_bits(bits) {
+                Some(d) => assert_eq!(d.to_bits(), bits),
+                None => assert!(bits & 3 == 0 || bits >= 0x20, "{bits:#x}"),
+            }
+        }
+        assert_eq!(Descriptor::LIT_TRIANGLES.to_bits(), 0x0F);
+    }
+
+    #[test]
+    fn couch_culling_is_exact_on_corners() {
+        let couch = ViewerCouch { min_m: [-1.0, -1.0, 1.0], max_m: [1.0, 1.0, 2.0] };
+        // A surface at the origin facing +z is seen; facing −z it is not.
+        assert!(couch.sees_front([0.0; 3], [0.0, 0.0, 1.0]));
+        assert!(!couch.sees_front([0.0; 3], [0.0, 0.0, -1.0]));
+        // Grazing: facing +x from x = 1 is seen from no point of the box (only its face, at zero).
+        assert!(!couch.sees_front([1.0, 0.0, 0.0], [1.0, 0.0, 0.0]));
+        // Tilted: seen from the corner (1, 1, 1) only.
+        assert!(couch.sees_front([0.0, 0.0, 0.0], [1.0, 1.0, -0.99]));
+        assert!(couch.contains([1.0, -1.0, 1.5]) && !couch.contains([0.0, 0.0, 0.5]));
+    }
+}
