@@ -552,3 +552,98 @@ fn an_empty_movie_reads() {
     let e: holo::Error = r.read_frame(0).unwrap_err().into();
     assert!(e.to_string().contains("empty.hflk: frame 0 asked for"), "{e}");
 }
+
+/// A random valid movie: key frames at random, references to objects that
+/// earlier key frames store, random lights, materials and bindings.
+fn random_movie(seed: u64, frames: usize) -> Vec<Frame> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut stored_in_key: Vec<(u32, u32)> = Vec::new(); // (key frame, object id)
+    let mut out = Vec::new();
+    for n in 0..frames as u32 {
+        let key_frame = n == 0 || rng.gen_bool(0.3);
+        let mut ids: Vec<u32> = (0..12).filter(|_| rng.gen_bool(0.4)).collect();
+        ids.truncate(6);
+        let mut objects = Vec::new();
+        for &id in &ids {
+            let m = translate(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen(), rng.gen_range(0.01..2.0));
+            let candidates: Vec<u32> = stored_in_key.iter().filter(|(_, i)| *i == id).map(|(k, _)| *k).collect();
+            if !key_frame && !candidates.is_empty() && rng.gen_bool(0.6) {
+                objects.push(reference(id, candidates[rng.gen_range(0..candidates.len())], m));
+            } else {
+                let descriptor = Descriptor::from_bits(rng.gen_range(1..32)).unwrap_or(Descriptor::LIT_TRIANGLES);
+                let stream: Vec<u8> = (0..4 * rng.gen_range(0..40)).map(|_| rng.gen()).collect();
+                let block = GeometryBlock::new(descriptor, &stream).unwrap();
+                let radiance_scale = rng.gen_range(0.001..100.0);
+                objects.push(ObjectRecord::Stored(GeometryObject { id, world_from_object: m, radiance_scale, block }));
+            }
+        }
+        if key_frame {
+            stored_in_key.extend(ids.iter().map(|&id| (n, id)));
+        }
+        let lights: Vec<SpecularLight> = (0..rng.gen_range(0..4))
+            .map(|_| {
+                if rng.gen_bool(0.5) {
+                    let d: [f64; 3] = [rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), 1.0];
+                    let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                    SpecularLight::Directional {
+                        direction: d.map(|x| x / len),
+                        irradiance: [rng.gen(), rng.gen(), 0.0],
+                    }
+                } else {
+                    SpecularLight::Point { position_m: [rng.gen(), -rng.gen::<f64>(), 3.0], intensity: [rng.gen(); 3] }
+                }
+            })
+            .collect();
+        let materials: Vec<SpecularMaterial> = (0..rng.gen_range(0..3))
+            .map(|_| SpecularMaterial {
+                specular: [rng.gen(), rng.gen(), rng.gen()],
+                exponent: rng.gen_range(0.0..500.0),
+                model: if rng.gen_bool(0.5) { SpecularModel::Phong } else { SpecularModel::Blinn },
+            })
+            .collect();
+        let mut bindings = Vec::new();
+        for &object_id in &ids {
+            if !materials.is_empty() && rng.gen_bool(0.5) {
+                let material = rng.gen_range(0..materials.len() as u32);
+                let lights = (0..lights.len() as u32).filter(|_| rng.gen_bool(0.5)).collect();
+                bindings.push(Binding { object_id, material, lights });
+            }
+        }
+        let lo: [f64; 3] = [rng.gen_range(-2.0..0.0), rng.gen_range(-2.0..0.0), rng.gen_range(0.0..1.0)];
+        let couch = ViewerCouch { min_m: lo, max_m: [lo[0] + rng.gen::<f64>(), lo[1] + 1.0, lo[2] + 0.5] };
+        out.push(Frame { key_frame, couch, lights, materials, bindings, objects });
+    }
+    out
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 32, ..Default::default() })]
+    #[test]
+    fn random_movies_round_trip(seed in proptest::prelude::any::<u64>(), frames in 1usize..8) {
+        let movie = random_movie(seed, frames);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("random.hflk");
+        write(&path, &movie);
+        let mut r = HoloFlickReader::open(&path).unwrap();
+        proptest::prop_assert_eq!(r.frame_count() as usize, movie.len());
+        for (n, f) in movie.iter().enumerate().rev() {
+            let resolved = r.read_frame(n as u32).unwrap();
+            proptest::prop_assert_eq!(&resolved.frame, f);
+            for (object, record) in resolved.objects.iter().zip(&f.objects) {
+                proptest::prop_assert_eq!(object.id, record.id());
+                proptest::prop_assert_eq!(&object.world_from_object, record.world_from_object());
+                let stored_in = match record {
+                    ObjectRecord::Stored(_) => n as u32,
+                    ObjectRecord::Reference(k) => k.key_frame,
+                };
+                let original = movie[stored_in as usize].objects.iter().find_map(|o| match o {
+                    ObjectRecord::Stored(s) if s.id == object.id => Some(s),
+                    _ => None,
+                }).unwrap();
+                proptest::prop_assert_eq!(object.stored_in_frame, stored_in);
+                proptest::prop_assert_eq!(&object.block, &original.block);
+                proptest::prop_assert_eq!(object.radiance_scale, original.radiance_scale);
+            }
+        }
+    }
+}
