@@ -14,27 +14,68 @@ use holo::holoflick::container::{
 };
 use rand::{Rng, SeedableRng};
 
-/// A Deering command stream of `words` 32-bit words that decodes to no
-/// vertices: the first command is a variable-length no-op whose 31 ignored
-/// bits carry `marker`, followed by zero bits (end-of-stream commands).
-/// Bit layout (MSB first): header 0x01, the implicit first no-op's 5-bit
-/// count 0, header 0x00, count 31, 31 marker bits, zeros (spec §12).
-fn nop_stream(marker: u32, words: usize) -> Vec<u8> {
-    assert!(words >= 4 && marker < 1 << 31);
-    let mut bits: u128 = 0x01; // header: variable-length no-op
-    bits <<= 5; // body of the implicit first no-op: count 0
-    bits <<= 8; // header: end of stream
-    bits = (bits << 5) | 31; // body of the no-op: count 31
-    bits = (bits << 31) | marker as u128;
-    let used = 8 + 5 + 8 + 5 + 31;
-    bits <<= 128 - used;
-    let mut out = bits.to_be_bytes().to_vec();
-    out.resize(words * 4, 0);
-    out
+/// Bits written most significant first, as Deering streams are.
+#[derive(Default)]
+struct Bits {
+    bytes: Vec<u8>,
+    count: usize,
 }
 
+impl Bits {
+    fn put(&mut self, value: u64, n: usize) {
+        for i in (0..n).rev() {
+            if self.count % 8 == 0 {
+                self.bytes.push(0);
+            }
+            let bit = ((value >> i) & 1) as u8;
+            *self.bytes.last_mut().unwrap() |= bit << (7 - self.count % 8);
+            self.count += 1;
+        }
+    }
+}
+
+/// A Deering command stream of `words` 32-bit words (at least 6) holding
+/// one triangle, positions only: (−0.5, −0.5, 0), (0.5, −0.5, 0), (0, 0.5, 0).
+/// Java 3D 1.5.2 decodes it to exactly that (spec §12). Commands, each 8-bit
+/// header sent before the previous command's body (header forwarding):
+/// setState (no bundling); setTable for positions: one entry for every tag
+/// (tag length 0), 16-bit data shifted right by 8 (8 bits sent), absolute;
+/// three vertices (replace codes restart, then replace-oldest twice); a
+/// variable-length no-op whose 29 ignored bits carry `marker`; then
+/// end-of-stream headers that use the words up exactly, since Java's decoder
+/// reads the next header before each body and stops only at the end.
+fn triangle_stream(marker: u32, words: usize) -> Vec<u8> {
+    assert!(words >= 6 && marker < 1 << 29);
+    let mut commands: Vec<(u64, (u64, usize))> = vec![(0x18, (0, 3)), (0x10, ((1 << 9) | (1 << 4) | 8, 15))];
+    for (x, y, z, replace) in [(-64i64, -64i64, 0i64, 1u64), (64, -64, 0, 3), (0, 64, 0, 3)] {
+        let p = ((x as u64 & 0xFF) << 16) | ((y as u64 & 0xFF) << 8) | (z as u64 & 0xFF);
+        // Header: the first 6 bits of x y z; body: replace code, no push, the other 18 bits.
+        commands.push((0x40 | p >> 18, ((replace << 19) | (p & 0x3FFFF), 21)));
+    }
+    commands.push((0x01, ((29 << 29) | marker as u64, 34)));
+    let mut bits = Bits::default();
+    let mut pending = (0, 5); // the body of the implicit first no-op: count 0
+    for (header, body) in commands {
+        bits.put(header, 8);
+        bits.put(pending.0, pending.1);
+        pending = body;
+    }
+    bits.put(0x00, 8);
+    bits.put(pending.0, pending.1);
+    let end = words * 32;
+    assert!(bits.count <= end && (end - bits.count) % 8 == 0);
+    while bits.count < end {
+        bits.put(0, 8);
+    }
+    bits.bytes
+}
+
+/// Triangles without normals or colours: what [`triangle_stream`] holds.
+const TRIANGLES: Descriptor =
+    Descriptor { primitive: Primitive::Triangle, normals: false, colours: false, alpha: false };
+
 fn block(marker: u32, words: usize) -> GeometryBlock {
-    GeometryBlock::new(Descriptor::LIT_TRIANGLES, &nop_stream(marker, words)).unwrap()
+    GeometryBlock::new(TRIANGLES, &triangle_stream(marker, words)).unwrap()
 }
 
 fn translate(x: f64, y: f64, z: f64, scale: f64) -> Matrix4 {
@@ -85,8 +126,8 @@ fn movie() -> Vec<Frame> {
             bindings: bindings(&[1, 2]),
             objects: vec![
                 stored(1, 0x111, 8, background),
-                stored(2, 0x200, 4, translate(0.0, 0.0, 0.0, 0.1)),
-                stored(3, 0x333, 6, translate(0.1, 0.0, 0.0, 0.05)),
+                stored(2, 0x200, 6, translate(0.0, 0.0, 0.0, 0.1)),
+                stored(3, 0x333, 7, translate(0.1, 0.0, 0.0, 0.05)),
             ],
         },
         Frame {
@@ -97,7 +138,7 @@ fn movie() -> Vec<Frame> {
             bindings: vec![Binding { object_id: 2, material: 1, lights: vec![0] }],
             objects: vec![
                 reference(1, 0, background),
-                stored(2, 0x201, 4, translate(0.01, 0.0, 0.0, 0.1)),
+                stored(2, 0x201, 6, translate(0.01, 0.0, 0.0, 0.1)),
                 reference(3, 0, translate(0.12, 0.0, 0.0, 0.05)),
             ],
         },
@@ -107,7 +148,7 @@ fn movie() -> Vec<Frame> {
             lights: Vec::new(),
             materials: Vec::new(),
             bindings: Vec::new(),
-            objects: vec![stored(2, 0x202, 4, translate(0.02, 0.0, 0.0, 0.1)), stored(4, 0x444, 4, IDENTITY)],
+            objects: vec![stored(2, 0x202, 6, translate(0.02, 0.0, 0.0, 0.1)), stored(4, 0x444, 6, IDENTITY)],
         },
         Frame {
             key_frame: false,
@@ -118,7 +159,7 @@ fn movie() -> Vec<Frame> {
             objects: vec![
                 reference(1, 0, background),
                 reference(4, 2, translate(0.0, 0.01, 0.0, 1.0)),
-                stored(2, 0x203, 4, translate(0.03, 0.0, 0.0, 0.1)),
+                stored(2, 0x203, 6, translate(0.03, 0.0, 0.0, 0.1)),
                 reference(3, 0, translate(0.14, 0.0, 0.0, 0.05)),
             ],
         },
@@ -220,12 +261,11 @@ fn random_access_in_any_order() {
 #[test]
 fn a_static_object_is_stored_once() {
     let (_dir, _path, bytes) = written_movie();
-    // Object 1's stream carries marker 0x111 in its first word.
-    let marker = &nop_stream(0x111, 8)[..8];
-    assert_eq!(bytes.windows(8).filter(|w| *w == marker).count(), 1);
-    // And the actor is stored in every frame.
+    // Object 1's stream (8 words, marker 0x111) appears once; the actor's in every frame.
+    let count = |stream: Vec<u8>| bytes.windows(stream.len()).filter(|w| *w == &stream[..]).count();
+    assert_eq!(count(triangle_stream(0x111, 8)), 1);
     for m in 0x200..0x204 {
-        assert_eq!(bytes.windows(8).filter(|w| *w == &nop_stream(m, 4)[..8]).count(), 1);
+        assert_eq!(count(triangle_stream(m, 6)), 1);
     }
 }
 
@@ -234,8 +274,16 @@ fn geometry_blocks_are_cg_records() {
     let b = block(0x111, 8);
     let record = b.cg_record();
     assert_eq!(&record[..4], &32u32.to_be_bytes(), "stream size, big-endian");
-    assert_eq!(&record[4..8], &0x0Fu32.to_be_bytes(), "triangles | normals | colours");
-    assert_eq!(b.stream(), &nop_stream(0x111, 8)[..]);
+    assert_eq!(&record[4..8], &0x03u32.to_be_bytes(), "triangles");
+    assert_eq!(b.stream(), &triangle_stream(0x111, 8)[..]);
+    assert_eq!(
+        &b.stream()[..24],
+        &[
+            0x18, 0x00, 0x80, 0x70, 0x04, 0x30, 0xa0, 0x8c, 0x00, 0x04, 0x0c, 0x60, 0x00, 0x00, 0xe1, 0x00, 0x00, 0x03,
+            0xa0, 0x00, 0x01, 0x11, 0x00, 0x00
+        ],
+        "the stream Java 3D decodes (spec §12)"
+    );
     assert_eq!(GeometryBlock::from_cg_record(record).unwrap(), b);
     assert_eq!(Descriptor::from_bits(0x13).unwrap().primitive, Primitive::Triangle);
     assert!(Descriptor::from_bits(0).is_none() && Descriptor::from_bits(0x23).is_none());
@@ -245,18 +293,18 @@ fn geometry_blocks_are_cg_records() {
     // Lifted out into a Java 3D .cg file unchanged.
     let dir = tempfile::tempdir().unwrap();
     let cg = dir.path().join("objects.cg");
-    let blocks = [block(1, 4), block(2, 5)];
+    let blocks = [block(1, 6), block(2, 7)];
     let n = write_cg_file(&cg, &blocks, false).unwrap();
     let bytes = std::fs::read(&cg).unwrap();
     assert_eq!(bytes.len() as u64, n);
     assert_eq!(&bytes[..4], &[0xBA, 0xDD, 0xFA, 0xB4]);
     assert_eq!(&bytes[4..16], &[0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 2]);
     assert_eq!(&bytes[16..20], &2u32.to_be_bytes());
-    assert_eq!(&bytes[32..56], blocks[0].cg_record());
-    assert_eq!(&bytes[56..84], blocks[1].cg_record());
+    assert_eq!(&bytes[32..64], blocks[0].cg_record());
+    assert_eq!(&bytes[64..100], blocks[1].cg_record());
     let directory = u64::from_be_bytes(bytes[24..32].try_into().unwrap()) as usize;
-    assert_eq!(directory, 88, "records padded to 8 bytes before the directory");
-    assert_eq!(&bytes[directory..], &[32u64.to_be_bytes(), 56u64.to_be_bytes()].concat()[..]);
+    assert_eq!(directory, 104, "records padded to 8 bytes before the directory");
+    assert_eq!(&bytes[directory..], &[32u64.to_be_bytes(), 64u64.to_be_bytes()].concat()[..]);
     assert!(write_cg_file(&cg, &blocks, false).is_err(), "never overwrites unless asked");
 }
 
@@ -304,7 +352,7 @@ fn writer_refuses_what_a_reader_would() {
     f.objects.push(reference(1, 0, IDENTITY));
     assert!(try_frame(&mut w, &f).contains("a key frame holds no references"));
     let mut f = frames[1].clone();
-    f.objects.push(stored(2, 5, 4, IDENTITY));
+    f.objects.push(stored(2, 5, 6, IDENTITY));
     assert!(try_frame(&mut w, &f).contains("object id 2 appears twice"));
     let mut f = frames[1].clone();
     f.bindings[0].lights = vec![3];
@@ -319,7 +367,7 @@ fn writer_refuses_what_a_reader_would() {
     assert!(try_frame(&mut w, &f).contains("unit length"));
     let mut f = frames[1].clone();
     f.objects[1] =
-        stored(2, 1, 4, [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]]);
+        stored(2, 1, 6, [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]]);
     assert!(try_frame(&mut w, &f).contains("not invertible"));
     let mut f = frames[1].clone();
     f.materials[0].exponent = f64::NAN;
