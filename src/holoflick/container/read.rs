@@ -2,8 +2,8 @@
 //! file header, the frame index and the file-level chunks are read and
 //! checked by [`HoloFlickReader::open`]; a frame is read and checked when it
 //! is asked for. Key-frame references are resolved by reading the key frame
-//! (the last key frame used is kept, so playing frames in order reads each key
-//! frame once).
+//! (the last four key frames used are kept, so playing frames in order reads
+//! each key frame once).
 
 use std::collections::HashMap;
 use std::fs::File;
@@ -14,6 +14,10 @@ use super::codec::{self, check_tag, is_critical, padding};
 use super::error::{tag_text, At, ContainerError, Problem};
 use super::model::{Frame, GeometryBlock, Info, ObjectRecord, ResolvedFrame, ResolvedObject};
 use super::*;
+
+/// How many key frames a reader keeps decoded: a frame may use a background
+/// stored at frame 0 and a set piece stored at a later key frame.
+const KEY_FRAME_CACHE: usize = 4;
 
 /// The stored objects of a key frame: id → (radiance scale, block).
 type KeyFrameObjects = HashMap<u32, (f64, GeometryBlock)>;
@@ -32,8 +36,8 @@ pub struct HoloFlickReader {
     file: File,
     info: Info,
     index: Vec<IndexEntry>,
-    /// The stored objects of the last key frame used: id → (radiance scale, block).
-    cache: Option<(u32, KeyFrameObjects)>,
+    /// The stored objects of the key frames used last, most recent first.
+    cache: Vec<(u32, KeyFrameObjects)>,
 }
 
 impl HoloFlickReader {
@@ -50,7 +54,7 @@ impl HoloFlickReader {
             file,
             info: Info { version: (0, 0), frames_per_second: (0, 0), geometry_version: [0; 3], text: Vec::new() },
             index: Vec::new(),
-            cache: None,
+            cache: Vec::new(),
         };
         let fail = |p: Problem| p.at(&path, None);
 
@@ -311,7 +315,7 @@ impl HoloFlickReader {
         let mut found: HashMap<u32, (f64, GeometryBlock, u32)> = HashMap::new();
         for &k in &key_frames {
             self.load_key_frame(n, k, &frame)?;
-            if let Some((_, stored)) = &self.cache {
+            if let Some((_, stored)) = self.cache.first() {
                 for object in &frame.objects {
                     if let ObjectRecord::Reference(r) = object {
                         if r.key_frame == k {
@@ -370,9 +374,11 @@ impl HoloFlickReader {
         Ok(ResolvedFrame { number: n, frame, objects })
     }
 
-    /// Make key frame `k` the cached one (frame `n` refers to it).
+    /// Make key frame `k` the first of the cached ones (frame `n` refers to it).
     fn load_key_frame(&mut self, n: u32, k: u32, frame: &Frame) -> Result<()> {
-        if matches!(&self.cache, Some((cached, _)) if *cached == k) {
+        if let Some(i) = self.cache.iter().position(|(cached, _)| *cached == k) {
+            let entry = self.cache.remove(i);
+            self.cache.insert(0, entry);
             return Ok(());
         }
         let object = frame
@@ -397,7 +403,6 @@ impl HoloFlickReader {
         if !self.is_key_frame(k) {
             return Err(bad("not a key frame".into()));
         }
-        self.cache = None;
         let key = self.read_stored_frame(k).map_err(|e| bad(format!("the key frame is unreadable ({e})")))?;
         let stored = key
             .objects
@@ -407,7 +412,8 @@ impl HoloFlickReader {
                 ObjectRecord::Reference(_) => None,
             })
             .collect();
-        self.cache = Some((k, stored));
+        self.cache.truncate(KEY_FRAME_CACHE - 1);
+        self.cache.insert(0, (k, stored));
         Ok(())
     }
 
