@@ -1,0 +1,167 @@
+//! Errors of the HoloFlick container: each names the file, the frame when
+//! there is one, and the rule broken (spec/holoflick.md §11).
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// Where in a file a problem is: the whole file, or one frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct At(pub Option<u32>);
+
+impl fmt::Display for At {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            Some(n) => write!(f, ": frame {n}"),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Everything that can go wrong reading or writing a HoloFlick.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ContainerError {
+    /// The operating system refused a read or write.
+    #[error("{}: {source}", .path.display())]
+    Io {
+        /// The file concerned.
+        path: PathBuf,
+        /// What the OS said.
+        source: std::io::Error,
+    },
+    /// The file ends (or a chunk ends) before a structure it declares.
+    #[error("{}{at}: truncated: {what}", .path.display())]
+    Truncated {
+        /// The file concerned.
+        path: PathBuf,
+        /// The frame, when the problem is inside one.
+        at: At,
+        /// What could not be read whole.
+        what: String,
+    },
+    /// The bytes break a rule of the spec.
+    #[error("{}{at}: {problem}", .path.display())]
+    Invalid {
+        /// The file concerned.
+        path: PathBuf,
+        /// The frame, when the problem is inside one.
+        at: At,
+        /// The rule broken, as one sentence.
+        problem: String,
+    },
+    /// A declared count or size exceeds the format's limits (spec §10).
+    #[error("{}{at}: {what} is {value}, more than the limit of {limit}", .path.display())]
+    TooLarge {
+        /// The file concerned.
+        path: PathBuf,
+        /// The frame, when the problem is inside one.
+        at: At,
+        /// Which quantity.
+        what: &'static str,
+        /// Its declared value.
+        value: u64,
+        /// The limit.
+        limit: u64,
+    },
+    /// A version this reader does not read.
+    #[error("{}: {what} version {found}; this reader reads {supported}", .path.display())]
+    UnsupportedVersion {
+        /// The file concerned.
+        path: PathBuf,
+        /// `HoloFlick` or `compressed geometry`.
+        what: &'static str,
+        /// The version in the file, as `major.minor[.minor-minor]`.
+        found: String,
+        /// What this reader reads.
+        supported: &'static str,
+    },
+    /// A critical chunk this reader does not know (spec §3.2).
+    #[error("{}{at}: critical chunk {tag:?} is unknown to this reader (a feature of a newer version)", .path.display())]
+    UnknownChunk {
+        /// The file concerned.
+        path: PathBuf,
+        /// The frame, when the chunk is inside one.
+        at: At,
+        /// The chunk's tag.
+        tag: String,
+    },
+    /// A key-frame reference that does not resolve (spec §6.6).
+    #[error("{}: frame {frame}: object {object} refers to frame {key_frame}: {problem}", .path.display())]
+    BadReference {
+        /// The file concerned.
+        path: PathBuf,
+        /// The frame holding the reference.
+        frame: u32,
+        /// The object id referred to.
+        object: u32,
+        /// The frame referred to.
+        key_frame: u32,
+        /// Why it does not resolve.
+        problem: String,
+    },
+    /// A request that does not fit (a frame number past the end, a file
+    /// that exists, a frame the writer refuses to store, ...).
+    #[error("{}: {problem}", .path.display())]
+    Usage {
+        /// The file concerned.
+        path: PathBuf,
+        /// What is wrong with the request.
+        problem: String,
+    },
+}
+
+impl From<ContainerError> for crate::Error {
+    fn from(e: ContainerError) -> Self {
+        match e {
+            ContainerError::Io { path, source } => crate::Error::Io { path, source },
+            ContainerError::Usage { .. } => crate::Error::Usage(e.to_string()),
+            other => {
+                let path = match &other {
+                    ContainerError::Truncated { path, .. }
+                    | ContainerError::Invalid { path, .. }
+                    | ContainerError::TooLarge { path, .. }
+                    | ContainerError::UnsupportedVersion { path, .. }
+                    | ContainerError::UnknownChunk { path, .. }
+                    | ContainerError::BadReference { path, .. } => path.clone(),
+                    _ => PathBuf::new(),
+                };
+                let text = other.to_string();
+                let prefix = format!("{}: ", path.display());
+                let problem = text.strip_prefix(&prefix).unwrap_or(&text).to_string();
+                crate::Error::Invalid { path, problem }
+            }
+        }
+    }
+}
+
+/// A problem found in bytes, before the reader or writer adds the file and
+/// frame to it.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Problem {
+    Truncated(String),
+    Invalid(String),
+    TooLarge { what: &'static str, value: u64, limit: u64 },
+    UnknownChunk([u8; 4]),
+}
+
+impl Problem {
+    pub(crate) fn at(self, path: &std::path::Path, frame: Option<u32>) -> ContainerError {
+        let path = path.to_path_buf();
+        let at = At(frame);
+        match self {
+            Problem::Truncated(what) => ContainerError::Truncated { path, at, what },
+            Problem::Invalid(problem) => ContainerError::Invalid { path, at, problem },
+            Problem::TooLarge { what, value, limit } => ContainerError::TooLarge { path, at, what, value, limit },
+            Problem::UnknownChunk(tag) => ContainerError::UnknownChunk { path, at, tag: tag_text(tag) },
+        }
+    }
+}
+
+/// A chunk tag for messages: ASCII as is, other bytes escaped.
+pub(crate) fn tag_text(tag: [u8; 4]) -> String {
+    tag.iter().flat_map(|b| std::ascii::escape_default(*b)).map(char::from).collect()
+}
+
+pub(crate) fn invalid(s: impl Into<String>) -> Problem {
+    Problem::Invalid(s.into())
+}

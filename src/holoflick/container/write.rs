@@ -1,0 +1,292 @@
+//! Writing HoloFlicks: frames added one at a time (memory holds one encoded
+//! frame, 16 index bytes per frame and the object ids of key frames), written
+//! to a temporary file beside the destination and renamed into place by
+//! [`HoloFlickWriter::finish`]. Spec §4–§8.
+
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+
+use super::codec::{self, put_chunk};
+use super::error::{At, ContainerError};
+use super::model::{text_problem, Frame, GeometryBlock, ObjectRecord};
+use super::*;
+
+/// How to write.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WriteOptions {
+    /// Frame rate, numerator / denominator (frames per second); both non-zero.
+    pub frames_per_second: (u32, u32),
+    /// Text entries (`title`, `source`, `software`, ..., spec §5.2), keys unique.
+    pub text: Vec<(String, String)>,
+    /// Replace an existing file at the destination (default: refuse).
+    pub overwrite: bool,
+}
+
+impl Default for WriteOptions {
+    /// 24 frames per second, `software` = this library, never overwrite.
+    fn default() -> Self {
+        WriteOptions {
+            frames_per_second: (24, 1),
+            text: vec![("software".into(), format!("holo {}", env!("CARGO_PKG_VERSION")))],
+            overwrite: false,
+        }
+    }
+}
+
+/// What a finished write did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WriteReport {
+    /// The file written.
+    pub path: PathBuf,
+    /// Frames in it.
+    pub frames: u32,
+    /// Its size.
+    pub file_bytes: u64,
+}
+
+/// A HoloFlick being written. Dropping it without [`finish`](Self::finish)
+/// removes the temporary file and leaves the destination untouched.
+#[derive(Debug)]
+pub struct HoloFlickWriter {
+    path: PathBuf,
+    overwrite: bool,
+    temp: tempfile::NamedTempFile,
+    out: BufWriter<File>,
+    position: u64,
+    index: Vec<(u64, u32, u32)>,
+    /// Key frame → (object id → bytes of its geometry record).
+    key_frames: HashMap<u32, HashMap<u32, u64>>,
+}
+
+impl HoloFlickWriter {
+    /// Start a HoloFlick at `path`: refuses an existing file unless
+    /// `options.overwrite`, and bad options.
+    pub fn create(path: impl AsRef<Path>, options: &WriteOptions) -> Result<HoloFlickWriter> {
+        let path = path.as_ref();
+        let usage = |problem: String| ContainerError::Usage { path: path.to_path_buf(), problem };
+        let (num, den) = options.frames_per_second;
+        if num == 0 || den == 0 {
+            return Err(usage(format!("frame rate {num}/{den}: numerator and denominator must be non-zero")));
+        }
+        if options.text.len() as u64 > MAX_TEXT_ENTRIES {
+            return Err(usage(format!("{} text entries; at most {MAX_TEXT_ENTRIES}", options.text.len())));
+        }
+        for (i, (key, value)) in options.text.iter().enumerate() {
+            if let Some(p) = text_problem(key, value) {
+                return Err(usage(p));
+            }
+            if options.text[..i].iter().any(|(k, _)| k == key) {
+                return Err(usage(format!("text key {key:?} given twice")));
+            }
+            if (key.len() + 1 + value.len()) as u64 > MAX_TEXT_BYTES {
+                return Err(usage(format!("text {key:?} is longer than {MAX_TEXT_BYTES} bytes")));
+            }
+        }
+        if !options.overwrite && path.exists() {
+            return Err(usage("already exists; not overwritten".into()));
+        }
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let mut builder = tempfile::Builder::new();
+        let prefix = format!(".{file_name}.");
+        builder.prefix(&prefix).suffix(".partial");
+        // tempfile creates 0600 files; an output file gets the usual 0666 less the umask.
+        #[cfg(unix)]
+        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+        let io = |e| ContainerError::Io { path: dir.to_path_buf(), source: e };
+        let temp = builder.tempfile_in(dir).map_err(io)?;
+        let file = temp.as_file().try_clone().map_err(io)?;
+
+        let mut head = Vec::with_capacity(256);
+        head.extend_from_slice(&MAGIC);
+        head.extend_from_slice(&VERSION_MAJOR.to_le_bytes());
+        head.extend_from_slice(&VERSION_MINOR.to_le_bytes());
+        head.extend_from_slice(&[0; 4]); // reserved
+        head.extend_from_slice(&[0; 8]); // index offset, set by finish
+        head.extend_from_slice(&[0; 8]); // frame count, reserved
+        put_chunk(&mut head, *b"HEAD", &codec::encode_head(options.frames_per_second));
+        for (key, value) in &options.text {
+            put_chunk(&mut head, *b"text", &codec::encode_text(key, value));
+        }
+        let mut writer = HoloFlickWriter {
+            path: path.to_path_buf(),
+            overwrite: options.overwrite,
+            temp,
+            out: BufWriter::with_capacity(1 << 20, file),
+            position: 0,
+            index: Vec::new(),
+            key_frames: HashMap::new(),
+        };
+        writer.put(&head)?;
+        Ok(writer)
+    }
+
+    /// Frames added so far.
+    pub fn frame_count(&self) -> u32 {
+        self.index.len() as u32
+    }
+
+    /// Append the next frame and return its number. The frame must follow
+    /// every rule of spec §6 (the reader's own checks); a reference must name
+    /// an object stored in an earlier key frame of this file. A refused frame
+    /// leaves the writer as it was.
+    pub fn add_frame(&mut self, frame: &Frame) -> Result<u32> {
+        let number = self.index.len() as u32;
+        if self.index.len() as u64 >= MAX_FRAMES {
+            return Err(ContainerError::TooLarge {
+                path: self.path.clone(),
+                at: At(Some(number)),
+                what: "the number of frames",
+                value: number as u64 + 1,
+                limit: MAX_FRAMES,
+            });
+        }
+        codec::check_frame(number, frame).map_err(|p| p.at(&self.path, Some(number)))?;
+        let mut resolved = 0u64;
+        for object in &frame.objects {
+            match object {
+                ObjectRecord::Stored(o) => resolved += o.block.cg_record().len() as u64,
+                ObjectRecord::Reference(r) => {
+                    let bad = |problem: &str| ContainerError::BadReference {
+                        path: self.path.clone(),
+                        frame: number,
+                        object: r.id,
+                        key_frame: r.key_frame,
+                        problem: problem.into(),
+                    };
+                    let objects = self.key_frames.get(&r.key_frame).ok_or_else(|| bad("not a key frame"))?;
+                    resolved += objects.get(&r.id).ok_or_else(|| bad("the key frame holds no such object"))?;
+                }
+            }
+        }
+        if resolved > MAX_RESOLVED_BYTES {
+            return Err(ContainerError::TooLarge {
+                path: self.path.clone(),
+                at: At(Some(number)),
+                what: "the geometry bytes of the resolved frame",
+                value: resolved,
+                limit: MAX_RESOLVED_BYTES,
+            });
+        }
+        let bytes = codec::encode_frame(number, frame);
+        if bytes.len() as u64 > MAX_FRAME_BYTES {
+            return Err(ContainerError::TooLarge {
+                path: self.path.clone(),
+                at: At(Some(number)),
+                what: "the frame's bytes",
+                value: bytes.len() as u64,
+                limit: MAX_FRAME_BYTES,
+            });
+        }
+        let offset = self.position;
+        self.put(&bytes)?;
+        self.index.push((offset, bytes.len() as u32, frame.key_frame as u32));
+        if frame.key_frame {
+            let objects = frame
+                .objects
+                .iter()
+                .filter_map(|o| match o {
+                    ObjectRecord::Stored(s) => Some((s.id, s.block.cg_record().len() as u64)),
+                    ObjectRecord::Reference(_) => None,
+                })
+                .collect();
+            self.key_frames.insert(number, objects);
+        }
+        Ok(number)
+    }
+
+    /// Write the index, fill in the file header, and rename the file into
+    /// place (spec §7).
+    pub fn finish(mut self) -> Result<WriteReport> {
+        let count = self.index.len() as u32;
+        let index_offset = self.position;
+        let mut p = Vec::with_capacity(16 + self.index.len() * INDEX_ENTRY as usize);
+        p.extend_from_slice(&count.to_le_bytes());
+        p.extend_from_slice(&[0; 4]);
+        for &(offset, length, flags) in &self.index {
+            p.extend_from_slice(&offset.to_le_bytes());
+            p.extend_from_slice(&length.to_le_bytes());
+            p.extend_from_slice(&flags.to_le_bytes());
+        }
+        let mut chunk = Vec::with_capacity(8 + p.len());
+        put_chunk(&mut chunk, *b"INDX", &p);
+        self.put(&chunk)?;
+        let temp_path = self.temp.path().to_path_buf();
+        let io = |e| ContainerError::Io { path: temp_path.clone(), source: e };
+        self.out.seek(SeekFrom::Start(16)).map_err(io)?;
+        self.out.write_all(&index_offset.to_le_bytes()).map_err(io)?;
+        self.out.write_all(&count.to_le_bytes()).map_err(io)?;
+        self.out.flush().map_err(io)?;
+        self.temp.as_file().sync_all().map_err(io)?;
+        let file_bytes = self.position;
+        persist(self.temp, &self.path, self.overwrite)?;
+        Ok(WriteReport { path: self.path, frames: count, file_bytes })
+    }
+
+    fn put(&mut self, bytes: &[u8]) -> Result<()> {
+        self.out
+            .write_all(bytes)
+            .map_err(|e| ContainerError::Io { path: self.temp.path().to_path_buf(), source: e })?;
+        self.position += bytes.len() as u64;
+        Ok(())
+    }
+}
+
+fn persist(temp: tempfile::NamedTempFile, path: &Path, overwrite: bool) -> Result<()> {
+    let persisted = if overwrite { temp.persist(path) } else { temp.persist_noclobber(path) };
+    persisted.map(|_| ()).map_err(|e| {
+        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
+            ContainerError::Usage { path: path.to_path_buf(), problem: "already exists; not overwritten".into() }
+        } else {
+            ContainerError::Io { path: path.to_path_buf(), source: e.error }
+        }
+    })
+}
+
+/// Write geometry blocks as a Java 3D `.cg` file (format 1.0.2, all
+/// big-endian): what `com.sun.j3d.utils.geometry.compression.CompressedGeometryFile`
+/// reads. The blocks are copied unchanged (spec §6.4, "lifting a block out").
+pub fn write_cg_file(path: impl AsRef<Path>, blocks: &[GeometryBlock], overwrite: bool) -> Result<u64> {
+    let path = path.as_ref();
+    if !overwrite && path.exists() {
+        return Err(ContainerError::Usage {
+            path: path.to_path_buf(),
+            problem: "already exists; not overwritten".into(),
+        });
+    }
+    let mut body = Vec::new();
+    let mut offsets = Vec::with_capacity(blocks.len());
+    for b in blocks {
+        offsets.push(32 + body.len() as u64);
+        body.extend_from_slice(b.cg_record());
+    }
+    body.resize(body.len() + codec::padding(body.len() as u64) as usize, 0);
+    let directory = 32 + body.len() as u64;
+    let mut out = Vec::with_capacity(32 + body.len() + 8 * blocks.len());
+    out.extend_from_slice(&0xBADD_FAB4u32.to_be_bytes());
+    for v in GEOMETRY_VERSION {
+        out.extend_from_slice(&v.to_be_bytes());
+    }
+    out.extend_from_slice(&(blocks.len() as u32).to_be_bytes());
+    out.extend_from_slice(&[0; 4]);
+    out.extend_from_slice(&directory.to_be_bytes());
+    out.extend_from_slice(&body);
+    for o in offsets {
+        out.extend_from_slice(&o.to_be_bytes());
+    }
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let io = |e| ContainerError::Io { path: dir.to_path_buf(), source: e };
+    let mut temp = tempfile::Builder::new().prefix(".cg.").suffix(".partial").tempfile_in(dir).map_err(io)?;
+    temp.write_all(&out).map_err(io)?;
+    temp.as_file().sync_all().map_err(io)?;
+    persist(temp, path, overwrite)?;
+    Ok(out.len() as u64)
+}
