@@ -14,6 +14,7 @@ pub mod bake;
 pub mod bvh;
 pub mod camera;
 pub mod convert;
+pub mod cull;
 pub mod dice;
 pub mod epi;
 mod fastshade;
