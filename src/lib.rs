@@ -11,6 +11,7 @@ pub mod cameras;
 mod error;
 pub mod format;
 pub mod geometry;
+pub mod holoflick;
 pub mod layout;
 pub mod mesh;
 mod modulation;
