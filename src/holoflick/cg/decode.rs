@@ -71,7 +71,8 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
             h if h & 0xF8 == 0x10 => {
                 let b = r.read(15).map_err(past)?;
                 let (t, first, count, entry) = parse_set_table(h, b);
-                for e in st.tables[t][first..first + count].iter_mut() {
+                let table = st.tables.get_mut(t).ok_or_else(|| err(no_table(t)))?;
+                for e in table.iter_mut().skip(first).take(count) {
                     *e = entry;
                 }
             }
@@ -91,6 +92,11 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
         }
     }
     st.finish(sink).map_err(|problem| StreamError { bit: r.position(), problem })
+}
+
+/// setTable names table 3: Java 3D indexes past its three tables.
+pub(crate) fn no_table(t: usize) -> String {
+    format!("setTable names table {t}; there are 3 (0 position, 1 colour, 2 normal)")
 }
 
 /// Java 3D's decoder refills 4 bytes at a time: any other length reads past the buffer.

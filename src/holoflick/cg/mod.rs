@@ -174,7 +174,8 @@ fn check_version(header: &CgHeader) -> Result<()> {
 /// error naming the bit offset of the command: a length that is not a whole
 /// number of 4-byte words, a command running past the end, a vertex,
 /// global colour or global normal before any setState (Java: null
-/// pointer), a mesh-buffer reference deeper than the pushes so far (Java
+/// pointer), a setTable naming table 3 (Java indexes past its 3 tables),
+/// a mesh-buffer reference deeper than the pushes so far (Java
 /// reads zeroed slots), a table entry whose shift exceeds its length, a
 /// position entry too short to hold the replace bits, a normal outside the
 /// grid, a restart without two following vertices. An empty vertex list

@@ -8,7 +8,7 @@
 //! single bit string; tests make the two agree on random streams.
 
 use super::bits::{BitByBit, StreamError};
-use super::decode::{check_length, BodyError};
+use super::decode::{check_length, no_table, BodyError};
 use super::normals::NormalCode;
 use super::state::{parse_set_table, Entry, Sink, State};
 
@@ -109,7 +109,7 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
         } else if current & 0xF8 == 0x10 {
             let ii = d.bits(15).map_err(fail)?;
             let (t, first, count, entry) = parse_set_table(current as u32, ii as u32);
-            d.tables[t].commands.push((first, count, entry));
+            d.tables.get_mut(t).ok_or_else(|| err(no_table(t)))?.commands.push((first, count, entry));
         } else if current == 0x01 {
             let ct = d.bits(5).map_err(fail)?;
             d.bits(ct).map_err(fail)?;
