@@ -367,11 +367,10 @@ fn p(v: &Vertex) -> [f32; 3] {
     v.position
 }
 
-/// Absolute and relative positions, a mesh-buffer reference, a strip: the
-/// expected values worked out from the format's text.
-#[test]
-fn hand_built_positions_strip_and_mesh_reference() {
-    let bytes = forward(&[
+/// Absolute and relative positions, a mesh-buffer reference, a strip (the
+/// expected values are worked out from the format's text in the test).
+fn stream_positions() -> Vec<u8> {
+    forward(&[
         // setState: no bundled normals (header bit 0), body "c a x" = 000.
         ("00011000", "000"),
         // setTable position, tag "0" (address 0000010): data length 16 (sent as 0), absolute, shift 8.
@@ -387,7 +386,12 @@ fn hand_built_positions_strip_and_mesh_reference() {
         ("01 1 1000 0", "11 0 000 0000"),
         // Mesh-buffer reference 0 (the first vertex), replace code 11.
         ("001 0000 1", "1"),
-    ]);
+    ])
+}
+
+#[test]
+fn hand_built_positions_strip_and_mesh_reference() {
+    let bytes = stream_positions();
     let d = decode_both(&tri_header(), &bytes).expect("decode");
     let v0 = [0.5, -0.5, 0.0];
     let v1 = [16640.0 / 32768.0, -16640.0 / 32768.0, 1792.0 / 32768.0];
@@ -399,16 +403,15 @@ fn hand_built_positions_strip_and_mesh_reference() {
     assert_eq!(d.quantized[0][0].position, [16384, -16384, 0]);
 }
 
-/// Bundled normal and colour: the 6-bit sub-headers, special and table normals, mesh-buffer
-/// reference restoring normal and colour.
-#[test]
-fn hand_built_bundled_normal_and_colour() {
+/// Bundled normal and colour: the 6-bit sub-headers, special and table
+/// normals, a mesh-buffer reference restoring normal and colour.
+fn stream_bundled() -> Vec<u8> {
     let vertex =
         |x: &str, rep_push: &str, rest: &str| -> (String, String) { (format!("01{x}"), format!("{rep_push}{rest}")) };
     let (h1, b1) = vertex("011111", "011", "11 10000000 00000001");
     let (h2, b2) = vertex("001000", "111", "00 00000000 00000000");
     let (h3, b3) = vertex("000000", "111", "00 01000000 00000000");
-    let bytes = forward(&[
+    forward(&[
         // setState: bundle normals (header bit 0 = 1); body: colour 1, alpha 0.
         ("00011001", "100"),
         // Position: tag length 0 (address 0000001), data 16, absolute, shift 8.
@@ -426,19 +429,22 @@ fn hand_built_bundled_normal_and_colour() {
         // Vertex 2: x = 00100000, y = 0, z = 0; replace oldest, push.
         (&h2, &b2),
         // Normal: sextant 0, octant 0, (u, v) = (0, 0): the table's first entry.
-        // Its colour: black.
         ("000000", "000000 000000"),
+        // Colour: black.
         ("000000", "00 00000000 00000000"),
         // Vertex 3: x = 0, y = 01000000 (0.5), z = 0; replace oldest, push.
         (&h3, &b3),
         // Normal: sextant 7, octant 2 = -z.
         ("111010", "000000 000000"),
+        // Colour: r = g = b = 01111111.
         ("011111", "11 01111111 01111111"),
         // Mesh-buffer reference 2 = vertex 1 with its normal and colour; replace oldest.
         ("001 0010 1", "1"),
-    ]);
-    let h = CgHeader { kind: BlockKind::Triangles, normals: true, colors: true, alpha: false, version: [1, 0, 2] };
-    let d = decode_both(&h, &bytes).expect("decode");
+    ])
+}
+
+/// The triangles of [`stream_bundled`], worked out by hand.
+fn expected_bundled() -> Vec<[Vertex; 3]> {
     let c = |r: f32, g: f32, b: f32| Some([r / 32768.0, g / 32768.0, b / 32768.0, 1.0]);
     let table00 = {
         // (u, v) = (0, 0): psi = 0, theta = asin(tan(MAXY)) = 45 degrees, truncated to s1.14.
@@ -454,7 +460,14 @@ fn hand_built_bundled_normal_and_colour() {
     let v2 = Vertex { position: [0.25, 0.0, 0.0], normal: Some(table00), color: c(0.0, 0.0, 0.0) };
     let v3 =
         Vertex { position: [0.0, 0.5, 0.0], normal: Some([-0.0, -0.0, -1.0]), color: c(32512.0, 32512.0, 32512.0) };
-    assert_eq!(d.triangles, vec![[v1, v2, v3], [v3, v2, v1]]);
+    vec![[v1, v2, v3], [v3, v2, v1]]
+}
+
+#[test]
+fn hand_built_bundled_normal_and_colour() {
+    let h = CgHeader { kind: BlockKind::Triangles, normals: true, colors: true, alpha: false, version: [1, 0, 2] };
+    let d = decode_both(&h, &stream_bundled()).expect("decode");
+    assert_eq!(d.triangles, expected_bundled());
 }
 
 /// A random prefix code: lengths 0..=6 with Kraft sum 1, as (tag, length).
@@ -722,5 +735,108 @@ fn every_truncation_of_encoded_streams_is_handled() {
         let i = rng.gen_range(0..b.len());
         b[i] ^= 1 << rng.gen_range(0..8);
         let _ = decode_both(&enc.header, &b);
+    }
+}
+
+/// `.cg` bytes laid out by hand from the format table (not by the library's writer).
+fn hand_cg(objects: &[(u32, &[u8])]) -> Vec<u8> {
+    let mut body = Vec::new();
+    let mut offsets = Vec::new();
+    for (descriptor, stream) in objects {
+        offsets.push(32 + body.len() as u64);
+        body.extend((stream.len() as u32).to_be_bytes());
+        body.extend(descriptor.to_be_bytes());
+        body.extend(*stream);
+    }
+    while body.len() % 8 != 0 {
+        body.push(0);
+    }
+    let mut out = Vec::new();
+    for v in [0xBADD_FAB4u32, 1, 0, 2, objects.len() as u32, 0] {
+        out.extend(v.to_be_bytes());
+    }
+    out.extend((32 + body.len() as u64).to_be_bytes());
+    out.extend(body);
+    for o in offsets {
+        out.extend(o.to_be_bytes());
+    }
+    out
+}
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/cg").join(name)
+}
+
+/// fixtures/cg/hand-two-objects.cg: the two hand-built streams as a
+/// two-object file (triangles; then triangles with normals and colours).
+/// `HOLO_WRITE_FIXTURES=1` rewrites it.
+#[test]
+fn hand_made_cg_fixture_reads() {
+    let (a, b) = (stream_positions(), stream_bundled());
+    let bytes = hand_cg(&[(3, &a), (3 | 0x04 | 0x08, &b)]);
+    let path = fixture("hand-two-objects.cg");
+    if std::env::var_os("HOLO_WRITE_FIXTURES").is_some() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, &bytes).unwrap();
+    }
+    assert_eq!(std::fs::read(&path).expect("fixture"), bytes, "the fixture is the hand layout");
+    let file = CgFile::read(&path).expect("read");
+    assert_eq!(file.version, [1, 0, 2]);
+    assert_eq!(file.objects.len(), 2);
+    assert_eq!(
+        file.objects[1].header,
+        CgHeader { kind: BlockKind::Triangles, normals: true, colors: true, alpha: false, version: [1, 0, 2] }
+    );
+    assert_eq!(file.to_bytes(), bytes, "writing gives back the same bytes");
+    let decoded = read_cg_file(&path).expect("decode");
+    assert_eq!(decoded[0].triangles.len(), 2);
+    assert_eq!(decoded[1].triangles, expected_bundled());
+}
+
+#[test]
+fn cg_files_round_trip_and_bad_files_fail() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let m = random_mesh(&mut rng, 9, 7);
+    let mesh =
+        Mesh { positions: &m.positions, normals: Some(&m.normals), colors: Some(&m.colors), triangles: &m.triangles };
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mesh.cg");
+    let enc =
+        write_cg_file(&path, &mesh, &EncodeOptions { position_bits: 10, color_bits: 8, normal_bits: 6, alpha: true })
+            .unwrap();
+    let decoded = read_cg_file(&path).unwrap();
+    assert_eq!(decoded.len(), 1);
+    assert_eq!(decoded[0], decode(&enc.header, &enc.bytes).unwrap());
+    let bytes = std::fs::read(&path).unwrap();
+    // Java's block descriptor: triangle (3) | normals (4) | colours (8) | alpha (16).
+    assert_eq!(u32::from_be_bytes(bytes[36..40].try_into().unwrap()), 3 | 4 | 8 | 16);
+    let bad = |b: &[u8], what: &str| {
+        let e = CgFile::parse(b, std::path::Path::new("bad.cg")).expect_err(what).to_string();
+        println!("{what}: {e}");
+        assert!(e.starts_with("bad.cg"), "{e}");
+    };
+    bad(&bytes[..20], "truncated header");
+    let mut b = bytes.clone();
+    b[0] = 0;
+    bad(&b, "bad magic");
+    let mut b = bytes.clone();
+    b[16..20].copy_from_slice(&u32::MAX.to_be_bytes());
+    bad(&b, "absurd object count");
+    let mut b = bytes.clone();
+    b[24..32].copy_from_slice(&u64::MAX.to_be_bytes());
+    bad(&b, "directory past the end");
+    let mut b = bytes.clone();
+    b[32..36].copy_from_slice(&u32::MAX.to_be_bytes());
+    bad(&b, "object larger than its block");
+    let mut b = bytes.clone();
+    b[39] &= !3;
+    bad(&b, "geometry type 0");
+    let mut b = bytes.clone();
+    let dir = u64::from_be_bytes(b[24..32].try_into().unwrap()) as usize;
+    b[dir..dir + 8].copy_from_slice(&(1u64 << 40).to_be_bytes());
+    bad(&b, "object offset past the directory");
+    // Every truncation of the file fails cleanly.
+    for cut in 0..bytes.len() {
+        assert!(CgFile::parse(&bytes[..cut], std::path::Path::new("cut.cg")).is_err());
     }
 }
