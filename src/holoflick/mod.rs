@@ -1,7 +1,12 @@
-//! HoloFlicks (seed 001): holographic movies stored as frames of lit
-//! micropolygons in world space, compressed with Deering's geometry
-//! compression. [`container`] is the `.hflk` file (spec/holoflick.md).
+//! HoloFlicks (seed 001, DESIGN.md §6): holographic movies stored as frames
+//! of lit micropolygons in world space.
 //!
-//! This file is a placeholder for the merge with the compressed-geometry codec.
+//! - [`cg`]: Michael Deering's compressed geometry exactly as Java 3D 1.5.2
+//!   reads and writes it (stream format 1.0.2) and Java 3D's `.cg` resource
+//!   files. Start reading at [`cg::encode`] and [`cg::decode`].
+//! - [`container`]: the `.hflk` file (spec/holoflick.md): frames of geometry
+//!   blocks with their transforms, specular lights and materials, bindings,
+//!   the viewer's couch and key frames.
 
+pub mod cg;
 pub mod container;

@@ -1,0 +1,224 @@
+//! Bit I/O for compressed geometry: the stream is one MSB-first bit string,
+//! which Java 3D's `GeometryDecompressor.getBits` reads by refilling a 32-bit
+//! buffer with 4 bytes at a time, big-endian. A stream is therefore a whole
+//! number of 4-byte words (the decoders check that up front), and reading
+//! past its last bit is an error ("the stream ends inside a command").
+
+/// Where a stream read went wrong: the bit offset (from the start of the
+/// stream) of the command being decoded, and what is wrong.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StreamError {
+    /// Bit offset of the start of the command (its header) in the stream.
+    pub bit: u64,
+    /// What is wrong, as one sentence.
+    pub problem: String,
+}
+
+/// Reading ran past the end of the stream (the caller adds the command's offset).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct PastEnd;
+
+/// Fast reader: a 64-bit left-aligned buffer refilled one big-endian 32-bit
+/// word at a time, as Java does, two words when there is room.
+pub(crate) struct WordReader<'a> {
+    bytes: &'a [u8],
+    /// Next byte to load into `buf`.
+    next: usize,
+    /// Unread bits, left-aligned.
+    buf: u64,
+    /// Number of valid bits in `buf`.
+    count: u32,
+}
+
+impl<'a> WordReader<'a> {
+    /// A reader over `bytes`, whose length must be a multiple of 4 (checked by the caller).
+    pub(crate) fn new(bytes: &'a [u8]) -> Self {
+        WordReader { bytes, next: 0, buf: 0, count: 0 }
+    }
+
+    #[inline(always)]
+    fn refill(&mut self) {
+        while self.count <= 32 {
+            let Some(word) = self.bytes.get(self.next..self.next + 4) else { return };
+            let w = u32::from_be_bytes([word[0], word[1], word[2], word[3]]);
+            self.buf |= u64::from(w) << (32 - self.count);
+            self.count += 32;
+            self.next += 4;
+        }
+    }
+
+    /// The next `n` bits (`n <= 32`) as an unsigned number.
+    #[inline(always)]
+    pub(crate) fn read(&mut self, n: u32) -> Result<u32, PastEnd> {
+        if n == 0 {
+            return Ok(0);
+        }
+        if self.count < n {
+            self.refill();
+            if self.count < n {
+                return Err(PastEnd);
+            }
+        }
+        let v = (self.buf >> (64 - n)) as u32;
+        self.buf <<= n;
+        self.count -= n;
+        Ok(v)
+    }
+
+    /// The next `n` bits (`n <= 64`).
+    #[inline(always)]
+    pub(crate) fn read_long(&mut self, n: u32) -> Result<u64, PastEnd> {
+        if n <= 32 {
+            return self.read(n).map(u64::from);
+        }
+        let hi = self.read(n - 32)?;
+        let lo = self.read(32)?;
+        Ok((u64::from(hi) << 32) | u64::from(lo))
+    }
+
+    /// Every bit has been read.
+    #[inline(always)]
+    pub(crate) fn at_end(&self) -> bool {
+        self.count == 0 && self.next >= self.bytes.len()
+    }
+
+    /// Bits read so far.
+    #[inline(always)]
+    pub(crate) fn position(&self) -> u64 {
+        self.next as u64 * 8 - u64::from(self.count)
+    }
+}
+
+/// Slow reader for the reference decoder: one bit at a time, no buffer.
+pub(crate) struct BitByBit<'a> {
+    bytes: &'a [u8],
+    /// Next bit to read.
+    bit: u64,
+}
+
+impl<'a> BitByBit<'a> {
+    pub(crate) fn new(bytes: &'a [u8]) -> Self {
+        BitByBit { bytes, bit: 0 }
+    }
+
+    /// The next `n` bits, most significant first.
+    pub(crate) fn read(&mut self, n: u32) -> Result<u64, PastEnd> {
+        let mut v = 0u64;
+        for _ in 0..n {
+            let byte = usize::try_from(self.bit / 8).map_err(|_| PastEnd)?;
+            let b = self.bytes.get(byte).ok_or(PastEnd)?;
+            v = (v << 1) | u64::from((b >> (7 - self.bit % 8)) & 1);
+            self.bit += 1;
+        }
+        Ok(v)
+    }
+
+    pub(crate) fn at_end(&self) -> bool {
+        self.bit >= self.bytes.len() as u64 * 8
+    }
+
+    pub(crate) fn position(&self) -> u64 {
+        self.bit
+    }
+}
+
+/// MSB-first bit writer.
+#[derive(Default)]
+pub(crate) struct BitWriter {
+    bytes: Vec<u8>,
+    /// Bits written so far.
+    len: u64,
+}
+
+impl BitWriter {
+    /// Append the low `n` bits of `value` (`n <= 64`), most significant first.
+    pub(crate) fn write(&mut self, value: u64, n: u32) {
+        for i in (0..n).rev() {
+            let bit = ((value >> i) & 1) as u8;
+            let used = (self.len % 8) as u32;
+            if used == 0 {
+                self.bytes.push(0);
+            }
+            if bit != 0 {
+                if let Some(last) = self.bytes.last_mut() {
+                    *last |= 0x80 >> used;
+                }
+            }
+            self.len += 1;
+        }
+    }
+
+    /// Bits written so far.
+    pub(crate) fn bit_len(&self) -> u64 {
+        self.len
+    }
+
+    pub(crate) fn into_bytes(self) -> Vec<u8> {
+        self.bytes
+    }
+}
+
+/// The low `n` bits set (`n <= 64`).
+#[inline(always)]
+pub(crate) fn mask(n: u32) -> u64 {
+    if n >= 64 {
+        u64::MAX
+    } else {
+        (1u64 << n) - 1
+    }
+}
+
+/// `v`'s low `n` bits as a two's-complement number (0 when `n == 0`).
+#[inline(always)]
+pub(crate) fn sign_extend(v: u64, n: u32) -> i32 {
+    if n == 0 {
+        return 0;
+    }
+    let shift = 64 - n;
+    (((v << shift) as i64) >> shift) as i32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn readers_agree_with_writer() {
+        let mut w = BitWriter::default();
+        let fields: Vec<(u64, u32)> =
+            (0..200u64).map(|i| ((i * 2654435761) & mask((i % 33) as u32), (i % 33) as u32)).collect();
+        for &(v, n) in &fields {
+            w.write(v, n);
+        }
+        while w.bit_len() % 32 != 0 {
+            w.write(0, 1);
+        }
+        let bytes = w.into_bytes();
+        let mut fast = WordReader::new(&bytes);
+        let mut slow = BitByBit::new(&bytes);
+        for &(v, n) in &fields {
+            assert_eq!(u64::from(fast.read(n).unwrap()), v);
+            assert_eq!(slow.read(n).unwrap(), v);
+            assert_eq!(fast.position(), slow.position());
+        }
+    }
+
+    #[test]
+    fn past_end_is_an_error() {
+        let bytes = [0xAB, 0xCD, 0xEF, 0x01];
+        let mut r = WordReader::new(&bytes);
+        assert_eq!(r.read(16).unwrap(), 0xABCD);
+        assert_eq!(r.read(17), Err(PastEnd));
+        let mut s = BitByBit::new(&bytes);
+        assert_eq!(s.read(16).unwrap(), 0xABCD);
+        assert_eq!(s.read(17), Err(PastEnd));
+    }
+
+    #[test]
+    fn sign_extension() {
+        assert_eq!(sign_extend(0b111, 3), -1);
+        assert_eq!(sign_extend(0b011, 3), 3);
+        assert_eq!(sign_extend(0x8000, 16), -32768);
+        assert_eq!(sign_extend(5, 0), 0);
+    }
+}

@@ -1,0 +1,223 @@
+//! The fast decoder: a 64-bit word-refilled bit reader and Java 3D's
+//! 64-entry table lookup per header. Command by command it does what
+//! `GeometryDecompressor.processDecompression` does (see
+//! `/work/notes/issue6-research.md` §1–§6 and the module docs of
+//! [`super`]); [`super::reference`] is the slow twin the tests compare it with.
+//!
+//! Each body is read as one "logical" bit string: the header's 6 low bits
+//! followed by the body. For a vertex the 3 replace/push bits come first in
+//! the body when the tag and data fill the header, else they finish the
+//! header (Java's `processVertex` reads them before the rest of x/y/z).
+
+use super::bits::{mask, sign_extend, PastEnd, StreamError, WordReader};
+use super::normals::NormalCode;
+use super::state::{parse_set_table, Sink, State};
+
+/// Decode `bytes` command by command into `sink`.
+pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError> {
+    check_length(bytes)?;
+    let mut r = WordReader::new(bytes);
+    let mut st = State::new();
+    // The first header is an implicit V_NO_OP whose body (a 5-bit count) starts the stream.
+    let mut next: u32 = 0x01;
+    while !r.at_end() {
+        let at = r.position();
+        let err = |problem: String| StreamError { bit: at, problem };
+        let past = |_: PastEnd| StreamError { bit: at, problem: "the stream ends inside a command".into() };
+        let current = next;
+        if current & 0xC0 == 0x40 {
+            let (n, c) = (st.bundling_normal, st.bundling_color);
+            let first = if n || c { 6 } else { 8 };
+            let after = r.read(first).map_err(past)?;
+            let push = vertex(&mut r, &mut st, current).map_err(|e| e.at(at))?;
+            let mut pending = after;
+            if n {
+                let following = if c { r.read(6).map_err(past)? } else { r.read(8).map_err(past)? };
+                normal(&mut r, &mut st, pending, push).map_err(|e| e.at(at))?;
+                st.finish_normal(push, sink).map_err(err)?;
+                pending = following;
+            }
+            if c {
+                let following = r.read(8).map_err(past)?;
+                color(&mut r, &mut st, pending, push).map_err(|e| e.at(at))?;
+                st.finish_color(push, sink).map_err(err)?;
+                pending = following;
+            }
+            next = pending;
+            let replace = st_replace(&st);
+            st.output_vertex(replace, sink).map_err(err)?;
+            continue;
+        }
+        next = r.read(8).map_err(past)?;
+        match current {
+            h if h & 0xC0 == 0xC0 => {
+                normal(&mut r, &mut st, h, false).map_err(|e| e.at(at))?;
+                st.finish_normal(false, sink).map_err(err)?;
+            }
+            h if h & 0xC0 == 0x80 => {
+                color(&mut r, &mut st, h, false).map_err(|e| e.at(at))?;
+                st.finish_color(false, sink).map_err(err)?;
+            }
+            h if h & 0xE0 == 0x20 => {
+                let low = r.read(1).map_err(past)?;
+                let replace = (((h & 1) << 1) | low) as u8;
+                st.mesh_reference(((h >> 1) & 0xF) as usize).map_err(err)?;
+                st.output_vertex(replace, sink).map_err(err)?;
+            }
+            h if h & 0xF8 == 0x18 => {
+                let b = r.read(3).map_err(past)?;
+                st.set_state(h & 1 != 0, (b >> 2) & 1 != 0, (b >> 1) & 1 != 0, sink).map_err(err)?;
+            }
+            h if h & 0xF8 == 0x10 => {
+                let b = r.read(15).map_err(past)?;
+                let (t, first, count, entry) = parse_set_table(h, b);
+                let table = st.tables.get_mut(t).ok_or_else(|| err(no_table(t)))?;
+                for e in table.iter_mut().skip(first).take(count) {
+                    *e = entry;
+                }
+            }
+            0x08 => {
+                r.read(24).map_err(past)?;
+                r.read(32).map_err(past)?;
+            }
+            0x07 => {
+                r.read(8).map_err(past)?;
+            }
+            0x01 => {
+                let count = r.read(5).map_err(past)?;
+                r.read(count).map_err(past)?;
+            }
+            // EOS and the unassigned opcodes have no body.
+            _ => {}
+        }
+    }
+    st.finish(sink).map_err(|problem| StreamError { bit: r.position(), problem })
+}
+
+/// setTable names table 3: Java 3D indexes past its three tables.
+pub(crate) fn no_table(t: usize) -> String {
+    format!("setTable names table {t}; there are 3 (0 position, 1 colour, 2 normal)")
+}
+
+/// Java 3D's decoder refills 4 bytes at a time: any other length reads past the buffer.
+pub(crate) fn check_length(bytes: &[u8]) -> Result<(), StreamError> {
+    if bytes.len() % 4 != 0 {
+        return Err(StreamError {
+            bit: 0,
+            problem: format!("the stream is {} bytes long, not a whole number of 4-byte words", bytes.len()),
+        });
+    }
+    Ok(())
+}
+
+/// The replace code of the vertex just decoded (kept in the state's last
+/// push bits by [`vertex`]).
+fn st_replace(st: &State) -> u8 {
+    st.last_replace
+}
+
+/// An error inside a command body, before its offset is known.
+pub(crate) enum BodyError {
+    PastEnd,
+    Invalid(String),
+}
+
+impl BodyError {
+    pub(crate) fn at(self, bit: u64) -> StreamError {
+        match self {
+            BodyError::PastEnd => StreamError { bit, problem: "the stream ends inside a command".into() },
+            BodyError::Invalid(problem) => StreamError { bit, problem },
+        }
+    }
+}
+
+impl From<PastEnd> for BodyError {
+    fn from(_: PastEnd) -> Self {
+        BodyError::PastEnd
+    }
+}
+
+impl From<String> for BodyError {
+    fn from(s: String) -> Self {
+        BodyError::Invalid(s)
+    }
+}
+
+/// A vertex body: returns the mesh-buffer push bit.
+#[inline(always)]
+fn vertex(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyError> {
+    let e = st.tables[0][(header & 0x3F) as usize];
+    let d = e.sent_bits("position")?;
+    let tag = u32::from(e.tag_len);
+    let n = tag + 3 * d;
+    let head = u64::from(header) & mask(6 - tag);
+    let (rpm, bits) = if n >= 6 {
+        let rpm = r.read(3)?;
+        let rest = r.read_long(n - 6)?;
+        (rpm, (head << (n - 6)) | rest)
+    } else {
+        let in_header = 6 - n;
+        if in_header > 3 {
+            return Err(BodyError::Invalid(format!(
+                "position table entry of tag length {tag} and {d} bits per component leaves {in_header} bits of the header for the 3 replace/push bits"
+            )));
+        }
+        let rpm = ((u64::from(header) & mask(in_header)) << (3 - in_header)) as u32 | r.read(3 - in_header)?;
+        (rpm, head >> in_header)
+    };
+    let x = sign_extend(bits >> (2 * d), d) << e.shift;
+    let y = sign_extend(bits >> d, d) << e.shift;
+    let z = sign_extend(bits, d) << e.shift;
+    let push = rpm & 1 != 0;
+    st.last_replace = (rpm >> 1) as u8;
+    st.apply_position(e.absolute, [x, y, z], push);
+    Ok(push)
+}
+
+/// A colour body (header's 6 low bits + body).
+#[inline(always)]
+fn color(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
+    let e = st.tables[1][(header & 0x3F) as usize];
+    let d = e.sent_bits("colour")?;
+    let tag = u32::from(e.tag_len);
+    let n = tag + 3 * d;
+    let head = u64::from(header) & mask(6 - tag);
+    let bits = if n >= 6 { (head << (n - 6)) | r.read_long(n - 6)? } else { head >> (6 - n) };
+    // Alpha follows the body; when r, g, b leave room for it inside the
+    // header, Java 3D's processSetColor masks it to 0 (a bug kept on purpose:
+    // Java decides what such streams mean).
+    let a = if st.doing_alpha && n >= 6 { r.read(d)? } else { 0 };
+    let s = e.shift;
+    let values = [
+        sign_extend(bits >> (2 * d), d) << s,
+        sign_extend(bits >> d, d) << s,
+        sign_extend(bits, d) << s,
+        sign_extend(u64::from(a), d) << s,
+    ];
+    st.apply_color(e.absolute, values);
+    let _ = push;
+    Ok(())
+}
+
+/// A normal body (header's 6 low bits + body).
+#[inline(always)]
+fn normal(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
+    let e = st.tables[2][(header & 0x3F) as usize];
+    let d = e.sent_bits("normal")?;
+    let tag = u32::from(e.tag_len);
+    let head = u64::from(header) & mask(6 - tag);
+    if e.absolute {
+        let index = (head << tag) as u32 | r.read(tag)?;
+        let u = (r.read(d)? as i32) << e.shift;
+        let v = (r.read(d)? as i32) << e.shift;
+        st.set_normal_code(NormalCode { sextant: ((index >> 3) & 7) as u8, octant: (index & 7) as u8, u, v })?;
+    } else {
+        let n = tag + 2 * d;
+        let bits = if n >= 6 { (head << (n - 6)) | r.read_long(n - 6)? } else { head >> (6 - n) };
+        let du = sign_extend(bits >> d, d) << e.shift;
+        let dv = sign_extend(bits, d) << e.shift;
+        st.add_normal_delta(du, dv)?;
+    }
+    let _ = push;
+    Ok(())
+}

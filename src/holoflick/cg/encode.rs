@@ -1,0 +1,456 @@
+//! The encoder: quantize, dedupe vertices, meshify, build the three tables
+//! from the data, write the commands with header forwarding and pad to a
+//! multiple of 8 bytes as Java 3D's `CommandStream.end` does.
+//!
+//! Quantization rounds to the nearest step (Java 3D's compressor truncates),
+//! so decoded values are within half a step: positions within 2^-bits of the
+//! normalised frame, colours within 2^-bits (after clamping to what
+//! `bits` can hold, see [`EncodeOptions`]), normals within
+//! [`super::normal_error_bound_rad`].
+
+use super::bits::BitWriter;
+use super::huffman::{canonical_tags, limited_lengths, TableEntry};
+use super::meshify::{meshify, Step};
+use super::normals::{quantize_normal, NormalCode};
+use super::CgHeader;
+use crate::{Error, Result};
+use std::collections::HashMap;
+
+/// An indexed triangle mesh to encode.
+#[derive(Clone, Copy, Debug)]
+pub struct Mesh<'a> {
+    /// Vertex positions in model units, any range.
+    pub positions: &'a [[f64; 3]],
+    /// Per-vertex normals (any non-zero length), or none.
+    pub normals: Option<&'a [[f32; 3]]>,
+    /// Per-vertex linear RGBA colours in [0, 1] (alpha sent only when
+    /// [`EncodeOptions::alpha`]), or none.
+    pub colors: Option<&'a [[f32; 4]]>,
+    /// Triangles as vertex indices, counter-clockwise from the front.
+    pub triangles: &'a [[u32; 3]],
+}
+
+/// Quantization knobs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EncodeOptions {
+    /// Bits per position component, 1..=16 (Java 3D default 16): the
+    /// normalised frame [-1, 1) is cut into 2^bits steps.
+    pub position_bits: u32,
+    /// Bits per colour component, 2..=16 (Java 3D default 9): the top bits
+    /// of a signed 16-bit value, so [0, 1) gets 2^(bits-1) steps and values
+    /// above 1 − 2^(1-bits) are clamped there.
+    pub color_bits: u32,
+    /// Bits per normal grid coordinate u and v, 0..=6 (Java 3D default 6).
+    pub normal_bits: u32,
+    /// Send colour alpha (RGBA; Java 3D's compressor always does for colour arrays).
+    pub alpha: bool,
+}
+
+impl Default for EncodeOptions {
+    fn default() -> Self {
+        EncodeOptions { position_bits: 16, color_bits: 9, normal_bits: 6, alpha: true }
+    }
+}
+
+/// What encoding produced.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EncodeStats {
+    /// Stream length in bytes.
+    pub bytes: usize,
+    /// Triangles encoded.
+    pub triangles: usize,
+    /// Distinct quantized vertices.
+    pub unique_vertices: usize,
+    /// Vertex commands sending data.
+    pub vertices_sent: usize,
+    /// Mesh-buffer references.
+    pub mesh_buffer_hits: usize,
+}
+
+/// An encoded stream with the header Java 3D needs and the map back to model space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Encoded {
+    /// The header to store beside the stream (or in a `.cg` file).
+    pub header: CgHeader,
+    /// The command stream, a multiple of 8 bytes long.
+    pub bytes: Vec<u8>,
+    /// Model-space centre of the bounds (model units).
+    pub center: [f64; 3],
+    /// Normalised units per model unit: `normalised = (model − center) × scale`,
+    /// so `model = normalised / scale + center`.
+    pub scale: f64,
+    /// Sizes and counts.
+    pub stats: EncodeStats,
+}
+
+fn usage(msg: String) -> Error {
+    Error::Usage(msg)
+}
+
+/// One vertex's stream integers.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+struct QVertex {
+    position: [i16; 3],
+    normal: Option<NormalCode>,
+    color: Option<[i16; 4]>,
+}
+
+/// Round `x` (in units of 1/32768) to a multiple of `step` within [lo, hi].
+fn round_to(x: f64, step: i32, lo: i32, hi: i32) -> i16 {
+    let q = (x / f64::from(step)).round() * f64::from(step);
+    let q = if q.is_finite() { q } else { 0.0 };
+    (q.clamp(f64::from(lo), f64::from(hi))) as i32 as i16
+}
+
+/// Two's-complement bits needed for `v` (0 for 0).
+fn signed_bits(v: i32) -> u32 {
+    if v == 0 {
+        0
+    } else if v > 0 {
+        33 - v.leading_zeros()
+    } else {
+        33 - (!v).leading_zeros()
+    }
+}
+
+fn unsigned_bits(v: u32) -> u32 {
+    32 - v.leading_zeros()
+}
+
+/// A Huffman symbol: (data bits sent per component, absolute).
+type Token = (u32, bool);
+
+/// A value set ready to write once its table is known.
+#[derive(Clone, Copy)]
+struct Coded {
+    token: Token,
+    /// Components in stream units (multiples of 2^base shift): absolute
+    /// values or deltas; unused components are 0.
+    values: [i32; 4],
+    /// Components sent.
+    comps: usize,
+    /// For absolute normals: the 6-bit sextant/octant index.
+    index: Option<u32>,
+}
+
+/// Code `v` (stream units, multiples of 2^`shift`) absolutely or as a delta
+/// from `last` (16-bit wrapping, as the decoder adds), whichever needs fewer bits.
+fn code_values(v: &[i32; 4], last: Option<[i32; 4]>, shift: u32, comps: usize) -> Coded {
+    let bits = |x: &[i32; 4]| x[..comps].iter().map(|&c| signed_bits(c >> shift)).max().unwrap_or(0);
+    let abs_bits = bits(v);
+    if let Some(l) = last {
+        let d = [0, 1, 2, 3].map(|k| v[k].wrapping_sub(l[k]) as i16 as i32);
+        let rel_bits = bits(&d);
+        if rel_bits <= abs_bits {
+            return Coded { token: (rel_bits, false), values: d, comps, index: None };
+        }
+    }
+    Coded { token: (abs_bits, true), values: *v, comps, index: None }
+}
+
+/// Code a normal: a delta (du, dv) within the same sextant and octant when
+/// that is shorter, else absolute (index, u, v).
+fn code_normal(n: NormalCode, last: Option<NormalCode>, shift: u32) -> Coded {
+    let abs_bits = unsigned_bits((n.u >> shift) as u32).max(unsigned_bits((n.v >> shift) as u32));
+    let index = (u32::from(n.sextant) << 3) | u32::from(n.octant);
+    let absolute = Coded { token: (abs_bits, true), values: [n.u, n.v, 0, 0], comps: 2, index: Some(index) };
+    match last {
+        Some(l) if l.sextant == n.sextant && l.octant == n.octant && n.sextant < 6 => {
+            let (du, dv) = (n.u - l.u, n.v - l.v);
+            let rel_bits = signed_bits(du >> shift).max(signed_bits(dv >> shift));
+            if 2 * rel_bits < 6 + 2 * abs_bits {
+                Coded { token: (rel_bits, false), values: [du, dv, 0, 0], comps: 2, index: None }
+            } else {
+                absolute
+            }
+        }
+        _ => absolute,
+    }
+}
+
+/// The bit string "tag [index] components" split into the 6 header bits
+/// and the rest (the table's expand rule makes it at least 6 bits long).
+fn split_header(e: TableEntry, c: &Coded) -> (u32, Vec<(u64, u32)>) {
+    let d = e.data_len - e.shift;
+    let mut w = BitWriter::default();
+    w.write(u64::from(e.tag), e.tag_len);
+    if let Some(i) = c.index {
+        w.write(u64::from(i), 6);
+    }
+    for &v in &c.values[..c.comps] {
+        w.write(((v >> e.shift) as i64 as u64) & super::bits::mask(d), d);
+    }
+    let total = w.bit_len() as u32;
+    let flat = w.into_bytes();
+    let mut r = super::bits::BitByBit::new(&flat);
+    let mut take = |n: u32| r.read(n).unwrap_or(0);
+    if total < 6 {
+        return ((take(total) << (6 - total)) as u32, Vec::new());
+    }
+    let h = take(6) as u32;
+    let mut rest = Vec::new();
+    let mut left = total - 6;
+    while left > 0 {
+        let n = left.min(32);
+        rest.push((take(n), n));
+        left -= n;
+    }
+    (h, rest)
+}
+
+/// Frequencies per token, then the table: tag per token and the (data
+/// length, shift) each token's entry gets after Java's "expand" rule
+/// (tag + components × sent bits ≥ 6, data length ≥ 1 where 0 would mean 16).
+struct Table {
+    id: u32,
+    shift: u32,
+    /// Components that share the header with the tag (3, or 2 for relative normals; 0: none).
+    components: fn(Token) -> u32,
+    counts: HashMap<Token, u64>,
+    entries: HashMap<Token, TableEntry>,
+}
+
+impl Table {
+    fn new(id: u32, shift: u32, components: fn(Token) -> u32) -> Self {
+        Table { id, shift, components, counts: HashMap::new(), entries: HashMap::new() }
+    }
+
+    fn count(&mut self, t: Token) {
+        *self.counts.entry(t).or_insert(0) += 1;
+    }
+
+    fn build(&mut self) {
+        let mut tokens: Vec<Token> = self.counts.keys().copied().collect();
+        tokens.sort();
+        let freqs: Vec<u64> = tokens.iter().map(|t| self.counts[t]).collect();
+        let lengths = limited_lengths(&freqs, 6);
+        let tags = canonical_tags(&lengths);
+        for (k, &t) in tokens.iter().enumerate() {
+            let tag_len = lengths[k];
+            let comps = (self.components)(t);
+            let (mut sent, mut shift) = (t.0, self.shift);
+            while (comps > 0 && tag_len + comps * sent < 6) || (self.id != 2 && sent + shift == 0) {
+                if shift > 0 {
+                    shift -= 1;
+                }
+                sent += 1;
+            }
+            self.entries.insert(t, TableEntry { tag: tags[k], tag_len, data_len: sent + shift, shift, absolute: t.1 });
+        }
+    }
+
+    fn entry(&self, t: Token) -> Result<TableEntry> {
+        self.entries.get(&t).copied().ok_or_else(internal)
+    }
+
+    fn commands(&self) -> Vec<(u32, u32)> {
+        let mut e: Vec<&TableEntry> = self.entries.values().collect();
+        e.sort_by_key(|e| (e.tag_len, e.tag));
+        e.iter().map(|e| e.command(self.id)).collect()
+    }
+}
+
+/// Commands with header forwarding: each header is written before the
+/// previous command's body (the first body is the implicit no-op's count).
+struct CommandWriter {
+    w: BitWriter,
+    pending: Vec<(u64, u32)>,
+}
+
+impl CommandWriter {
+    fn new() -> Self {
+        CommandWriter { w: BitWriter::default(), pending: vec![(0, 5)] }
+    }
+
+    fn add(&mut self, header: u32, header_len: u32, body: Vec<(u64, u32)>) {
+        self.w.write(u64::from(header), header_len);
+        for (v, n) in std::mem::replace(&mut self.pending, body) {
+            self.w.write(v, n);
+        }
+    }
+
+    /// Flush with variable no-ops so that the stream ends on a 64-bit
+    /// boundary right after a body (the decoder then stops; the last
+    /// header read is never executed).
+    fn finish(mut self) -> Vec<u8> {
+        // The no-op whose body (5-bit count + that many bits) pads.
+        self.add(0x01, 8, Vec::new());
+        loop {
+            let after = self.w.bit_len() + 8 + 5;
+            let need = ((64 - after % 64) % 64) as u32;
+            if need <= 31 {
+                self.w.write(0, 8);
+                self.w.write(u64::from(need), 5);
+                self.w.write(0, need);
+                break;
+            }
+            // Run one more no-op: its header, then the pending one's body.
+            self.w.write(0x01, 8);
+            let c = need - 32;
+            self.w.write(u64::from(c), 5);
+            self.w.write(0, c);
+        }
+        self.w.into_bytes()
+    }
+}
+
+/// Encode a triangle mesh into a compressed-geometry stream Java 3D 1.5.2
+/// decodes. Errors: options out of range, attribute arrays of the wrong
+/// length, indices out of range, non-finite positions.
+pub fn encode(mesh: &Mesh, options: &EncodeOptions) -> Result<Encoded> {
+    let o = options;
+    if !(1..=16).contains(&o.position_bits) || !(2..=16).contains(&o.color_bits) || o.normal_bits > 6 {
+        return Err(usage(format!(
+            "compressed geometry: bits must be position 1..=16, colour 2..=16, normal 0..=6 (got {}, {}, {})",
+            o.position_bits, o.color_bits, o.normal_bits
+        )));
+    }
+    let n = mesh.positions.len();
+    if mesh.normals.is_some_and(|a| a.len() != n) || mesh.colors.is_some_and(|a| a.len() != n) {
+        return Err(usage(format!("compressed geometry: {n} positions but normals or colours of another length")));
+    }
+    if n > u32::MAX as usize / 2 {
+        return Err(usage(format!("compressed geometry: {n} vertices is too many")));
+    }
+    if let Some(t) = mesh.triangles.iter().find(|t| t.iter().any(|&i| i as usize >= n)) {
+        return Err(usage(format!("compressed geometry: triangle {t:?} indexes past the {n} vertices")));
+    }
+    if mesh.positions.iter().any(|p| p.iter().any(|c| !c.is_finite())) {
+        return Err(usage("compressed geometry: a position is not finite".into()));
+    }
+    // Bounds, centre and scale as Java 3D's CompressionStream: the largest
+    // extent maps to ±(1 − 2^(1-bits)), one step inside the frame.
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in mesh.positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let (center, range) = if n == 0 {
+        ([0.0; 3], 0.0)
+    } else {
+        ([0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0), (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max))
+    };
+    let pos_step = 1i32 << (16 - o.position_bits);
+    let inside = 1.0 - f64::from(pos_step) / 32768.0;
+    let scale = if range > 0.0 { 2.0 / range * inside } else { 1.0 };
+    let col_step = 1i32 << (16 - o.color_bits);
+
+    // Quantize and merge vertices whose stream integers are equal.
+    let mut ids: HashMap<QVertex, u32> = HashMap::new();
+    let mut unique: Vec<QVertex> = Vec::new();
+    let mut remap = Vec::with_capacity(n);
+    for i in 0..n {
+        let p = mesh.positions[i];
+        let position =
+            [0, 1, 2].map(|k| round_to((p[k] - center[k]) * scale * 32768.0, pos_step, -32768, 32768 - pos_step));
+        let normal = mesh.normals.map(|a| quantize_normal(a[i], o.normal_bits));
+        let color = mesh.colors.map(|a| {
+            let c = a[i];
+            let q = |x: f32| round_to(f64::from(x) * 32768.0, col_step, 0, 32768 - col_step);
+            [q(c[0]), q(c[1]), q(c[2]), if o.alpha { q(c[3]) } else { 0 }]
+        });
+        let qv = QVertex { position, normal, color };
+        let id = *ids.entry(qv).or_insert_with(|| {
+            unique.push(qv);
+            (unique.len() - 1) as u32
+        });
+        remap.push(id);
+    }
+    let triangles: Vec<[u32; 3]> = mesh.triangles.iter().map(|t| t.map(|i| remap[i as usize])).collect();
+    let steps = meshify(&triangles, unique.len());
+
+    // Code every value set against the decoder's current state.
+    let has_n = mesh.normals.is_some();
+    let has_c = mesh.colors.is_some();
+    let pos_shift = 16 - o.position_bits;
+    let col_shift = 16 - o.color_bits;
+    let nor_shift = 6 - o.normal_bits;
+    let mut pos_table = Table::new(0, pos_shift, |_| 3);
+    let mut col_table = Table::new(1, col_shift, |_| 3);
+    let mut nor_table = Table::new(2, nor_shift, |t| if t.1 { 0 } else { 2 });
+    let mut coded: Vec<Option<(Coded, Option<Coded>, Option<Coded>)>> = Vec::with_capacity(steps.len());
+    let mut cur: Option<QVertex> = None;
+    let comps = if o.alpha { 4 } else { 3 };
+    let wide = |a: [i16; 3]| [i32::from(a[0]), i32::from(a[1]), i32::from(a[2]), 0];
+    for s in &steps {
+        match *s {
+            Step::Reference { vertex, .. } => {
+                cur = unique.get(vertex as usize).copied();
+                coded.push(None);
+            }
+            Step::Full { vertex, .. } => {
+                let Some(&v) = unique.get(vertex as usize) else { return Err(internal()) };
+                let p = code_values(&wide(v.position), cur.map(|c| wide(c.position)), pos_shift, 3);
+                pos_table.count(p.token);
+                let nc = v.normal.map(|nv| {
+                    let c = code_normal(nv, cur.and_then(|c| c.normal), nor_shift);
+                    nor_table.count(c.token);
+                    c
+                });
+                let cc = v.color.map(|cv| {
+                    let c = code_values(
+                        &cv.map(i32::from),
+                        cur.and_then(|c| c.color).map(|l| l.map(i32::from)),
+                        col_shift,
+                        comps,
+                    );
+                    col_table.count(c.token);
+                    c
+                });
+                cur = Some(v);
+                coded.push(Some((p, nc, cc)));
+            }
+        }
+    }
+    pos_table.build();
+    col_table.build();
+    nor_table.build();
+
+    let mut cw = CommandWriter::new();
+    // setState: header 00011xxn, body "c a 0".
+    cw.add(0x18 | u32::from(has_n), 8, vec![((u64::from(has_c) << 2) | (u64::from(has_c && o.alpha) << 1), 3)]);
+    for t in [&pos_table, &col_table, &nor_table] {
+        for (h, b) in t.commands() {
+            cw.add(h, 8, vec![(u64::from(b), 15)]);
+        }
+    }
+    let mut stats =
+        EncodeStats { triangles: mesh.triangles.len(), unique_vertices: unique.len(), ..EncodeStats::default() };
+    for (s, c) in steps.iter().zip(&coded) {
+        match (*s, c) {
+            (Step::Reference { depth, replace, .. }, _) => {
+                stats.mesh_buffer_hits += 1;
+                let h = 0x20 | (u32::from(depth & 15) << 1) | u32::from(replace >> 1);
+                cw.add(h, 8, vec![(u64::from(replace & 1), 1)]);
+            }
+            (Step::Full { replace, push, .. }, Some((p, nc, cc))) => {
+                stats.vertices_sent += 1;
+                let rpm = (u64::from(replace) << 1) | u64::from(push);
+                let (h6, rest) = split_header(pos_table.entry(p.token)?, p);
+                let mut body = vec![(rpm, 3)];
+                body.extend(rest);
+                cw.add(0x40 | h6, 8, body);
+                if let Some(nc) = nc {
+                    let (h6, rest) = split_header(nor_table.entry(nc.token)?, nc);
+                    cw.add(h6, 6, rest);
+                }
+                if let Some(cc) = cc {
+                    let (h6, rest) = split_header(col_table.entry(cc.token)?, cc);
+                    cw.add(h6, 6, rest);
+                }
+            }
+            (Step::Full { .. }, None) => return Err(internal()),
+        }
+    }
+    let bytes = cw.finish();
+    stats.bytes = bytes.len();
+    let header = CgHeader::triangles(has_n, has_c, has_c && o.alpha);
+    Ok(Encoded { header, bytes, center, scale, stats })
+}
+
+fn internal() -> Error {
+    Error::Usage("compressed geometry encoder: inconsistent internal state (a bug)".into())
+}

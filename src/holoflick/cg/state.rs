@@ -1,0 +1,343 @@
+//! Decoder state shared by the fast and the reference decoders: Huffman
+//! table entries, the current position/colour/normal, the 16-entry mesh
+//! buffer, and the "back end" that turns decoder output into vertices the
+//! way Java 3D's `GeometryDecompressorShape3D` does (vertex formats,
+//! global colour and normal, where a new vertex list starts).
+
+use super::normals::{index_normal, NormalCode};
+use super::{QuantizedVertex, Vertex};
+
+/// One entry of a decompression table (`HuffmanTableEntry` in Java 3D).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Entry {
+    /// Tag length in bits, 0..=6.
+    pub tag_len: u8,
+    /// Data length before the right shift: 1..=16 for positions and colours, 0..=15 for normals.
+    pub data_len: u8,
+    /// Left shift applied to each decoded component.
+    pub shift: u8,
+    /// Absolute (replace) rather than relative (add).
+    pub absolute: bool,
+}
+
+impl Entry {
+    /// Bits sent per component, or an error when the shift exceeds the length
+    /// (Java 3D would call `getBits` with a negative count and fail).
+    pub(crate) fn sent_bits(&self, table: &str) -> Result<u32, String> {
+        if self.shift > self.data_len {
+            return Err(format!(
+                "{table} table entry shifts by {} bits, more than its data length {}",
+                self.shift, self.data_len
+            ));
+        }
+        Ok(u32::from(self.data_len - self.shift))
+    }
+}
+
+/// The fields of a setTable command: which table, the entries it fills, and the entry.
+pub(crate) fn parse_set_table(header: u32, body: u32) -> (usize, usize, usize, Entry) {
+    let table = ((header & 0x6) >> 1) as usize;
+    let adr = ((header & 1) << 6) | ((body >> 9) & 0x3F);
+    let mut data_len = ((body >> 5) & 0xF) as u8;
+    if data_len == 0 && table != 2 {
+        data_len = 16;
+    }
+    let shift = (body & 0xF) as u8;
+    let absolute = (body >> 4) & 1 != 0;
+    // Tag length = position of the leading 1 of the 7-bit address (0 for adr 0 or 1).
+    let mut tag_len = 6u32;
+    while tag_len > 0 && (adr >> tag_len) == 0 {
+        tag_len -= 1;
+    }
+    let first = ((adr << (6 - tag_len)) & 0x3F) as usize;
+    let count = 1usize << (6 - tag_len);
+    (table, first, count, Entry { tag_len: tag_len as u8, data_len, shift, absolute })
+}
+
+/// One mesh-buffer slot (Java 3D `MeshBufferEntry`: all shorts).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct MeshEntry {
+    pub position: [i16; 3],
+    pub normal: [i16; 4],
+    pub color: [i16; 4],
+}
+
+/// Where vertices go: implemented by the triangle assemblers.
+pub(crate) trait Sink {
+    /// A vertex with its generalized-strip replace code (0..=3).
+    fn vertex(&mut self, q: &QuantizedVertex, v: &Vertex, replace: u8) -> Result<(), String>;
+    /// The current vertex list ends (Java 3D builds a Shape3D from it).
+    fn end_list(&mut self) -> Result<(), String>;
+}
+
+/// Everything a decoder carries between commands.
+pub(crate) struct State {
+    pub tables: [[Entry; 64]; 3],
+    pub position: [i16; 3],
+    pub color: [i16; 4],
+    pub normal: NormalCode,
+    pub normal_f: [f32; 3],
+    pub mesh: [MeshEntry; 16],
+    /// Slot of the most recent push (Java starts at 15 so the first push lands in 0).
+    pub mesh_index: usize,
+    /// Pushes so far, capped at 16: references deeper than this are refused.
+    pub pushes: usize,
+    /// Java's `meshState`: may a mesh-buffer reference take the slot's normal / colour.
+    pub use_mesh_normal: bool,
+    pub use_mesh_color: bool,
+    pub bundling_normal: bool,
+    pub bundling_color: bool,
+    pub doing_alpha: bool,
+    /// Back end: a setState has been seen (Java's vertex list exists).
+    pub list_open: bool,
+    pub list_vertices: u64,
+    pub format_normals: bool,
+    pub global_normal: Option<(NormalCode, [f32; 3])>,
+    pub global_color: Option<[i16; 4]>,
+    /// Replace code of the vertex being decoded.
+    pub last_replace: u8,
+}
+
+impl State {
+    pub(crate) fn new() -> Self {
+        State {
+            tables: [[Entry::default(); 64]; 3],
+            position: [0; 3],
+            color: [0; 4],
+            normal: NormalCode::default(),
+            normal_f: [0.0; 3],
+            mesh: [MeshEntry::default(); 16],
+            mesh_index: 15,
+            pushes: 0,
+            use_mesh_normal: false,
+            use_mesh_color: false,
+            bundling_normal: false,
+            bundling_color: false,
+            doing_alpha: false,
+            list_open: false,
+            list_vertices: 0,
+            format_normals: false,
+            global_normal: None,
+            global_color: None,
+            last_replace: 0,
+        }
+    }
+
+    /// setState: new bundling flags, and (back end) a new vertex list.
+    pub(crate) fn set_state(
+        &mut self,
+        normals: bool,
+        colors: bool,
+        alpha: bool,
+        sink: &mut impl Sink,
+    ) -> Result<(), String> {
+        self.bundling_normal = normals;
+        self.bundling_color = colors;
+        self.doing_alpha = alpha;
+        if self.list_open {
+            sink.end_list()?;
+        }
+        self.list_open = true;
+        self.list_vertices = 0;
+        self.format_normals = normals;
+        Ok(())
+    }
+
+    /// Set the current normal's code, computing its float value as Java does.
+    pub(crate) fn set_normal_code(&mut self, code: NormalCode) -> Result<(), String> {
+        self.normal = code;
+        self.normal_f = index_normal(code)
+            .ok_or_else(|| format!("normal (u, v) = ({}, {}) lies outside the 64-step grid", code.u, code.v))?;
+        Ok(())
+    }
+
+    /// Apply a relative normal change with Java 3D's wrap rules
+    /// (`GeometryDecompressor.processSetNormal`): one reflection across the
+    /// edge the delta crossed, changing sextant or octant.
+    pub(crate) fn add_normal_delta(&mut self, du: i32, dv: i32) -> Result<(), String> {
+        let mut c = self.normal;
+        c.u = c.u.wrapping_add(du);
+        c.v = c.v.wrapping_add(dv);
+        if !(c.u >= 0 && c.v >= 0 && c.u.wrapping_add(c.v) <= 64) {
+            if c.u < 0 && c.v >= 0 {
+                c.u = c.u.wrapping_neg();
+                c.sextant = match c.sextant {
+                    0 => 4,
+                    1 => 5,
+                    2 => 3,
+                    3 => 2,
+                    4 => 0,
+                    5 => 1,
+                    s => s,
+                };
+            } else if c.u >= 0 && c.v < 0 {
+                c.v = c.v.wrapping_neg();
+                c.octant ^= match c.sextant {
+                    1 | 5 => 4,
+                    0 | 4 => 2,
+                    2 | 3 => 1,
+                    _ => 0,
+                };
+            } else if c.u.wrapping_add(c.v) > 64 {
+                c.u = 64i32.wrapping_sub(c.u);
+                c.v = 64i32.wrapping_sub(c.v);
+                c.sextant = match c.sextant {
+                    0 => 2,
+                    1 => 3,
+                    2 => 0,
+                    3 => 1,
+                    4 => 5,
+                    5 => 4,
+                    s => s,
+                };
+            } else {
+                return Err(format!("relative normal change ({du}, {dv}) leaves both u and v negative"));
+            }
+        }
+        self.set_normal_code(c)
+    }
+
+    /// After a setNormal body: mesh push and (back end) global normal.
+    pub(crate) fn finish_normal(&mut self, push: bool, sink: &mut impl Sink) -> Result<(), String> {
+        self.use_mesh_normal = false;
+        if push {
+            let n = self.normal;
+            // Java stores shorts.
+            self.mesh[self.mesh_index].normal = [n.sextant as i16, n.octant as i16, n.u as i16, n.v as i16];
+        }
+        if !self.bundling_normal {
+            if !self.list_open {
+                return Err("a global normal comes before any setState command".into());
+            }
+            if !self.format_normals {
+                if self.list_vertices > 0 {
+                    sink.end_list()?;
+                    self.list_vertices = 0;
+                }
+                self.format_normals = true;
+            }
+            self.global_normal = Some((self.normal, self.normal_f));
+        }
+        Ok(())
+    }
+
+    /// After a setColor body: mesh push and (back end) global colour.
+    pub(crate) fn finish_color(&mut self, push: bool, sink: &mut impl Sink) -> Result<(), String> {
+        self.use_mesh_color = false;
+        if push {
+            self.mesh[self.mesh_index].color = self.color;
+        }
+        if !self.bundling_color {
+            if !self.list_open {
+                return Err("a global colour comes before any setState command".into());
+            }
+            if self.list_vertices > 0 {
+                sink.end_list()?;
+                self.list_vertices = 0;
+            }
+            self.global_color = Some(self.color);
+        }
+        Ok(())
+    }
+
+    /// Apply a colour body's components (`values` already shifted).
+    pub(crate) fn apply_color(&mut self, absolute: bool, values: [i32; 4]) {
+        for k in 0..3 {
+            let d = values[k] as i16;
+            self.color[k] = if absolute { d } else { self.color[k].wrapping_add(d) };
+        }
+        if self.doing_alpha {
+            let d = values[3] as i16;
+            self.color[3] = if absolute { d } else { self.color[3].wrapping_add(d) };
+        }
+    }
+
+    /// Apply a position body's components, then the optional push.
+    pub(crate) fn apply_position(&mut self, absolute: bool, values: [i32; 3], push: bool) {
+        for k in 0..3 {
+            let d = values[k] as i16;
+            self.position[k] = if absolute { d } else { self.position[k].wrapping_add(d) };
+        }
+        if push {
+            self.mesh_index = (self.mesh_index + 1) & 15;
+            self.pushes = (self.pushes + 1).min(16);
+            self.mesh[self.mesh_index].position = self.position;
+        }
+    }
+
+    /// A mesh-buffer reference `depth` pushes back (0 = most recent).
+    pub(crate) fn mesh_reference(&mut self, depth: usize) -> Result<(), String> {
+        if depth >= self.pushes {
+            return Err(format!("mesh-buffer reference {depth} but only {} vertices have been pushed", self.pushes));
+        }
+        let entry = self.mesh[(self.mesh_index + 16 - depth) & 15];
+        self.position = entry.position;
+        if self.bundling_normal && self.use_mesh_normal {
+            let n = entry.normal;
+            let code =
+                NormalCode { sextant: n[0] as u8 & 7, octant: n[1] as u8 & 7, u: i32::from(n[2]), v: i32::from(n[3]) };
+            self.set_normal_code(code)?;
+        }
+        if self.bundling_color && self.use_mesh_color {
+            self.color[0] = entry.color[0];
+            self.color[1] = entry.color[1];
+            self.color[2] = entry.color[2];
+            if self.doing_alpha {
+                self.color[3] = entry.color[3];
+            }
+        }
+        Ok(())
+    }
+
+    /// Output the current vertex (after a vertex command or a mesh-buffer reference).
+    #[inline]
+    pub(crate) fn output_vertex(&mut self, replace: u8, sink: &mut impl Sink) -> Result<(), String> {
+        if !self.list_open {
+            return Err("a vertex comes before any setState command".into());
+        }
+        self.use_mesh_normal = true;
+        self.use_mesh_color = true;
+        self.list_vertices += 1;
+        let p = self.position;
+        let (qn, fnormal) = if self.format_normals {
+            match self.global_normal {
+                Some((c, f)) => (Some(c), Some(f)),
+                None => (Some(self.normal), Some(self.normal_f)),
+            }
+        } else {
+            (None, None)
+        };
+        let alpha = |c: [i16; 4], doing_alpha: bool| if doing_alpha { f32::from(c[3]) / 32768.0 } else { 1.0 };
+        let (qc, fc) = if self.bundling_color {
+            let c = self.color;
+            (
+                Some(c),
+                Some([
+                    f32::from(c[0]) / 32768.0,
+                    f32::from(c[1]) / 32768.0,
+                    f32::from(c[2]) / 32768.0,
+                    alpha(c, self.doing_alpha),
+                ]),
+            )
+        } else if let Some(c) = self.global_color {
+            (Some(c), Some([f32::from(c[0]) / 32768.0, f32::from(c[1]) / 32768.0, f32::from(c[2]) / 32768.0, 1.0]))
+        } else {
+            (None, None)
+        };
+        let q = QuantizedVertex { position: p, normal: qn, color: qc };
+        let v = Vertex {
+            position: [f32::from(p[0]) / 32768.0, f32::from(p[1]) / 32768.0, f32::from(p[2]) / 32768.0],
+            normal: fnormal,
+            color: fc,
+        };
+        sink.vertex(&q, &v, replace)
+    }
+
+    /// The end of the stream: the back end builds its last Shape3D.
+    pub(crate) fn finish(&mut self, sink: &mut impl Sink) -> Result<(), String> {
+        if self.list_open {
+            sink.end_list()?;
+        }
+        Ok(())
+    }
+}
