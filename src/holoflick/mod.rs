@@ -10,3 +10,4 @@
 
 pub mod cg;
 pub mod container;
+pub mod objects;

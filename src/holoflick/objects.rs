@@ -1,0 +1,166 @@
+//! Mesh objects in and out of HoloFlick geometry objects: what `pack`,
+//! `unpack` and the converters share.
+//!
+//! In: an object's triangles (world metres, per-vertex normals and linear
+//! colours) are compressed ([`super::cg::encode`]) in the stream's
+//! normalised frame; the transform back to world metres and the colours'
+//! scale travel beside the block (spec/holoflick.md §6.4). Out: a block is
+//! decoded and mapped back: positions by `world_from_object`, normals by its
+//! inverse transpose, colours times `radiance_scale`.
+
+use std::collections::HashMap;
+
+use super::cg::{self, BlockKind, CgHeader, EncodeOptions, EncodeStats};
+use super::container::{Descriptor, GeometryBlock, GeometryObject, Matrix4, Primitive};
+use crate::mesh::dice::with_flat_normals;
+use crate::mesh::{Material, Object};
+use crate::{Error, Result};
+
+/// Compress one mesh object as geometry object `id`. Objects without
+/// normals are shaded flat (one vertex per corner, the face normal); colours
+/// above 1 (radiance) are scaled into the stream's range, the scale kept in
+/// `radiance_scale`. Without colours the block carries none (the material's
+/// base colour is not baked in: that is a converter's choice).
+pub fn encode_object(id: u32, o: &Object, options: &EncodeOptions) -> Result<(GeometryObject, EncodeStats)> {
+    let o = with_flat_normals(o);
+    let named = |e: Error| match e {
+        Error::Usage(m) => Error::Usage(format!("object \"{}\": {m}", o.name)),
+        other => other,
+    };
+    // The largest colour the stream holds: 1 − 2^(1 − bits) (the top bits of
+    // an s.15 value). Scale so the brightest component lands there.
+    let top = 1.0 - 2f64.powi(1 - options.color_bits.clamp(2, 16) as i32);
+    let brightest = o.colours.iter().flat_map(|c| c[..3].iter()).fold(0.0f32, |a, &b| a.max(b)) as f64;
+    if !brightest.is_finite() {
+        return Err(Error::Usage(format!("object \"{}\": a vertex colour is not finite", o.name)));
+    }
+    let radiance_scale = if brightest > top { brightest / top } else { 1.0 };
+    let colours: Vec<[f32; 4]> = o
+        .colours
+        .iter()
+        .map(|c| [c[0], c[1], c[2]].map(|x| (x as f64 / radiance_scale).max(0.0) as f32))
+        .zip(&o.colours)
+        .map(|(rgb, c)| [rgb[0], rgb[1], rgb[2], c[3].clamp(0.0, 1.0)])
+        .collect();
+    let mesh = cg::Mesh {
+        positions: &o.positions,
+        normals: (!o.normals.is_empty()).then_some(&o.normals[..]),
+        colors: (!colours.is_empty()).then_some(&colours[..]),
+        triangles: &o.triangles,
+    };
+    let encoded = cg::encode(&mesh, options).map_err(named)?;
+    let descriptor = Descriptor {
+        primitive: Primitive::Triangle,
+        normals: encoded.header.normals,
+        colours: encoded.header.colors,
+        alpha: encoded.header.alpha,
+    };
+    let block = GeometryBlock::new(descriptor, &encoded.bytes)
+        .map_err(|m| Error::Usage(format!("object \"{}\": {m}", o.name)))?;
+    let s = 1.0 / encoded.scale;
+    let c = encoded.center;
+    let world_from_object = [[s, 0.0, 0.0, c[0]], [0.0, s, 0.0, c[1]], [0.0, 0.0, s, c[2]], [0.0, 0.0, 0.0, 1.0]];
+    Ok((GeometryObject { id, world_from_object, radiance_scale, block }, encoded.stats))
+}
+
+/// The stream header of a container block (format version 1.0.2).
+pub fn block_header(descriptor: Descriptor) -> CgHeader {
+    let kind = match descriptor.primitive {
+        Primitive::Point => BlockKind::Points,
+        Primitive::Line => BlockKind::Lines,
+        Primitive::Triangle => BlockKind::Triangles,
+    };
+    CgHeader {
+        kind,
+        normals: descriptor.normals,
+        colors: descriptor.colours,
+        alpha: descriptor.alpha,
+        version: [1, 0, 2],
+    }
+}
+
+/// Decode a block and map it to world space as a mesh object named `name`
+/// (triangles only; identical decoded vertices shared). The material is
+/// pre-lit ([`Material::prelit`]): the colours are the light the geometry
+/// shader baked. Points and lines are skipped (counted in the second value).
+pub fn decode_object(
+    name: &str,
+    block: &GeometryBlock,
+    world_from_object: &Matrix4,
+    radiance_scale: f64,
+) -> Result<(Object, usize)> {
+    let header = block_header(block.descriptor());
+    let decoded = cg::decode(&header, block.stream()).map_err(|e| match e {
+        Error::Invalid { problem, .. } => Error::Usage(format!("object {name}: {problem}")),
+        other => other,
+    })?;
+    let m = world_from_object;
+    let normal_matrix = inverse_transpose_3x3(m)
+        .ok_or_else(|| Error::Usage(format!("object {name}: its transform cannot be inverted")))?;
+    let mut o = Object {
+        name: name.to_string(),
+        material: Material { name: name.to_string(), prelit: true, specular: [0.0; 3], ..Material::default() },
+        ..Object::default()
+    };
+    let mut index: HashMap<[u32; 10], u32> = HashMap::new();
+    for t in &decoded.triangles {
+        let mut tri = [0u32; 3];
+        for (k, v) in t.iter().enumerate() {
+            let n = v.normal.unwrap_or([0.0; 3]);
+            let c = v.color.unwrap_or([1.0; 4]);
+            let bits = [v.position, n, [c[0], c[1], c[2]]].concat();
+            let key: [u32; 10] = std::array::from_fn(|i| if i < 9 { bits[i].to_bits() } else { c[3].to_bits() });
+            tri[k] = *index.entry(key).or_insert_with(|| {
+                let p = v.position.map(f64::from);
+                o.positions.push(std::array::from_fn(|r| m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3]));
+                if let Some(n) = v.normal {
+                    let n = n.map(f64::from);
+                    let w: [f64; 3] = std::array::from_fn(|r| {
+                        normal_matrix[r][0] * n[0] + normal_matrix[r][1] * n[1] + normal_matrix[r][2] * n[2]
+                    });
+                    let l = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+                    o.normals.push(if l > 0.0 { w.map(|x| (x / l) as f32) } else { [0.0; 3] });
+                }
+                if let Some(c) = v.color {
+                    let s = radiance_scale as f32;
+                    o.colours.push([c[0] * s, c[1] * s, c[2] * s, c[3]]);
+                }
+                (o.positions.len() - 1) as u32
+            });
+        }
+        o.triangles.push(tri);
+    }
+    // A mirroring transform turns the winding (spec §6.4).
+    if determinant_3x3(m) < 0.0 {
+        o.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    }
+    // Decoded vertices may lack normals or colours in part of a block (a
+    // list without them): keep the lists whole or empty.
+    if o.normals.len() != o.positions.len() {
+        o.normals.clear();
+    }
+    if o.colours.len() != o.positions.len() {
+        o.colours.clear();
+    }
+    Ok((o, decoded.lines.len() + decoded.points.len()))
+}
+
+fn determinant_3x3(m: &Matrix4) -> f64 {
+    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+}
+
+/// `(M₃ₓ₃⁻¹)ᵀ`, which maps normals; `None` when singular.
+fn inverse_transpose_3x3(m: &Matrix4) -> Option<[[f64; 3]; 3]> {
+    let det = determinant_3x3(m);
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    // The cofactor matrix divided by the determinant is the inverse's transpose.
+    let c = |r0: usize, r1: usize, c0: usize, c1: usize| m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
+    Some([
+        [c(1, 2, 1, 2) / det, -c(1, 2, 0, 2) / det, c(1, 2, 0, 1) / det],
+        [-c(0, 2, 1, 2) / det, c(0, 2, 0, 2) / det, -c(0, 2, 0, 1) / det],
+        [c(0, 1, 1, 2) / det, -c(0, 1, 0, 2) / det, c(0, 1, 0, 1) / det],
+    ])
+}
