@@ -6,6 +6,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+
+mod holoflick;
 use holo::assemble::output::{assemble_file, AssembleOptions, FringeFormat, FRINGE_SIDECAR};
 use holo::cameras::quilt::{QuiltOptions, QuiltSpec};
 use holo::format::{Compression, SampleType, WriteOptions};
@@ -154,6 +156,9 @@ enum Command {
     /// Convert content into a .holo file.
     #[command(subcommand)]
     Convert(ConvertCommand),
+    /// HoloFlicks (.hflk) and Java 3D compressed geometry (.cg): info, pack, unpack.
+    #[command(subcommand)]
+    Holoflick(holoflick::HoloflickCommand),
     /// Assemble hologram fringes: one image per head (or colour layer) per
     /// frame, laid out as the layout's frame buffer expects.
     Assemble {
@@ -699,6 +704,7 @@ fn run(cli: Cli) -> Outcome {
             );
             Ok(ExitCode::SUCCESS)
         }
+        Command::Holoflick(command) => holoflick::run(command),
         Command::Layout { name, json } => {
             let layout = Layout::load(&name).map_err(|e| e.to_string())?;
             if json {

@@ -28,6 +28,9 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["check", "--help"],
         &["view", "--help"],
         &["export-quilt", "--help"],
+        &["holoflick", "pack", "--help"],
+        &["holoflick", "unpack", "--help"],
+        &["holoflick", "info", "--help"],
     ] {
         let o = holo(cmd, dir.path());
         assert_eq!(o.status.code(), Some(0), "{cmd:?}: {}", text(&o));
@@ -337,4 +340,32 @@ fn convert_cameras_reads_a_quilt_and_names_what_is_wrong() {
     let o = holo(&["convert", "cameras", "nothing-here", "--layout", "mark1", "-o", "x.holo"], d);
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o).contains("nothing-here"), "{}", text(&o));
+}
+
+#[test]
+fn holoflick_pack_info_unpack() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let spot = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/mesh/spot/spot.obj");
+    let spot = spot.to_str().unwrap();
+    let o = holo(&["holoflick", "pack", spot, spot, "-o", "cow.hflk", "--position-bits", "12"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("2 frames, 1 objects stored, 1 from key frames"), "{}", text(&o));
+    let o = holo(&["holoflick", "info", "cow.hflk"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("frame 1: 1 objects (1 from key frames), 500 triangles"), "{}", text(&o));
+    let o = holo(&["holoflick", "unpack", "cow.hflk", "--frame", "1", "-o", "cow.glb"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(d.join("cow.glb").exists());
+    let o = holo(&["holoflick", "pack", spot, "-o", "cow.cg"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("model = normalised"), "{}", text(&o));
+    let o = holo(&["holoflick", "info", "cow.cg"], d);
+    assert!(text(&o).contains("Java 3D compressed geometry 1.0.2, 1 objects"), "{}", text(&o));
+    // Errors name the file and exit 1; the couch must be six numbers (usage: 2).
+    let o = holo(&["holoflick", "unpack", "cow.hflk", "--frame", "5", "-o", "x.ply"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("cow.hflk") && text(&o).contains("no frame 5"), "{}", text(&o));
+    let o = holo(&["holoflick", "pack", spot, "-o", "y.hflk", "--couch", "1,2,3"], d);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
 }

@@ -11,3 +11,4 @@
 pub mod cg;
 pub mod container;
 pub mod objects;
+pub mod tools;

@@ -27,14 +27,15 @@ pub fn encode_object(id: u32, o: &Object, options: &EncodeOptions) -> Result<(Ge
         Error::Usage(m) => Error::Usage(format!("object \"{}\": {m}", o.name)),
         other => other,
     };
-    // The largest colour the stream holds: 1 − 2^(1 − bits) (the top bits of
-    // an s.15 value). Scale so the brightest component lands there.
+    // Colours up to 1 go as they are (the stream's largest, 1 − 2^(1 − bits),
+    // takes 1, as in Java 3D); brighter radiance is scaled so the brightest
+    // component lands on that largest value.
     let top = 1.0 - 2f64.powi(1 - options.color_bits.clamp(2, 16) as i32);
     let brightest = o.colours.iter().flat_map(|c| c[..3].iter()).fold(0.0f32, |a, &b| a.max(b)) as f64;
     if !brightest.is_finite() {
         return Err(Error::Usage(format!("object \"{}\": a vertex colour is not finite", o.name)));
     }
-    let radiance_scale = if brightest > top { brightest / top } else { 1.0 };
+    let radiance_scale = if brightest > 1.0 { brightest / top } else { 1.0 };
     let colours: Vec<[f32; 4]> = o
         .colours
         .iter()

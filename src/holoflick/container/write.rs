@@ -284,7 +284,12 @@ pub fn write_cg_file(path: impl AsRef<Path>, blocks: &[GeometryBlock], overwrite
         _ => Path::new("."),
     };
     let io = |e| ContainerError::Io { path: dir.to_path_buf(), source: e };
-    let mut temp = tempfile::Builder::new().prefix(".cg.").suffix(".partial").tempfile_in(dir).map_err(io)?;
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".cg.").suffix(".partial");
+    // tempfile creates 0600 files; an output file gets the usual 0666 less the umask.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let mut temp = builder.tempfile_in(dir).map_err(io)?;
     temp.write_all(&out).map_err(io)?;
     temp.as_file().sync_all().map_err(io)?;
     persist(temp, path, overwrite)?;

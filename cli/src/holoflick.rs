@@ -1,0 +1,136 @@
+//! `holo holoflick …`: thin wrappers over `holo::holoflick::tools`.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Subcommand;
+use holo::holoflick::cg::EncodeOptions;
+use holo::holoflick::container::ViewerCouch;
+use holo::holoflick::tools::{info, pack, unpack, PackOptions};
+
+#[derive(Subcommand)]
+pub enum HoloflickCommand {
+    /// Describe a HoloFlick (.hflk) or Java 3D compressed-geometry (.cg) file:
+    /// frames, objects, triangles, bytes per triangle.
+    Info {
+        /// The file.
+        file: PathBuf,
+    },
+    /// Pack meshes (glTF, OBJ, PLY; one frame each, an animated glTF one
+    /// frame per 1/fps) into a HoloFlick, or into a Java 3D .cg file when
+    /// the output ends in .cg (one frame's objects, without their transforms).
+    Pack {
+        /// The mesh files, one frame each (in order).
+        #[arg(required = true)]
+        meshes: Vec<PathBuf>,
+        /// Output: NAME.hflk or NAME.cg.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Bits per position component (1–16).
+        #[arg(long, default_value_t = 16)]
+        position_bits: u32,
+        /// Bits per colour component (2–16).
+        #[arg(long, default_value_t = 9)]
+        colour_bits: u32,
+        /// Bits of the normal grid (0–6).
+        #[arg(long, default_value_t = 6)]
+        normal_bits: u32,
+        /// Frame rate, and the rate animations are sampled at.
+        #[arg(long, default_value_t = 30.0)]
+        fps: f64,
+        /// Frames of an animation to keep: N, A..B or A..=B.
+        #[arg(long, value_parser = crate::parse_frames)]
+        frames: Option<std::ops::Range<usize>>,
+        /// The viewer's couch, XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in metres
+        /// (default: a box in front of the scene, +z).
+        #[arg(long, value_parser = parse_couch)]
+        couch: Option<ViewerCouch>,
+        /// A key frame every N frames.
+        #[arg(long, default_value_t = 30)]
+        key_interval: usize,
+        /// Replace an existing output.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Write one frame of a HoloFlick (or the objects of a .cg file) as a
+    /// mesh: .glb (glTF, unlit vertex colours) or .ply.
+    Unpack {
+        /// The .hflk or .cg file.
+        file: PathBuf,
+        /// Which frame.
+        #[arg(long, default_value_t = 0)]
+        frame: usize,
+        /// Output: NAME.glb or NAME.ply.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Replace an existing output.
+        #[arg(long)]
+        force: bool,
+    },
+}
+
+fn parse_couch(s: &str) -> Result<ViewerCouch, String> {
+    let v: Vec<f64> =
+        s.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|e| format!("{s:?}: {e}"))?;
+    if v.len() != 6 || v.iter().any(|x| !x.is_finite()) || (0..3).any(|k| v[k] > v[k + 3]) {
+        return Err(format!("{s:?}: give six finite numbers XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX with each min ≤ max"));
+    }
+    Ok(ViewerCouch { min_m: [v[0], v[1], v[2]], max_m: [v[3], v[4], v[5]] })
+}
+
+pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
+    match command {
+        HoloflickCommand::Info { file } => {
+            print!("{}", info(&file).map_err(|e| e.to_string())?);
+        }
+        HoloflickCommand::Pack {
+            meshes,
+            output,
+            position_bits,
+            colour_bits,
+            normal_bits,
+            fps,
+            frames,
+            couch,
+            key_interval,
+            force,
+        } => {
+            let options = PackOptions {
+                encode: EncodeOptions { position_bits, color_bits: colour_bits, normal_bits, alpha: true },
+                frames_per_second: fps,
+                frames,
+                couch,
+                key_interval,
+                overwrite: force,
+            };
+            let bar = crate::progress_bar("frames", false);
+            let report = pack(&meshes, &output, &options, &|done, all| {
+                bar.set_length(all as u64);
+                bar.set_position(done as u64);
+            })
+            .map_err(|e| e.to_string())?;
+            bar.finish_and_clear();
+            for w in &report.warnings {
+                eprintln!("holo: warning: {w}");
+            }
+            println!(
+                "wrote {} ({} bytes): {} frames, {} objects stored, {} from key frames, {} triangles, {:.2} stream bytes/triangle",
+                report.path.display(),
+                report.file_bytes,
+                report.frames,
+                report.stored,
+                report.references,
+                report.triangles,
+                report.stream_bytes as f64 / report.triangles.max(1) as f64
+            );
+            for (i, (c, s)) in report.cg_transforms.iter().enumerate() {
+                println!("  object {i}: model = normalised × {s:.6e} + ({:.6}, {:.6}, {:.6})", c[0], c[1], c[2]);
+            }
+        }
+        HoloflickCommand::Unpack { file, frame, output, force } => {
+            let triangles = unpack(&file, frame, &output, force).map_err(|e| e.to_string())?;
+            println!("wrote {} ({triangles} triangles of frame {frame})", output.display());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,450 @@
+//! `holo holoflick pack | unpack | info`: HoloFlicks (and Java 3D `.cg`
+//! files) from meshes, back to meshes, and described.
+//!
+//! `pack` stores meshes as they are, one frame per file (an animated glTF:
+//! one frame per `1/fps` of its animation): each object's colours are its
+//! base colour at the vertices (factor × vertex colour × texture), its
+//! normals its own (flat-shaded objects get one vertex per corner), its
+//! specular reflectance and exponent a material, the scene's lights the
+//! specular lights. Lighting and dicing are the converter's business
+//! (`holo holoflick encode`). An object whose block comes out identical to
+//! the last key frame's is stored as a reference to it (seed 001 §13).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use super::cg::{CgFile, EncodeOptions};
+use super::container::{
+    write_cg_file, Binding, Frame, GeometryBlock, HoloFlickReader, HoloFlickWriter, KeyFrameReference, ObjectRecord,
+    SpecularLight, SpecularMaterial, SpecularModel, ViewerCouch, WriteOptions, IDENTITY,
+};
+use super::objects::{decode_object, encode_object};
+use crate::mesh::load::SceneSource;
+use crate::mesh::shade::sample;
+use crate::mesh::{Light, Object, Scene};
+use crate::{Error, Result};
+
+/// How to pack.
+#[derive(Clone, Debug)]
+pub struct PackOptions {
+    /// Quantization.
+    pub encode: EncodeOptions,
+    /// Frame rate, and the rate animations are sampled at.
+    pub frames_per_second: f64,
+    /// Frames of an animated input to keep (all by default).
+    pub frames: Option<std::ops::Range<usize>>,
+    /// The viewer's couch; default: a box in front of the first frame (+z).
+    pub couch: Option<ViewerCouch>,
+    /// A key frame every this many frames (frame 0 always is one).
+    pub key_interval: usize,
+    /// Replace an existing output.
+    pub overwrite: bool,
+}
+
+impl Default for PackOptions {
+    fn default() -> Self {
+        PackOptions {
+            encode: EncodeOptions::default(),
+            frames_per_second: 30.0,
+            frames: None,
+            couch: None,
+            key_interval: 30,
+            overwrite: false,
+        }
+    }
+}
+
+/// What packing did.
+#[derive(Clone, Debug, Default)]
+pub struct PackReport {
+    /// The file written.
+    pub path: PathBuf,
+    /// Frames written.
+    pub frames: usize,
+    /// Objects stored (blocks written).
+    pub stored: usize,
+    /// Objects stored once in a key frame and referred to.
+    pub references: usize,
+    /// Triangles over all frames (references counted where they are shown).
+    pub triangles: usize,
+    /// Compressed stream bytes written.
+    pub stream_bytes: usize,
+    /// The file's size.
+    pub file_bytes: u64,
+    /// For `.cg` output, each object's `model = normalised × (1/scale) + centre`
+    /// as (centre, 1/scale): a `.cg` file cannot hold it.
+    pub cg_transforms: Vec<([f64; 3], f64)>,
+    /// Things the user should know.
+    pub warnings: Vec<String>,
+}
+
+/// One frame to pack: which file, at which animation time.
+struct FrameSource {
+    input: usize,
+    time_s: f64,
+}
+
+/// Pack `inputs` (glTF, OBJ or PLY) into `output`: a HoloFlick, or a Java 3D
+/// `.cg` file (one frame's objects, no transforms) when its name ends in
+/// `.cg`. `progress(frames done, frames)`.
+pub fn pack(
+    inputs: &[PathBuf],
+    output: &Path,
+    options: &PackOptions,
+    progress: &dyn Fn(usize, usize),
+) -> Result<PackReport> {
+    if inputs.is_empty() {
+        return Err(Error::Usage("pack needs at least one mesh".into()));
+    }
+    if !(options.frames_per_second.is_finite() && options.frames_per_second > 0.0) {
+        return Err(Error::Usage(format!("--fps must be positive (got {})", options.frames_per_second)));
+    }
+    if !options.overwrite && output.exists() {
+        return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", output.display())));
+    }
+    let sources: Vec<SceneSource> = inputs.iter().map(|p| SceneSource::open(p)).collect::<Result<_>>()?;
+    let mut frames = Vec::new();
+    for (input, s) in sources.iter().enumerate() {
+        match s.animation_duration_s() {
+            Some(d) if d > 0.0 => {
+                let count = (d * options.frames_per_second).floor() as usize + 1;
+                let keep = options.frames.clone().unwrap_or(0..count);
+                if keep.start >= keep.end || keep.end > count {
+                    return Err(Error::Usage(format!(
+                        "{}: --frames {}..{} outside the animation's {count} frames",
+                        s.path().display(),
+                        keep.start,
+                        keep.end
+                    )));
+                }
+                frames.extend(keep.map(|k| FrameSource { input, time_s: k as f64 / options.frames_per_second }));
+            }
+            _ => frames.push(FrameSource { input, time_s: 0.0 }),
+        }
+    }
+    let cg = output.extension().is_some_and(|e| e.eq_ignore_ascii_case("cg"));
+    if cg && frames.len() != 1 {
+        return Err(Error::Usage(format!(
+            "{}: a .cg file holds one frame's objects; {} frames given (write a .hflk)",
+            output.display(),
+            frames.len()
+        )));
+    }
+    let mut report = PackReport { path: output.to_path_buf(), ..PackReport::default() };
+    if cg {
+        let scene = sources[0].scene_at(0.0)?;
+        let mut blocks = Vec::new();
+        for (id, o) in scene.objects.iter().enumerate() {
+            let (g, stats) = encode_object(id as u32, &coloured(&scene, o), &options.encode)?;
+            if g.radiance_scale != 1.0 {
+                report.warnings.push(format!(
+                    "object \"{}\": colours above 1 were scaled by 1/{:.4} (a .cg file cannot hold the scale)",
+                    o.name, g.radiance_scale
+                ));
+            }
+            let m = g.world_from_object;
+            report.cg_transforms.push(([m[0][3], m[1][3], m[2][3]], m[0][0]));
+            report.triangles += stats.triangles;
+            report.stream_bytes += stats.bytes;
+            report.stored += 1;
+            blocks.push(g.block);
+        }
+        report.file_bytes = write_cg_file(output, &blocks, options.overwrite)?;
+        report.frames = 1;
+        progress(1, 1);
+        return Ok(report);
+    }
+    let (num, den) = frame_rate_fraction(options.frames_per_second);
+    let write = WriteOptions {
+        frames_per_second: (num, den),
+        text: vec![
+            ("software".into(), format!("holo {}", env!("CARGO_PKG_VERSION"))),
+            (
+                "source".into(),
+                format!(
+                    "holo holoflick pack {} ({}/{}/{} bits)",
+                    inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(" "),
+                    options.encode.position_bits,
+                    options.encode.color_bits,
+                    options.encode.normal_bits
+                ),
+            ),
+        ],
+        overwrite: options.overwrite,
+    };
+    let mut writer = HoloFlickWriter::create(output, &write)?;
+    let mut key: HashMap<u32, (GeometryBlock, f64)> = HashMap::new();
+    let mut key_frame_number = 0u32;
+    let mut couch = options.couch;
+    for (n, f) in frames.iter().enumerate() {
+        let scene = sources[f.input].scene_at(f.time_s)?;
+        let couch = *couch.get_or_insert_with(|| couch_in_front(&scene));
+        let is_key = n % options.key_interval.max(1) == 0;
+        if is_key {
+            key.clear();
+            key_frame_number = n as u32;
+        }
+        let mut frame = Frame {
+            key_frame: is_key,
+            couch,
+            lights: scene.lights.iter().filter_map(specular_light).collect(),
+            materials: Vec::new(),
+            bindings: Vec::new(),
+            objects: Vec::new(),
+        };
+        let all_lights: Vec<u32> = (0..frame.lights.len() as u32).collect();
+        for (k, o) in scene.objects.iter().enumerate() {
+            // An object's id is its place in the frame: the k-th object of
+            // every frame is one object (a mesh sequence is an animation).
+            let id = k as u32;
+            let (g, stats) = encode_object(id, &coloured(&scene, o), &options.encode)?;
+            report.triangles += stats.triangles;
+            frame.materials.push(SpecularMaterial {
+                specular: o.material.specular.map(f64::from),
+                exponent: o.material.shininess.max(0.0) as f64,
+                model: SpecularModel::Blinn,
+            });
+            frame.bindings.push(Binding {
+                object_id: id,
+                material: (frame.materials.len() - 1) as u32,
+                lights: all_lights.clone(),
+            });
+            match key.get(&id) {
+                Some((block, scale)) if !is_key && *block == g.block && *scale == g.radiance_scale => {
+                    report.references += 1;
+                    frame.objects.push(ObjectRecord::Reference(KeyFrameReference {
+                        id,
+                        key_frame: key_frame_number,
+                        world_from_object: g.world_from_object,
+                    }));
+                }
+                _ => {
+                    report.stored += 1;
+                    report.stream_bytes += g.block.stream().len();
+                    if is_key {
+                        key.insert(id, (g.block.clone(), g.radiance_scale));
+                    }
+                    frame.objects.push(ObjectRecord::Stored(g));
+                }
+            }
+        }
+        writer.add_frame(&frame)?;
+        progress(n + 1, frames.len());
+    }
+    let written = writer.finish()?;
+    report.frames = frames.len();
+    report.file_bytes = written.file_bytes;
+    Ok(report)
+}
+
+/// `n / d` for a frame rate (exact for integers and for 24000/1001-style rates).
+fn frame_rate_fraction(fps: f64) -> (u32, u32) {
+    for d in [1u32, 1001, 1000, 100] {
+        let n = fps * d as f64;
+        if (n - n.round()).abs() < 1e-6 && n.round() >= 1.0 && n.round() <= u32::MAX as f64 {
+            return (n.round() as u32, d);
+        }
+    }
+    ((fps * 1000.0).round().max(1.0) as u32, 1000)
+}
+
+/// The object with its base colour at every vertex as vertex colours.
+fn coloured(scene: &Scene, o: &Object) -> Object {
+    let m = &o.material;
+    let mut out = o.clone();
+    let texture = m.base_colour_texture.as_ref().and_then(|r| {
+        let uv = o.uv_sets.get(r.uv_set).filter(|s| s.len() == o.positions.len())?;
+        Some((scene.textures.get(r.texture)?, uv, r.transform))
+    });
+    if o.colours.is_empty() && texture.is_none() && m.base_colour == [1.0; 4] {
+        return out;
+    }
+    out.colours = (0..o.positions.len())
+        .map(|i| {
+            let v = o.colours.get(i).copied().unwrap_or([1.0; 4]);
+            let t = texture.map_or([1.0; 4], |(tex, uv, tr)| sample(tex, tr.apply(uv[i])));
+            std::array::from_fn(|k| m.base_colour[k] * v[k] * t[k])
+        })
+        .collect();
+    out
+}
+
+fn specular_light(l: &Light) -> Option<SpecularLight> {
+    match l {
+        Light::Directional { direction, irradiance, .. } => {
+            let len = (direction[0].powi(2) + direction[1].powi(2) + direction[2].powi(2)).sqrt();
+            (len > 0.0).then(|| SpecularLight::Directional {
+                direction: direction.map(|x| x / len),
+                irradiance: irradiance.map(f64::from),
+            })
+        }
+        Light::Point { position, intensity, .. } => {
+            Some(SpecularLight::Point { position_m: *position, intensity: intensity.map(f64::from) })
+        }
+        Light::Ambient { .. } => None,
+    }
+}
+
+/// A box in front of the scene (+z, where glTF's viewers are): as wide and
+/// tall as the scene plus its size each side, from one to four sizes in
+/// front of it.
+fn couch_in_front(scene: &Scene) -> ViewerCouch {
+    let (lo, hi) = scene.bounds().unwrap_or(([-1.0; 3], [1.0; 3]));
+    let size = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max).max(1e-3);
+    ViewerCouch {
+        min_m: [lo[0] - size, lo[1] - size, hi[2] + size],
+        max_m: [hi[0] + size, hi[1] + size, hi[2] + 4.0 * size],
+    }
+}
+
+/// The objects of frame `frame` of a HoloFlick (world metres, pre-lit
+/// colours) or of a `.cg` file (its normalised frame; `frame` must be 0).
+pub fn frame_objects(input: &Path, frame: usize) -> Result<Vec<Object>> {
+    if input.extension().is_some_and(|e| e.eq_ignore_ascii_case("cg")) {
+        if frame != 0 {
+            return Err(Error::Usage(format!("{}: a .cg file has one frame, 0", input.display())));
+        }
+        let file = CgFile::read(input)?;
+        return file
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| {
+                let descriptor = super::container::Descriptor {
+                    primitive: match o.header.kind {
+                        super::cg::BlockKind::Points => super::container::Primitive::Point,
+                        super::cg::BlockKind::Lines => super::container::Primitive::Line,
+                        super::cg::BlockKind::Triangles => super::container::Primitive::Triangle,
+                    },
+                    normals: o.header.normals,
+                    colours: o.header.colors,
+                    alpha: o.header.alpha,
+                };
+                let block = GeometryBlock::new(descriptor, &o.bytes)
+                    .map_err(|m| Error::invalid(input, format!("object {i}: {m}")))?;
+                decode_object(&format!("object {i}"), &block, &IDENTITY, 1.0).map(|(o, _)| o)
+            })
+            .collect::<Result<Vec<_>>>()
+            .map_err(|e| named(input, e));
+    }
+    let mut reader = HoloFlickReader::open(input)?;
+    let count = reader.frame_count() as usize;
+    if frame >= count {
+        return Err(Error::Usage(format!("{}: has {count} frames; there is no frame {frame}", input.display())));
+    }
+    let resolved = reader.read_frame(frame as u32)?;
+    resolved
+        .objects
+        .iter()
+        .map(|o| {
+            decode_object(&format!("id {}", o.id), &o.block, &o.world_from_object, o.radiance_scale).map(|(o, _)| o)
+        })
+        .collect::<Result<Vec<_>>>()
+        .map_err(|e| named(input, e))
+}
+
+fn named(path: &Path, e: Error) -> Error {
+    match e {
+        Error::Usage(m) => Error::invalid(path, m),
+        other => other,
+    }
+}
+
+/// `holo holoflick unpack`: frame `frame` of `input` as a `.glb` or `.ply` mesh.
+pub fn unpack(input: &Path, frame: usize, output: &Path, overwrite: bool) -> Result<usize> {
+    let objects = frame_objects(input, frame)?;
+    crate::mesh::write::write_mesh(output, &objects, overwrite)?;
+    Ok(objects.iter().map(|o| o.triangles.len()).sum())
+}
+
+/// `holo holoflick info`: a description of a HoloFlick or `.cg` file, every
+/// frame decoded (so counts are triangles, not promises).
+pub fn info(input: &Path) -> Result<String> {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let bytes = std::fs::metadata(input).map_err(|e| Error::io(input, e))?.len();
+    if input.extension().is_some_and(|e| e.eq_ignore_ascii_case("cg")) {
+        let file = CgFile::read(input)?;
+        let [a, b, c] = file.version;
+        let _ = writeln!(
+            out,
+            "{}: Java 3D compressed geometry {a}.{b}.{c}, {} objects, {bytes} bytes",
+            input.display(),
+            file.objects.len()
+        );
+        let objects = frame_objects(input, 0)?;
+        for (o, raw) in objects.iter().zip(&file.objects) {
+            let h = raw.header;
+            let _ = writeln!(
+                out,
+                "  {}: {:?}, normals {}, colours {}{}, {} bytes, {} triangles, {:.2} bytes/triangle",
+                o.name,
+                h.kind,
+                h.normals,
+                h.colors,
+                if h.alpha { " with alpha" } else { "" },
+                raw.bytes.len(),
+                o.triangles.len(),
+                raw.bytes.len() as f64 / o.triangles.len().max(1) as f64
+            );
+        }
+        return Ok(out);
+    }
+    let mut reader = HoloFlickReader::open(input)?;
+    let info = reader.info().clone();
+    let (n, d) = info.frames_per_second;
+    let frames = reader.frame_count();
+    let _ = writeln!(
+        out,
+        "{}: HoloFlick {}.{}, {frames} frames at {} frames/s, geometry {}.{}.{}, {bytes} bytes",
+        input.display(),
+        info.version.0,
+        info.version.1,
+        if d == 1 { format!("{n}") } else { format!("{n}/{d}") },
+        info.geometry_version[0],
+        info.geometry_version[1],
+        info.geometry_version[2]
+    );
+    for (k, v) in &info.text {
+        let _ = writeln!(out, "  {k}: {v}");
+    }
+    let (mut all_triangles, mut all_stream) = (0usize, 0usize);
+    for f in 0..frames {
+        let stored = reader.read_stored_frame(f)?;
+        let resolved = reader.read_frame(f)?;
+        let mut triangles = 0;
+        let mut stream = 0;
+        for (record, o) in stored.objects.iter().zip(&resolved.objects) {
+            let (mesh, _) = decode_object(&format!("id {}", o.id), &o.block, &o.world_from_object, o.radiance_scale)
+                .map_err(|e| named(input, e))?;
+            triangles += mesh.triangles.len();
+            if matches!(record, ObjectRecord::Stored(_)) {
+                stream += o.block.stream().len();
+            }
+        }
+        let references = stored.objects.iter().filter(|o| matches!(o, ObjectRecord::Reference(_))).count();
+        all_triangles += triangles;
+        all_stream += stream;
+        let c = stored.couch;
+        let _ = writeln!(
+            out,
+            "  frame {f}{}: {} objects ({references} from key frames), {triangles} triangles, {stream} stream bytes, {} lights, {} materials, couch [{:.3}, {:.3}, {:.3}]..[{:.3}, {:.3}, {:.3}] m",
+            if stored.key_frame { " (key)" } else { "" },
+            stored.objects.len(),
+            stored.lights.len(),
+            stored.materials.len(),
+            c.min_m[0],
+            c.min_m[1],
+            c.min_m[2],
+            c.max_m[0],
+            c.max_m[1],
+            c.max_m[2]
+        );
+    }
+    let _ = writeln!(
+        out,
+        "  total: {all_triangles} triangles shown, {all_stream} stream bytes stored ({:.2} bytes/triangle shown)",
+        all_stream as f64 / all_triangles.max(1) as f64
+    );
+    Ok(out)
+}
