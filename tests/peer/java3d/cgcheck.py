@@ -141,8 +141,19 @@ def against_ply(mesh, encode, decoded):
     centre = [float(t) for t in enc["center"][:3]]
     scale = float(enc["center"][4])
     mask = ~((1 << (16 - pos_bits)) - 1)
+    step = 1 << (16 - pos_bits)
+    # Java 3D truncates then masks (toward -inf); holo's encoder says
+    # `quantization nearest`: round half away from zero (Rust's f64::round) to
+    # a multiple of the step, clamped to [-32768, 32768 - step].
+    nearest = enc.get("quantization") == ["nearest"]
+
+    def rust_round(x):
+        return math.copysign(math.floor(abs(x) + 0.5), x)
 
     def quant(v):
+        if nearest:
+            return tuple(int(min(max(rust_round((v[c] - centre[i]) * scale * 32768.0 / step) * step, -32768), 32768 - step))
+                         for i, c in enumerate("xyz"))
         return tuple(java_int((v[c] - centre[i]) * scale * 32768.0) & mask for i, c in enumerate("xyz"))
 
     names, verts, faces = read_ply(mesh)
@@ -166,7 +177,7 @@ def against_ply(mesh, encode, decoded):
     extra = got - expected
     r.check(not missing and not extra,
             f"the non-degenerate triangles are the PLY's, positions quantized to {pos_bits} bits "
-            f"(round toward -inf after (int) truncation), winding kept "
+            f"({'rounded to nearest' if nearest else 'round toward -inf after (int) truncation'}), winding kept "
             f"({sum(missing.values())} missing, {sum(extra.values())} unexpected)")
     # Normals and colours: how far from the input (matched by quantized position).
     by_pos = {}
