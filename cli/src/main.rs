@@ -258,6 +258,26 @@ enum Command {
 
 #[derive(Subcommand)]
 enum ConvertCommand {
+    /// Draw a HoloFlick's lit micropolygons for every emitter and view of a
+    /// layout, adding each frame's specular highlights per view.
+    Holoflick {
+        /// The .hflk file.
+        file: PathBuf,
+        /// Display layout: a built-in name or a .toml/.json profile.
+        #[arg(long, default_value = "mark3")]
+        layout: String,
+        /// Frames to convert: N, A..B or A..=B (split a movie across machines); default all.
+        #[arg(long, value_parser = parse_frames)]
+        frames: Option<std::ops::Range<usize>>,
+        /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN.
+        #[arg(long, default_value = "2x2", value_parser = parse_supersample)]
+        supersample: holo::mesh::render::Supersample,
+        /// Fit the content to the display even when it was made for it.
+        #[arg(long)]
+        fit: bool,
+        #[command(flatten)]
+        write: WriteArgs,
+    },
     /// Render a glTF (.gltf/.glb), OBJ or PLY scene for every emitter and
     /// view of a layout (animated glTF: one frame per 1/fps).
     Mesh {
@@ -712,6 +732,41 @@ fn run(cli: Cli) -> Outcome {
             } else {
                 print!("{}", layout.to_toml());
             }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Convert(ConvertCommand::Holoflick { file, layout, frames, supersample, fit, write }) => {
+            use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
+            let g = layout_geometry(&layout)?;
+            let options = HoloFlickConvertOptions {
+                frames,
+                render: holo::mesh::render::RenderOptions { supersample, ..Default::default() },
+                write: write.options(String::new()),
+                fit,
+            };
+            let bar = progress_bar("frames", false);
+            let started = std::time::Instant::now();
+            let report = convert_holoflick(&file, &g, &write.output, &options, &|done, total| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            })
+            .map_err(|e| e.to_string())?;
+            bar.finish_and_clear();
+            for w in &report.warnings {
+                eprintln!("holo: warning: {w}");
+            }
+            let w = report.work;
+            println!(
+                "converted frames {}..{} of {} into {} in {:.2} s",
+                report.frames.start,
+                report.frames.end,
+                file.display(),
+                report.path.display(),
+                started.elapsed().as_secs_f64()
+            );
+            println!(
+                "objects decoded {}, reused from key frames {}, skipped unseen {}; {} back faces dropped; {} segments rasterised, {} sub-rays shaded",
+                w.decoded, w.reused, w.unseen_objects, w.back_faces, w.render.segments, w.render.shaded
+            );
             Ok(ExitCode::SUCCESS)
         }
         Command::Convert(ConvertCommand::Mesh {

@@ -29,6 +29,7 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["view", "--help"],
         &["export-quilt", "--help"],
         &["holoflick", "pack", "--help"],
+        &["convert", "holoflick", "--help"],
         &["holoflick", "unpack", "--help"],
         &["holoflick", "info", "--help"],
     ] {
@@ -354,6 +355,9 @@ fn holoflick_pack_info_unpack() {
     let o = holo(&["holoflick", "info", "cow.hflk"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(text(&o).contains("frame 1: 1 objects (1 from key frames), 500 triangles"), "{}", text(&o));
+    let o = holo(&["convert", "holoflick", "cow.hflk", "--layout", "mark1", "-o", "cow.holo", "--supersample", "1"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("reused from key frames 1"), "{}", text(&o));
     let o = holo(&["holoflick", "unpack", "cow.hflk", "--frame", "1", "-o", "cow.glb"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(d.join("cow.glb").exists());

@@ -10,5 +10,6 @@
 
 pub mod cg;
 pub mod container;
+pub mod convert;
 pub mod objects;
 pub mod tools;

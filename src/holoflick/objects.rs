@@ -90,14 +90,19 @@ pub fn decode_object(
     world_from_object: &Matrix4,
     radiance_scale: f64,
 ) -> Result<(Object, usize)> {
+    let (o, skipped) = decode_block(name, block)?;
+    Ok((to_world(&o, world_from_object, radiance_scale)?, skipped))
+}
+
+/// Decode a block as it is: positions in the stream's normalised frame,
+/// colours as stored (what a converter caches for objects reused from key
+/// frames; [`to_world`] places it).
+pub fn decode_block(name: &str, block: &GeometryBlock) -> Result<(Object, usize)> {
     let header = block_header(block.descriptor());
     let decoded = cg::decode(&header, block.stream()).map_err(|e| match e {
         Error::Invalid { problem, .. } => Error::Usage(format!("object {name}: {problem}")),
         other => other,
     })?;
-    let m = world_from_object;
-    let normal_matrix = inverse_transpose_3x3(m)
-        .ok_or_else(|| Error::Usage(format!("object {name}: its transform cannot be inverted")))?;
     let mut o = Object {
         name: name.to_string(),
         material: Material { name: name.to_string(), prelit: true, specular: [0.0; 3], ..Material::default() },
@@ -112,28 +117,17 @@ pub fn decode_object(
             let bits = [v.position, n, [c[0], c[1], c[2]]].concat();
             let key: [u32; 10] = std::array::from_fn(|i| if i < 9 { bits[i].to_bits() } else { c[3].to_bits() });
             tri[k] = *index.entry(key).or_insert_with(|| {
-                let p = v.position.map(f64::from);
-                o.positions.push(std::array::from_fn(|r| m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3]));
+                o.positions.push(v.position.map(f64::from));
                 if let Some(n) = v.normal {
-                    let n = n.map(f64::from);
-                    let w: [f64; 3] = std::array::from_fn(|r| {
-                        normal_matrix[r][0] * n[0] + normal_matrix[r][1] * n[1] + normal_matrix[r][2] * n[2]
-                    });
-                    let l = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-                    o.normals.push(if l > 0.0 { w.map(|x| (x / l) as f32) } else { [0.0; 3] });
+                    o.normals.push(n);
                 }
                 if let Some(c) = v.color {
-                    let s = radiance_scale as f32;
-                    o.colours.push([c[0] * s, c[1] * s, c[2] * s, c[3]]);
+                    o.colours.push(c);
                 }
                 (o.positions.len() - 1) as u32
             });
         }
         o.triangles.push(tri);
-    }
-    // A mirroring transform turns the winding (spec §6.4).
-    if determinant_3x3(m) < 0.0 {
-        o.triangles.iter_mut().for_each(|t| t.swap(1, 2));
     }
     // Decoded vertices may lack normals or colours in part of a block (a
     // list without them): keep the lists whole or empty.
@@ -144,6 +138,37 @@ pub fn decode_object(
         o.colours.clear();
     }
     Ok((o, decoded.lines.len() + decoded.points.len()))
+}
+
+/// A decoded block (normalised frame, stored colours) in world space:
+/// positions by `world_from_object`, normals by its inverse transpose,
+/// colours times `radiance_scale`; a mirroring transform turns the winding.
+pub fn to_world(o: &Object, world_from_object: &Matrix4, radiance_scale: f64) -> Result<Object> {
+    let m = world_from_object;
+    let normal_matrix = inverse_transpose_3x3(m)
+        .ok_or_else(|| Error::Usage(format!("object {}: its transform cannot be inverted", o.name)))?;
+    let mut out = o.clone();
+    for p in &mut out.positions {
+        let q = *p;
+        *p = std::array::from_fn(|r| m[r][0] * q[0] + m[r][1] * q[1] + m[r][2] * q[2] + m[r][3]);
+    }
+    for n in &mut out.normals {
+        let v = n.map(f64::from);
+        let w: [f64; 3] = std::array::from_fn(|r| {
+            normal_matrix[r][0] * v[0] + normal_matrix[r][1] * v[1] + normal_matrix[r][2] * v[2]
+        });
+        let l = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+        *n = if l > 0.0 { w.map(|x| (x / l) as f32) } else { [0.0; 3] };
+    }
+    let s = radiance_scale as f32;
+    for c in &mut out.colours {
+        *c = [c[0] * s, c[1] * s, c[2] * s, c[3]];
+    }
+    // A mirroring transform turns the winding (spec §6.4).
+    if determinant_3x3(m) < 0.0 {
+        out.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    }
+    Ok(out)
 }
 
 fn determinant_3x3(m: &Matrix4) -> f64 {

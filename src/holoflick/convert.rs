@@ -1,0 +1,335 @@
+//! `holo convert holoflick`: a HoloFlick's frames to `.holo` frames (seed 001
+//! §7: lit micropolygons drawn from every view, specular added per view).
+//!
+//! Per frame: each object's geometry is decoded (objects kept in key frames
+//! are decoded once and reused while their key frame is current), placed
+//! in display metres, and given its bound specular material; objects no ray
+//! of the display meets are not decoded at all, triangles facing away from
+//! every allowed viewpoint are dropped, and objects without a specular
+//! material do no specular work. The mesh renderer then draws the pre-lit
+//! micropolygons under the frame's specular lights. Frames are made one at
+//! a time as the writer asks for them: memory is one frame and the cache
+//! of key-frame objects, whatever the frame count.
+//!
+//! Placement: a HoloFlick made for the display (`holo holoflick encode`)
+//! is in display metres and its couch holds the display's viewing zone;
+//! it is drawn as it is. Any other is fitted to the display on its first
+//! frame converted, like `holo convert mesh`, and that placement kept.
+
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use super::container::{HoloFlickReader, ResolvedFrame, SpecularLight, SpecularModel, ViewerCouch};
+use super::objects::{decode_block, to_world};
+use crate::format::{write_frames, WriteOptions, WriteReport};
+use crate::geometry::Geometry;
+use crate::mesh::cull::{cull_back_faces, display_sees_box};
+use crate::mesh::place::{apply, place, Placed, Placement};
+use crate::mesh::render::{render, RenderOptions, RenderStats};
+use crate::mesh::shade::{Lighting, SpecularModel as Lobe};
+use crate::mesh::{Light, Object, Scene};
+use crate::{Error, Result};
+
+/// Everything `convert holoflick` takes besides input, geometry and output.
+#[derive(Clone, Debug, Default)]
+pub struct HoloFlickConvertOptions {
+    /// Frames to convert (default all): split a movie across machines.
+    pub frames: Option<Range<usize>>,
+    /// Supersampling and engine (the lights come from the file).
+    pub render: RenderOptions,
+    /// How to write.
+    pub write: WriteOptions,
+    /// Fit the content to the display even when it was made for it.
+    pub fit: bool,
+}
+
+/// Work done and skipped, over all frames converted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct HoloFlickWork {
+    /// Objects decoded.
+    pub decoded: u64,
+    /// Objects taken from the key-frame cache instead of decoded.
+    pub reused: u64,
+    /// Objects skipped without decoding: no display ray meets them.
+    pub unseen_objects: u64,
+    /// Triangles dropped: they face away from every allowed viewpoint.
+    pub back_faces: u64,
+    /// Objects drawn without specular work (no material bound, or `k_s` 0).
+    pub without_specular: u64,
+    /// The renderer's counters.
+    pub render: RenderStats,
+}
+
+/// What a conversion did.
+#[derive(Clone, Debug)]
+pub struct HoloFlickConvertReport {
+    /// The output.
+    pub path: PathBuf,
+    /// Frames converted (file frame numbers).
+    pub frames: Range<usize>,
+    /// The placement, when the content was fitted; `None`: drawn as stored.
+    pub placed: Option<Placed>,
+    /// Work done and skipped.
+    pub work: HoloFlickWork,
+    /// Things the user should know.
+    pub warnings: Vec<String>,
+    /// The writer's report.
+    pub written: WriteReport,
+}
+
+/// The box of the display's viewing zone: every point of the viewer line a
+/// view reaches (spec/holo-format.md §1), as a flat box.
+fn viewing_zone(g: &Geometry) -> ([f64; 3], [f64; 3]) {
+    let d = g.viewer_distance_m - g.emitter_z_m;
+    let xs = [g.emitter_x_m(0), g.emitter_x_m(g.emitters.saturating_sub(1))];
+    let slopes = [g.views.theta_rad(0).tan(), g.views.theta_rad(g.views.count.saturating_sub(1)).tan()];
+    let reach: Vec<f64> = xs.iter().flat_map(|x| slopes.iter().map(move |s| x + s * d)).collect();
+    let lo = reach.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = reach.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    ([lo, g.viewer_height_m, g.viewer_distance_m], [hi, g.viewer_height_m, g.viewer_distance_m])
+}
+
+fn couch_holds(c: &ViewerCouch, lo: [f64; 3], hi: [f64; 3]) -> bool {
+    c.contains(lo) && c.contains(hi)
+}
+
+/// Convert `input` for `geometry` into `output`; `progress(done, frames)`.
+pub fn convert_holoflick(
+    input: &Path,
+    geometry: &Geometry,
+    output: &Path,
+    options: &HoloFlickConvertOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<HoloFlickConvertReport> {
+    let mut reader = HoloFlickReader::open(input)?;
+    let count = reader.frame_count() as usize;
+    let frames = options.frames.clone().unwrap_or(0..count);
+    if frames.start >= frames.end || frames.end > count {
+        return Err(Error::Usage(format!(
+            "{}: frames {}..{} asked for; the file has {count} (0..{count})",
+            input.display(),
+            frames.start,
+            frames.end
+        )));
+    }
+    if !options.write.overwrite && output.exists() {
+        return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", output.display())));
+    }
+    let (zone_lo, zone_hi) = viewing_zone(geometry);
+    let mut warnings = Vec::new();
+    // Placement, decided on the first frame converted.
+    let first = reader.read_frame(frames.start as u32)?;
+    let made_for_display = couch_holds(&first.frame.couch, zone_lo, zone_hi) && !options.fit;
+    let mut state = State { cache: HashMap::new(), work: HoloFlickWork::default(), placed: None };
+    if !made_for_display {
+        let mut scene = state.scene(&first, None, geometry, false)?;
+        let placed = place(&mut scene, geometry, &Placement::default())?;
+        state.placed = Some(placed);
+        warnings.push(format!(
+            "{}: the viewer's couch does not hold this display's viewing zone: the content is fitted to the display ({})",
+            input.display(),
+            state.placed.as_ref().map(|p| p.to_string()).unwrap_or_default()
+        ));
+        state.work = HoloFlickWork::default();
+        state.cache.clear();
+    }
+    let mut write = options.write.clone();
+    if write.source.is_empty() {
+        write.source = format!("holo convert holoflick {} (frames {}..{})", input.display(), frames.start, frames.end);
+    }
+    write.first_frame_number = frames.start as i32;
+    if write.frames_per_second.is_none() {
+        let (n, d) = reader.info().frames_per_second;
+        write.frames_per_second = i32::try_from(n).ok().map(|n| (n, d));
+    }
+    let mut failure = None;
+    let n_frames = frames.len();
+    let written = write_frames(output, geometry, n_frames, &write, |i| {
+        let number = frames.start + i;
+        let frame = reader.read_frame(number as u32)?;
+        let (scene, lighting) = match state.frame_scene(&frame, geometry, made_for_display, &mut warnings) {
+            Ok(x) => x,
+            Err(e) => {
+                failure = Some(number);
+                return Err(e);
+            }
+        };
+        let options = RenderOptions { lighting, ..options.render.clone() };
+        let (m, stats) = render(&scene, geometry, &options, &|_, _| {})?;
+        state.work.render += stats;
+        progress(i + 1, n_frames);
+        Ok(std::borrow::Cow::Owned(m))
+    })
+    .map_err(|e| match failure {
+        Some(n) => match e {
+            Error::Usage(m) => Error::Usage(format!("{}: frame {n}: {m}", input.display())),
+            other => other,
+        },
+        None => e,
+    })?;
+    warnings.sort();
+    warnings.dedup();
+    Ok(HoloFlickConvertReport {
+        path: output.to_path_buf(),
+        frames,
+        placed: state.placed,
+        work: state.work,
+        warnings,
+        written,
+    })
+}
+
+struct State {
+    /// Decoded blocks of key frames: (frame stored in, object id) → object in
+    /// its normalised frame.
+    cache: HashMap<(u32, u32), Object>,
+    work: HoloFlickWork,
+    placed: Option<Placed>,
+}
+
+impl State {
+    /// The frame's objects in display metres (placed), culled; `couch`
+    /// viewpoints for back faces when given.
+    fn scene(
+        &mut self,
+        frame: &ResolvedFrame,
+        couch: Option<&[[f64; 3]]>,
+        g: &Geometry,
+        cull_unseen: bool,
+    ) -> Result<Scene> {
+        // Keep only the current key frames' objects in the cache.
+        let current: std::collections::HashSet<u32> = frame.objects.iter().map(|o| o.stored_in_frame).collect();
+        self.cache.retain(|k, _| current.contains(&k.0) && k.0 != frame.number);
+        let mut scene = Scene { source: format!("frame {}", frame.number), ..Scene::default() };
+        let placement = self.placed.as_ref().map(|p| p.matrix);
+        for o in &frame.objects {
+            // Skip what no ray meets, before decoding: the stream's frame is
+            // [−1, 1]³, its corners placed bound the object.
+            if cull_unseen {
+                let mut corners = Vec::with_capacity(8);
+                for k in 0..8 {
+                    let p = [k & 1, k >> 1 & 1, k >> 2 & 1].map(|b| if b == 1 { 1.0 } else { -1.0 });
+                    let m = o.world_from_object;
+                    let mut w: [f64; 3] =
+                        std::array::from_fn(|r| m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3]);
+                    if let Some(t) = placement {
+                        w = std::array::from_fn(|r| t[r][0] * w[0] + t[r][1] * w[1] + t[r][2] * w[2] + t[r][3]);
+                    }
+                    corners.push(w);
+                }
+                let lo = std::array::from_fn(|k| corners.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min));
+                let hi = std::array::from_fn(|k| corners.iter().map(|c| c[k]).fold(f64::NEG_INFINITY, f64::max));
+                if !display_sees_box(g, lo, hi) {
+                    self.work.unseen_objects += 1;
+                    continue;
+                }
+            }
+            let key = (o.stored_in_frame, o.id);
+            let reusable = o.stored_in_frame != frame.number;
+            let local = match self.cache.get(&key) {
+                Some(cached) => {
+                    self.work.reused += 1;
+                    cached.clone()
+                }
+                None => {
+                    let (decoded, _) = decode_block(&format!("id {}", o.id), &o.block)?;
+                    self.work.decoded += 1;
+                    if reusable || frame.frame.key_frame {
+                        self.cache.insert(key, decoded.clone());
+                    }
+                    decoded
+                }
+            };
+            let mut world = to_world(&local, &o.world_from_object, o.radiance_scale)?;
+            if let Some(t) = placement {
+                let mut one = Scene { objects: vec![world], ..Scene::default() };
+                apply(&mut one, &t);
+                world = one.objects.pop().unwrap_or_default();
+            }
+            scene.objects.push(world);
+        }
+        if let Some(viewpoints) = couch {
+            self.work.back_faces += cull_back_faces(&mut scene.objects, viewpoints);
+        }
+        Ok(scene)
+    }
+
+    /// The frame ready to render: objects with their bound materials, and
+    /// the lights.
+    fn frame_scene(
+        &mut self,
+        frame: &ResolvedFrame,
+        g: &Geometry,
+        made_for_display: bool,
+        warnings: &mut Vec<String>,
+    ) -> Result<(Scene, Lighting)> {
+        // Back faces against the couch only when it holds the display's
+        // viewpoints (otherwise the display may see what the couch cannot).
+        let couch = made_for_display.then(|| frame.frame.couch.corners().to_vec());
+        let ids: Vec<u32> = frame.objects.iter().map(|o| o.id).collect();
+        let mut scene = self.scene(frame, couch.as_deref(), g, true)?;
+        // Materials by binding; objects were pushed in frame order, minus the culled.
+        let bindings: HashMap<u32, &super::container::Binding> =
+            frame.frame.bindings.iter().map(|b| (b.object_id, b)).collect();
+        let mut models = Vec::new();
+        let all_lights: Vec<u32> = (0..frame.frame.lights.len() as u32).collect();
+        for o in &mut scene.objects {
+            let id = ids.iter().copied().find(|id| o.name == format!("id {id}"));
+            let material = id.and_then(|id| bindings.get(&id)).and_then(|b| {
+                if b.lights != all_lights {
+                    warnings.push(format!(
+                        "frame {}: object {}: bound to some of the frame's lights; every light is applied",
+                        frame.number, b.object_id
+                    ));
+                }
+                frame.frame.materials.get(b.material as usize)
+            });
+            match material {
+                Some(m) if m.specular.iter().any(|&k| k > 0.0) => {
+                    o.material.specular = m.specular.map(|k| k as f32);
+                    o.material.shininess = m.exponent as f32;
+                    models.push(m.model);
+                }
+                _ => {
+                    o.material.specular = [0.0; 3];
+                    self.work.without_specular += 1;
+                }
+            }
+        }
+        let model = match models.first() {
+            Some(SpecularModel::Phong) => Lobe::Phong,
+            _ => Lobe::Blinn,
+        };
+        if models.iter().any(|m| *m != models[0]) {
+            warnings.push(format!("frame {}: materials mix Phong and Blinn lobes; {model:?} is used", frame.number));
+        }
+        let placement = self.placed.as_ref().map(|p| p.matrix);
+        let lights = frame
+            .frame
+            .lights
+            .iter()
+            .map(|l| {
+                let mut light = match *l {
+                    SpecularLight::Directional { direction, irradiance } => Light::Directional {
+                        direction,
+                        irradiance: irradiance.map(|x| x as f32),
+                        name: "specular".into(),
+                    },
+                    SpecularLight::Point { position_m, intensity } => Light::Point {
+                        position: position_m,
+                        intensity: intensity.map(|x| x as f32),
+                        name: "specular".into(),
+                    },
+                };
+                if let Some(t) = placement {
+                    let mut one = Scene { lights: vec![light.clone()], ..Scene::default() };
+                    apply(&mut one, &t);
+                    light = one.lights.pop().unwrap_or(light);
+                }
+                light
+            })
+            .collect();
+        Ok((scene, Lighting { lights, model }))
+    }
+}

@@ -1,0 +1,134 @@
+//! HoloFlicks to modulation: objects no display ray meets are skipped
+//! without decoding and objects kept in key frames are decoded once, with
+//! the same samples either way (work counters, not timings); micropolygons
+//! through a HoloFlick render like the mesh they come from.
+
+use std::path::Path;
+
+use holo::geometry::{rgb_channels, Geometry, Views};
+use holo::holoflick::cg::EncodeOptions;
+use holo::holoflick::container::{
+    Binding, Frame, HoloFlickWriter, KeyFrameReference, ObjectRecord, SpecularLight, SpecularMaterial, SpecularModel,
+    ViewerCouch, WriteOptions as HflkWrite,
+};
+use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
+use holo::holoflick::objects::encode_object;
+use holo::mesh::render::{Engine, RenderOptions, Supersample};
+use holo::mesh::{Light, Object};
+use holo::Modulation;
+
+fn display() -> Geometry {
+    Geometry::centred(
+        24,
+        64,
+        Views::tan_spaced(32, -15f64.to_radians(), 15f64.to_radians()),
+        0.5e-3,
+        0.5e-3,
+        0.0,
+        0.5,
+        rgb_channels(),
+    )
+}
+
+/// A couch around the display's viewer line.
+fn couch() -> ViewerCouch {
+    ViewerCouch { min_m: [-0.3, -0.1, 0.4], max_m: [0.3, 0.1, 0.6] }
+}
+
+fn spot_in_display(g: &Geometry) -> Object {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/spot/spot.obj");
+    let mut scene = holo::mesh::load::SceneSource::open(&path).unwrap().scene_at(0.0).unwrap();
+    holo::mesh::place::place(&mut scene, g, &holo::mesh::place::Placement::default()).unwrap();
+    let mut o = holo::mesh::dice::with_flat_normals(&scene.objects[0]);
+    // Pre-lit stand-in colours: the base colour at each vertex.
+    o.colours = o
+        .positions
+        .iter()
+        .map(|p| [0.5 + 20.0 * p[0] as f32, 0.4, 0.3 + 10.0 * p[1] as f32, 1.0].map(|x| x.clamp(0.0, 1.0)))
+        .collect();
+    o
+}
+
+fn far_aside(g: &Geometry) -> Object {
+    let mut o = spot_in_display(g);
+    o.positions.iter_mut().for_each(|p| p[0] += 2.0);
+    o
+}
+
+/// Write frames of objects (display metres) with one specular material and
+/// light; `key_every`: store unchanged objects once per key frame.
+fn write_movie(path: &Path, frames: &[Vec<Object>], key_every: usize) {
+    let mut w = HoloFlickWriter::create(path, &HflkWrite::default()).unwrap();
+    let mut key = 0;
+    for (n, objects) in frames.iter().enumerate() {
+        let is_key = n % key_every == 0;
+        if is_key {
+            key = n as u32;
+        }
+        let mut frame = Frame {
+            key_frame: is_key,
+            couch: couch(),
+            lights: vec![SpecularLight::Directional { direction: [0.0, -0.6, -0.8], irradiance: [2.0; 3] }],
+            materials: vec![SpecularMaterial { specular: [0.3; 3], exponent: 30.0, model: SpecularModel::Blinn }],
+            bindings: Vec::new(),
+            objects: Vec::new(),
+        };
+        for (id, o) in objects.iter().enumerate() {
+            let (g, _) = encode_object(id as u32, o, &EncodeOptions::default()).unwrap();
+            frame.bindings.push(Binding { object_id: id as u32, material: 0, lights: vec![0] });
+            frame.objects.push(if is_key || key_every == 1 {
+                ObjectRecord::Stored(g)
+            } else {
+                ObjectRecord::Reference(KeyFrameReference {
+                    id: id as u32,
+                    key_frame: key,
+                    world_from_object: g.world_from_object,
+                })
+            });
+        }
+        w.add_frame(&frame).unwrap();
+    }
+    w.finish().unwrap();
+}
+
+fn options() -> HoloFlickConvertOptions {
+    HoloFlickConvertOptions {
+        render: RenderOptions {
+            supersample: Supersample { emitter: 1, view: 1 },
+            engine: Engine::Fast,
+            ..RenderOptions::default()
+        },
+        ..HoloFlickConvertOptions::default()
+    }
+}
+
+fn frames_of(path: &Path) -> Vec<Modulation> {
+    let f = holo::HoloFile::open(path).unwrap();
+    (0..f.info().frames.len()).map(|i| f.read_frame(i).unwrap()).collect()
+}
+
+#[test]
+fn unseen_objects_are_skipped_and_key_frame_objects_decoded_once() {
+    let g = display();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (cow, aside) = (spot_in_display(&g), far_aside(&g));
+    write_movie(&d.join("alone.hflk"), &vec![vec![cow.clone()]; 3], 1);
+    write_movie(&d.join("with_aside.hflk"), &vec![vec![cow.clone(), aside]; 3], 1);
+    write_movie(&d.join("keyed.hflk"), &vec![vec![cow]; 3], 10);
+    let alone = convert_holoflick(&d.join("alone.hflk"), &g, &d.join("alone.holo"), &options(), &|_, _| {}).unwrap();
+    let aside =
+        convert_holoflick(&d.join("with_aside.hflk"), &g, &d.join("aside.holo"), &options(), &|_, _| {}).unwrap();
+    let keyed = convert_holoflick(&d.join("keyed.hflk"), &g, &d.join("keyed.holo"), &options(), &|_, _| {}).unwrap();
+    println!("alone {:?}\nwith an object aside {:?}\nkey frames {:?}", alone.work, aside.work, keyed.work);
+    assert!(alone.placed.is_none(), "made for the display: drawn as stored");
+    let reference = frames_of(&d.join("alone.holo"));
+    assert!(reference[0].samples().iter().any(|&v| v > 0.0));
+    assert!(frames_of(&d.join("aside.holo")) == reference, "skipping the unseen object changed a sample");
+    assert!(frames_of(&d.join("keyed.holo")) == reference, "reusing key-frame objects changed a sample");
+    assert_eq!((alone.work.decoded, alone.work.unseen_objects), (3, 0));
+    assert_eq!((aside.work.decoded, aside.work.unseen_objects), (3, 3), "the object aside is never decoded");
+    assert_eq!(aside.work.render, alone.work.render);
+    assert_eq!((keyed.work.decoded, keyed.work.reused), (1, 2), "the key frame's object is decoded once");
+    assert!(alone.work.back_faces > 0, "the cow's far side faces away from the couch");
+}
