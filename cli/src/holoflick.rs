@@ -52,6 +52,51 @@ pub enum HoloflickCommand {
         #[arg(long)]
         force: bool,
     },
+    /// Make a HoloFlick for a display from a glTF, OBJ or PLY scene (the
+    /// geometry shader of seed 001): place it, dice it into micropolygons
+    /// sized for the display, bake ambient and diffuse light (and shadows)
+    /// into vertex colours, keep specular as materials; animated glTF gives
+    /// one frame per 1/fps.
+    Encode {
+        /// The scene file.
+        scene: PathBuf,
+        /// Output: NAME.hflk.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Display layout: a built-in name or a .toml/.json profile.
+        #[arg(long, default_value = "mark3")]
+        layout: String,
+        /// Micropolygon edge as a multiple of what the display resolves at its depth.
+        #[arg(long, default_value_t = 1.0)]
+        micropolygon: f64,
+        /// Keep micropolygons flat (do not bend them onto the surface the normals describe).
+        #[arg(long)]
+        flat: bool,
+        /// Bake shadows of the scene's lights.
+        #[arg(long)]
+        shadows: bool,
+        /// Bits per position component (1–16).
+        #[arg(long, default_value_t = 16)]
+        position_bits: u32,
+        /// Bits per colour component (2–16).
+        #[arg(long, default_value_t = 9)]
+        colour_bits: u32,
+        /// Bits of the normal grid (0–6).
+        #[arg(long, default_value_t = 6)]
+        normal_bits: u32,
+        /// Frame rate, and the rate animations are sampled at.
+        #[arg(long, default_value_t = 30.0)]
+        fps: f64,
+        /// Frames of an animation: N, A..B or A..=B; default all.
+        #[arg(long, value_parser = crate::parse_frames)]
+        frames: Option<std::ops::Range<usize>>,
+        /// A key frame every N frames.
+        #[arg(long, default_value_t = 30)]
+        key_interval: usize,
+        /// Replace an existing output.
+        #[arg(long)]
+        force: bool,
+    },
     /// Write one frame of a HoloFlick (or the objects of a .cg file) as a
     /// mesh: .glb (glTF, unlit vertex colours) or .ply.
     Unpack {
@@ -126,6 +171,54 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
             for (i, (c, s)) in report.cg_transforms.iter().enumerate() {
                 println!("  object {i}: model = normalised × {s:.6e} + ({:.6}, {:.6}, {:.6})", c[0], c[1], c[2]);
             }
+        }
+        HoloflickCommand::Encode {
+            scene,
+            output,
+            layout,
+            micropolygon,
+            flat,
+            shadows,
+            position_bits,
+            colour_bits,
+            normal_bits,
+            fps,
+            frames,
+            key_interval,
+            force,
+        } => {
+            use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
+            let g = crate::layout_geometry(&layout)?;
+            let options = HoloFlickEncodeOptions {
+                micropolygon,
+                smooth: !flat,
+                shadows,
+                encode: EncodeOptions { position_bits, color_bits: colour_bits, normal_bits, alpha: true },
+                frames_per_second: fps,
+                frames,
+                key_interval,
+                overwrite: force,
+                ..HoloFlickEncodeOptions::default()
+            };
+            let bar = crate::progress_bar("frames", false);
+            let report = encode_holoflick(&scene, &g, &output, &options, &|done, all| {
+                bar.set_length(all as u64);
+                bar.set_position(done as u64);
+            })
+            .map_err(|e| e.to_string())?;
+            bar.finish_and_clear();
+            let p = &report.pack;
+            println!(
+                "wrote {} ({} bytes): {} frames, {} micropolygons, {} objects stored, {} from key frames, {:.2} stream bytes/micropolygon",
+                p.path.display(),
+                p.file_bytes,
+                p.frames,
+                report.micropolygons,
+                p.stored,
+                p.references,
+                p.stream_bytes as f64 / p.triangles.max(1) as f64
+            );
+            println!("{}", report.placed);
         }
         HoloflickCommand::Unpack { file, frame, output, force } => {
             let triangles = unpack(&file, frame, &output, force).map_err(|e| e.to_string())?;

@@ -11,5 +11,6 @@
 pub mod cg;
 pub mod container;
 pub mod convert;
+pub mod encode;
 pub mod objects;
 pub mod tools;

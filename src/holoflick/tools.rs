@@ -173,17 +173,12 @@ pub fn pack(
         overwrite: options.overwrite,
     };
     let mut writer = HoloFlickWriter::create(output, &write)?;
-    let mut key: HashMap<u32, (GeometryBlock, f64)> = HashMap::new();
-    let mut key_frame_number = 0u32;
+    let mut keys = KeyFrames::default();
     let mut couch = options.couch;
     for (n, f) in frames.iter().enumerate() {
         let scene = sources[f.input].scene_at(f.time_s)?;
         let couch = *couch.get_or_insert_with(|| couch_in_front(&scene));
-        let is_key = n % options.key_interval.max(1) == 0;
-        if is_key {
-            key.clear();
-            key_frame_number = n as u32;
-        }
+        let is_key = keys.start_frame(n, options.key_interval);
         let mut frame = Frame {
             key_frame: is_key,
             couch,
@@ -209,24 +204,7 @@ pub fn pack(
                 material: (frame.materials.len() - 1) as u32,
                 lights: all_lights.clone(),
             });
-            match key.get(&id) {
-                Some((block, scale)) if !is_key && *block == g.block && *scale == g.radiance_scale => {
-                    report.references += 1;
-                    frame.objects.push(ObjectRecord::Reference(KeyFrameReference {
-                        id,
-                        key_frame: key_frame_number,
-                        world_from_object: g.world_from_object,
-                    }));
-                }
-                _ => {
-                    report.stored += 1;
-                    report.stream_bytes += g.block.stream().len();
-                    if is_key {
-                        key.insert(id, (g.block.clone(), g.radiance_scale));
-                    }
-                    frame.objects.push(ObjectRecord::Stored(g));
-                }
-            }
+            keys.place(&mut frame, g, &mut report);
         }
         writer.add_frame(&frame)?;
         progress(n + 1, frames.len());
@@ -237,8 +215,51 @@ pub fn pack(
     Ok(report)
 }
 
+/// Key frames (seed 001 §13): an object whose block (and colour scale) is
+/// the last key frame's is stored as a reference to it.
+#[derive(Default)]
+pub(crate) struct KeyFrames {
+    blocks: HashMap<u32, (GeometryBlock, f64)>,
+    key_frame: u32,
+    is_key: bool,
+}
+
+impl KeyFrames {
+    /// Begin frame `n`: a key frame every `interval` frames. Returns whether it is one.
+    pub(crate) fn start_frame(&mut self, n: usize, interval: usize) -> bool {
+        self.is_key = n % interval.max(1) == 0;
+        if self.is_key {
+            self.blocks.clear();
+            self.key_frame = n as u32;
+        }
+        self.is_key
+    }
+
+    /// Put object `g` into `frame`: stored, or a reference to the key frame.
+    pub(crate) fn place(&mut self, frame: &mut Frame, g: super::container::GeometryObject, report: &mut PackReport) {
+        match self.blocks.get(&g.id) {
+            Some((block, scale)) if !self.is_key && *block == g.block && *scale == g.radiance_scale => {
+                report.references += 1;
+                frame.objects.push(ObjectRecord::Reference(KeyFrameReference {
+                    id: g.id,
+                    key_frame: self.key_frame,
+                    world_from_object: g.world_from_object,
+                }));
+            }
+            _ => {
+                report.stored += 1;
+                report.stream_bytes += g.block.stream().len();
+                if self.is_key {
+                    self.blocks.insert(g.id, (g.block.clone(), g.radiance_scale));
+                }
+                frame.objects.push(ObjectRecord::Stored(g));
+            }
+        }
+    }
+}
+
 /// `n / d` for a frame rate (exact for integers and for 24000/1001-style rates).
-fn frame_rate_fraction(fps: f64) -> (u32, u32) {
+pub(crate) fn frame_rate_fraction(fps: f64) -> (u32, u32) {
     for d in [1u32, 1001, 1000, 100] {
         let n = fps * d as f64;
         if (n - n.round()).abs() < 1e-6 && n.round() >= 1.0 && n.round() <= u32::MAX as f64 {
@@ -269,7 +290,7 @@ fn coloured(scene: &Scene, o: &Object) -> Object {
     out
 }
 
-fn specular_light(l: &Light) -> Option<SpecularLight> {
+pub(crate) fn specular_light(l: &Light) -> Option<SpecularLight> {
     match l {
         Light::Directional { direction, irradiance, .. } => {
             let len = (direction[0].powi(2) + direction[1].powi(2) + direction[2].powi(2)).sqrt();

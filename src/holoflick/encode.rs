@@ -1,0 +1,216 @@
+//! `holo holoflick encode`: the geometry shader of seed 001 §8 over a glTF
+//! (or OBJ, PLY) scene, for one display. Every frame (an animated glTF: one
+//! per `1/fps`) is placed in display metres as `holo convert mesh` places it
+//! (fitted on the first frame, kept after), diced into micropolygons sized
+//! for what the display resolves at their depth ([`crate::mesh::dice`],
+//! far from the emitter plane they are larger, seed 001 §12), lit once
+//! (ambient, diffuse and optionally shadows baked into vertex colours,
+//! [`crate::mesh::bake`]), and compressed; specular reflectance and
+//! exponent stay as materials, the scene's lights as specular lights. The
+//! viewer's couch is a box around the display's viewing zone, so
+//! `holo convert holoflick` draws the result as it is. Objects that do not
+//! change between frames are stored once per key frame.
+
+use std::ops::Range;
+use std::path::Path;
+
+use super::cg::EncodeOptions;
+use super::container::{Binding, Frame, HoloFlickWriter, SpecularMaterial, SpecularModel, ViewerCouch, WriteOptions};
+use super::objects::encode_object;
+use super::tools::{frame_rate_fraction, specular_light, KeyFrames, PackReport};
+use crate::geometry::Geometry;
+use crate::mesh::bake::BakeOptions;
+use crate::mesh::dice::{display_budget, DiceOptions};
+use crate::mesh::load::SceneSource;
+use crate::mesh::micro::micropolygons;
+use crate::mesh::place::{apply, place, Placed, Placement};
+use crate::mesh::shade::Lighting;
+use crate::{Error, Result};
+
+/// How to encode.
+#[derive(Clone, Debug)]
+pub struct HoloFlickEncodeOptions {
+    /// Where the scene goes in the display.
+    pub placement: Placement,
+    /// Micropolygon edge as a multiple of what the display resolves at its
+    /// depth (1: one display sample; smaller is finer).
+    pub micropolygon: f64,
+    /// Bend micropolygons onto the surface the normals describe.
+    pub smooth: bool,
+    /// Bake shadows of the scene's lights.
+    pub shadows: bool,
+    /// Quantization.
+    pub encode: EncodeOptions,
+    /// Animation sampling rate and frame rate.
+    pub frames_per_second: f64,
+    /// Frames to encode (animated scenes); default all.
+    pub frames: Option<Range<usize>>,
+    /// A key frame every this many frames.
+    pub key_interval: usize,
+    /// Replace an existing output.
+    pub overwrite: bool,
+}
+
+impl Default for HoloFlickEncodeOptions {
+    fn default() -> Self {
+        HoloFlickEncodeOptions {
+            placement: Placement::default(),
+            micropolygon: 1.0,
+            smooth: true,
+            shadows: false,
+            encode: EncodeOptions::default(),
+            frames_per_second: 30.0,
+            frames: None,
+            key_interval: 30,
+            overwrite: false,
+        }
+    }
+}
+
+/// What encoding did.
+#[derive(Clone, Debug)]
+pub struct HoloFlickEncodeReport {
+    /// Frames, objects stored and referred to, triangles, bytes.
+    pub pack: PackReport,
+    /// The placement used for every frame.
+    pub placed: Placed,
+    /// Micropolygons over all frames.
+    pub micropolygons: usize,
+    /// (vertex, light) pairs found in shadow.
+    pub shadowed: usize,
+}
+
+/// The couch for a display: its viewing zone (the viewer line's reach),
+/// widened by the display's height and a little depth.
+pub fn display_couch(g: &Geometry) -> ViewerCouch {
+    let d = g.viewer_distance_m - g.emitter_z_m;
+    let xs = [g.emitter_x_m(0), g.emitter_x_m(g.emitters.saturating_sub(1))];
+    let slopes = [g.views.theta_rad(0).tan(), g.views.theta_rad(g.views.count.saturating_sub(1)).tan()];
+    let reach: Vec<f64> = xs.iter().flat_map(|x| slopes.iter().map(move |s| x + s * d)).collect();
+    let (lo, hi) =
+        (reach.iter().copied().fold(f64::INFINITY, f64::min), reach.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+    let height = (g.hololine_y_m(0) - g.hololine_y_m(g.hololines.saturating_sub(1))).abs() + g.hololine_pitch_m;
+    let margin = 0.05 * d.abs().max(1e-3);
+    ViewerCouch {
+        min_m: [lo - margin, g.viewer_height_m - height, g.viewer_distance_m - margin],
+        max_m: [hi + margin, g.viewer_height_m + height, g.viewer_distance_m + margin],
+    }
+}
+
+/// Encode `input` for `geometry` into the HoloFlick `output`;
+/// `progress(frames done, frames)`.
+pub fn encode_holoflick(
+    input: &Path,
+    geometry: &Geometry,
+    output: &Path,
+    options: &HoloFlickEncodeOptions,
+    progress: &dyn Fn(usize, usize),
+) -> Result<HoloFlickEncodeReport> {
+    if !(options.frames_per_second.is_finite() && options.frames_per_second > 0.0) {
+        return Err(Error::Usage(format!("--fps must be positive (got {})", options.frames_per_second)));
+    }
+    if !(options.micropolygon.is_finite() && options.micropolygon > 0.0) {
+        return Err(Error::Usage(format!("--micropolygon must be positive (got {})", options.micropolygon)));
+    }
+    if !options.overwrite && output.exists() {
+        return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", output.display())));
+    }
+    let source = SceneSource::open(input)?;
+    let frames = match (&options.frames, source.animation_duration_s()) {
+        (Some(r), Some(_)) => r.clone(),
+        (Some(r), None) if *r == (0..1) => r.clone(),
+        (Some(r), None) => {
+            return Err(Error::Usage(format!(
+                "{}: the scene is not animated, so it has one frame (0); --frames asked for {}..{}",
+                input.display(),
+                r.start,
+                r.end
+            )))
+        }
+        (None, Some(d)) => 0..((d * options.frames_per_second).floor() as usize + 1),
+        (None, None) => 0..1,
+    };
+    if frames.is_empty() {
+        return Err(Error::Usage(format!("the frame range {}..{} is empty", frames.start, frames.end)));
+    }
+    let mut first = source.scene_at(frames.start as f64 / options.frames_per_second)?;
+    let placed = place(&mut first, geometry, &options.placement)?;
+    let (num, den) = frame_rate_fraction(options.frames_per_second);
+    let write = WriteOptions {
+        frames_per_second: (num, den),
+        text: vec![
+            ("software".into(), format!("holo {}", env!("CARGO_PKG_VERSION"))),
+            (
+                "source".into(),
+                format!(
+                    "holo holoflick encode {} (micropolygons {}× the display's resolution{}{}; {}/{}/{} bits)",
+                    input.display(),
+                    options.micropolygon,
+                    if options.smooth { ", smooth" } else { "" },
+                    if options.shadows { ", shadows" } else { "" },
+                    options.encode.position_bits,
+                    options.encode.color_bits,
+                    options.encode.normal_bits
+                ),
+            ),
+        ],
+        overwrite: options.overwrite,
+    };
+    let mut writer = HoloFlickWriter::create(output, &write)?;
+    let budget = display_budget(geometry, options.micropolygon);
+    let dice = DiceOptions { smooth: options.smooth, ..DiceOptions::default() };
+    let bake = BakeOptions { shadows: options.shadows };
+    let couch = display_couch(geometry);
+    let mut keys = KeyFrames::default();
+    let mut report = PackReport { path: output.to_path_buf(), ..PackReport::default() };
+    let (mut micro_count, mut shadowed) = (0, 0);
+    let mut first = Some(first);
+    for (i, n) in frames.clone().enumerate() {
+        let scene = match first.take() {
+            Some(s) => s,
+            None => {
+                let mut s = source.scene_at(n as f64 / options.frames_per_second)?;
+                apply(&mut s, &placed.matrix);
+                s
+            }
+        };
+        let lights = if scene.lights.is_empty() { Lighting::default_lights() } else { scene.lights.clone() };
+        let (micro, specular_lights, micro_report) = micropolygons(&scene, &lights, &budget, &dice, &bake)?;
+        micro_count += micro_report.dice.triangles_out;
+        shadowed += micro_report.bake.shadowed;
+        let is_key = keys.start_frame(i, options.key_interval);
+        let mut frame = Frame {
+            key_frame: is_key,
+            couch,
+            lights: specular_lights.iter().filter_map(specular_light).collect(),
+            materials: Vec::new(),
+            bindings: Vec::new(),
+            objects: Vec::new(),
+        };
+        let all_lights: Vec<u32> = (0..frame.lights.len() as u32).collect();
+        for (k, o) in micro.objects.iter().enumerate() {
+            if o.triangles.is_empty() {
+                continue;
+            }
+            let (g, stats) = encode_object(k as u32, o, &options.encode)?;
+            report.triangles += stats.triangles;
+            frame.materials.push(SpecularMaterial {
+                specular: o.material.specular.map(f64::from),
+                exponent: o.material.shininess.max(0.0) as f64,
+                model: SpecularModel::Blinn,
+            });
+            frame.bindings.push(Binding {
+                object_id: k as u32,
+                material: (frame.materials.len() - 1) as u32,
+                lights: all_lights.clone(),
+            });
+            keys.place(&mut frame, g, &mut report);
+        }
+        writer.add_frame(&frame)?;
+        progress(i + 1, frames.len());
+    }
+    let written = writer.finish()?;
+    report.frames = frames.len();
+    report.file_bytes = written.file_bytes;
+    Ok(HoloFlickEncodeReport { pack: report, placed, micropolygons: micro_count, shadowed })
+}
