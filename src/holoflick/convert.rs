@@ -144,11 +144,16 @@ pub fn convert_holoflick(
         write.frames_per_second = i32::try_from(n).ok().map(|n| (n, d));
     }
     let mut failure = None;
+    let mut outside = Vec::new();
     let n_frames = frames.len();
     let written = write_frames(output, geometry, n_frames, &write, |i| {
         let number = frames.start + i;
         let frame = reader.read_frame(number as u32)?;
-        let (scene, lighting) = match state.frame_scene(&frame, geometry, made_for_display, &mut warnings) {
+        let holds = couch_holds(&frame.frame.couch, zone_lo, zone_hi);
+        if made_for_display && !holds {
+            outside.push(number);
+        }
+        let (scene, lighting) = match state.frame_scene(&frame, geometry, made_for_display && holds, &mut warnings) {
             Ok(x) => x,
             Err(e) => {
                 failure = Some(number);
@@ -168,6 +173,14 @@ pub fn convert_holoflick(
         },
         None => e,
     })?;
+    if !outside.is_empty() {
+        let list: Vec<String> = outside.iter().map(|n| n.to_string()).collect();
+        warnings.push(format!(
+            "{}: frames {}: the viewer's couch does not hold the display's viewing zone; views from outside it may show holes",
+            input.display(),
+            list.join(", ")
+        ));
+    }
     warnings.sort();
     warnings.dedup();
     Ok(HoloFlickConvertReport {
@@ -261,12 +274,13 @@ impl State {
         &mut self,
         frame: &ResolvedFrame,
         g: &Geometry,
-        made_for_display: bool,
+        cull_with_couch: bool,
         warnings: &mut Vec<String>,
     ) -> Result<(Scene, Lighting)> {
         // Back faces against the couch only when it holds the display's
-        // viewpoints (otherwise the display may see what the couch cannot).
-        let couch = made_for_display.then(|| frame.frame.couch.corners().to_vec());
+        // viewpoints, in display metres (otherwise the display may see what
+        // the couch cannot).
+        let couch = cull_with_couch.then(|| frame.frame.couch.corners().to_vec());
         let ids: Vec<u32> = frame.objects.iter().map(|o| o.id).collect();
         let mut scene = self.scene(frame, couch.as_deref(), g, true)?;
         // Materials by binding; objects were pushed in frame order, minus the culled.
