@@ -118,6 +118,17 @@ impl<'a> Meshifier<'a> {
         }
     }
 
+    /// Could triangle `t` continue the strip?
+    fn can_continue(&self, t: usize) -> bool {
+        let [a, b, c] = self.window;
+        [(b, c, 3u8), (a, c, 2u8)].iter().any(|&(x, y, replace)| {
+            let tri = self.triangles[t];
+            tri.contains(&x)
+                && tri.contains(&y)
+                && tri.iter().find(|&&v| v != x && v != y).is_some_and(|&w| self.predict(w, replace, t).is_some())
+        })
+    }
+
     /// Continue the strip with triangle `t` if the window allows it with the
     /// right orientation; true when done.
     fn try_continue(&mut self, t: usize) -> bool {
@@ -173,7 +184,16 @@ impl<'a> Meshifier<'a> {
             // Around f, start where the counter-clockwise chain starts.
             for _ in 0..self.around(f).len() {
                 let Some(mut t) = self.around(f).iter().map(|&t| t as usize).find(|&t| !self.visited[t]) else { break };
-                for _ in 0..self.around(f).len() {
+                // A triangle around f that continues the current strip saves a restart.
+                let continuing = if active {
+                    self.around(f).iter().map(|&u| u as usize).find(|&u| !self.visited[u] && self.can_continue(u))
+                } else {
+                    None
+                };
+                if let Some(u) = continuing {
+                    t = u;
+                }
+                for _ in 0..if continuing.is_some() { 0 } else { self.around(f).len() } {
                     let x = corner_after(self.triangles[t], f);
                     // The triangle before t around f holds the directed edge x -> f.
                     match self

@@ -12,7 +12,7 @@
 //! Java's vertex order inside each triangle), and [`Streaming`] emits each
 //! triangle as soon as its vertex arrives, with the same orientation.
 
-use super::state::Sink;
+use super::state::{Sink, State};
 use super::{BlockKind, QuantizedVertex, Vertex};
 
 const RESTART_CW: u8 = 0;
@@ -180,8 +180,8 @@ impl JavaOrder {
 }
 
 impl Sink for JavaOrder {
-    fn vertex(&mut self, q: &QuantizedVertex, v: &Vertex, replace: u8) -> Result<(), String> {
-        self.list.push((*q, *v));
+    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String> {
+        self.list.push((state.quantized_vertex(), state.float_vertex()));
         self.flags.push(replace);
         Ok(())
     }
@@ -253,7 +253,9 @@ impl<F: FnMut(Primitive)> Streaming<F> {
 }
 
 impl<F: FnMut(Primitive)> Sink for Streaming<F> {
-    fn vertex(&mut self, _q: &QuantizedVertex, v: &Vertex, replace: u8) -> Result<(), String> {
+    #[inline]
+    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String> {
+        let v = &state.float_vertex();
         match self.kind {
             BlockKind::Points => {
                 (self.f)(Primitive::Point(v));
