@@ -67,6 +67,10 @@ fn outside_grid(code: NormalCode) -> String {
 pub(crate) struct MeshEntry {
     pub position: [i16; 3],
     pub normal: [i16; 4],
+    /// The float normal of `normal`, kept so a reference need not look it up
+    /// again (same value: a code that decoded once decodes the same way; the
+    /// short truncation only touches u, v of special normals, which ignore them).
+    pub normal_f: [f32; 3],
     pub color: [i16; 4],
 }
 
@@ -117,7 +121,11 @@ impl State {
             color: [0; 4],
             normal: NormalCode::default(),
             normal_f: [0.0; 3],
-            mesh: [MeshEntry::default(); 16],
+            // Java's zeroed slots: code (0, 0, 0, 0), whose normal is the table's first entry.
+            mesh: [MeshEntry {
+                normal_f: index_normal(normal_table(), NormalCode::default()).unwrap_or_default(),
+                ..MeshEntry::default()
+            }; 16],
             mesh_index: 15,
             pushes: 0,
             use_mesh_normal: false,
@@ -221,6 +229,7 @@ impl State {
             let n = self.normal;
             // Java stores shorts.
             self.mesh[self.mesh_index].normal = [n.sextant as i16, n.octant as i16, n.u as i16, n.v as i16];
+            self.mesh[self.mesh_index].normal_f = self.normal_f;
         }
         if !self.bundling_normal {
             if !self.list_open {
@@ -295,9 +304,9 @@ impl State {
         self.position = entry.position;
         if self.bundling_normal && self.use_mesh_normal {
             let n = entry.normal;
-            let code =
+            self.normal =
                 NormalCode { sextant: n[0] as u8 & 7, octant: n[1] as u8 & 7, u: i32::from(n[2]), v: i32::from(n[3]) };
-            self.set_normal_code(code)?;
+            self.normal_f = entry.normal_f;
         }
         if self.bundling_color && self.use_mesh_color {
             self.color[0] = entry.color[0];
