@@ -134,8 +134,8 @@ fn check_round_trip(
         for (k, &i) in order.iter().enumerate() {
             let i = i as usize;
             let p = to_frame(positions[i]);
-            for c in 0..3 {
-                let e = (f64::from(got[k].position[c]) - p[c]).abs();
+            for (&g, &want) in got[k].position.iter().zip(&p) {
+                let e = (f64::from(g) - want).abs();
                 err.position = err.position.max(e);
                 assert!(e <= pos_bound, "position error {e} > {pos_bound}");
             }
@@ -493,7 +493,9 @@ fn random_code(rng: &mut ChaCha8Rng) -> Vec<(u32, u32)> {
 fn random_stream(rng: &mut ChaCha8Rng) -> Vec<u8> {
     let mut cmds: Vec<(String, String)> = Vec::new();
     let bits = |v: u64, n: u32| -> String { (0..n).rev().map(|i| if (v >> i) & 1 == 1 { '1' } else { '0' }).collect() };
-    let mut tables: Vec<Vec<(u32, u32, u32, u32, bool)>> = vec![vec![], vec![], vec![]];
+    // Per table: (tag, tag length, data length, shift, absolute).
+    type Entries = Vec<(u32, u32, u32, u32, bool)>;
+    let mut tables: Vec<Entries> = vec![vec![], vec![], vec![]];
     let (mut bn, mut bc, mut alpha) = (rng.gen_bool(0.5), rng.gen_bool(0.5), rng.gen_bool(0.5));
     cmds.push((
         format!("00011{}{}", bits(rng.gen_range(0..4), 2), u8::from(bn)),

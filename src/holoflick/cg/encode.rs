@@ -133,6 +133,9 @@ struct Coded {
     index: Option<u32>,
 }
 
+/// A full vertex's position, normal and colour codes.
+type CodedVertex = (Coded, Option<Coded>, Option<Coded>);
+
 /// Code `v` (stream units, multiples of 2^`shift`) absolutely or as a delta
 /// from `last` (16-bit wrapping, as the decoder adds), whichever needs fewer bits.
 fn code_values(v: &[i32; 4], last: Option<[i32; 4]>, shift: u32, comps: usize) -> Coded {
@@ -230,9 +233,7 @@ impl Table {
             let comps = (self.components)(t);
             let (mut sent, mut shift) = (t.0, self.shift);
             while (comps > 0 && tag_len + comps * sent < 6) || (self.id != 2 && sent + shift == 0) {
-                if shift > 0 {
-                    shift -= 1;
-                }
+                shift = shift.saturating_sub(1);
                 sent += 1;
             }
             self.entries.insert(t, TableEntry { tag: tags[k], tag_len, data_len: sent + shift, shift, absolute: t.1 });
@@ -371,7 +372,7 @@ pub fn encode(mesh: &Mesh, options: &EncodeOptions) -> Result<Encoded> {
     let mut pos_table = Table::new(0, pos_shift, |_| 3);
     let mut col_table = Table::new(1, col_shift, |_| 3);
     let mut nor_table = Table::new(2, nor_shift, |t| if t.1 { 0 } else { 2 });
-    let mut coded: Vec<Option<(Coded, Option<Coded>, Option<Coded>)>> = Vec::with_capacity(steps.len());
+    let mut coded: Vec<Option<CodedVertex>> = Vec::with_capacity(steps.len());
     let mut cur: Option<QVertex> = None;
     let comps = if o.alpha { 4 } else { 3 };
     let wide = |a: [i16; 3]| [i32::from(a[0]), i32::from(a[1]), i32::from(a[2]), 0];

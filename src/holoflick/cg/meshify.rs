@@ -30,6 +30,10 @@ const FULL_VERTEX_BITS: u64 = 60;
 /// finds the shared row of vertices still in the 16-entry buffer.
 const STRIP_PUSHES: u64 = 8;
 
+/// A next triangle for the strip greedy: (cost, is a restart, tie-break,
+/// triangle, for a continuation: new vertex, replace code, run, winding).
+type Candidate = (u64, bool, usize, usize, Option<(u32, u8, Run, bool)>);
+
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Run {
     Pending,
@@ -242,7 +246,7 @@ impl<'a> Meshifier<'a> {
                     }
                     _ => 0,
                 };
-                if (&best).is_none_or_compat(|b| p > b.0) {
+                if (&best).none_or(|b| p > b.0) {
                     best = Some((p, v));
                 }
             }
@@ -378,11 +382,9 @@ impl<'a> Meshifier<'a> {
         let mut active = false;
         loop {
             // Candidates: (cost, is restart, unvisited neighbours, triangle, continuation data).
-            let mut best: Option<(u64, bool, usize, usize, Option<(u32, u8, Run, bool)>)> = None;
-            let better = |best: &Option<(u64, bool, usize, usize, Option<(u32, u8, Run, bool)>)>,
-                          key: (u64, bool, usize)| {
-                best.as_ref().is_none_or_compat(|b| key < (b.0, b.1, b.2))
-            };
+            let mut best: Option<Candidate> = None;
+            let better =
+                |best: &Option<Candidate>, key: (u64, bool, usize)| best.as_ref().none_or(|b| key < (b.0, b.1, b.2));
             if active && self.strip_pushes < STRIP_PUSHES {
                 let [a, b, c] = self.window;
                 for (x, y, replace) in [(b, c, 3u8), (a, c, 2u8)] {
@@ -484,11 +486,11 @@ fn same_orientation(a: [u32; 3], b: [u32; 3]) -> bool {
 
 /// `Option::is_none_or` for Rust 1.80.
 trait NoneOr<T> {
-    fn is_none_or_compat(self, f: impl FnOnce(&T) -> bool) -> bool;
+    fn none_or(self, f: impl FnOnce(&T) -> bool) -> bool;
 }
 
 impl<T> NoneOr<T> for &Option<T> {
-    fn is_none_or_compat(self, f: impl FnOnce(&T) -> bool) -> bool {
+    fn none_or(self, f: impl FnOnce(&T) -> bool) -> bool {
         match self {
             None => true,
             Some(x) => f(x),
@@ -497,7 +499,7 @@ impl<T> NoneOr<T> for &Option<T> {
 }
 
 impl<T> NoneOr<T> for Option<&T> {
-    fn is_none_or_compat(self, f: impl FnOnce(&T) -> bool) -> bool {
+    fn none_or(self, f: impl FnOnce(&T) -> bool) -> bool {
         match self {
             None => true,
             Some(x) => f(x),

@@ -270,9 +270,9 @@ impl State {
     /// Apply a colour body's components (`values` already shifted).
     #[inline]
     pub(crate) fn apply_color(&mut self, absolute: bool, values: [i32; 4]) {
-        for k in 0..3 {
-            let d = values[k] as i16;
-            self.color[k] = if absolute { d } else { self.color[k].wrapping_add(d) };
+        for (c, &v) in self.color.iter_mut().zip(&values).take(3) {
+            let d = v as i16;
+            *c = if absolute { d } else { c.wrapping_add(d) };
         }
         if self.doing_alpha {
             let d = values[3] as i16;
@@ -283,9 +283,9 @@ impl State {
     /// Apply a position body's components, then the optional push.
     #[inline]
     pub(crate) fn apply_position(&mut self, absolute: bool, values: [i32; 3], push: bool) {
-        for k in 0..3 {
-            let d = values[k] as i16;
-            self.position[k] = if absolute { d } else { self.position[k].wrapping_add(d) };
+        for (c, &v) in self.position.iter_mut().zip(&values) {
+            let d = v as i16;
+            *c = if absolute { d } else { c.wrapping_add(d) };
         }
         if push {
             self.mesh_index = (self.mesh_index + 1) & 15;
