@@ -157,15 +157,31 @@ fn code_normal(n: NormalCode, last: Option<NormalCode>, shift: u32) -> Coded {
     let abs_bits = unsigned_bits((n.u >> shift) as u32).max(unsigned_bits((n.v >> shift) as u32));
     let index = (u32::from(n.sextant) << 3) | u32::from(n.octant);
     let absolute = Coded { token: (abs_bits, true), values: [n.u, n.v, 0, 0], comps: 2, index: Some(index) };
-    match last {
-        Some(l) if l.sextant == n.sextant && l.octant == n.octant && n.sextant < 6 => {
-            let (du, dv) = (n.u - l.u, n.v - l.v);
-            let rel_bits = signed_bits(du >> shift).max(signed_bits(dv >> shift));
-            if 2 * rel_bits < 6 + 2 * abs_bits {
-                Coded { token: (rel_bits, false), values: [du, dv, 0, 0], comps: 2, index: None }
-            } else {
-                absolute
-            }
+    let Some(l) = last.filter(|l| l.sextant < 6 && n.sextant < 6) else { return absolute };
+    // Deltas the decoder turns into `n`: directly within the same sextant and
+    // octant, or across one edge by the reflection Java 3D's
+    // processSetNormal applies when the sum leaves the triangle.
+    let mut options: Vec<(i32, i32)> = Vec::with_capacity(4);
+    if l.sextant == n.sextant && l.octant == n.octant {
+        options.push((n.u - l.u, n.v - l.v));
+    }
+    let u_mirror = [4, 5, 3, 2, 0, 1][usize::from(l.sextant)];
+    if n.sextant == u_mirror && n.octant == l.octant && n.u > 0 {
+        options.push((-n.u - l.u, n.v - l.v));
+    }
+    let v_flip = [2, 4, 1, 1, 2, 4][usize::from(l.sextant)];
+    if n.sextant == l.sextant && n.octant == l.octant ^ v_flip && n.v > 0 {
+        options.push((n.u - l.u, -n.v - l.v));
+    }
+    let uv_mirror = [2, 3, 0, 1, 5, 4][usize::from(l.sextant)];
+    if n.sextant == uv_mirror && n.octant == l.octant && n.u + n.v < 64 {
+        options.push((64 - n.u - l.u, 64 - n.v - l.v));
+    }
+    let best =
+        options.into_iter().map(|(du, dv)| (signed_bits(du >> shift).max(signed_bits(dv >> shift)), du, dv)).min();
+    match best {
+        Some((rel_bits, du, dv)) if 2 * rel_bits < 6 + 2 * abs_bits => {
+            Coded { token: (rel_bits, false), values: [du, dv, 0, 0], comps: 2, index: None }
         }
         _ => absolute,
     }
