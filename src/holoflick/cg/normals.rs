@@ -193,7 +193,7 @@ pub(crate) fn quantize_normal(n: [f32; 3], bits: u32) -> NormalCode {
     NormalCode { sextant, octant, u, v }
 }
 
-/// Angle (rad) within which [`quantize_normal`] at `bits` (0..=6)
+/// Angle (rad) within which the encoder's normal quantization at `bits` (0..=6)
 /// reproduces any unit normal: half the diagonal of the coarsest grid cell
 /// (the theta step is at most 2.13 times the psi step MAXY/2^bits, at
 /// u = 0), times 1.8 because the grid is not affine in angle near u = 0
