@@ -809,6 +809,22 @@ fn cg_files_round_trip_and_bad_files_fail() {
     let decoded = read_cg_file(&path).unwrap();
     assert_eq!(decoded.len(), 1);
     assert_eq!(decoded[0], decode(&enc.header, &enc.bytes).unwrap());
+    // Decoded positions map back to model space within half a 10-bit step of the largest extent.
+    let extent = (0..3)
+        .map(|k| {
+            let (lo, hi) =
+                m.positions.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p[k]), h.max(p[k])));
+            hi - lo
+        })
+        .fold(0.0, f64::max);
+    let first = decoded[0].triangles[0][0].position;
+    let model = enc.model_from_normalised(first);
+    let nearest = m
+        .positions
+        .iter()
+        .map(|p| (0..3).map(|k| (p[k] - model[k]).abs()).fold(0.0, f64::max))
+        .fold(f64::INFINITY, f64::min);
+    assert!(nearest <= extent / 1024.0 * 0.51 + 1e-9, "{nearest} from the nearest input vertex (extent {extent})");
     let bytes = std::fs::read(&path).unwrap();
     // Java's block descriptor: triangle (3) | normals (4) | colours (8) | alpha (16).
     assert_eq!(u32::from_be_bytes(bytes[36..40].try_into().unwrap()), 3 | 4 | 8 | 16);

@@ -83,6 +83,14 @@ pub struct Encoded {
     pub stats: EncodeStats,
 }
 
+impl Encoded {
+    /// A decoded position (Java 3D's normalised frame) back in model units:
+    /// `model = normalised / scale + center`.
+    pub fn model_from_normalised(&self, normalised: [f32; 3]) -> [f64; 3] {
+        [0, 1, 2].map(|k| f64::from(normalised[k]) / self.scale + self.center[k])
+    }
+}
+
 fn usage(msg: String) -> Error {
     Error::Usage(msg)
 }
