@@ -10,6 +10,8 @@
 //! vertex normals) and Spot (5 856). Neither has vertex colours, so colours
 //! are a smooth gradient over the bounds (realistic deltas, not constants).
 
+// Shared with the frame benchmarks; `band` is theirs.
+#[allow(dead_code)]
 mod common;
 use common::time;
 

@@ -134,8 +134,8 @@ fn check_round_trip(
         for (k, &i) in order.iter().enumerate() {
             let i = i as usize;
             let p = to_frame(positions[i]);
-            for c in 0..3 {
-                let e = (f64::from(got[k].position[c]) - p[c]).abs();
+            for (&g, &want) in got[k].position.iter().zip(&p) {
+                let e = (f64::from(g) - want).abs();
                 err.position = err.position.max(e);
                 assert!(e <= pos_bound, "position error {e} > {pos_bound}");
             }
@@ -493,7 +493,9 @@ fn random_code(rng: &mut ChaCha8Rng) -> Vec<(u32, u32)> {
 fn random_stream(rng: &mut ChaCha8Rng) -> Vec<u8> {
     let mut cmds: Vec<(String, String)> = Vec::new();
     let bits = |v: u64, n: u32| -> String { (0..n).rev().map(|i| if (v >> i) & 1 == 1 { '1' } else { '0' }).collect() };
-    let mut tables: Vec<Vec<(u32, u32, u32, u32, bool)>> = vec![vec![], vec![], vec![]];
+    // Per table: (tag, tag length, data length, shift, absolute).
+    type Entries = Vec<(u32, u32, u32, u32, bool)>;
+    let mut tables: Vec<Entries> = vec![vec![], vec![], vec![]];
     let (mut bn, mut bc, mut alpha) = (rng.gen_bool(0.5), rng.gen_bool(0.5), rng.gen_bool(0.5));
     cmds.push((
         format!("00011{}{}", bits(rng.gen_range(0..4), 2), u8::from(bn)),
@@ -807,6 +809,22 @@ fn cg_files_round_trip_and_bad_files_fail() {
     let decoded = read_cg_file(&path).unwrap();
     assert_eq!(decoded.len(), 1);
     assert_eq!(decoded[0], decode(&enc.header, &enc.bytes).unwrap());
+    // Decoded positions map back to model space within half a 10-bit step of the largest extent.
+    let extent = (0..3)
+        .map(|k| {
+            let (lo, hi) =
+                m.positions.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p[k]), h.max(p[k])));
+            hi - lo
+        })
+        .fold(0.0, f64::max);
+    let first = decoded[0].triangles[0][0].position;
+    let model = enc.model_from_normalised(first);
+    let nearest = m
+        .positions
+        .iter()
+        .map(|p| (0..3).map(|k| (p[k] - model[k]).abs()).fold(0.0, f64::max))
+        .fold(f64::INFINITY, f64::min);
+    assert!(nearest <= extent / 1024.0 * 0.51 + 1e-9, "{nearest} from the nearest input vertex (extent {extent})");
     let bytes = std::fs::read(&path).unwrap();
     // Java's block descriptor: triangle (3) | normals (4) | colours (8) | alpha (16).
     assert_eq!(u32::from_be_bytes(bytes[36..40].try_into().unwrap()), 3 | 4 | 8 | 16);

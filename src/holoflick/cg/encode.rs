@@ -83,6 +83,14 @@ pub struct Encoded {
     pub stats: EncodeStats,
 }
 
+impl Encoded {
+    /// A decoded position (Java 3D's normalised frame) back in model units:
+    /// `model = normalised / scale + center`.
+    pub fn model_from_normalised(&self, normalised: [f32; 3]) -> [f64; 3] {
+        [0, 1, 2].map(|k| f64::from(normalised[k]) / self.scale + self.center[k])
+    }
+}
+
 fn usage(msg: String) -> Error {
     Error::Usage(msg)
 }
@@ -133,6 +141,9 @@ struct Coded {
     index: Option<u32>,
 }
 
+/// A full vertex's position, normal and colour codes.
+type CodedVertex = (Coded, Option<Coded>, Option<Coded>);
+
 /// Code `v` (stream units, multiples of 2^`shift`) absolutely or as a delta
 /// from `last` (16-bit wrapping, as the decoder adds), whichever needs fewer bits.
 fn code_values(v: &[i32; 4], last: Option<[i32; 4]>, shift: u32, comps: usize) -> Coded {
@@ -154,15 +165,31 @@ fn code_normal(n: NormalCode, last: Option<NormalCode>, shift: u32) -> Coded {
     let abs_bits = unsigned_bits((n.u >> shift) as u32).max(unsigned_bits((n.v >> shift) as u32));
     let index = (u32::from(n.sextant) << 3) | u32::from(n.octant);
     let absolute = Coded { token: (abs_bits, true), values: [n.u, n.v, 0, 0], comps: 2, index: Some(index) };
-    match last {
-        Some(l) if l.sextant == n.sextant && l.octant == n.octant && n.sextant < 6 => {
-            let (du, dv) = (n.u - l.u, n.v - l.v);
-            let rel_bits = signed_bits(du >> shift).max(signed_bits(dv >> shift));
-            if 2 * rel_bits < 6 + 2 * abs_bits {
-                Coded { token: (rel_bits, false), values: [du, dv, 0, 0], comps: 2, index: None }
-            } else {
-                absolute
-            }
+    let Some(l) = last.filter(|l| l.sextant < 6 && n.sextant < 6) else { return absolute };
+    // Deltas the decoder turns into `n`: directly within the same sextant and
+    // octant, or across one edge by the reflection Java 3D's
+    // processSetNormal applies when the sum leaves the triangle.
+    let mut options: Vec<(i32, i32)> = Vec::with_capacity(4);
+    if l.sextant == n.sextant && l.octant == n.octant {
+        options.push((n.u - l.u, n.v - l.v));
+    }
+    let u_mirror = [4, 5, 3, 2, 0, 1][usize::from(l.sextant)];
+    if n.sextant == u_mirror && n.octant == l.octant && n.u > 0 {
+        options.push((-n.u - l.u, n.v - l.v));
+    }
+    let v_flip = [2, 4, 1, 1, 2, 4][usize::from(l.sextant)];
+    if n.sextant == l.sextant && n.octant == l.octant ^ v_flip && n.v > 0 {
+        options.push((n.u - l.u, -n.v - l.v));
+    }
+    let uv_mirror = [2, 3, 0, 1, 5, 4][usize::from(l.sextant)];
+    if n.sextant == uv_mirror && n.octant == l.octant && n.u + n.v < 64 {
+        options.push((64 - n.u - l.u, 64 - n.v - l.v));
+    }
+    let best =
+        options.into_iter().map(|(du, dv)| (signed_bits(du >> shift).max(signed_bits(dv >> shift)), du, dv)).min();
+    match best {
+        Some((rel_bits, du, dv)) if 2 * rel_bits < 6 + 2 * abs_bits => {
+            Coded { token: (rel_bits, false), values: [du, dv, 0, 0], comps: 2, index: None }
         }
         _ => absolute,
     }
@@ -230,9 +257,7 @@ impl Table {
             let comps = (self.components)(t);
             let (mut sent, mut shift) = (t.0, self.shift);
             while (comps > 0 && tag_len + comps * sent < 6) || (self.id != 2 && sent + shift == 0) {
-                if shift > 0 {
-                    shift -= 1;
-                }
+                shift = shift.saturating_sub(1);
                 sent += 1;
             }
             self.entries.insert(t, TableEntry { tag: tags[k], tag_len, data_len: sent + shift, shift, absolute: t.1 });
@@ -371,7 +396,7 @@ pub fn encode(mesh: &Mesh, options: &EncodeOptions) -> Result<Encoded> {
     let mut pos_table = Table::new(0, pos_shift, |_| 3);
     let mut col_table = Table::new(1, col_shift, |_| 3);
     let mut nor_table = Table::new(2, nor_shift, |t| if t.1 { 0 } else { 2 });
-    let mut coded: Vec<Option<(Coded, Option<Coded>, Option<Coded>)>> = Vec::with_capacity(steps.len());
+    let mut coded: Vec<Option<CodedVertex>> = Vec::with_capacity(steps.len());
     let mut cur: Option<QVertex> = None;
     let comps = if o.alpha { 4 } else { 3 };
     let wide = |a: [i16; 3]| [i32::from(a[0]), i32::from(a[1]), i32::from(a[2]), 0];

@@ -18,7 +18,7 @@
 //! * [`decode`] a stream into triangles exactly as Java 3D builds them, or
 //!   [`decode_with`] to receive each primitive as it is decoded;
 //!   [`decode_reference`] is the slow, literal twin of [`decode`];
-//! * [`file`] reads and writes `.cg` files; [`write_cg_file`] and
+//! * [`file`](mod@file) reads and writes `.cg` files; [`write_cg_file`] and
 //!   [`read_cg_file`] are the one-call forms for tests and tools.
 //!
 //! Decoded values are in Java 3D's normalised frame, computed with Java's

@@ -47,11 +47,30 @@ fn table() -> &'static [[[f64; 3]; 65]; 65] {
     })
 }
 
+/// Java 3D's table cast to f32 as `indexNormal` casts each entry, `[v][u]`.
+pub(crate) type NormalTable = [[[f32; 3]; 65]; 65];
+
+/// The f32 table, made once.
+pub(crate) fn normal_table() -> &'static NormalTable {
+    static TABLE32: OnceLock<Box<NormalTable>> = OnceLock::new();
+    TABLE32.get_or_init(|| {
+        let t = table();
+        let mut f = Box::new([[[0.0f32; 3]; 65]; 65]);
+        for (row, src) in f.iter_mut().zip(t.iter()) {
+            for (e, s) in row.iter_mut().zip(src.iter()) {
+                *e = [s[0] as f32, s[1] as f32, s[2] as f32];
+            }
+        }
+        f
+    })
+}
+
 /// The float normal of a code, with Java 3D's `indexNormal` arithmetic
 /// (table in f64, cast to f32, then swaps and sign flips).
 /// `None` when a regular code's `u` or `v` lies outside 0..=64, where Java
 /// indexes past its table (ArrayIndexOutOfBoundsException).
-pub(crate) fn index_normal(code: NormalCode) -> Option<[f32; 3]> {
+#[inline]
+pub(crate) fn index_normal(table: &NormalTable, code: NormalCode) -> Option<[f32; 3]> {
     let (mut nx, mut ny, mut nz);
     let mut oct = code.octant;
     if code.sextant > 5 {
@@ -73,8 +92,8 @@ pub(crate) fn index_normal(code: NormalCode) -> Option<[f32; 3]> {
     } else {
         let u = usize::try_from(code.u).ok().filter(|&u| u <= 64)?;
         let v = usize::try_from(code.v).ok().filter(|&v| v <= 64)?;
-        let e = table()[v][u];
-        (nx, ny, nz) = (e[0] as f32, e[1] as f32, e[2] as f32);
+        let e = table[v][u];
+        (nx, ny, nz) = (e[0], e[1], e[2]);
         if code.sextant & 4 != 0 {
             std::mem::swap(&mut nx, &mut nz);
         }
@@ -174,7 +193,7 @@ pub(crate) fn quantize_normal(n: [f32; 3], bits: u32) -> NormalCode {
     NormalCode { sextant, octant, u, v }
 }
 
-/// Angle (rad) within which [`quantize_normal`] at `bits` (0..=6)
+/// Angle (rad) within which the encoder's normal quantization at `bits` (0..=6)
 /// reproduces any unit normal: half the diagonal of the coarsest grid cell
 /// (the theta step is at most 2.13 times the psi step MAXY/2^bits, at
 /// u = 0), times 1.8 because the grid is not affine in angle near u = 0
@@ -200,7 +219,7 @@ mod tests {
     fn specials_are_axes_and_diagonals() {
         // Worked from the spec text: sextant 6, octant 0 = +x; octant 2 = -x;
         // octant 4 = +y; sextant 7 octant 0 = +z; sextant 6 octant 1 = (+,+,+)/√3.
-        let n = |s, o| index_normal(NormalCode { sextant: s, octant: o, u: 0, v: 0 }).unwrap();
+        let n = |s, o| index_normal(normal_table(), NormalCode { sextant: s, octant: o, u: 0, v: 0 }).unwrap();
         assert_eq!(n(6, 0), [1.0, 0.0, 0.0]);
         assert_eq!(n(6, 2), [-1.0, -0.0, -0.0]);
         assert_eq!(n(6, 4), [0.0, 1.0, 0.0]);
@@ -212,13 +231,13 @@ mod tests {
     #[test]
     fn table_corners() {
         // (u, v) = (64, 0): theta = 0, psi = 0 -> +x; (0, 64): the diagonal.
-        let x = index_normal(NormalCode { sextant: 0, octant: 0, u: 64, v: 0 }).unwrap();
+        let x = index_normal(normal_table(), NormalCode { sextant: 0, octant: 0, u: 64, v: 0 }).unwrap();
         assert_eq!(x, [1.0, 0.0, 0.0]);
-        let d = index_normal(NormalCode { sextant: 0, octant: 0, u: 0, v: 64 }).unwrap();
+        let d = index_normal(normal_table(), NormalCode { sextant: 0, octant: 0, u: 0, v: 64 }).unwrap();
         for c in d {
             assert!((c - 0.57735).abs() < 2e-4, "{d:?}");
         }
-        assert!(index_normal(NormalCode { sextant: 0, octant: 0, u: 65, v: 0 }).is_none());
+        assert!(index_normal(normal_table(), NormalCode { sextant: 0, octant: 0, u: 65, v: 0 }).is_none());
     }
 
     #[test]
@@ -233,7 +252,7 @@ mod tests {
             let n = [rnd() as f32, rnd() as f32, rnd() as f32];
             for bits in 0..=6u32 {
                 let code = quantize_normal(n, bits);
-                let back = index_normal(code).unwrap();
+                let back = index_normal(normal_table(), code).unwrap();
                 let a = angle(n, back);
                 worst[bits as usize] = worst[bits as usize].max(a);
                 assert!(a <= normal_error_bound_rad(bits), "bits {bits}: {n:?} -> {code:?} {back:?}: {a}");

@@ -127,8 +127,7 @@ fn vertex(d: &mut Ref, st: &mut State, header: i64) -> Result<bool, BodyError> {
     let gct = d.tables[0].lookup(header as u32);
     let data_len = i64::from(gct.sent_bits("position")?);
     let tag = i64::from(gct.tag_len);
-    let ii;
-    if 6 - 3 * data_len - tag > 0 {
+    let ii = if 6 - 3 * data_len - tag > 0 {
         let num_bits = 6 - 3 * data_len - tag;
         if num_bits > 3 {
             return Err(BodyError::Invalid(format!(
@@ -136,10 +135,10 @@ fn vertex(d: &mut Ref, st: &mut State, header: i64) -> Result<bool, BodyError> {
             )));
         }
         let jj = header & bmask(num_bits);
-        ii = d.bits(3 - num_bits)? | (jj << (3 - num_bits));
+        d.bits(3 - num_bits)? | (jj << (3 - num_bits))
     } else {
-        ii = d.bits(3)?;
-    }
+        d.bits(3)?
+    };
     let (mut x, mut y, mut z);
     x = header & bmask(6 - tag);
     if tag + data_len == 6 {

@@ -4,7 +4,7 @@
 //! way Java 3D's `GeometryDecompressorShape3D` does (vertex formats,
 //! global colour and normal, where a new vertex list starts).
 
-use super::normals::{index_normal, NormalCode};
+use super::normals::{index_normal, normal_table, NormalCode, NormalTable};
 use super::{QuantizedVertex, Vertex};
 
 /// One entry of a decompression table (`HuffmanTableEntry` in Java 3D).
@@ -23,14 +23,17 @@ pub(crate) struct Entry {
 impl Entry {
     /// Bits sent per component, or an error when the shift exceeds the length
     /// (Java 3D would call `getBits` with a negative count and fail).
+    #[inline(always)]
     pub(crate) fn sent_bits(&self, table: &str) -> Result<u32, String> {
         if self.shift > self.data_len {
-            return Err(format!(
-                "{table} table entry shifts by {} bits, more than its data length {}",
-                self.shift, self.data_len
-            ));
+            return Err(self.shift_error(table));
         }
         Ok(u32::from(self.data_len - self.shift))
+    }
+
+    #[cold]
+    fn shift_error(&self, table: &str) -> String {
+        format!("{table} table entry shifts by {} bits, more than its data length {}", self.shift, self.data_len)
     }
 }
 
@@ -54,18 +57,28 @@ pub(crate) fn parse_set_table(header: u32, body: u32) -> (usize, usize, usize, E
     (table, first, count, Entry { tag_len: tag_len as u8, data_len, shift, absolute })
 }
 
+#[cold]
+fn outside_grid(code: NormalCode) -> String {
+    format!("normal (u, v) = ({}, {}) lies outside the 64-step grid", code.u, code.v)
+}
+
 /// One mesh-buffer slot (Java 3D `MeshBufferEntry`: all shorts).
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct MeshEntry {
     pub position: [i16; 3],
     pub normal: [i16; 4],
+    /// The float normal of `normal`, kept so a reference need not look it up
+    /// again (same value: a code that decoded once decodes the same way; the
+    /// short truncation only touches u, v of special normals, which ignore them).
+    pub normal_f: [f32; 3],
     pub color: [i16; 4],
 }
 
 /// Where vertices go: implemented by the triangle assemblers.
 pub(crate) trait Sink {
-    /// A vertex with its generalized-strip replace code (0..=3).
-    fn vertex(&mut self, q: &QuantizedVertex, v: &Vertex, replace: u8) -> Result<(), String>;
+    /// The decoder's current vertex ([`State::float_vertex`],
+    /// [`State::quantized_vertex`]) with its generalized-strip replace code (0..=3).
+    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String>;
     /// The current vertex list ends (Java 3D builds a Shape3D from it).
     fn end_list(&mut self) -> Result<(), String>;
 }
@@ -96,6 +109,8 @@ pub(crate) struct State {
     pub global_color: Option<[i16; 4]>,
     /// Replace code of the vertex being decoded.
     pub last_replace: u8,
+    /// Java 3D's normal table, as floats.
+    pub normal_table: &'static NormalTable,
 }
 
 impl State {
@@ -106,7 +121,11 @@ impl State {
             color: [0; 4],
             normal: NormalCode::default(),
             normal_f: [0.0; 3],
-            mesh: [MeshEntry::default(); 16],
+            // Java's zeroed slots: code (0, 0, 0, 0), whose normal is the table's first entry.
+            mesh: [MeshEntry {
+                normal_f: index_normal(normal_table(), NormalCode::default()).unwrap_or_default(),
+                ..MeshEntry::default()
+            }; 16],
             mesh_index: 15,
             pushes: 0,
             use_mesh_normal: false,
@@ -120,6 +139,7 @@ impl State {
             global_normal: None,
             global_color: None,
             last_replace: 0,
+            normal_table: normal_table(),
         }
     }
 
@@ -144,16 +164,20 @@ impl State {
     }
 
     /// Set the current normal's code, computing its float value as Java does.
+    #[inline]
     pub(crate) fn set_normal_code(&mut self, code: NormalCode) -> Result<(), String> {
         self.normal = code;
-        self.normal_f = index_normal(code)
-            .ok_or_else(|| format!("normal (u, v) = ({}, {}) lies outside the 64-step grid", code.u, code.v))?;
+        match index_normal(self.normal_table, code) {
+            Some(n) => self.normal_f = n,
+            None => return Err(outside_grid(code)),
+        }
         Ok(())
     }
 
     /// Apply a relative normal change with Java 3D's wrap rules
     /// (`GeometryDecompressor.processSetNormal`): one reflection across the
     /// edge the delta crossed, changing sextant or octant.
+    #[inline]
     pub(crate) fn add_normal_delta(&mut self, du: i32, dv: i32) -> Result<(), String> {
         let mut c = self.normal;
         c.u = c.u.wrapping_add(du);
@@ -198,12 +222,14 @@ impl State {
     }
 
     /// After a setNormal body: mesh push and (back end) global normal.
+    #[inline]
     pub(crate) fn finish_normal(&mut self, push: bool, sink: &mut impl Sink) -> Result<(), String> {
         self.use_mesh_normal = false;
         if push {
             let n = self.normal;
             // Java stores shorts.
             self.mesh[self.mesh_index].normal = [n.sextant as i16, n.octant as i16, n.u as i16, n.v as i16];
+            self.mesh[self.mesh_index].normal_f = self.normal_f;
         }
         if !self.bundling_normal {
             if !self.list_open {
@@ -222,6 +248,7 @@ impl State {
     }
 
     /// After a setColor body: mesh push and (back end) global colour.
+    #[inline]
     pub(crate) fn finish_color(&mut self, push: bool, sink: &mut impl Sink) -> Result<(), String> {
         self.use_mesh_color = false;
         if push {
@@ -241,10 +268,11 @@ impl State {
     }
 
     /// Apply a colour body's components (`values` already shifted).
+    #[inline]
     pub(crate) fn apply_color(&mut self, absolute: bool, values: [i32; 4]) {
-        for k in 0..3 {
-            let d = values[k] as i16;
-            self.color[k] = if absolute { d } else { self.color[k].wrapping_add(d) };
+        for (c, &v) in self.color.iter_mut().zip(&values).take(3) {
+            let d = v as i16;
+            *c = if absolute { d } else { c.wrapping_add(d) };
         }
         if self.doing_alpha {
             let d = values[3] as i16;
@@ -253,10 +281,11 @@ impl State {
     }
 
     /// Apply a position body's components, then the optional push.
+    #[inline]
     pub(crate) fn apply_position(&mut self, absolute: bool, values: [i32; 3], push: bool) {
-        for k in 0..3 {
-            let d = values[k] as i16;
-            self.position[k] = if absolute { d } else { self.position[k].wrapping_add(d) };
+        for (c, &v) in self.position.iter_mut().zip(&values) {
+            let d = v as i16;
+            *c = if absolute { d } else { c.wrapping_add(d) };
         }
         if push {
             self.mesh_index = (self.mesh_index + 1) & 15;
@@ -266,6 +295,7 @@ impl State {
     }
 
     /// A mesh-buffer reference `depth` pushes back (0 = most recent).
+    #[inline]
     pub(crate) fn mesh_reference(&mut self, depth: usize) -> Result<(), String> {
         if depth >= self.pushes {
             return Err(format!("mesh-buffer reference {depth} but only {} vertices have been pushed", self.pushes));
@@ -274,9 +304,9 @@ impl State {
         self.position = entry.position;
         if self.bundling_normal && self.use_mesh_normal {
             let n = entry.normal;
-            let code =
+            self.normal =
                 NormalCode { sextant: n[0] as u8 & 7, octant: n[1] as u8 & 7, u: i32::from(n[2]), v: i32::from(n[3]) };
-            self.set_normal_code(code)?;
+            self.normal_f = entry.normal_f;
         }
         if self.bundling_color && self.use_mesh_color {
             self.color[0] = entry.color[0];
@@ -290,7 +320,7 @@ impl State {
     }
 
     /// Output the current vertex (after a vertex command or a mesh-buffer reference).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn output_vertex(&mut self, replace: u8, sink: &mut impl Sink) -> Result<(), String> {
         if !self.list_open {
             return Err("a vertex comes before any setState command".into());
@@ -298,39 +328,56 @@ impl State {
         self.use_mesh_normal = true;
         self.use_mesh_color = true;
         self.list_vertices += 1;
-        let p = self.position;
-        let (qn, fnormal) = if self.format_normals {
-            match self.global_normal {
-                Some((c, f)) => (Some(c), Some(f)),
-                None => (Some(self.normal), Some(self.normal_f)),
-            }
+        sink.vertex(self, replace)
+    }
+
+    /// The normal the back end gives the current vertex: the global normal
+    /// once one is set, else the current one; none unless the list has normals.
+    #[inline(always)]
+    fn output_normal(&self) -> Option<(NormalCode, [f32; 3])> {
+        if !self.format_normals {
+            return None;
+        }
+        Some(self.global_normal.unwrap_or((self.normal, self.normal_f)))
+    }
+
+    /// The colour the back end gives the current vertex (bundled, else the
+    /// global colour with alpha 1, else none) as stream integers.
+    #[inline(always)]
+    fn output_color(&self) -> Option<([i16; 4], bool)> {
+        if self.bundling_color {
+            Some((self.color, self.doing_alpha))
         } else {
-            (None, None)
-        };
-        let alpha = |c: [i16; 4], doing_alpha: bool| if doing_alpha { f32::from(c[3]) / 32768.0 } else { 1.0 };
-        let (qc, fc) = if self.bundling_color {
-            let c = self.color;
-            (
-                Some(c),
-                Some([
+            self.global_color.map(|c| (c, false))
+        }
+    }
+
+    /// The current vertex in the normalised frame.
+    #[inline(always)]
+    pub(crate) fn float_vertex(&self) -> Vertex {
+        let p = self.position;
+        Vertex {
+            position: [f32::from(p[0]) / 32768.0, f32::from(p[1]) / 32768.0, f32::from(p[2]) / 32768.0],
+            normal: self.output_normal().map(|n| n.1),
+            color: self.output_color().map(|(c, alpha)| {
+                [
                     f32::from(c[0]) / 32768.0,
                     f32::from(c[1]) / 32768.0,
                     f32::from(c[2]) / 32768.0,
-                    alpha(c, self.doing_alpha),
-                ]),
-            )
-        } else if let Some(c) = self.global_color {
-            (Some(c), Some([f32::from(c[0]) / 32768.0, f32::from(c[1]) / 32768.0, f32::from(c[2]) / 32768.0, 1.0]))
-        } else {
-            (None, None)
-        };
-        let q = QuantizedVertex { position: p, normal: qn, color: qc };
-        let v = Vertex {
-            position: [f32::from(p[0]) / 32768.0, f32::from(p[1]) / 32768.0, f32::from(p[2]) / 32768.0],
-            normal: fnormal,
-            color: fc,
-        };
-        sink.vertex(&q, &v, replace)
+                    if alpha { f32::from(c[3]) / 32768.0 } else { 1.0 },
+                ]
+            }),
+        }
+    }
+
+    /// The current vertex as stream integers.
+    #[inline(always)]
+    pub(crate) fn quantized_vertex(&self) -> QuantizedVertex {
+        QuantizedVertex {
+            position: self.position,
+            normal: self.output_normal().map(|n| n.0),
+            color: self.output_color().map(|c| c.0),
+        }
     }
 
     /// The end of the stream: the back end builds its last Shape3D.

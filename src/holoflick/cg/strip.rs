@@ -12,7 +12,7 @@
 //! Java's vertex order inside each triangle), and [`Streaming`] emits each
 //! triangle as soon as its vertex arrives, with the same orientation.
 
-use super::state::Sink;
+use super::state::{Sink, State};
 use super::{BlockKind, QuantizedVertex, Vertex};
 
 const RESTART_CW: u8 = 0;
@@ -27,8 +27,9 @@ pub(crate) fn java_triangles(flags: &[u8]) -> Result<Vec<[usize; 3]>, String> {
         // Java throws here (GeneralizedStrip0); an empty list simply has no triangles.
         return Ok(Vec::new());
     }
-    let mut strips: Vec<Vec<usize>> = Vec::new();
-    let mut fans: Vec<Vec<usize>> = Vec::new();
+    // Java emits all strip triangles, then all fan triangles.
+    let mut out: Vec<[usize; 3]> = Vec::with_capacity(size);
+    let mut fans: Vec<[usize; 3]> = Vec::new();
     let (mut start, mut length) = (0usize, 3usize);
     let mut cur = flags[0];
     let mut ccw = cur != RESTART_CW;
@@ -44,9 +45,9 @@ pub(crate) fn java_triangles(flags: &[u8]) -> Result<Vec<[usize; 3]>, String> {
             continue;
         }
         if cur == REPLACE_MIDDLE {
-            fans.push(fan(start, length, ccw, transition));
+            fan(start, length, ccw, transition, &mut fans);
         } else {
-            strips.extend(strip(start, length, ccw));
+            strip(start, length, ccw, &mut out);
         }
         if new < REPLACE_MIDDLE {
             ccw = new != RESTART_CW;
@@ -78,44 +79,43 @@ pub(crate) fn java_triangles(flags: &[u8]) -> Result<Vec<[usize; 3]>, String> {
         return Err("a strip restart is not followed by two more vertices".into());
     }
     if cur == REPLACE_MIDDLE {
-        fans.push(fan(start, length, ccw, transition));
+        fan(start, length, ccw, transition, &mut fans);
     } else {
-        strips.extend(strip(start, length, ccw));
+        strip(start, length, ccw, &mut out);
     }
-    let mut out = Vec::new();
-    for s in &strips {
-        for j in 0..s.len().saturating_sub(2) {
-            out.push(if j % 2 == 0 { [s[j], s[j + 1], s[j + 2]] } else { [s[j + 1], s[j], s[j + 2]] });
-        }
-    }
-    for f in &fans {
-        for j in 0..f.len().saturating_sub(2) {
-            out.push([f[0], f[j + 1], f[j + 2]]);
-        }
-    }
+    out.extend(fans);
     Ok(out)
 }
 
-/// A strip's vertex runs, reversed into counter-clockwise order when needed (Java's addStrip).
-fn strip(start: usize, length: usize, ccw: bool) -> Vec<Vec<usize>> {
-    if ccw {
-        vec![(start..start + length).collect()]
-    } else if length % 2 == 1 {
-        vec![(start..start + length).rev().collect()]
-    } else if length == 4 {
-        vec![vec![start, start + 2, start + 1, start + 3]]
-    } else {
-        let mut runs = vec![vec![start, start + 2, start + 1]];
-        if length > 3 {
-            runs.push((start + 1..start + length).collect());
-        }
-        runs
+/// The triangles of one strip run given as vertex indices `run(0..n)`
+/// (Java's stripsToTriangles: odd triangles swap their first two vertices).
+fn run_triangles(n: usize, run: impl Fn(usize) -> usize, out: &mut Vec<[usize; 3]>) {
+    for j in 0..n.saturating_sub(2) {
+        out.push(if j % 2 == 0 { [run(j), run(j + 1), run(j + 2)] } else { [run(j + 1), run(j), run(j + 2)] });
     }
 }
 
-/// A fan's vertices (Java's addFan): a transition fan skips its first triangle.
-fn fan(start: usize, length: usize, ccw: bool, transition: bool) -> Vec<usize> {
-    let mut f = vec![start];
+/// A strip's triangles, its runs reversed into counter-clockwise order when
+/// needed (Java's addStrip).
+fn strip(start: usize, length: usize, ccw: bool, out: &mut Vec<[usize; 3]>) {
+    if ccw {
+        run_triangles(length, |i| start + i, out);
+    } else if length % 2 == 1 {
+        run_triangles(length, |i| start + length - 1 - i, out);
+    } else if length == 4 {
+        let order = [start, start + 2, start + 1, start + 3];
+        run_triangles(4, |i| order[i], out);
+    } else {
+        out.push([start, start + 2, start + 1]);
+        if length > 3 {
+            run_triangles(length - 1, |i| start + 1 + i, out);
+        }
+    }
+}
+
+/// A fan's triangles (Java's addFan): a transition fan skips its first triangle.
+fn fan(start: usize, length: usize, ccw: bool, transition: bool, out: &mut Vec<[usize; 3]>) {
+    let mut f: smallvec::SmallVec<[usize; 16]> = smallvec::smallvec![start];
     if ccw {
         if !transition {
             f.push(start + 1);
@@ -127,7 +127,9 @@ fn fan(start: usize, length: usize, ccw: bool, transition: bool) -> Vec<usize> {
             f.push(start + 1);
         }
     }
-    f
+    for j in 0..f.len().saturating_sub(2) {
+        out.push([f[0], f[j + 1], f[j + 2]]);
+    }
 }
 
 /// One vertex list's line strips (Java's toLineStrips): restarts begin a new strip.
@@ -180,8 +182,8 @@ impl JavaOrder {
 }
 
 impl Sink for JavaOrder {
-    fn vertex(&mut self, q: &QuantizedVertex, v: &Vertex, replace: u8) -> Result<(), String> {
-        self.list.push((*q, *v));
+    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String> {
+        self.list.push((state.quantized_vertex(), state.float_vertex()));
         self.flags.push(replace);
         Ok(())
     }
@@ -232,7 +234,9 @@ enum Run {
 pub(crate) struct Streaming<F> {
     kind: BlockKind,
     f: F,
-    window: [Vertex; 3],
+    /// Vertex storage; `window` says which slot holds the oldest, middle and newest.
+    slots: [Vertex; 3],
+    window: [usize; 3],
     /// Vertices in the window (a list starts empty).
     filled: usize,
     /// Vertices still owed to the current restart.
@@ -243,32 +247,46 @@ pub(crate) struct Streaming<F> {
 
 impl<F: FnMut(Primitive)> Streaming<F> {
     pub(crate) fn new(kind: BlockKind, f: F) -> Self {
-        Streaming { kind, f, window: [Vertex::default(); 3], filled: 0, need: 0, ccw: true, run: Run::Pending }
+        Streaming {
+            kind,
+            f,
+            slots: [Vertex::default(); 3],
+            window: [0, 1, 2],
+            filled: 0,
+            need: 0,
+            ccw: true,
+            run: Run::Pending,
+        }
     }
 
-    fn emit(&mut self, listed: [Vertex; 3]) {
-        let t = if self.ccw { listed } else { [listed[0], listed[2], listed[1]] };
+    /// Emit the triangle of slots `listed`, reversed when the run is clockwise.
+    #[inline(always)]
+    fn emit(&mut self, listed: [usize; 3]) {
+        let [p, q, r] = if self.ccw { listed } else { [listed[0], listed[2], listed[1]] };
+        let t = [self.slots[p], self.slots[q], self.slots[r]];
         (self.f)(Primitive::Triangle(&t));
     }
 }
 
 impl<F: FnMut(Primitive)> Sink for Streaming<F> {
-    fn vertex(&mut self, _q: &QuantizedVertex, v: &Vertex, replace: u8) -> Result<(), String> {
+    #[inline]
+    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String> {
+        let v = state.float_vertex();
         match self.kind {
             BlockKind::Points => {
-                (self.f)(Primitive::Point(v));
+                (self.f)(Primitive::Point(&v));
                 return Ok(());
             }
             BlockKind::Lines => {
                 if self.filled == 0 || (self.need == 0 && replace < REPLACE_MIDDLE) {
-                    self.window[1] = *v;
+                    self.slots[1] = v;
                     self.filled = 1;
                     self.need = 1;
                 } else {
-                    self.window[0] = self.window[1];
-                    self.window[1] = *v;
+                    self.slots[0] = self.slots[1];
+                    self.slots[1] = v;
                     self.need = 0;
-                    let l = [self.window[0], self.window[1]];
+                    let l = [self.slots[0], self.slots[1]];
                     (self.f)(Primitive::Line(&l));
                 }
                 return Ok(());
@@ -278,23 +296,26 @@ impl<F: FnMut(Primitive)> Sink for Streaming<F> {
         let [a, b, c] = self.window;
         if self.filled == 0 || (self.need == 0 && replace < REPLACE_MIDDLE) {
             self.ccw = replace != RESTART_CW;
-            self.window[0] = *v;
+            self.window = [0, 1, 2];
+            self.slots[0] = v;
             self.filled = 1;
             self.need = 2;
             self.run = Run::Pending;
         } else if self.need > 0 {
-            self.window[self.filled] = *v;
+            self.slots[self.filled] = v;
             self.filled += 1;
             self.need -= 1;
             if self.need == 0 {
-                self.emit(self.window);
+                self.emit([0, 1, 2]);
             }
         } else if replace == REPLACE_OLDEST {
+            // The new vertex takes the oldest's slot.
+            self.slots[a] = v;
             let listed = match self.run {
                 Run::Fan => {
                     self.ccw = !self.ccw;
                     self.run = Run::Strip(3);
-                    [b, c, *v]
+                    [b, c, a]
                 }
                 Run::Pending | Run::Strip(_) => {
                     let len = match self.run {
@@ -303,13 +324,13 @@ impl<F: FnMut(Primitive)> Sink for Streaming<F> {
                     };
                     self.run = Run::Strip(len);
                     if (len - 3) % 2 == 0 {
-                        [b, c, *v]
+                        [b, c, a]
                     } else {
-                        [c, b, *v]
+                        [c, b, a]
                     }
                 }
             };
-            self.window = [b, c, *v];
+            self.window = [b, c, a];
             self.emit(listed);
         } else {
             if let Run::Strip(len) = self.run {
@@ -317,19 +338,20 @@ impl<F: FnMut(Primitive)> Sink for Streaming<F> {
                     self.ccw = !self.ccw;
                 }
             }
+            // The new vertex takes the middle's slot.
+            self.slots[b] = v;
             self.run = Run::Fan;
-            self.window = [a, c, *v];
-            self.emit([a, c, *v]);
+            self.window = [a, c, b];
+            self.emit([a, c, b]);
         }
         Ok(())
     }
 
     fn end_list(&mut self) -> Result<(), String> {
         let incomplete = self.filled > 0 && self.need > 0;
-        let empty_ok = self.filled == 0;
         self.filled = 0;
         self.need = 0;
-        if incomplete && !empty_ok {
+        if incomplete {
             return Err(match self.kind {
                 BlockKind::Lines => "a line strip restart is not followed by another vertex".into(),
                 _ => "a strip restart is not followed by two more vertices".into(),
