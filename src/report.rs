@@ -164,10 +164,39 @@ pub struct Demo {
     pub views: Vec<(f64, PathBuf)>,
     /// Seconds spent assembling the frame.
     pub assemble_seconds: f64,
+    /// The movie path: an animated scene through a HoloFlick.
+    pub movie: DemoMovie,
+}
+
+/// The movie part of `holo demo`: the bundled animated glTF → a HoloFlick
+/// for Mark III → `.holo` frames → fringes, and one frame seen by a viewer.
+#[derive(Clone, Debug, Serialize)]
+pub struct DemoMovie {
+    /// The bundled animated scene, written out.
+    pub scene: PathBuf,
+    /// The HoloFlick made from it.
+    pub holoflick: PathBuf,
+    /// Frames.
+    pub frames: usize,
+    /// Micropolygons over all frames.
+    pub micropolygons: usize,
+    /// Its size.
+    pub holoflick_bytes: u64,
+    /// The `.holo` file drawn from it.
+    pub holo_file: PathBuf,
+    /// The fringe images, every frame.
+    pub fringe_files: Vec<PathBuf>,
+    /// What a viewer in the middle sees of the middle frame.
+    pub view: PathBuf,
+    /// Seconds: encode, convert, assemble.
+    pub seconds: [f64; 3],
 }
 
 /// The bundled scene: Spot the cow (Keenan Crane, public domain), decimated
 /// to 500 triangles, with its texture (fixtures/SOURCES.md).
+/// The bundled animated scene: Khronos' AnimatedMorphCube (CC0; fixtures/SOURCES.md).
+const DEMO_MOVIE: &[u8] = include_bytes!("../fixtures/mesh/AnimatedMorphCube.glb");
+
 const DEMO_SCENE: [(&str, &[u8]); 3] = [
     ("spot.obj", include_bytes!("../fixtures/mesh/spot/spot.obj")),
     ("spot.mtl", include_bytes!("../fixtures/mesh/spot/spot.mtl")),
@@ -221,6 +250,7 @@ pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
         picture.write_png(&path, 1.0, true)?;
         views.push((*x, path));
     }
+    let movie = demo_movie(&dir.join("movie"), &layout)?;
     Ok(Demo {
         scene,
         triangles: converted.triangles,
@@ -232,6 +262,65 @@ pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
         fringe_files: assembled.files,
         views,
         assemble_seconds,
+        movie,
+    })
+}
+
+/// The movie path of the demo: three frames of the bundled morphing cube,
+/// encoded for Mark III with coarse micropolygons (4× what the display
+/// resolves: a demo, not a master), drawn, assembled and one of them seen.
+fn demo_movie(dir: &Path, layout: &layout::Layout) -> Result<DemoMovie> {
+    use crate::assemble::output::{assemble_file, AssembleOptions, FringeFormat};
+    use crate::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
+    use crate::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
+    use crate::reconstruct::files::{view_file, EyeAt};
+    std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
+    let scene = dir.join("AnimatedMorphCube.glb");
+    std::fs::write(&scene, DEMO_MOVIE).map_err(|e| crate::Error::io(&scene, e))?;
+    let holoflick = dir.join("cube.hflk");
+    let started = std::time::Instant::now();
+    let options = HoloFlickEncodeOptions {
+        micropolygon: 4.0,
+        frames_per_second: 0.5,
+        frames: Some(0..3),
+        overwrite: true,
+        placement: crate::mesh::place::Placement { rotate_deg: [20.0, -30.0, 0.0], ..Default::default() },
+        ..HoloFlickEncodeOptions::default()
+    };
+    let encoded = encode_holoflick(&scene, &layout.geometry, &holoflick, &options, &|_, _| {})?;
+    let encode_seconds = started.elapsed().as_secs_f64();
+    let holo_file = dir.join("cube.holo");
+    let started = std::time::Instant::now();
+    let mut convert = HoloFlickConvertOptions::default();
+    convert.write.overwrite = true;
+    convert_holoflick(&holoflick, &layout.geometry, &holo_file, &convert, &|_, _| {})?;
+    let convert_seconds = started.elapsed().as_secs_f64();
+    let fringes = dir.join("fringes");
+    let started = std::time::Instant::now();
+    let assembled = assemble_file(
+        &holo_file,
+        layout,
+        &fringes,
+        &AssembleOptions { frames: None, format: FringeFormat::Png, overwrite: true, resample: false },
+        &mut |_, _| {},
+    )?;
+    let assemble_seconds = started.elapsed().as_secs_f64();
+    let eye = EyeAt { x_m: 0.0, y_m: 0.0, distance_m: None, pupil_m: 4e-3 };
+    let picture = view_file(&fringes, None, 1, &[eye])?;
+    let view = dir.join("view-frame1-x+0mm.png");
+    if let Some(p) = picture.first() {
+        p.write_png(&view, 1.0, true)?;
+    }
+    Ok(DemoMovie {
+        scene,
+        holoflick,
+        frames: encoded.pack.frames,
+        micropolygons: encoded.micropolygons,
+        holoflick_bytes: encoded.pack.file_bytes,
+        holo_file,
+        fringe_files: assembled.files,
+        view,
+        seconds: [encode_seconds, convert_seconds, assemble_seconds],
     })
 }
 
@@ -257,6 +346,26 @@ impl fmt::Display for Demo {
         for (x, path) in &self.views {
             writeln!(f, "  eye at x = {x:+.0} mm: {}", path.display())?;
         }
+        let m = &self.movie;
+        writeln!(
+            f,
+            "The movie: {} ({} frames) became the HoloFlick {} ({} micropolygons, {} bytes) in {:.2} s,",
+            m.scene.display(),
+            m.frames,
+            m.holoflick.display(),
+            m.micropolygons,
+            m.holoflick_bytes,
+            m.seconds[0]
+        )?;
+        writeln!(
+            f,
+            "drawn into {} in {:.2} s, assembled into {} fringe images in {:.2} s; frame 1 seen from the middle: {}",
+            m.holo_file.display(),
+            m.seconds[1],
+            m.fringe_files.len(),
+            m.seconds[2],
+            m.view.display()
+        )?;
         writeln!(f, "Each view is also a picture in any OpenEXR viewer, or as PNGs:")?;
         writeln!(
             f,

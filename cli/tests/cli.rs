@@ -173,6 +173,13 @@ fn demo_runs_and_says_where_its_files_are() {
     for f in ["fringes/frame0000-head1.png", "fringes/frame0000-head2.png", "view-x-40mm.png", "view-x+40mm.png"] {
         assert!(d.join(f).is_file(), "{f}");
     }
+    // The movie path: animated glTF → HoloFlick → three .holo frames → fringes → a view.
+    let movie = holo::HoloFile::open(d.join("movie/cube.holo")).unwrap();
+    assert_eq!(movie.info().frames.len(), 3);
+    assert!(holo::format::validate(d.join("movie/cube.holo")).unwrap().is_valid());
+    for f in ["movie/cube.hflk", "movie/fringes/frame0002-head2.png", "movie/view-frame1-x+0mm.png"] {
+        assert!(d.join(f).is_file(), "{f}");
+    }
 }
 
 #[test]
