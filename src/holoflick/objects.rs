@@ -8,8 +8,6 @@
 //! decoded and mapped back: positions by `world_from_object`, normals by its
 //! inverse transpose, colours times `radiance_scale`.
 
-use std::collections::HashMap;
-
 use super::cg::{self, BlockKind, CgHeader, EncodeOptions, EncodeStats};
 use super::container::{Descriptor, GeometryBlock, GeometryObject, Matrix4, Primitive};
 use crate::mesh::dice::with_flat_normals;
@@ -99,45 +97,47 @@ pub fn decode_object(
 /// frames; [`to_world`] places it).
 pub fn decode_block(name: &str, block: &GeometryBlock) -> Result<(Object, usize)> {
     let header = block_header(block.descriptor());
-    let decoded = cg::decode(&header, block.stream()).map_err(|e| match e {
-        Error::Invalid { problem, .. } => Error::Usage(format!("object {name}: {problem}")),
-        other => other,
-    })?;
     let mut o = Object {
         name: name.to_string(),
         material: Material { name: name.to_string(), prelit: true, specular: [0.0; 3], ..Material::default() },
         ..Object::default()
     };
-    let mut index: HashMap<[u32; 10], u32> = HashMap::new();
-    for t in &decoded.triangles {
-        let mut tri = [0u32; 3];
-        for (k, v) in t.iter().enumerate() {
-            let n = v.normal.unwrap_or([0.0; 3]);
-            let c = v.color.unwrap_or([1.0; 4]);
-            let bits = [v.position, n, [c[0], c[1], c[2]]].concat();
-            let key: [u32; 10] = std::array::from_fn(|i| if i < 9 { bits[i].to_bits() } else { c[3].to_bits() });
-            tri[k] = *index.entry(key).or_insert_with(|| {
+    // The streaming decoder (constant memory, the fast path); each triangle
+    // gets its own three vertices: the renderers work per triangle, and
+    // sharing vertices would cost a hash per corner.
+    let mut skipped = 0;
+    let (mut with_normals, mut with_colours) = (true, true);
+    cg::decode_with(&header, block.stream(), |p| match p {
+        cg::Primitive::Triangle(t) => {
+            let first = o.positions.len() as u32;
+            for v in t {
                 o.positions.push(v.position.map(f64::from));
-                if let Some(n) = v.normal {
-                    o.normals.push(n);
+                match v.normal {
+                    Some(n) => o.normals.push(n),
+                    None => with_normals = false,
                 }
-                if let Some(c) = v.color {
-                    o.colours.push(c);
+                match v.color {
+                    Some(c) => o.colours.push(c),
+                    None => with_colours = false,
                 }
-                (o.positions.len() - 1) as u32
-            });
+            }
+            o.triangles.push([first, first + 1, first + 2]);
         }
-        o.triangles.push(tri);
-    }
-    // Decoded vertices may lack normals or colours in part of a block (a
-    // list without them): keep the lists whole or empty.
-    if o.normals.len() != o.positions.len() {
+        _ => skipped += 1,
+    })
+    .map_err(|e| match e {
+        Error::Invalid { problem, .. } => Error::Usage(format!("object {name}: {problem}")),
+        other => other,
+    })?;
+    // Vertices may lack normals or colours in part of a block (a list
+    // without them): keep the lists whole or empty.
+    if !with_normals || o.normals.len() != o.positions.len() {
         o.normals.clear();
     }
-    if o.colours.len() != o.positions.len() {
+    if !with_colours || o.colours.len() != o.positions.len() {
         o.colours.clear();
     }
-    Ok((o, decoded.lines.len() + decoded.points.len()))
+    Ok((o, skipped))
 }
 
 /// A decoded block (normalised frame, stored colours) in world space:
