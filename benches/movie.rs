@@ -12,7 +12,7 @@ use std::path::Path;
 use criterion::{criterion_group, criterion_main, Criterion};
 use holo::holoflick::container::HoloFlickReader;
 use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
-use holo::holoflick::objects::{decode_block, to_world};
+use holo::holoflick::objects::{decode_block, mesh_light, to_world};
 use holo::mesh::render::{render_into, Engine, RenderOptions, Supersample};
 use holo::mesh::shade::Lighting;
 use holo::mesh::{Light, Scene};
@@ -31,19 +31,7 @@ fn play(reader: &mut HoloFlickReader, frame: &mut Modulation, options: &RenderOp
         world.material.shininess = 30.0;
         scene.objects.push(world);
     }
-    let lights: Vec<Light> = f
-        .frame
-        .lights
-        .iter()
-        .map(|l| match *l {
-            holo::holoflick::container::SpecularLight::Directional { direction, irradiance } => {
-                Light::Directional { direction, irradiance: irradiance.map(|x| x as f32), name: "l".into() }
-            }
-            holo::holoflick::container::SpecularLight::Point { position_m, intensity } => {
-                Light::Point { position: position_m, intensity: intensity.map(|x| x as f32), name: "l".into() }
-            }
-        })
-        .collect();
+    let lights: Vec<Light> = f.frame.lights.iter().map(mesh_light).collect();
     let options = RenderOptions { lighting: Lighting { lights, ..options.lighting.clone() }, ..options.clone() };
     render_into(&scene, &options, &|_, _| {}, frame).expect("render");
     scene.triangle_count()

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::Subcommand;
+use clap::{Args, Subcommand};
 use holo::holoflick::cg::EncodeOptions;
 use holo::holoflick::container::ViewerCouch;
 use holo::holoflick::tools::{info, pack, unpack, PackOptions};
@@ -26,15 +26,8 @@ pub enum HoloflickCommand {
         /// Output: NAME.hflk or NAME.cg.
         #[arg(short, long)]
         output: PathBuf,
-        /// Bits per position component (1–16).
-        #[arg(long, default_value_t = 16)]
-        position_bits: u32,
-        /// Bits per colour component (2–16).
-        #[arg(long, default_value_t = 9)]
-        colour_bits: u32,
-        /// Bits of the normal grid (0–6).
-        #[arg(long, default_value_t = 6)]
-        normal_bits: u32,
+        #[command(flatten)]
+        bits: Bits,
         /// Frame rate, and the rate animations are sampled at.
         #[arg(long, default_value_t = 30.0)]
         fps: f64,
@@ -75,15 +68,8 @@ pub enum HoloflickCommand {
         /// Bake shadows of the scene's lights.
         #[arg(long)]
         shadows: bool,
-        /// Bits per position component (1–16).
-        #[arg(long, default_value_t = 16)]
-        position_bits: u32,
-        /// Bits per colour component (2–16).
-        #[arg(long, default_value_t = 9)]
-        colour_bits: u32,
-        /// Bits of the normal grid (0–6).
-        #[arg(long, default_value_t = 6)]
-        normal_bits: u32,
+        #[command(flatten)]
+        bits: Bits,
         /// Frame rate, and the rate animations are sampled at.
         #[arg(long, default_value_t = 30.0)]
         fps: f64,
@@ -114,6 +100,31 @@ pub enum HoloflickCommand {
     },
 }
 
+/// Quantization of compressed geometry.
+#[derive(Args)]
+pub struct Bits {
+    /// Bits per position component (1–16).
+    #[arg(long, default_value_t = 16)]
+    position_bits: u32,
+    /// Bits per colour component (2–16).
+    #[arg(long, default_value_t = 9)]
+    colour_bits: u32,
+    /// Bits of the normal grid (0–6).
+    #[arg(long, default_value_t = 6)]
+    normal_bits: u32,
+}
+
+impl Bits {
+    fn options(&self) -> EncodeOptions {
+        EncodeOptions {
+            position_bits: self.position_bits,
+            color_bits: self.colour_bits,
+            normal_bits: self.normal_bits,
+            alpha: true,
+        }
+    }
+}
+
 fn parse_couch(s: &str) -> Result<ViewerCouch, String> {
     let v: Vec<f64> =
         s.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|e| format!("{s:?}: {e}"))?;
@@ -128,20 +139,9 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
         HoloflickCommand::Info { file } => {
             print!("{}", info(&file).map_err(|e| e.to_string())?);
         }
-        HoloflickCommand::Pack {
-            meshes,
-            output,
-            position_bits,
-            colour_bits,
-            normal_bits,
-            fps,
-            frames,
-            couch,
-            key_interval,
-            force,
-        } => {
+        HoloflickCommand::Pack { meshes, output, bits, fps, frames, couch, key_interval, force } => {
             let options = PackOptions {
-                encode: EncodeOptions { position_bits, color_bits: colour_bits, normal_bits, alpha: true },
+                encode: bits.options(),
                 frames_per_second: fps,
                 frames,
                 couch,
@@ -179,9 +179,7 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
             micropolygon,
             flat,
             shadows,
-            position_bits,
-            colour_bits,
-            normal_bits,
+            bits,
             fps,
             frames,
             key_interval,
@@ -193,7 +191,7 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
                 micropolygon,
                 smooth: !flat,
                 shadows,
-                encode: EncodeOptions { position_bits, color_bits: colour_bits, normal_bits, alpha: true },
+                encode: bits.options(),
                 frames_per_second: fps,
                 frames,
                 key_interval,

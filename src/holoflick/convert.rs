@@ -20,15 +20,15 @@ use std::collections::HashMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use super::container::{HoloFlickReader, ResolvedFrame, SpecularLight, SpecularModel, ViewerCouch};
-use super::objects::{decode_block, to_world};
+use super::container::{HoloFlickReader, ResolvedFrame, SpecularModel, ViewerCouch};
+use super::objects::{decode_block, mesh_light, to_world};
 use crate::format::{write_frames, WriteOptions, WriteReport};
 use crate::geometry::Geometry;
 use crate::mesh::cull::{cull_back_faces, display_sees_box};
 use crate::mesh::place::{apply, place, Placed, Placement};
 use crate::mesh::render::{render, RenderOptions, RenderStats};
 use crate::mesh::shade::{Lighting, SpecularModel as Lobe};
-use crate::mesh::{Light, Object, Scene};
+use crate::mesh::{Object, Scene};
 use crate::{Error, Result};
 
 /// Everything `convert holoflick` takes besides input, geometry and output.
@@ -324,18 +324,7 @@ impl State {
             .lights
             .iter()
             .map(|l| {
-                let mut light = match *l {
-                    SpecularLight::Directional { direction, irradiance } => Light::Directional {
-                        direction,
-                        irradiance: irradiance.map(|x| x as f32),
-                        name: "specular".into(),
-                    },
-                    SpecularLight::Point { position_m, intensity } => Light::Point {
-                        position: position_m,
-                        intensity: intensity.map(|x| x as f32),
-                        name: "specular".into(),
-                    },
-                };
+                let mut light = mesh_light(l);
                 if let Some(t) = placement {
                     let mut one = Scene { lights: vec![light.clone()], ..Scene::default() };
                     apply(&mut one, &t);

@@ -15,8 +15,7 @@ use std::ops::Range;
 use std::path::Path;
 
 use super::cg::EncodeOptions;
-use super::container::{Binding, Frame, HoloFlickWriter, SpecularMaterial, SpecularModel, ViewerCouch, WriteOptions};
-use super::objects::encode_object;
+use super::container::{HoloFlickWriter, ViewerCouch, WriteOptions};
 use super::tools::{frame_rate_fraction, specular_light, KeyFrames, PackReport};
 use crate::geometry::Geometry;
 use crate::mesh::bake::BakeOptions;
@@ -179,33 +178,10 @@ pub fn encode_holoflick(
         micro_count += micro_report.dice.triangles_out;
         shadowed += micro_report.bake.shadowed;
         let is_key = keys.start_frame(i, options.key_interval);
-        let mut frame = Frame {
-            key_frame: is_key,
-            couch,
-            lights: specular_lights.iter().filter_map(specular_light).collect(),
-            materials: Vec::new(),
-            bindings: Vec::new(),
-            objects: Vec::new(),
-        };
-        let all_lights: Vec<u32> = (0..frame.lights.len() as u32).collect();
-        for (k, o) in micro.objects.iter().enumerate() {
-            if o.triangles.is_empty() {
-                continue;
-            }
-            let (g, stats) = encode_object(k as u32, o, &options.encode)?;
-            report.triangles += stats.triangles;
-            frame.materials.push(SpecularMaterial {
-                specular: o.material.specular.map(f64::from),
-                exponent: o.material.shininess.max(0.0) as f64,
-                model: SpecularModel::Blinn,
-            });
-            frame.bindings.push(Binding {
-                object_id: k as u32,
-                material: (frame.materials.len() - 1) as u32,
-                lights: all_lights.clone(),
-            });
-            keys.place(&mut frame, g, &mut report);
-        }
+        let lights = specular_lights.iter().filter_map(specular_light).collect();
+        // Objects diced to nothing (wholly culled) are left out.
+        let objects = micro.objects.into_iter().filter(|o| !o.triangles.is_empty());
+        let frame = keys.frame(is_key, couch, lights, objects, &options.encode, &mut report)?;
         writer.add_frame(&frame)?;
         progress(i + 1, frames.len());
     }

@@ -9,9 +9,9 @@
 //! inverse transpose, colours times `radiance_scale`.
 
 use super::cg::{self, BlockKind, CgHeader, EncodeOptions, EncodeStats};
-use super::container::{Descriptor, GeometryBlock, GeometryObject, Matrix4, Primitive};
+use super::container::{Descriptor, GeometryBlock, GeometryObject, Matrix4, Primitive, SpecularLight};
 use crate::mesh::dice::with_flat_normals;
-use crate::mesh::{Material, Object};
+use crate::mesh::{Light, Material, Object};
 use crate::{Error, Result};
 
 /// Compress one mesh object as geometry object `id`. Objects without
@@ -189,4 +189,16 @@ fn inverse_transpose_3x3(m: &Matrix4) -> Option<[[f64; 3]; 3]> {
         [-c(0, 2, 1, 2) / det, c(0, 2, 0, 2) / det, -c(0, 2, 0, 1) / det],
         [c(0, 1, 1, 2) / det, -c(0, 1, 0, 2) / det, c(0, 1, 0, 1) / det],
     ])
+}
+
+/// A HoloFlick specular light as the mesh renderer's light.
+pub fn mesh_light(l: &SpecularLight) -> Light {
+    match *l {
+        SpecularLight::Directional { direction, irradiance } => {
+            Light::Directional { direction, irradiance: irradiance.map(|x| x as f32), name: "specular".into() }
+        }
+        SpecularLight::Point { position_m, intensity } => {
+            Light::Point { position: position_m, intensity: intensity.map(|x| x as f32), name: "specular".into() }
+        }
+    }
 }

@@ -179,33 +179,9 @@ pub fn pack(
         let scene = sources[f.input].scene_at(f.time_s)?;
         let couch = *couch.get_or_insert_with(|| couch_in_front(&scene));
         let is_key = keys.start_frame(n, options.key_interval);
-        let mut frame = Frame {
-            key_frame: is_key,
-            couch,
-            lights: scene.lights.iter().filter_map(specular_light).collect(),
-            materials: Vec::new(),
-            bindings: Vec::new(),
-            objects: Vec::new(),
-        };
-        let all_lights: Vec<u32> = (0..frame.lights.len() as u32).collect();
-        for (k, o) in scene.objects.iter().enumerate() {
-            // An object's id is its place in the frame: the k-th object of
-            // every frame is one object (a mesh sequence is an animation).
-            let id = k as u32;
-            let (g, stats) = encode_object(id, &coloured(&scene, o), &options.encode)?;
-            report.triangles += stats.triangles;
-            frame.materials.push(SpecularMaterial {
-                specular: o.material.specular.map(f64::from),
-                exponent: o.material.shininess.max(0.0) as f64,
-                model: SpecularModel::Blinn,
-            });
-            frame.bindings.push(Binding {
-                object_id: id,
-                material: (frame.materials.len() - 1) as u32,
-                lights: all_lights.clone(),
-            });
-            keys.place(&mut frame, g, &mut report);
-        }
+        let lights = scene.lights.iter().filter_map(specular_light).collect();
+        let objects = scene.objects.iter().map(|o| coloured(&scene, o));
+        let frame = keys.frame(is_key, couch, lights, objects, &options.encode, &mut report)?;
         writer.add_frame(&frame)?;
         progress(n + 1, frames.len());
     }
@@ -235,8 +211,48 @@ impl KeyFrames {
         self.is_key
     }
 
+    /// A frame of `objects` (an object's id is its place in the frame: the
+    /// k-th object of every frame is one object), each with its specular
+    /// material bound to every light; objects unchanged since the key frame
+    /// are references to it.
+    pub(crate) fn frame(
+        &mut self,
+        is_key: bool,
+        couch: ViewerCouch,
+        lights: Vec<SpecularLight>,
+        objects: impl Iterator<Item = Object>,
+        encode: &EncodeOptions,
+        report: &mut PackReport,
+    ) -> Result<Frame> {
+        let all_lights: Vec<u32> = (0..lights.len() as u32).collect();
+        let mut frame = Frame {
+            key_frame: is_key,
+            couch,
+            lights,
+            materials: Vec::new(),
+            bindings: Vec::new(),
+            objects: Vec::new(),
+        };
+        for (k, o) in objects.enumerate() {
+            let (g, stats) = encode_object(k as u32, &o, encode)?;
+            report.triangles += stats.triangles;
+            frame.materials.push(SpecularMaterial {
+                specular: o.material.specular.map(f64::from),
+                exponent: o.material.shininess.max(0.0) as f64,
+                model: SpecularModel::Blinn,
+            });
+            frame.bindings.push(Binding {
+                object_id: k as u32,
+                material: (frame.materials.len() - 1) as u32,
+                lights: all_lights.clone(),
+            });
+            self.place(&mut frame, g, report);
+        }
+        Ok(frame)
+    }
+
     /// Put object `g` into `frame`: stored, or a reference to the key frame.
-    pub(crate) fn place(&mut self, frame: &mut Frame, g: super::container::GeometryObject, report: &mut PackReport) {
+    fn place(&mut self, frame: &mut Frame, g: super::container::GeometryObject, report: &mut PackReport) {
         match self.blocks.get(&g.id) {
             Some((block, scale)) if !self.is_key && *block == g.block && *scale == g.radiance_scale => {
                 report.references += 1;
