@@ -18,6 +18,7 @@ use holo::mesh::shade::Lighting;
 use holo::mesh::{Light, Scene};
 use holo::Modulation;
 
+#[allow(dead_code)] // `band` is for the benchmarks that time slow references on a band
 mod common;
 
 /// Decode, place and draw frame 0 into `frame`.
