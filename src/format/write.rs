@@ -110,7 +110,7 @@ pub fn write_frames<'a>(
 /// (and a few compressed blocks), not by the frame: the bands are checked,
 /// hashed and kept in stored form in a spool file beside the destination
 /// until the data window is known. The bytes written are exactly those
-/// [`write`] writes for the same samples.
+/// [`write()`] writes for the same samples.
 pub fn write_frame_in_bands(
     path: impl AsRef<Path>,
     geometry: &Geometry,
