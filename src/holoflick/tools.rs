@@ -132,7 +132,7 @@ pub fn pack(
     }
     let mut report = PackReport { path: output.to_path_buf(), ..PackReport::default() };
     if cg {
-        let scene = sources[0].scene_at(0.0)?;
+        let scene = sources[frames[0].input].scene_at(frames[0].time_s)?;
         let mut blocks = Vec::new();
         for (id, o) in scene.objects.iter().enumerate() {
             let (g, stats) = encode_object(id as u32, &coloured(&scene, o), &options.encode)?;
