@@ -8,8 +8,8 @@
 //! decoded and mapped back: positions by `world_from_object`, normals by its
 //! inverse transpose, colours times `radiance_scale`.
 
-use super::cg::{self, BlockKind, CgHeader, EncodeOptions, EncodeStats};
-use super::container::{Descriptor, GeometryBlock, GeometryObject, Matrix4, Primitive, SpecularLight};
+use super::cg::{self, EncodeOptions, EncodeStats};
+use super::container::{Descriptor, GeometryBlock, GeometryObject, Matrix4, SpecularLight};
 use crate::mesh::dice::with_flat_normals;
 use crate::mesh::{Light, Material, Object};
 use crate::{Error, Result};
@@ -48,34 +48,13 @@ pub fn encode_object(id: u32, o: &Object, options: &EncodeOptions) -> Result<(Ge
         triangles: &o.triangles,
     };
     let encoded = cg::encode(&mesh, options).map_err(named)?;
-    let descriptor = Descriptor {
-        primitive: Primitive::Triangle,
-        normals: encoded.header.normals,
-        colours: encoded.header.colors,
-        alpha: encoded.header.alpha,
-    };
+    let descriptor = Descriptor::from_cg_header(&encoded.header);
     let block = GeometryBlock::new(descriptor, &encoded.bytes)
         .map_err(|m| Error::Usage(format!("object \"{}\": {m}", o.name)))?;
     let s = 1.0 / encoded.scale;
     let c = encoded.center;
     let world_from_object = [[s, 0.0, 0.0, c[0]], [0.0, s, 0.0, c[1]], [0.0, 0.0, s, c[2]], [0.0, 0.0, 0.0, 1.0]];
     Ok((GeometryObject { id, world_from_object, radiance_scale, block }, encoded.stats))
-}
-
-/// The stream header of a container block (format version 1.0.2).
-pub fn block_header(descriptor: Descriptor) -> CgHeader {
-    let kind = match descriptor.primitive {
-        Primitive::Point => BlockKind::Points,
-        Primitive::Line => BlockKind::Lines,
-        Primitive::Triangle => BlockKind::Triangles,
-    };
-    CgHeader {
-        kind,
-        normals: descriptor.normals,
-        colors: descriptor.colours,
-        alpha: descriptor.alpha,
-        version: [1, 0, 2],
-    }
 }
 
 /// Decode a block and map it to world space as a mesh object named `name`
@@ -96,7 +75,7 @@ pub fn decode_object(
 /// colours as stored (what a converter caches for objects reused from key
 /// frames; [`to_world`] places it).
 pub fn decode_block(name: &str, block: &GeometryBlock) -> Result<(Object, usize)> {
-    let header = block_header(block.descriptor());
+    let header = block.descriptor().cg_header();
     let mut o = Object {
         name: name.to_string(),
         material: Material { name: name.to_string(), prelit: true, specular: [0.0; 3], ..Material::default() },

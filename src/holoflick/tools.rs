@@ -347,16 +347,7 @@ pub fn frame_objects(input: &Path, frame: usize) -> Result<Vec<Object>> {
             .iter()
             .enumerate()
             .map(|(i, o)| {
-                let descriptor = super::container::Descriptor {
-                    primitive: match o.header.kind {
-                        super::cg::BlockKind::Points => super::container::Primitive::Point,
-                        super::cg::BlockKind::Lines => super::container::Primitive::Line,
-                        super::cg::BlockKind::Triangles => super::container::Primitive::Triangle,
-                    },
-                    normals: o.header.normals,
-                    colours: o.header.colors,
-                    alpha: o.header.alpha,
-                };
+                let descriptor = super::container::Descriptor::from_cg_header(&o.header);
                 let block = GeometryBlock::new(descriptor, &o.bytes)
                     .map_err(|m| Error::invalid(input, format!("object {i}: {m}")))?;
                 decode_object(&format!("object {i}"), &block, &IDENTITY, 1.0).map(|(o, _)| o)

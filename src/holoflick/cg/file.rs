@@ -157,14 +157,31 @@ impl CgFile {
         CgFile::parse(&bytes, path)
     }
 
-    /// Write a `.cg` file.
-    pub fn write(&self, path: &Path) -> Result<()> {
-        std::fs::write(path, self.to_bytes()).map_err(|e| Error::io(path, e))
+    /// Write a `.cg` file: beside `path`, renamed into place; an existing
+    /// file is kept (and named in the error) unless `overwrite`.
+    pub fn write(&self, path: &Path, overwrite: bool) -> Result<()> {
+        use std::io::Write;
+        if !overwrite && path.exists() {
+            return Err(Error::Usage(format!("{}: already exists; not overwritten", path.display())));
+        }
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".cg.").suffix(".partial");
+        // tempfile creates 0600 files; an output file gets the usual 0666 less the umask.
+        #[cfg(unix)]
+        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+        let mut temp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, e))?;
+        temp.write_all(&self.to_bytes()).map_err(|e| Error::io(temp.path(), e))?;
+        temp.as_file().sync_all().map_err(|e| Error::io(temp.path(), e))?;
+        crate::format::persist(temp, path, overwrite)
     }
 }
 
 /// Encode `mesh` and write it as a one-object `.cg` file Java 3D's
-/// `CompressedGeometryFile` reads. Returns the encoding (its centre and
+/// `CompressedGeometryFile` reads (an existing file is refused). Returns the encoding (its centre and
 /// scale map the decoded normalised positions back to model space).
 pub fn write_cg_file(path: &Path, mesh: &Mesh, options: &EncodeOptions) -> Result<Encoded> {
     let encoded = encode(mesh, options)?;
@@ -172,7 +189,7 @@ pub fn write_cg_file(path: &Path, mesh: &Mesh, options: &EncodeOptions) -> Resul
         version: encoded.header.version,
         objects: vec![CgObject { header: encoded.header, bytes: encoded.bytes.clone() }],
     };
-    file.write(path)?;
+    file.write(path, false)?;
     Ok(encoded)
 }
 

@@ -48,7 +48,7 @@ use std::path::Path;
 
 pub use bits::StreamError;
 pub use encode::{encode, EncodeOptions, EncodeStats, Encoded, Mesh};
-pub use file::{read_cg_file, write_cg_file, CgFile};
+pub use file::{read_cg_file, write_cg_file, CgFile, CgObject};
 pub use normals::{normal_error_bound_rad, NormalCode};
 pub use strip::Primitive;
 

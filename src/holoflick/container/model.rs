@@ -55,6 +55,34 @@ impl Descriptor {
         kind | (self.normals as u32) << 2 | (self.colours as u32) << 3 | (self.alpha as u32) << 4
     }
 
+    /// The codec's header for a block of this descriptor (format 1.0.2).
+    pub fn cg_header(self) -> crate::holoflick::cg::CgHeader {
+        use crate::holoflick::cg::BlockKind;
+        let kind = match self.primitive {
+            Primitive::Point => BlockKind::Points,
+            Primitive::Line => BlockKind::Lines,
+            Primitive::Triangle => BlockKind::Triangles,
+        };
+        crate::holoflick::cg::CgHeader {
+            kind,
+            normals: self.normals,
+            colors: self.colours,
+            alpha: self.alpha,
+            version: super::GEOMETRY_VERSION,
+        }
+    }
+
+    /// The descriptor of a block the codec describes by `h`.
+    pub fn from_cg_header(h: &crate::holoflick::cg::CgHeader) -> Descriptor {
+        use crate::holoflick::cg::BlockKind;
+        let primitive = match h.kind {
+            BlockKind::Points => Primitive::Point,
+            BlockKind::Lines => Primitive::Line,
+            BlockKind::Triangles => Primitive::Triangle,
+        };
+        Descriptor { primitive, normals: h.normals, colours: h.colors, alpha: h.alpha }
+    }
+
     /// Parse a stored descriptor word; `None` for type 0 or bits above 4 set.
     pub fn from_bits(bits: u32) -> Option<Descriptor> {
         if bits & !0x1F != 0 {

@@ -259,26 +259,16 @@ pub fn write_cg_file(path: impl AsRef<Path>, blocks: &[GeometryBlock], overwrite
             problem: "already exists; not overwritten".into(),
         });
     }
-    let mut body = Vec::new();
-    let mut offsets = Vec::with_capacity(blocks.len());
-    for b in blocks {
-        offsets.push(32 + body.len() as u64);
-        body.extend_from_slice(b.cg_record());
-    }
-    body.resize(body.len() + codec::padding(body.len() as u64) as usize, 0);
-    let directory = 32 + body.len() as u64;
-    let mut out = Vec::with_capacity(32 + body.len() + 8 * blocks.len());
-    out.extend_from_slice(&0xBADD_FAB4u32.to_be_bytes());
-    for v in GEOMETRY_VERSION {
-        out.extend_from_slice(&v.to_be_bytes());
-    }
-    out.extend_from_slice(&(blocks.len() as u32).to_be_bytes());
-    out.extend_from_slice(&[0; 4]);
-    out.extend_from_slice(&directory.to_be_bytes());
-    out.extend_from_slice(&body);
-    for o in offsets {
-        out.extend_from_slice(&o.to_be_bytes());
-    }
+    // The layout is the codec's (`CgFile::to_bytes`, one place); blocks are
+    // copied in unchanged.
+    let file = crate::holoflick::cg::CgFile {
+        version: GEOMETRY_VERSION,
+        objects: blocks
+            .iter()
+            .map(|b| crate::holoflick::cg::CgObject { header: b.descriptor().cg_header(), bytes: b.stream().to_vec() })
+            .collect(),
+    };
+    let out = file.to_bytes();
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
