@@ -12,7 +12,7 @@ mod header;
 mod read;
 mod validate;
 mod write;
-pub(crate) use write::persist;
+pub(crate) use write::{persist, write_bytes_beside};
 
 pub use attributes::{is_known as is_known_attribute, name as attribute, Radiometry, VERSION};
 pub use channels::{channel_name, parse_channel_name, view_digits, ChannelOrder};

@@ -324,6 +324,25 @@ fn directory_of(path: &Path) -> &Path {
     }
 }
 
+/// Write a small file whole: `bytes` to a temporary file beside `path`,
+/// renamed into place; an existing `path` is kept (and named in the error)
+/// unless `overwrite`.
+pub(crate) fn write_bytes_beside(path: &Path, bytes: &[u8], overwrite: bool) -> Result<()> {
+    if !overwrite && path.exists() {
+        return Err(Error::Usage(format!("{}: already exists; not overwritten", path.display())));
+    }
+    let dir = directory_of(path);
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".holo.").suffix(".partial");
+    // tempfile creates 0600 files; an output file gets the usual 0666 less the umask.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let mut temp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, e))?;
+    temp.write_all(bytes).map_err(|e| Error::io(temp.path(), e))?;
+    temp.as_file().sync_all().map_err(|e| Error::io(temp.path(), e))?;
+    persist(temp, path, overwrite)
+}
+
 /// Rename a finished temporary file into place: an existing `path` is kept
 /// (and named in the error) unless `overwrite`.
 pub(crate) fn persist(temp: tempfile::NamedTempFile, path: &Path, overwrite: bool) -> Result<()> {

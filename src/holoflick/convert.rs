@@ -123,7 +123,7 @@ pub fn convert_holoflick(
     let made_for_display = couch_holds(&first.frame.couch, zone_lo, zone_hi) && !options.fit;
     let mut state = State { cache: HashMap::new(), work: HoloFlickWork::default(), placed: None };
     if !made_for_display {
-        let mut scene = state.scene(&first, None, geometry, false)?;
+        let (mut scene, _) = state.scene(&first, None, geometry, false)?;
         let placed = place(&mut scene, geometry, &Placement::default())?;
         state.placed = Some(placed);
         warnings.push(format!(
@@ -202,7 +202,7 @@ struct State {
 }
 
 impl State {
-    /// The frame's objects in display metres (placed), culled; `couch`
+    /// The frame's objects in display metres (placed), culled, and their ids; `couch`
     /// viewpoints for back faces when given.
     fn scene(
         &mut self,
@@ -210,11 +210,13 @@ impl State {
         couch: Option<&[[f64; 3]]>,
         g: &Geometry,
         cull_unseen: bool,
-    ) -> Result<Scene> {
+    ) -> Result<(Scene, Vec<u32>)> {
         // Keep only the current key frames' objects in the cache.
         let current: std::collections::HashSet<u32> = frame.objects.iter().map(|o| o.stored_in_frame).collect();
         self.cache.retain(|k, _| current.contains(&k.0) && k.0 != frame.number);
         let mut scene = Scene { source: format!("frame {}", frame.number), ..Scene::default() };
+        // The id of each object kept, in order.
+        let mut ids = Vec::new();
         let placement = self.placed.as_ref().map(|p| p.matrix);
         for o in &frame.objects {
             // Skip what no ray meets, before decoding: the stream's frame is
@@ -261,11 +263,12 @@ impl State {
                 world = one.objects.pop().unwrap_or_default();
             }
             scene.objects.push(world);
+            ids.push(o.id);
         }
         if let Some(viewpoints) = couch {
             self.work.back_faces += cull_back_faces(&mut scene.objects, viewpoints);
         }
-        Ok(scene)
+        Ok((scene, ids))
     }
 
     /// The frame ready to render: objects with their bound materials, and
@@ -281,16 +284,14 @@ impl State {
         // viewpoints, in display metres (otherwise the display may see what
         // the couch cannot).
         let couch = cull_with_couch.then(|| frame.frame.couch.corners().to_vec());
-        let ids: Vec<u32> = frame.objects.iter().map(|o| o.id).collect();
-        let mut scene = self.scene(frame, couch.as_deref(), g, true)?;
+        let (mut scene, ids) = self.scene(frame, couch.as_deref(), g, true)?;
         // Materials by binding; objects were pushed in frame order, minus the culled.
         let bindings: HashMap<u32, &super::container::Binding> =
             frame.frame.bindings.iter().map(|b| (b.object_id, b)).collect();
         let mut models = Vec::new();
         let all_lights: Vec<u32> = (0..frame.frame.lights.len() as u32).collect();
-        for o in &mut scene.objects {
-            let id = ids.iter().copied().find(|id| o.name == format!("id {id}"));
-            let material = id.and_then(|id| bindings.get(&id)).and_then(|b| {
+        for (o, id) in scene.objects.iter_mut().zip(ids) {
+            let material = bindings.get(&id).and_then(|b| {
                 if b.lights != all_lights {
                     warnings.push(format!(
                         "frame {}: object {}: bound to some of the frame's lights; every light is applied",

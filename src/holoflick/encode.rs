@@ -15,8 +15,8 @@ use std::ops::Range;
 use std::path::Path;
 
 use super::cg::EncodeOptions;
-use super::container::{HoloFlickWriter, ViewerCouch, WriteOptions};
-use super::tools::{frame_rate_fraction, specular_light, KeyFrames, PackReport};
+use super::container::{HoloFlickWriter, ViewerCouch};
+use super::tools::{specular_light, writer_options, KeyFrames, PackReport};
 use crate::geometry::Geometry;
 use crate::mesh::bake::BakeOptions;
 use crate::mesh::dice::{display_budget, DiceOptions};
@@ -134,27 +134,17 @@ pub fn encode_holoflick(
     }
     let mut first = source.scene_at(frames.start as f64 / options.frames_per_second)?;
     let placed = place(&mut first, geometry, &options.placement)?;
-    let (num, den) = frame_rate_fraction(options.frames_per_second);
-    let write = WriteOptions {
-        frames_per_second: (num, den),
-        text: vec![
-            ("software".into(), format!("holo {}", env!("CARGO_PKG_VERSION"))),
-            (
-                "source".into(),
-                format!(
-                    "holo holoflick encode {} (micropolygons {}× the display's resolution{}{}; {}/{}/{} bits)",
-                    input.display(),
-                    options.micropolygon,
-                    if options.smooth { ", smooth" } else { "" },
-                    if options.shadows { ", shadows" } else { "" },
-                    options.encode.position_bits,
-                    options.encode.color_bits,
-                    options.encode.normal_bits
-                ),
-            ),
-        ],
-        overwrite: options.overwrite,
-    };
+    let provenance = format!(
+        "holo holoflick encode {} (micropolygons {}× the display's resolution{}{}; {}/{}/{} bits)",
+        input.display(),
+        options.micropolygon,
+        if options.smooth { ", smooth" } else { "" },
+        if options.shadows { ", shadows" } else { "" },
+        options.encode.position_bits,
+        options.encode.color_bits,
+        options.encode.normal_bits
+    );
+    let write = writer_options(options.frames_per_second, provenance, options.overwrite);
     let mut writer = HoloFlickWriter::create(output, &write)?;
     let budget = display_budget(geometry, options.micropolygon);
     let dice = DiceOptions { smooth: options.smooth, ..DiceOptions::default() };

@@ -154,24 +154,14 @@ pub fn pack(
         progress(1, 1);
         return Ok(report);
     }
-    let (num, den) = frame_rate_fraction(options.frames_per_second);
-    let write = WriteOptions {
-        frames_per_second: (num, den),
-        text: vec![
-            ("software".into(), format!("holo {}", env!("CARGO_PKG_VERSION"))),
-            (
-                "source".into(),
-                format!(
-                    "holo holoflick pack {} ({}/{}/{} bits)",
-                    inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(" "),
-                    options.encode.position_bits,
-                    options.encode.color_bits,
-                    options.encode.normal_bits
-                ),
-            ),
-        ],
-        overwrite: options.overwrite,
-    };
+    let source = format!(
+        "holo holoflick pack {} ({}/{}/{} bits)",
+        inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(" "),
+        options.encode.position_bits,
+        options.encode.color_bits,
+        options.encode.normal_bits
+    );
+    let write = writer_options(options.frames_per_second, source, options.overwrite);
     let mut writer = HoloFlickWriter::create(output, &write)?;
     let mut keys = KeyFrames::default();
     let mut couch = options.couch;
@@ -274,8 +264,17 @@ impl KeyFrames {
     }
 }
 
+/// How `pack` and `encode` write: the frame rate, `software` and `source` text.
+pub(crate) fn writer_options(frames_per_second: f64, source: String, overwrite: bool) -> WriteOptions {
+    WriteOptions {
+        frames_per_second: frame_rate_fraction(frames_per_second),
+        text: vec![("software".into(), format!("holo {}", env!("CARGO_PKG_VERSION"))), ("source".into(), source)],
+        overwrite,
+    }
+}
+
 /// `n / d` for a frame rate (exact for integers and for 24000/1001-style rates).
-pub(crate) fn frame_rate_fraction(fps: f64) -> (u32, u32) {
+fn frame_rate_fraction(fps: f64) -> (u32, u32) {
     for d in [1u32, 1001, 1000, 100] {
         let n = fps * d as f64;
         if (n - n.round()).abs() < 1e-6 && n.round() >= 1.0 && n.round() <= u32::MAX as f64 {

@@ -12,7 +12,6 @@
 //! Like every writer here, the file is written beside the destination and
 //! renamed into place; an existing file is kept unless `overwrite`.
 
-use std::io::Write;
 use std::path::Path;
 
 use super::Object;
@@ -31,7 +30,7 @@ pub fn write_mesh(path: &Path, objects: &[Object], overwrite: bool) -> Result<()
             )))
         }
     };
-    write_beside(path, &bytes, overwrite)
+    crate::format::write_bytes_beside(path, &bytes, overwrite)
 }
 
 /// Check what every writer needs: attribute lists empty or one per vertex,
@@ -201,23 +200,4 @@ fn ply_bytes(path: &Path, objects: &[Object]) -> Result<Vec<u8>> {
         first += o.positions.len() as u32;
     }
     Ok(out)
-}
-
-/// Write `bytes` to a temporary file beside `path` and rename it into place.
-fn write_beside(path: &Path, bytes: &[u8], overwrite: bool) -> Result<()> {
-    if !overwrite && path.exists() {
-        return Err(Error::Usage(format!("{}: already exists; not overwritten", path.display())));
-    }
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".holo-mesh.").suffix(".partial");
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let mut temp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, e))?;
-    temp.write_all(bytes).map_err(|e| Error::io(temp.path(), e))?;
-    temp.as_file().sync_all().map_err(|e| Error::io(temp.path(), e))?;
-    crate::format::persist(temp, path, overwrite)
 }

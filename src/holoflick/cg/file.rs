@@ -160,23 +160,7 @@ impl CgFile {
     /// Write a `.cg` file: beside `path`, renamed into place; an existing
     /// file is kept (and named in the error) unless `overwrite`.
     pub fn write(&self, path: &Path, overwrite: bool) -> Result<()> {
-        use std::io::Write;
-        if !overwrite && path.exists() {
-            return Err(Error::Usage(format!("{}: already exists; not overwritten", path.display())));
-        }
-        let dir = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        let mut builder = tempfile::Builder::new();
-        builder.prefix(".cg.").suffix(".partial");
-        // tempfile creates 0600 files; an output file gets the usual 0666 less the umask.
-        #[cfg(unix)]
-        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-        let mut temp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, e))?;
-        temp.write_all(&self.to_bytes()).map_err(|e| Error::io(temp.path(), e))?;
-        temp.as_file().sync_all().map_err(|e| Error::io(temp.path(), e))?;
-        crate::format::persist(temp, path, overwrite)
+        crate::format::write_bytes_beside(path, &self.to_bytes(), overwrite)
     }
 }
 
