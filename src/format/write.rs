@@ -265,7 +265,9 @@ fn write_parts<'a>(
                 // Build blocks in parallel batches; indices stay in increasing y.
                 let tiles: Vec<_> = header.blocks_increasing_y_order().enumerate().collect();
                 let block_bytes = row_len * header.compression.scan_lines_per_block();
-                for batch in tiles.chunks((BATCH_BYTES / block_bytes.max(1)).clamp(1, 64)) {
+                // At least a block per thread, so large blocks still build in parallel.
+                let per_batch = (BATCH_BYTES / block_bytes.max(1)).max(rayon::current_num_threads()).clamp(1, 64);
+                for batch in tiles.chunks(per_batch) {
                     let chunks: Vec<exr::error::Result<(usize, UncompressedBlock)>> = {
                         use rayon::prelude::*;
                         batch
