@@ -21,3 +21,43 @@ pub fn time(runs: usize, mut f: impl FnMut()) -> f64 {
         })
         .fold(f64::INFINITY, f64::min)
 }
+
+/// Seconds of CPU time the calling thread has used. On a shared machine
+/// this leaves out the time other processes held the core, which wall time
+/// (and so criterion) counts: single-threaded figures stay comparable
+/// between runs. Falls back to wall time off Linux.
+#[allow(dead_code)] // not every benchmark times one thread
+pub fn thread_cpu_s() -> f64 {
+    #[cfg(all(target_os = "linux", target_pointer_width = "64"))]
+    {
+        #[repr(C)]
+        struct Timespec {
+            seconds: i64,
+            nanoseconds: i64,
+        }
+        extern "C" {
+            fn clock_gettime(clock: i32, out: *mut Timespec) -> i32;
+        }
+        const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+        let mut t = Timespec { seconds: 0, nanoseconds: 0 };
+        // SAFETY: clock_gettime writes one timespec (two 64-bit fields on
+        // 64-bit Linux) through a pointer to a live, writable one.
+        if unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut t) } == 0 {
+            return t.seconds as f64 + t.nanoseconds as f64 * 1e-9;
+        }
+    }
+    static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
+    START.get_or_init(Instant::now).elapsed().as_secs_f64()
+}
+
+/// The fastest of `runs` calls of `f` in thread CPU time ([`thread_cpu_s`]), seconds.
+#[allow(dead_code)]
+pub fn cpu_time(runs: usize, mut f: impl FnMut()) -> f64 {
+    (0..runs)
+        .map(|_| {
+            let t = thread_cpu_s();
+            f();
+            thread_cpu_s() - t
+        })
+        .fold(f64::INFINITY, f64::min)
+}

@@ -18,8 +18,8 @@ pub struct StreamError {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct PastEnd;
 
-/// Fast reader: a 64-bit left-aligned buffer refilled one big-endian 32-bit
-/// word at a time, as Java does, two words when there is room.
+/// Fast reader: a 64-bit left-aligned buffer refilled with as many whole
+/// bytes as fit.
 pub(crate) struct WordReader<'a> {
     bytes: &'a [u8],
     /// Next byte to load into `buf`.
@@ -36,14 +36,31 @@ impl<'a> WordReader<'a> {
         WordReader { bytes, next: 0, buf: 0, count: 0 }
     }
 
+    /// Top the buffer up to at least 33 bits when the stream has them.
+    /// Away from the end one big-endian 8-byte load fills every whole byte
+    /// that fits; the last few bytes go one at a time. (Java refills a
+    /// 4-byte word at a time; the bits are the same either way.)
     #[inline(always)]
     fn refill(&mut self) {
-        while self.count <= 32 {
-            let Some(word) = self.bytes.get(self.next..self.next + 4) else { return };
-            let w = u32::from_be_bytes([word[0], word[1], word[2], word[3]]);
-            self.buf |= u64::from(w) << (32 - self.count);
-            self.count += 32;
-            self.next += 4;
+        if let Some(eight) = self.bytes.get(self.next..self.next + 8) {
+            let mut word = [0u8; 8];
+            word.copy_from_slice(eight);
+            // count <= 32 here, so the shift is in range and at least 3 bytes fit.
+            self.buf |= u64::from_be_bytes(word) >> self.count;
+            let bytes = (64 - self.count) / 8;
+            self.next += bytes as usize;
+            self.count += bytes * 8;
+            // Bits of the byte not taken are cleared so the next load can OR in.
+            if self.count < 64 {
+                self.buf &= !(u64::MAX >> self.count);
+            }
+            return;
+        }
+        while self.count <= 56 {
+            let Some(&byte) = self.bytes.get(self.next) else { return };
+            self.buf |= u64::from(byte) << (56 - self.count);
+            self.count += 8;
+            self.next += 1;
         }
     }
 
@@ -65,15 +82,26 @@ impl<'a> WordReader<'a> {
         Ok(v)
     }
 
-    /// The next `n` bits (`n <= 64`).
+    /// Make the next `n` bits (`n <= 57`) available to [`Self::take`]:
+    /// false when the stream ends first. After a refill at least 57 bits are
+    /// buffered unless the stream ends, so one check covers a whole body.
     #[inline(always)]
-    pub(crate) fn read_long(&mut self, n: u32) -> Result<u64, PastEnd> {
-        if n <= 32 {
-            return self.read(n).map(u64::from);
+    pub(crate) fn ensure(&mut self, n: u32) -> bool {
+        if self.count < n {
+            self.refill();
         }
-        let hi = self.read(n - 32)?;
-        let lo = self.read(32)?;
-        Ok((u64::from(hi) << 32) | u64::from(lo))
+        self.count >= n
+    }
+
+    /// The next `n` bits (`n <= 57`), which [`Self::ensure`] has made available.
+    #[inline(always)]
+    pub(crate) fn take(&mut self, n: u32) -> u64 {
+        debug_assert!(n <= self.count && n <= 57);
+        // Two shifts so that n = 0 gives 0 without a branch.
+        let v = (self.buf >> 1) >> (63 - n);
+        self.buf <<= n;
+        self.count -= n;
+        v
     }
 
     /// Every bit has been read.
@@ -200,6 +228,43 @@ mod tests {
             assert_eq!(u64::from(fast.read(n).unwrap()), v);
             assert_eq!(slow.read(n).unwrap(), v);
             assert_eq!(fast.position(), slow.position());
+        }
+    }
+
+    /// Random bytes read in random widths (0..=57 bits, by `read` and by
+    /// `ensure`/`take`): the word reader, whose refill takes 8 bytes at a time away from the end, gives
+    /// the bit-by-bit reader's values, positions and end.
+    #[test]
+    fn random_reads_agree() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        for len in [4usize, 8, 12, 36, 400] {
+            let bytes: Vec<u8> = (0..len).map(|_| next() as u8).collect();
+            let mut fast = WordReader::new(&bytes);
+            let mut slow = BitByBit::new(&bytes);
+            loop {
+                let n = (next() % 58) as u32;
+                let want = slow.read(n);
+                let got = if next() % 2 == 0 && n <= 32 {
+                    fast.read(n).map(u64::from)
+                } else if fast.ensure(n) {
+                    Ok(fast.take(n))
+                } else {
+                    Err(PastEnd)
+                };
+                if want.is_err() {
+                    assert!(got.is_err(), "{len} bytes: {n} bits past the end");
+                    break;
+                }
+                assert_eq!(got, want, "{len} bytes, {n} bits at {}", slow.position() - u64::from(n));
+                assert_eq!(fast.position(), slow.position());
+                assert_eq!(fast.at_end(), slow.at_end());
+            }
         }
     }
 

@@ -34,13 +34,13 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
             if n {
                 let following = if c { r.read(6).map_err(past)? } else { r.read(8).map_err(past)? };
                 normal(&mut r, &mut st, pending, push).map_err(|e| e.at(at))?;
-                st.finish_normal(push, sink).map_err(err)?;
+                st.finish_normal(sink).map_err(err)?;
                 pending = following;
             }
             if c {
                 let following = r.read(8).map_err(past)?;
                 color(&mut r, &mut st, pending, push).map_err(|e| e.at(at))?;
-                st.finish_color(push, sink).map_err(err)?;
+                st.finish_color(sink).map_err(err)?;
                 pending = following;
             }
             next = pending;
@@ -52,11 +52,11 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
         match current {
             h if h & 0xC0 == 0xC0 => {
                 normal(&mut r, &mut st, h, false).map_err(|e| e.at(at))?;
-                st.finish_normal(false, sink).map_err(err)?;
+                st.finish_normal(sink).map_err(err)?;
             }
             h if h & 0xC0 == 0x80 => {
                 color(&mut r, &mut st, h, false).map_err(|e| e.at(at))?;
-                st.finish_color(false, sink).map_err(err)?;
+                st.finish_color(sink).map_err(err)?;
             }
             h if h & 0xE0 == 0x20 => {
                 let low = r.read(1).map_err(past)?;
@@ -152,8 +152,12 @@ fn vertex(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyE
     let n = tag + 3 * d;
     let head = u64::from(header) & mask(6 - tag);
     let (rpm, bits) = if n >= 6 {
-        let rpm = r.read(3)?;
-        let rest = r.read_long(n - 6)?;
+        // The 3 replace/push bits, then the rest of x/y/z: at most 51 bits.
+        if !r.ensure(3 + n - 6) {
+            return Err(BodyError::PastEnd);
+        }
+        let rpm = r.take(3) as u32;
+        let rest = r.take(n - 6);
         (rpm, (head << (n - 6)) | rest)
     } else {
         let in_header = 6 - n;
@@ -174,6 +178,16 @@ fn vertex(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyE
     Ok(push)
 }
 
+/// The next `n` bits (`n <= 48`, a body's rest) with one end-of-stream check.
+#[inline(always)]
+fn take_checked(r: &mut WordReader, n: u32) -> Result<u64, PastEnd> {
+    if r.ensure(n) {
+        Ok(r.take(n))
+    } else {
+        Err(PastEnd)
+    }
+}
+
 /// A colour body (header's 6 low bits + body).
 #[inline(always)]
 fn color(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
@@ -182,7 +196,7 @@ fn color(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<
     let tag = u32::from(e.tag_len);
     let n = tag + 3 * d;
     let head = u64::from(header) & mask(6 - tag);
-    let bits = if n >= 6 { (head << (n - 6)) | r.read_long(n - 6)? } else { head >> (6 - n) };
+    let bits = if n >= 6 { (head << (n - 6)) | take_checked(r, n - 6)? } else { head >> (6 - n) };
     // Alpha follows the body; when r, g, b leave room for it inside the
     // header, Java 3D's processSetColor masks it to 0 (a bug kept on purpose:
     // Java decides what such streams mean).
@@ -194,8 +208,7 @@ fn color(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<
         sign_extend(bits, d) << s,
         sign_extend(u64::from(a), d) << s,
     ];
-    st.apply_color(e.absolute, values);
-    let _ = push;
+    st.apply_color(e.absolute, values, push);
     Ok(())
 }
 
@@ -210,14 +223,13 @@ fn normal(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result
         let index = (head << tag) as u32 | r.read(tag)?;
         let u = (r.read(d)? as i32) << e.shift;
         let v = (r.read(d)? as i32) << e.shift;
-        st.set_normal_code(NormalCode { sextant: ((index >> 3) & 7) as u8, octant: (index & 7) as u8, u, v })?;
+        st.set_normal_code(NormalCode { sextant: ((index >> 3) & 7) as u8, octant: (index & 7) as u8, u, v }, push)?;
     } else {
         let n = tag + 2 * d;
-        let bits = if n >= 6 { (head << (n - 6)) | r.read_long(n - 6)? } else { head >> (6 - n) };
+        let bits = if n >= 6 { (head << (n - 6)) | take_checked(r, n - 6)? } else { head >> (6 - n) };
         let du = sign_extend(bits >> d, d) << e.shift;
         let dv = sign_extend(bits, d) << e.shift;
-        st.add_normal_delta(du, dv)?;
+        st.add_normal_delta(du, dv, push)?;
     }
-    let _ = push;
     Ok(())
 }

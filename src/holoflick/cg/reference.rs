@@ -77,14 +77,14 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
             if bn {
                 let h = next | 0xC0;
                 next = d.bits(if bc { 6 } else { 8 }).map_err(fail)?;
-                set_normal(&mut d, &mut st, h).map_err(fail)?;
-                st.finish_normal(push, sink).map_err(err)?;
+                set_normal(&mut d, &mut st, h, push).map_err(fail)?;
+                st.finish_normal(sink).map_err(err)?;
             }
             if bc {
                 let h = next | 0x80;
                 next = d.bits(8).map_err(fail)?;
-                set_color(&mut d, &mut st, h).map_err(fail)?;
-                st.finish_color(push, sink).map_err(err)?;
+                set_color(&mut d, &mut st, h, push).map_err(fail)?;
+                st.finish_color(sink).map_err(err)?;
             }
             let replace = st.last_replace;
             st.output_vertex(replace, sink).map_err(err)?;
@@ -92,11 +92,11 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
         }
         next = d.bits(8).map_err(fail)?;
         if current & 0xC0 == 0xC0 {
-            set_normal(&mut d, &mut st, current).map_err(fail)?;
-            st.finish_normal(false, sink).map_err(err)?;
+            set_normal(&mut d, &mut st, current, false).map_err(fail)?;
+            st.finish_normal(sink).map_err(err)?;
         } else if current & 0xC0 == 0x80 {
-            set_color(&mut d, &mut st, current).map_err(fail)?;
-            st.finish_color(false, sink).map_err(err)?;
+            set_color(&mut d, &mut st, current, false).map_err(fail)?;
+            st.finish_color(sink).map_err(err)?;
         } else if current & 0xE0 == 0x20 {
             let ii = d.bits(1).map_err(fail)?;
             let index = (current >> 1) & 0xF;
@@ -177,7 +177,7 @@ fn vertex(d: &mut Ref, st: &mut State, header: i64) -> Result<bool, BodyError> {
     Ok(push)
 }
 
-fn set_color(d: &mut Ref, st: &mut State, header: i64) -> Result<(), BodyError> {
+fn set_color(d: &mut Ref, st: &mut State, header: i64, push: bool) -> Result<(), BodyError> {
     let gct = d.tables[1].lookup(header as u32);
     let dl = i64::from(gct.sent_bits("colour")?);
     let tag = i64::from(gct.tag_len);
@@ -241,11 +241,11 @@ fn set_color(d: &mut Ref, st: &mut State, header: i64) -> Result<(), BodyError> 
     }
     let s = gct.shift;
     let v = [r, g, b, a].map(|c| ((java_sign_extend(c, dl) as i32) << s) as i16 as i32);
-    st.apply_color(gct.absolute, v);
+    st.apply_color(gct.absolute, v, push);
     Ok(())
 }
 
-fn set_normal(d: &mut Ref, st: &mut State, header: i64) -> Result<(), BodyError> {
+fn set_normal(d: &mut Ref, st: &mut State, header: i64, push: bool) -> Result<(), BodyError> {
     let gct = d.tables[2].lookup(header as u32);
     let dl = i64::from(gct.sent_bits("normal")?);
     let tag = i64::from(gct.tag_len);
@@ -257,7 +257,7 @@ fn set_normal(d: &mut Ref, st: &mut State, header: i64) -> Result<(), BodyError>
         }
         let u = (d.bits(dl)? as i32) << s;
         let v = (d.bits(dl)? as i32) << s;
-        st.set_normal_code(NormalCode { sextant: ((index >> 3) & 7) as u8, octant: (index & 7) as u8, u, v })?;
+        st.set_normal_code(NormalCode { sextant: ((index >> 3) & 7) as u8, octant: (index & 7) as u8, u, v }, push)?;
     } else {
         let mut du = header & bmask(6 - tag);
         let dv;
@@ -280,7 +280,7 @@ fn set_normal(d: &mut Ref, st: &mut State, header: i64) -> Result<(), BodyError>
         }
         let du = (java_sign_extend(du, dl) as i32) << s;
         let dv = (java_sign_extend(dv, dl) as i32) << s;
-        st.add_normal_delta(du, dv)?;
+        st.add_normal_delta(du, dv, push)?;
     }
     Ok(())
 }

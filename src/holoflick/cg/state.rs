@@ -66,7 +66,8 @@ fn outside_grid(code: NormalCode) -> String {
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct MeshEntry {
     pub position: [i16; 3],
-    pub normal: [i16; 4],
+    /// The normal's code, u and v truncated to shorts as Java's slots hold them.
+    pub normal: NormalCode,
     /// The float normal of `normal`, kept so a reference need not look it up
     /// again (same value: a code that decoded once decodes the same way; the
     /// short truncation only touches u, v of special normals, which ignore them).
@@ -163,13 +164,18 @@ impl State {
         Ok(())
     }
 
-    /// Set the current normal's code, computing its float value as Java does.
-    #[inline]
-    pub(crate) fn set_normal_code(&mut self, code: NormalCode) -> Result<(), String> {
+    /// Set the current normal's code, computing its float value as Java
+    /// does, then the optional push into the slot the vertex just pushed
+    /// (Java's slots hold shorts: u and v are truncated there).
+    #[inline(always)]
+    pub(crate) fn set_normal_code(&mut self, code: NormalCode, push: bool) -> Result<(), String> {
+        let Some(n) = index_normal(self.normal_table, code) else { return Err(outside_grid(code)) };
         self.normal = code;
-        match index_normal(self.normal_table, code) {
-            Some(n) => self.normal_f = n,
-            None => return Err(outside_grid(code)),
+        self.normal_f = n;
+        if push {
+            let slot = &mut self.mesh[self.mesh_index];
+            slot.normal = NormalCode { u: i32::from(code.u as i16), v: i32::from(code.v as i16), ..code };
+            slot.normal_f = n;
         }
         Ok(())
     }
@@ -177,8 +183,8 @@ impl State {
     /// Apply a relative normal change with Java 3D's wrap rules
     /// (`GeometryDecompressor.processSetNormal`): one reflection across the
     /// edge the delta crossed, changing sextant or octant.
-    #[inline]
-    pub(crate) fn add_normal_delta(&mut self, du: i32, dv: i32) -> Result<(), String> {
+    #[inline(always)]
+    pub(crate) fn add_normal_delta(&mut self, du: i32, dv: i32, push: bool) -> Result<(), String> {
         let mut c = self.normal;
         c.u = c.u.wrapping_add(du);
         c.v = c.v.wrapping_add(dv);
@@ -218,19 +224,13 @@ impl State {
                 return Err(format!("relative normal change ({du}, {dv}) leaves both u and v negative"));
             }
         }
-        self.set_normal_code(c)
+        self.set_normal_code(c, push)
     }
 
-    /// After a setNormal body: mesh push and (back end) global normal.
+    /// After a setNormal body: (back end) the global normal.
     #[inline]
-    pub(crate) fn finish_normal(&mut self, push: bool, sink: &mut impl Sink) -> Result<(), String> {
+    pub(crate) fn finish_normal(&mut self, sink: &mut impl Sink) -> Result<(), String> {
         self.use_mesh_normal = false;
-        if push {
-            let n = self.normal;
-            // Java stores shorts.
-            self.mesh[self.mesh_index].normal = [n.sextant as i16, n.octant as i16, n.u as i16, n.v as i16];
-            self.mesh[self.mesh_index].normal_f = self.normal_f;
-        }
         if !self.bundling_normal {
             if !self.list_open {
                 return Err("a global normal comes before any setState command".into());
@@ -247,13 +247,10 @@ impl State {
         Ok(())
     }
 
-    /// After a setColor body: mesh push and (back end) global colour.
+    /// After a setColor body: (back end) the global colour.
     #[inline]
-    pub(crate) fn finish_color(&mut self, push: bool, sink: &mut impl Sink) -> Result<(), String> {
+    pub(crate) fn finish_color(&mut self, sink: &mut impl Sink) -> Result<(), String> {
         self.use_mesh_color = false;
-        if push {
-            self.mesh[self.mesh_index].color = self.color;
-        }
         if !self.bundling_color {
             if !self.list_open {
                 return Err("a global colour comes before any setState command".into());
@@ -267,30 +264,42 @@ impl State {
         Ok(())
     }
 
-    /// Apply a colour body's components (`values` already shifted).
-    #[inline]
-    pub(crate) fn apply_color(&mut self, absolute: bool, values: [i32; 4]) {
-        for (c, &v) in self.color.iter_mut().zip(&values).take(3) {
-            let d = v as i16;
-            *c = if absolute { d } else { c.wrapping_add(d) };
-        }
-        if self.doing_alpha {
-            let d = values[3] as i16;
-            self.color[3] = if absolute { d } else { self.color[3].wrapping_add(d) };
+    /// Apply a colour body's components (`values` already shifted), then the
+    /// optional push into the slot [`Self::apply_position`] just pushed.
+    ///
+    /// The colour is built in a local and stored whole: writing the fields
+    /// one by one and reading the array back stalls store forwarding.
+    #[inline(always)]
+    pub(crate) fn apply_color(&mut self, absolute: bool, values: [i32; 4], push: bool) {
+        let old = if absolute { [0i16; 4] } else { self.color };
+        let alpha = if self.doing_alpha { old[3].wrapping_add(values[3] as i16) } else { self.color[3] };
+        let c = [
+            old[0].wrapping_add(values[0] as i16),
+            old[1].wrapping_add(values[1] as i16),
+            old[2].wrapping_add(values[2] as i16),
+            alpha,
+        ];
+        self.color = c;
+        if push {
+            self.mesh[self.mesh_index].color = c;
         }
     }
 
-    /// Apply a position body's components, then the optional push.
-    #[inline]
+    /// Apply a position body's components, then the optional push (built
+    /// in a local and stored whole, as [`Self::apply_color`]).
+    #[inline(always)]
     pub(crate) fn apply_position(&mut self, absolute: bool, values: [i32; 3], push: bool) {
-        for (c, &v) in self.position.iter_mut().zip(&values) {
-            let d = v as i16;
-            *c = if absolute { d } else { c.wrapping_add(d) };
-        }
+        let old = if absolute { [0i16; 3] } else { self.position };
+        let p = [
+            old[0].wrapping_add(values[0] as i16),
+            old[1].wrapping_add(values[1] as i16),
+            old[2].wrapping_add(values[2] as i16),
+        ];
+        self.position = p;
         if push {
             self.mesh_index = (self.mesh_index + 1) & 15;
             self.pushes = (self.pushes + 1).min(16);
-            self.mesh[self.mesh_index].position = self.position;
+            self.mesh[self.mesh_index].position = p;
         }
     }
 
@@ -303,9 +312,7 @@ impl State {
         let entry = self.mesh[(self.mesh_index + 16 - depth) & 15];
         self.position = entry.position;
         if self.bundling_normal && self.use_mesh_normal {
-            let n = entry.normal;
-            self.normal =
-                NormalCode { sextant: n[0] as u8 & 7, octant: n[1] as u8 & 7, u: i32::from(n[2]), v: i32::from(n[3]) };
+            self.normal = entry.normal;
             self.normal_f = entry.normal_f;
         }
         if self.bundling_color && self.use_mesh_color {
@@ -352,22 +359,29 @@ impl State {
         }
     }
 
-    /// The current vertex in the normalised frame.
+    /// The current vertex in the normalised frame. (Reads the fields in
+    /// place: copying them through `Option` tuples first cost a
+    /// store-forwarding stall per vertex.)
     #[inline(always)]
     pub(crate) fn float_vertex(&self) -> Vertex {
+        const UNIT: f32 = 1.0 / 32768.0;
         let p = self.position;
-        Vertex {
-            position: [f32::from(p[0]) / 32768.0, f32::from(p[1]) / 32768.0, f32::from(p[2]) / 32768.0],
-            normal: self.output_normal().map(|n| n.1),
-            color: self.output_color().map(|(c, alpha)| {
-                [
-                    f32::from(c[0]) / 32768.0,
-                    f32::from(c[1]) / 32768.0,
-                    f32::from(c[2]) / 32768.0,
-                    if alpha { f32::from(c[3]) / 32768.0 } else { 1.0 },
-                ]
-            }),
-        }
+        let normal = if self.format_normals {
+            Some(match &self.global_normal {
+                Some((_, f)) => *f,
+                None => self.normal_f,
+            })
+        } else {
+            None
+        };
+        let color = if self.bundling_color {
+            let c = self.color;
+            let alpha = if self.doing_alpha { f32::from(c[3]) * UNIT } else { 1.0 };
+            Some([f32::from(c[0]) * UNIT, f32::from(c[1]) * UNIT, f32::from(c[2]) * UNIT, alpha])
+        } else {
+            self.global_color.map(|c| [f32::from(c[0]) * UNIT, f32::from(c[1]) * UNIT, f32::from(c[2]) * UNIT, 1.0])
+        };
+        Vertex { position: [f32::from(p[0]) * UNIT, f32::from(p[1]) * UNIT, f32::from(p[2]) * UNIT], normal, color }
     }
 
     /// The current vertex as stream integers.
