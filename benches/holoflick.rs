@@ -4,6 +4,8 @@
 //! (position/colour/normal), RGBA colours and per-vertex normals, as Java 3D's
 //! own encoder was measured (~10 and ~7.3 bytes/triangle).
 //! `cargo bench --bench holoflick` (`-- --test`: one quick pass, as CI runs it).
+//! Then Java 3D's own encoder and decoder, Draco and holo's `.cg` tool on
+//! the same meshes, side by side, when Java 3D is installed ([`peers`]).
 //!
 //! The meshes come from `../shared/data` (skipped, and said so, without it):
 //! the Utah teapot (6 320 triangles, no normals in the file: area-weighted
@@ -168,10 +170,51 @@ fn table(models: &[Model], quick: bool) {
     println!();
 }
 
+/// The same meshes through Java 3D's own encoder and decoder, Draco, and
+/// holo's `.cg` tool, side by side (`tests/peer/java3d/bench.sh`, which
+/// prints one table; Deering's paper figure is its last row per mesh). Needs
+/// Java 3D 1.5.2 and draco from Debian (`.ci/peers.sh` installs them); said
+/// and skipped without them, and in the quick pass unless
+/// `HOLO_BENCH_PEERS=1`.
+fn peers(quick: bool) {
+    if quick && std::env::var_os("HOLO_BENCH_PEERS").is_none() {
+        println!("peers (Java 3D, Draco): skipped in the quick pass (HOLO_BENCH_PEERS=1 runs them)\n");
+        return;
+    }
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let jar = std::path::Path::new("/usr/share/java/j3dcore.jar");
+    let java = std::process::Command::new("java").arg("-version").output().is_ok_and(|o| o.status.success());
+    if !jar.exists() || !java {
+        println!("peers (Java 3D, Draco): SKIPPED, no Java 3D here (apt-get install libjava3d-java draco, or .ci/peers.sh)\n");
+        return;
+    }
+    // holo's side is the cg_peer example, built here so that it is this tree's codec.
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let built = std::process::Command::new(&cargo)
+        .args(["build", "--release", "-q", "--example", "cg_peer"])
+        .current_dir(&root)
+        .status()
+        .is_ok_and(|s| s.success());
+    let mut script = std::process::Command::new("bash");
+    script.arg("tests/peer/java3d/bench.sh").args(["--runs", if quick { "3" } else { "100" }]).current_dir(&root);
+    if built {
+        script.env("HOLO_CG", root.join("target/release/examples/cg_peer"));
+    } else {
+        println!("peers: building examples/cg_peer failed: holo rows left out");
+    }
+    println!("\npeers, side by side (tests/peer/java3d/bench.sh):");
+    match script.status() {
+        Ok(s) if s.success() => println!(),
+        Ok(s) => println!("peers: bench.sh failed ({s})\n"),
+        Err(e) => println!("peers: cannot run bash: {e}\n"),
+    }
+}
+
 fn bench(c: &mut Criterion) {
     let quick = std::env::args().any(|a| a == "--test");
     let models = models();
     table(&models, quick);
+    peers(quick);
     for m in &models {
         let mut group = c.benchmark_group(format!("cg_{}", m.label));
         group.sample_size(20);

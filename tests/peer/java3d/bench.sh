@@ -14,6 +14,8 @@
 #
 # bytes/tri = compressed stream bytes / input triangles (.cg: the object's stream, without
 # the 32-byte file header, 8-byte block header and directory; .drc: the whole file).
+# holo decode: cg_peer time, the same Java-order decode to triangle arrays; `stream` = its
+# streaming decoder (triangles handed out as decoded, nothing stored), what holo itself uses.
 # Java 3D decode: CgTool time (decoder + GeneralizedStrip.toTriangles in one warm JVM, the
 # median pass; `cold` = the first pass of a fresh JVM); triangles/s counts input triangles
 # (the stripifier's degenerate ones are decoded too, but not counted).
@@ -89,8 +91,11 @@ for ply in "${meshes[@]}"; do
         if [ -n "${HOLO_CG:-}" ]; then
             if $HOLO_CG encode "$ply" "$work/holo.cg" $bits >/dev/null 2>&1; then
                 hb=$(cg_stream_bytes "$work/holo.cg")
-                hr=$($HOLO_CG time "$work/holo.cg" "$runs" 2>/dev/null | awk '/^nondegenerate triangles\/s/ {print $6}')
-                row "$name" "$tris" holo "$tag" "$hb" "$(awk -v b="$hb" -v t="$tris" 'BEGIN { printf "%.2f", b / t }')" "$(mega "$hr")" ""
+                $HOLO_CG time "$work/holo.cg" "$runs" >"$work/htime" 2>/dev/null
+                hr=$(awk '/^nondegenerate triangles\/s/ {print $6}' "$work/htime")
+                hs=$(awk '/^streaming nondegenerate triangles\/s/ {print $7}' "$work/htime")
+                row "$name" "$tris" holo "$tag" "$hb" "$(awk -v b="$hb" -v t="$tris" 'BEGIN { printf "%.2f", b / t }')" "$(mega "$hr")" \
+                    "$(mega "$hs") stream"
             else
                 row "$name" "$tris" holo "$tag" FAILED
             fi
