@@ -174,12 +174,20 @@ fn table(models: &[Model], quick: bool) {
 /// holo's `.cg` tool, side by side (`tests/peer/java3d/bench.sh`, which
 /// prints one table; Deering's paper figure is its last row per mesh). Needs
 /// Java 3D 1.5.2 and draco from Debian (`.ci/peers.sh` installs them); said
-/// and skipped without them, and in the quick pass unless
-/// `HOLO_BENCH_PEERS=1`.
+/// and skipped without them; `HOLO_BENCH_PEERS=0` skips them, `=1` runs
+/// them in the quick pass too.
 fn peers(quick: bool) {
-    if quick && std::env::var_os("HOLO_BENCH_PEERS").is_none() {
-        println!("peers (Java 3D, Draco): skipped in the quick pass (HOLO_BENCH_PEERS=1 runs them)\n");
-        return;
+    match std::env::var("HOLO_BENCH_PEERS").as_deref() {
+        Ok("0") => {
+            println!("peers (Java 3D, Draco): skipped (HOLO_BENCH_PEERS=0)\n");
+            return;
+        }
+        Ok("1") => {}
+        _ if quick => {
+            println!("peers (Java 3D, Draco): skipped in the quick pass (HOLO_BENCH_PEERS=1 runs them)\n");
+            return;
+        }
+        _ => {}
     }
     let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let jar = std::path::Path::new("/usr/share/java/j3dcore.jar");

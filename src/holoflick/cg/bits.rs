@@ -50,10 +50,9 @@ impl<'a> WordReader<'a> {
             let bytes = (64 - self.count) / 8;
             self.next += bytes as usize;
             self.count += bytes * 8;
-            // Bits of the byte not taken are cleared so the next load can OR in.
-            if self.count < 64 {
-                self.buf &= !(u64::MAX >> self.count);
-            }
+            // Bits of the byte not taken are cleared so the next load can OR
+            // in (count is 57..=64 here; two shifts make 64 keep everything).
+            self.buf &= !((u64::MAX >> 1) >> (self.count - 1));
             return;
         }
         while self.count <= 56 {

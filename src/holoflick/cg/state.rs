@@ -57,6 +57,12 @@ pub(crate) fn parse_set_table(header: u32, body: u32) -> (usize, usize, usize, E
     (table, first, count, Entry { tag_len: tag_len as u8, data_len, shift, absolute })
 }
 
+/// A stream integer in the normalised frame (value / 32768, exact in f32).
+#[inline(always)]
+fn unit(v: i16) -> f32 {
+    f32::from(v) * (1.0 / 32768.0)
+}
+
 #[cold]
 fn outside_grid(code: NormalCode) -> String {
     format!("normal (u, v) = ({}, {}) lies outside the 64-step grid", code.u, code.v)
@@ -73,6 +79,10 @@ pub(crate) struct MeshEntry {
     /// short truncation only touches u, v of special normals, which ignore them).
     pub normal_f: [f32; 3],
     pub color: [i16; 4],
+    /// `position` and `color` as floats (value / 32768), converted once when
+    /// pushed so that a reference copies them.
+    pub position_f: [f32; 3],
+    pub color_f: [f32; 4],
 }
 
 /// Where vertices go: implemented by the triangle assemblers.
@@ -89,6 +99,11 @@ pub(crate) struct State {
     pub tables: [[Entry; 64]; 3],
     pub position: [i16; 3],
     pub color: [i16; 4],
+    /// `position` and `color` as floats (value / 32768), kept beside them:
+    /// converting where the integers are computed, rather than reading them
+    /// back later, avoids a store-forwarding stall per vertex.
+    pub position_f: [f32; 3],
+    pub color_f: [f32; 4],
     pub normal: NormalCode,
     pub normal_f: [f32; 3],
     pub mesh: [MeshEntry; 16],
@@ -120,6 +135,8 @@ impl State {
             tables: [[Entry::default(); 64]; 3],
             position: [0; 3],
             color: [0; 4],
+            position_f: [0.0; 3],
+            color_f: [0.0; 4],
             normal: NormalCode::default(),
             normal_f: [0.0; 3],
             // Java's zeroed slots: code (0, 0, 0, 0), whose normal is the table's first entry.
@@ -279,9 +296,13 @@ impl State {
             old[2].wrapping_add(values[2] as i16),
             alpha,
         ];
+        let f = c.map(unit);
         self.color = c;
+        self.color_f = f;
         if push {
-            self.mesh[self.mesh_index].color = c;
+            let slot = &mut self.mesh[self.mesh_index];
+            slot.color = c;
+            slot.color_f = f;
         }
     }
 
@@ -295,11 +316,15 @@ impl State {
             old[1].wrapping_add(values[1] as i16),
             old[2].wrapping_add(values[2] as i16),
         ];
+        let f = p.map(unit);
         self.position = p;
+        self.position_f = f;
         if push {
             self.mesh_index = (self.mesh_index + 1) & 15;
             self.pushes = (self.pushes + 1).min(16);
-            self.mesh[self.mesh_index].position = p;
+            let slot = &mut self.mesh[self.mesh_index];
+            slot.position = p;
+            slot.position_f = f;
         }
     }
 
@@ -311,6 +336,7 @@ impl State {
         }
         let entry = self.mesh[(self.mesh_index + 16 - depth) & 15];
         self.position = entry.position;
+        self.position_f = entry.position_f;
         if self.bundling_normal && self.use_mesh_normal {
             self.normal = entry.normal;
             self.normal_f = entry.normal_f;
@@ -319,8 +345,12 @@ impl State {
             self.color[0] = entry.color[0];
             self.color[1] = entry.color[1];
             self.color[2] = entry.color[2];
+            self.color_f[0] = entry.color_f[0];
+            self.color_f[1] = entry.color_f[1];
+            self.color_f[2] = entry.color_f[2];
             if self.doing_alpha {
                 self.color[3] = entry.color[3];
+                self.color_f[3] = entry.color_f[3];
             }
         }
         Ok(())
@@ -359,13 +389,9 @@ impl State {
         }
     }
 
-    /// The current vertex in the normalised frame. (Reads the fields in
-    /// place: copying them through `Option` tuples first cost a
-    /// store-forwarding stall per vertex.)
+    /// The current vertex in the normalised frame.
     #[inline(always)]
     pub(crate) fn float_vertex(&self) -> Vertex {
-        const UNIT: f32 = 1.0 / 32768.0;
-        let p = self.position;
         let normal = if self.format_normals {
             Some(match &self.global_normal {
                 Some((_, f)) => *f,
@@ -375,13 +401,12 @@ impl State {
             None
         };
         let color = if self.bundling_color {
-            let c = self.color;
-            let alpha = if self.doing_alpha { f32::from(c[3]) * UNIT } else { 1.0 };
-            Some([f32::from(c[0]) * UNIT, f32::from(c[1]) * UNIT, f32::from(c[2]) * UNIT, alpha])
+            let c = self.color_f;
+            Some([c[0], c[1], c[2], if self.doing_alpha { c[3] } else { 1.0 }])
         } else {
-            self.global_color.map(|c| [f32::from(c[0]) * UNIT, f32::from(c[1]) * UNIT, f32::from(c[2]) * UNIT, 1.0])
+            self.global_color.map(|c| [unit(c[0]), unit(c[1]), unit(c[2]), 1.0])
         };
-        Vertex { position: [f32::from(p[0]) * UNIT, f32::from(p[1]) * UNIT, f32::from(p[2]) * UNIT], normal, color }
+        Vertex { position: self.position_f, normal, color }
     }
 
     /// The current vertex as stream integers.
