@@ -191,6 +191,10 @@ impl Sink for JavaOrder {
     fn end_list(&mut self) -> Result<(), String> {
         match self.kind {
             BlockKind::Triangles => {
+                // A list's triangles never outnumber its vertices: one
+                // allocation per list, not a doubling series.
+                self.out.triangles.reserve(self.list.len());
+                self.out.quantized.reserve(self.list.len());
                 for t in java_triangles(&self.flags)? {
                     let (a, b, c) = (&self.list[t[0]], &self.list[t[1]], &self.list[t[2]]);
                     self.out.triangles.push([a.1, b.1, c.1]);
