@@ -255,8 +255,9 @@ fn objects_get_their_bound_lights_and_lobes() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let (left, right) = (square(-0.012, 6), square(0.002, 6));
-    let key = SpecularLight::Directional { direction: [0.25, -0.2, -1.0], irradiance: [2.0; 3] };
-    let fill = SpecularLight::Directional { direction: [-0.3, 0.15, -1.0], irradiance: [1.0, 1.5, 2.0] };
+    let unit = |d: [f64; 3]| d.map(|x| x / (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+    let key = SpecularLight::Directional { direction: unit([0.25, -0.2, -1.0]), irradiance: [2.0; 3] };
+    let fill = SpecularLight::Directional { direction: unit([-0.3, 0.15, -1.0]), irradiance: [1.0, 1.5, 2.0] };
     let phong = SpecularMaterial { specular: [0.4; 3], exponent: 8.0, model: SpecularModel::Phong };
     let blinn = SpecularMaterial { specular: [0.3, 0.4, 0.5], exponent: 12.0, model: SpecularModel::Blinn };
     let both = [left.clone(), right.clone()];

@@ -564,7 +564,8 @@ fn fast_equals_reference_with_per_material_lobes_and_lights() {
             reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10,
             "scene covers the display"
         );
-        assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
+        // Tighter than the tests above: no texture or normal map here, only f32 against f64 rounding.
+        assert!(off < 0.001 && mean < 1e-4, "seed {seed}: fast path differs from the reference");
         let (_, every_light, _) = both(&plain, &g, &options);
         let (_, changed) = compare(&reference, &every_light);
         assert!(changed > 0.05, "seed {seed}: the choices change the picture ({changed:.3})");
