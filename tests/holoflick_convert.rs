@@ -261,15 +261,9 @@ fn objects_get_their_bound_lights_and_lobes() {
     let phong = SpecularMaterial { specular: [0.4; 3], exponent: 8.0, model: SpecularModel::Phong };
     let blinn = SpecularMaterial { specular: [0.3, 0.4, 0.5], exponent: 12.0, model: SpecularModel::Blinn };
     let both = [left.clone(), right.clone()];
-    write_frame(
-        &d.join("both.hflk"),
-        &both,
-        vec![key.clone(), fill.clone()],
-        vec![phong.clone(), blinn.clone()],
-        &[(0, vec![0]), (1, vec![1])],
-    );
-    write_frame(&d.join("left.hflk"), &[left], vec![key.clone()], vec![phong.clone()], &[(0, vec![0])]);
-    write_frame(&d.join("right.hflk"), &[right], vec![fill.clone()], vec![blinn.clone()], &[(0, vec![0])]);
+    write_frame(&d.join("both.hflk"), &both, vec![key, fill], vec![phong, blinn], &[(0, vec![0]), (1, vec![1])]);
+    write_frame(&d.join("left.hflk"), &[left], vec![key], vec![phong], &[(0, vec![0])]);
+    write_frame(&d.join("right.hflk"), &[right], vec![fill], vec![blinn], &[(0, vec![0])]);
     write_frame(
         &d.join("every_light.hflk"),
         &both,

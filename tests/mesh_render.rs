@@ -514,9 +514,10 @@ fn fast_equals_reference_with_per_material_lobes_and_lights() {
     let fill = Light::Directional { direction: [-0.6, 0.2, -0.5], irradiance: [0.5, 0.7, 0.9], name: "fill".into() };
     let point = Light::Point { position: [0.05, 0.03, 0.1], intensity: [0.02, 0.015, 0.01], name: "point".into() };
     let ambient = Light::Ambient { radiance: [0.05; 3] };
-    // (seed, lights, render lobe, supersampling, per object: lights chosen and lobe)
-    type Choice = (Option<Vec<u32>>, Option<SpecularModel>);
-    let cases: [(u64, Vec<Light>, SpecularModel, Supersample, [Choice; 3]); 3] = [
+    // Per object: the lights chosen and the lobe.
+    type Choices = [(Option<Vec<u32>>, Option<SpecularModel>); 3];
+    // (seed, lights, render lobe, supersampling, choices)
+    let cases: [(u64, Vec<Light>, SpecularModel, Supersample, Choices); 3] = [
         (
             10,
             vec![key.clone(), fill.clone(), ambient.clone()],
