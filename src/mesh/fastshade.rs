@@ -75,7 +75,8 @@ fn lobe_threshold(lobe_norm: f64, max_ks: f64, n: f64) -> f32 {
     ((LOBE_FLOOR / scale).powf(1.0 / n).min(1.0) * (1.0 - 1e-6)) as f32
 }
 
-/// Lights in f32, ambient summed.
+/// Lights in f32 (all of a render's, or those a group of materials
+/// receives), ambient summed, and their lobe.
 pub(crate) struct FastLights {
     directional: Vec<([f32; 3], [f32; 3])>,
     point: Vec<([f32; 3], [f32; 3])>,
@@ -139,6 +140,7 @@ impl FastLights {
 /// materials choose neither has that one group, so it shades exactly as if
 /// materials could not choose.
 pub(crate) struct LightGroups {
+    /// Group 0: every light, the render's lobe.
     pub groups: Vec<FastLights>,
     /// The group of each object of the scene.
     pub of_object: Vec<u32>,
