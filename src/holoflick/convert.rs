@@ -290,9 +290,9 @@ impl State {
             SpecularModel::Phong => Lobe::Phong,
             SpecularModel::Blinn => Lobe::Blinn,
         };
-        // The render's lobe: the first bound material's, so a frame of one
-        // lobe needs no per-material one (the renderer groups materials by
-        // lobe and lights; fewer groups, less set-up per view).
+        // The render's own lobe: any would do, as every bound material
+        // names its own; the first's keeps a frame of one lobe, bound to
+        // every light, in the renderer's one light group.
         let mut model = None;
         for (o, id) in scene.objects.iter_mut().zip(ids) {
             let bound = bindings.get(&id).and_then(|b| Some((b, frame.frame.materials.get(b.material as usize)?)));
