@@ -200,3 +200,101 @@ fn encoded_movies_convert_like_the_mesh() {
     assert!(errors[2] < errors[0] && errors[3] <= errors[1], "error must shrink with the micropolygons: {errors:?}");
     assert!(errors[3] < 0.03, "{errors:?}");
 }
+
+/// A flat square of `n`×`n` quads in z = 2 mm facing the viewer, over
+/// x ∈ [x0, x0 + 10 mm], y ∈ [−5, 5] mm, with pre-lit colours.
+fn square(x0: f64, n: u32) -> Object {
+    let mut o = Object { name: format!("square at {x0}"), ..Object::default() };
+    for j in 0..=n {
+        for i in 0..=n {
+            let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+            o.positions.push([x0 + 0.01 * u, -0.005 + 0.01 * v, 0.002]);
+            o.colours.push([0.2 + 0.5 * u as f32, 0.3, 0.2 + 0.4 * v as f32, 1.0]);
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i;
+            o.triangles.push([a, a + 1, a + n + 2]);
+            o.triangles.push([a, a + n + 2, a + n + 1]);
+        }
+    }
+    o
+}
+
+/// One key frame of `objects`, object `k` bound as `bindings[k]` (material, lights).
+fn write_frame(
+    path: &Path,
+    objects: &[Object],
+    lights: Vec<SpecularLight>,
+    materials: Vec<SpecularMaterial>,
+    bindings: &[(u32, Vec<u32>)],
+) {
+    let mut w = HoloFlickWriter::create(path, &HflkWrite::default()).unwrap();
+    let mut frame =
+        Frame { key_frame: true, couch: couch(), lights, materials, bindings: Vec::new(), objects: Vec::new() };
+    for (id, (o, (material, lights))) in objects.iter().zip(bindings).enumerate() {
+        let (g, _) = encode_object(id as u32, o, &EncodeOptions::default()).unwrap();
+        frame.bindings.push(Binding { object_id: id as u32, material: *material, lights: lights.clone() });
+        frame.objects.push(ObjectRecord::Stored(g));
+    }
+    w.add_frame(&frame).unwrap();
+    w.finish().unwrap();
+}
+
+/// Bindings as bound: a frame with a Phong object bound to light 0 only and
+/// a Blinn object bound to light 1 only converts, without warnings, to the
+/// sum of two frames each holding one of the objects with just its light
+/// and material. The squares lie side by side in one plane, so no ray (one
+/// per sample here) meets both, and the sum is exact: every sample is one
+/// frame's value plus zero. Binding both objects to both lights (what
+/// convert did before it honoured the light lists) changes the picture.
+#[test]
+fn objects_get_their_bound_lights_and_lobes() {
+    let g = display();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (left, right) = (square(-0.012, 6), square(0.002, 6));
+    let unit = |d: [f64; 3]| d.map(|x| x / (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+    let key = SpecularLight::Directional { direction: unit([0.25, -0.2, -1.0]), irradiance: [2.0; 3] };
+    let fill = SpecularLight::Directional { direction: unit([-0.3, 0.15, -1.0]), irradiance: [1.0, 1.5, 2.0] };
+    let phong = SpecularMaterial { specular: [0.4; 3], exponent: 8.0, model: SpecularModel::Phong };
+    let blinn = SpecularMaterial { specular: [0.3, 0.4, 0.5], exponent: 12.0, model: SpecularModel::Blinn };
+    let both = [left.clone(), right.clone()];
+    write_frame(&d.join("both.hflk"), &both, vec![key, fill], vec![phong, blinn], &[(0, vec![0]), (1, vec![1])]);
+    write_frame(&d.join("left.hflk"), &[left], vec![key], vec![phong], &[(0, vec![0])]);
+    write_frame(&d.join("right.hflk"), &[right], vec![fill], vec![blinn], &[(0, vec![0])]);
+    write_frame(
+        &d.join("every_light.hflk"),
+        &both,
+        vec![key, fill],
+        vec![phong, blinn],
+        &[(0, vec![0, 1]), (1, vec![0, 1])],
+    );
+    let convert = |name: &str| {
+        let report = convert_holoflick(
+            &d.join(format!("{name}.hflk")),
+            &g,
+            &d.join(format!("{name}.holo")),
+            &options(),
+            &|_, _| {},
+        )
+        .unwrap();
+        assert!(report.warnings.is_empty(), "{name}: {:?}", report.warnings);
+        assert!(report.placed.is_none(), "{name}: made for the display: drawn as stored");
+        assert_eq!(report.work.without_specular, 0, "{name}");
+        frames_of(&d.join(format!("{name}.holo"))).remove(0)
+    };
+    let (together, left, right, every_light) =
+        (convert("both"), convert("left"), convert("right"), convert("every_light"));
+    let lit = |m: &Modulation| m.samples().iter().filter(|&&v| v > 0.0).count();
+    assert!(lit(&left) > 1000 && lit(&right) > 1000, "both squares are seen");
+    let mut overlap = 0;
+    for ((&t, &l), &r) in together.samples().iter().zip(left.samples()).zip(right.samples()) {
+        overlap += (l > 0.0 && r > 0.0) as usize;
+        assert_eq!(t.to_bits(), (l + r).to_bits(), "{t} vs {l} + {r}");
+    }
+    assert_eq!(overlap, 0, "no sample sees both squares");
+    let changed = together.samples().iter().zip(every_light.samples()).filter(|(a, b)| (*a - *b).abs() > 1e-3).count();
+    assert!(changed > lit(&together) / 4, "the light lists matter: {changed} samples differ");
+}

@@ -104,3 +104,23 @@ fn occluded_lights_leave_shadows() {
         assert!(shadowed[1].iter().all(|c| c[0] as f64 > 0.1 * rho[0] + 0.05), "{:?}", shadowed[1]);
     }
 }
+
+/// An object whose material chooses some of the lights is baked under
+/// those alone (ambient included), as the renderers would shade it.
+#[test]
+fn chosen_lights_alone_are_baked() {
+    let sun = Light::Directional { direction: [0.3, 0.0, -1.0], irradiance: [2.0; 3], name: "sun".into() };
+    let lamp = Light::Point { position: [0.5, 0.2, 3.0], intensity: [18.0; 3], name: "lamp".into() };
+    let ambient = Light::Ambient { radiance: [0.1, 0.2, 0.3] };
+    let lights = [sun, lamp.clone(), ambient.clone()];
+    let mut chooser = square("chooser", 5, 1.0, 0.0);
+    chooser.material.lights = Some(vec![2, 1]);
+    let scene = Scene { source: "chosen".into(), objects: vec![chooser.clone()], ..Scene::default() };
+    let (baked, _) = bake_diffuse(&scene, &lights, &BakeOptions::default());
+    chooser.material.lights = None;
+    let alone = Scene { objects: vec![chooser], ..scene };
+    let (want, _) = bake_diffuse(&alone, &[lamp, ambient], &BakeOptions::default());
+    assert_eq!(baked, want);
+    let (every, _) = bake_diffuse(&alone, &lights, &BakeOptions::default());
+    assert_ne!(baked, every, "the sun is left out");
+}

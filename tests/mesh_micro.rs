@@ -119,3 +119,24 @@ fn deferred_specular_moves_across_views_like_direct_rendering() {
     assert!(compared > 30, "a highlight must be seen");
     assert!(same as f64 >= 0.9 * compared as f64, "{same} of {compared}");
 }
+
+/// A material's choice of lobe and lights survives into the micropolygons,
+/// its light indices renumbered into the specular lights returned (the
+/// ambient ones are baked and dropped).
+#[test]
+fn chosen_lights_are_renumbered_into_the_specular_lights() {
+    let g = display();
+    let mut scene = spot(&g);
+    let ambient = Light::Ambient { radiance: [0.1; 3] };
+    let sun = Light::Directional { direction: [0.3, -0.5, -1.0], irradiance: [2.0; 3], name: "sun".into() };
+    let lamp = Light::Point { position: [0.0, 0.05, 0.2], intensity: [0.05; 3], name: "lamp".into() };
+    let lights = [sun.clone(), ambient, lamp.clone()];
+    scene.objects[0].material.lights = Some(vec![2, 1]);
+    scene.objects[0].material.specular_model = Some(SpecularModel::Phong);
+    let (micro, specular, _) =
+        micropolygons(&scene, &lights, &display_budget(&g, 4.0), &DiceOptions::default(), &BakeOptions::default())
+            .unwrap();
+    assert_eq!(specular, vec![sun, lamp]);
+    assert_eq!(micro.objects[0].material.lights, Some(vec![1]), "lamp: 2 → 1; the ambient, baked, is dropped");
+    assert_eq!(micro.objects[0].material.specular_model, Some(SpecularModel::Phong));
+}

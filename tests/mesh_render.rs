@@ -500,3 +500,99 @@ fn render_into_a_used_frame_equals_a_fresh_render() {
     holo::mesh::render::render_into(&scene, &options, &|_, _| {}, &mut used).unwrap();
     assert_eq!(fresh.samples(), used.samples());
 }
+
+/// Materials choosing their lobe and a subset of the render's lights: the
+/// fast path (a batch and column set-up per group of materials with the
+/// same lights and lobe, point lights through the per-run shader) against
+/// the reference, with directional lights only (everything batched, several
+/// groups in one column) and with a point light (groups with it shaded run
+/// by run beside batched ones). The choices must matter, and choosing every
+/// light and the render's lobe must change no bit.
+#[test]
+fn fast_equals_reference_with_per_material_lobes_and_lights() {
+    let key = Light::Directional { direction: [0.3, -0.5, -1.0], irradiance: [2.0, 2.0, 2.0], name: "key".into() };
+    let fill = Light::Directional { direction: [-0.6, 0.2, -0.5], irradiance: [0.5, 0.7, 0.9], name: "fill".into() };
+    let point = Light::Point { position: [0.05, 0.03, 0.1], intensity: [0.02, 0.015, 0.01], name: "point".into() };
+    let ambient = Light::Ambient { radiance: [0.05; 3] };
+    // Per object: the lights chosen and the lobe.
+    type Choices = [(Option<Vec<u32>>, Option<SpecularModel>); 3];
+    // (seed, lights, render lobe, supersampling, choices)
+    let cases: [(u64, Vec<Light>, SpecularModel, Supersample, Choices); 3] = [
+        (
+            10,
+            vec![key.clone(), fill.clone(), ambient.clone()],
+            SpecularModel::Blinn,
+            Supersample { emitter: 1, view: 1 },
+            [(Some(vec![0, 2]), Some(SpecularModel::Phong)), (Some(vec![1]), None), (None, Some(SpecularModel::Phong))],
+        ),
+        (
+            11,
+            vec![key.clone(), point.clone(), fill.clone(), ambient.clone()],
+            SpecularModel::Phong,
+            Supersample { emitter: 2, view: 2 },
+            [
+                (Some(vec![1, 3]), Some(SpecularModel::Blinn)),
+                (Some(vec![0]), Some(SpecularModel::Phong)),
+                (Some(vec![2, 1, 2]), None),
+            ],
+        ),
+        (
+            12,
+            vec![point, key, ambient, fill],
+            SpecularModel::Blinn,
+            Supersample { emitter: 3, view: 1 },
+            [(Some(vec![3, 2]), None), (Some(vec![]), Some(SpecularModel::Phong)), (Some(vec![1]), None)],
+        ),
+    ];
+    for (seed, lights, model, ss, choices) in cases {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let plain = random_scene(&mut rng, 60);
+        let mut scene = plain.clone();
+        for (o, (chosen, lobe)) in scene.objects.iter_mut().zip(choices) {
+            o.material.lights = chosen;
+            o.material.specular_model = lobe;
+        }
+        let g = small_geometry(0.005);
+        let options = RenderOptions { supersample: ss, lighting: Lighting { lights, model }, engine: Engine::Fast };
+        let (fast, reference, stats) = both(&scene, &g, &options);
+        let (off, mean) = compare(&fast, &reference);
+        println!(
+            "seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}",
+            off * 100.0,
+            mean
+        );
+        assert!(
+            reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10,
+            "scene covers the display"
+        );
+        // Tighter than the tests above: no texture or normal map here, only f32 against f64 rounding.
+        assert!(off < 0.001 && mean < 1e-4, "seed {seed}: fast path differs from the reference");
+        let (_, every_light, _) = both(&plain, &g, &options);
+        let (_, changed) = compare(&reference, &every_light);
+        assert!(changed > 0.05, "seed {seed}: the choices change the picture ({changed:.3})");
+        // Every light (in any order, repeated) and the render's lobe: today's render, bit for bit.
+        let mut all = plain.clone();
+        let n = options.lighting.lights.len() as u32;
+        for o in &mut all.objects {
+            o.material.lights = Some((0..n).rev().chain([0]).collect());
+            o.material.specular_model = Some(model);
+        }
+        let (fast_all, _) = render(&all, &g, &options, &|_, _| {}).unwrap();
+        let (fast_plain, _) = render(&plain, &g, &options, &|_, _| {}).unwrap();
+        assert!(fast_all == fast_plain, "seed {seed}: choosing everything changed a sample");
+    }
+}
+
+/// A material choosing a light the render does not have is an error naming it.
+#[test]
+fn choosing_a_missing_light_is_an_error() {
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    let mut scene = random_scene(&mut rng, 9);
+    scene.objects[1].material.lights = Some(vec![0, 3]);
+    let g = small_geometry(0.0);
+    for engine in [Engine::Fast, Engine::Reference] {
+        let options = RenderOptions { lighting: lighting(SpecularModel::Blinn), engine, ..RenderOptions::default() };
+        let e = render(&scene, &g, &options, &|_, _| {}).unwrap_err().to_string();
+        assert!(e.contains("random 1") && e.contains("light 3"), "{e}");
+    }
+}

@@ -3,13 +3,17 @@
 //!
 //! Per frame: each object's geometry is decoded (objects kept in key frames
 //! are decoded once and reused while their key frame is current), placed
-//! in display metres, and given its bound specular material; objects no ray
-//! of the display meets are not decoded at all, triangles facing away from
-//! every allowed viewpoint are dropped, and objects without a specular
-//! material do no specular work. The mesh renderer then draws the pre-lit
-//! micropolygons under the frame's specular lights. Frames are made one at
-//! a time as the writer asks for them: memory is one frame and the cache
-//! of key-frame objects, whatever the frame count.
+//! in display metres, and given its binding as bound (spec/holoflick.md
+//! §6.5): the material's `k_s`, exponent and lobe, and only the lights the
+//! binding lists; objects no ray of the display meets are not decoded at
+//! all, triangles facing away from every allowed viewpoint are dropped,
+//! and objects without a specular material do no specular work. The mesh
+//! renderer then draws the pre-lit micropolygons under the frame's specular
+//! lights, each object with its own lobe and lights
+//! ([`crate::mesh::Material::specular_model`],
+//! [`crate::mesh::Material::lights`]). Frames are made one at a time as the
+//! writer asks for them: memory is one frame and the cache of key-frame
+//! objects, whatever the frame count.
 //!
 //! Placement: a HoloFlick made for the display (`holo holoflick encode`)
 //! is in display metres and its couch holds the display's viewing zone;
@@ -153,7 +157,7 @@ pub fn convert_holoflick(
         if made_for_display && !holds {
             outside.push(number);
         }
-        let (scene, lighting) = match state.frame_scene(&frame, geometry, made_for_display && holds, &mut warnings) {
+        let (scene, lighting) = match state.frame_scene(&frame, geometry, made_for_display && holds) {
             Ok(x) => x,
             Err(e) => {
                 failure = Some(number);
@@ -271,15 +275,9 @@ impl State {
         Ok((scene, ids))
     }
 
-    /// The frame ready to render: objects with their bound materials, and
-    /// the lights.
-    fn frame_scene(
-        &mut self,
-        frame: &ResolvedFrame,
-        g: &Geometry,
-        cull_with_couch: bool,
-        warnings: &mut Vec<String>,
-    ) -> Result<(Scene, Lighting)> {
+    /// The frame ready to render: objects with their bound materials (each
+    /// with its lobe and the lights it is bound to), and the lights.
+    fn frame_scene(&mut self, frame: &ResolvedFrame, g: &Geometry, cull_with_couch: bool) -> Result<(Scene, Lighting)> {
         // Back faces against the couch only when it holds the display's
         // viewpoints, in display metres (otherwise the display may see what
         // the couch cannot).
@@ -288,23 +286,23 @@ impl State {
         // Materials by binding; objects were pushed in frame order, minus the culled.
         let bindings: HashMap<u32, &super::container::Binding> =
             frame.frame.bindings.iter().map(|b| (b.object_id, b)).collect();
-        let mut models = Vec::new();
-        let all_lights: Vec<u32> = (0..frame.frame.lights.len() as u32).collect();
+        let lobe = |m: SpecularModel| match m {
+            SpecularModel::Phong => Lobe::Phong,
+            SpecularModel::Blinn => Lobe::Blinn,
+        };
+        // The render's own lobe: any would do, as every bound material
+        // names its own; the first's keeps a frame of one lobe, bound to
+        // every light, in the renderer's one light group.
+        let mut model = None;
         for (o, id) in scene.objects.iter_mut().zip(ids) {
-            let material = bindings.get(&id).and_then(|b| {
-                if b.lights != all_lights {
-                    warnings.push(format!(
-                        "frame {}: object {}: bound to some of the frame's lights; every light is applied",
-                        frame.number, b.object_id
-                    ));
-                }
-                frame.frame.materials.get(b.material as usize)
-            });
-            match material {
-                Some(m) if m.specular.iter().any(|&k| k > 0.0) => {
+            let bound = bindings.get(&id).and_then(|b| Some((b, frame.frame.materials.get(b.material as usize)?)));
+            match bound {
+                Some((b, m)) if m.specular.iter().any(|&k| k > 0.0) => {
                     o.material.specular = m.specular.map(|k| k as f32);
                     o.material.shininess = m.exponent as f32;
-                    models.push(m.model);
+                    o.material.specular_model = Some(lobe(m.model));
+                    o.material.lights = Some(b.lights.clone());
+                    model.get_or_insert(lobe(m.model));
                 }
                 _ => {
                     o.material.specular = [0.0; 3];
@@ -312,13 +310,7 @@ impl State {
                 }
             }
         }
-        let model = match models.first() {
-            Some(SpecularModel::Phong) => Lobe::Phong,
-            _ => Lobe::Blinn,
-        };
-        if models.iter().any(|m| *m != models[0]) {
-            warnings.push(format!("frame {}: materials mix Phong and Blinn lobes; {model:?} is used", frame.number));
-        }
+        let model = model.unwrap_or(Lobe::Blinn);
         let placement = self.placed.as_ref().map(|p| p.matrix);
         let lights = frame
             .frame

@@ -203,8 +203,8 @@ impl KeyFrames {
 
     /// A frame of `objects` (an object's id is its place in the frame: the
     /// k-th object of every frame is one object), each with its specular
-    /// material bound to every light; objects unchanged since the key frame
-    /// are references to it.
+    /// material (Blinn unless the material names Phong) bound to every
+    /// light; objects unchanged since the key frame are references to it.
     pub(crate) fn frame(
         &mut self,
         is_key: bool,
@@ -229,7 +229,10 @@ impl KeyFrames {
             frame.materials.push(SpecularMaterial {
                 specular: o.material.specular.map(f64::from),
                 exponent: o.material.shininess.max(0.0) as f64,
-                model: SpecularModel::Blinn,
+                model: match o.material.specular_model {
+                    Some(crate::mesh::shade::SpecularModel::Phong) => SpecularModel::Phong,
+                    _ => SpecularModel::Blinn,
+                },
             });
             frame.bindings.push(Binding {
                 object_id: k as u32,

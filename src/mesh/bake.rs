@@ -34,13 +34,16 @@ pub struct BakeReport {
 }
 
 /// Linear RGBA per vertex of every object of `scene` under `lights` (alpha:
-/// the material's base alpha times the vertex colour's). Vertices no
-/// triangle uses get zero.
+/// the material's base alpha times the vertex colour's). An object whose
+/// material chooses lights ([`super::Material::lights`], indices into
+/// `lights`) gets only those. Vertices no triangle uses get zero.
 pub fn bake_diffuse(scene: &Scene, lights: &[Light], options: &BakeOptions) -> (Vec<Vec<[f32; 4]>>, BakeReport) {
     // The reference shader with specular reflectance zero: view-independent.
     let mut matte = scene.clone();
     for o in &mut matte.objects {
         o.material.specular = [0.0; 3];
+        // Each light is shaded alone below; the material's choice of lights is applied there.
+        o.material.lights = None;
     }
     let bvh = options.shadows.then(|| Bvh::new(scene));
     let extent =
@@ -78,7 +81,11 @@ pub fn bake_diffuse(scene: &Scene, lights: &[Light], options: &BakeOptions) -> (
                     let emitted = radiance(&matte, &unlit, &hit, view);
                     let mut sum = emitted;
                     let mut shadowed = 0;
-                    for (light, lighting) in lights.iter().zip(&one) {
+                    let receives = &scene.objects[oi].material;
+                    for (index, (light, lighting)) in lights.iter().zip(&one).enumerate() {
+                        if !receives.receives_light(index) {
+                            continue;
+                        }
                         let lit = radiance(&matte, lighting, &hit, view);
                         let term = [lit[0] - emitted[0], lit[1] - emitted[1], lit[2] - emitted[2]];
                         if term == [0.0; 3] {

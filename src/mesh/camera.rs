@@ -67,6 +67,9 @@ pub fn camera_picture(
     if let Some(bad) = lighting.lights.iter().find(|l| !super::render::light_is_finite(l)) {
         return Err(Error::Usage(format!("a light is not finite or has a negative brightness: {bad:?}")));
     }
+    if let Some(problem) = lighting.problem_with(scene) {
+        return Err(Error::Usage(format!("{}: {problem}", scene.source)));
+    }
     let (width, height) = (camera.width, camera.height);
     // Each pixel holds 16 bytes (colour and depth).
     if width.checked_mul(height).map_or(true, |n| n > isize::MAX as usize / 16) {

@@ -19,7 +19,7 @@
 //! "widened" back-face cull: one view seeing it keeps it), and inside the
 //! hololine only for the views it faces away from.
 
-use super::fastshade::{self, Attrs, Batch, Column, FastLights, FastMaterial, Run, SegmentTable};
+use super::fastshade::{self, Attrs, Batch, Column, FastLights, FastMaterial, LightGroups, Run, SegmentTable};
 use super::render::{HololineRenderer, RenderStats, Shading};
 use super::shade::{cross, normalize_or, sub};
 
@@ -39,6 +39,8 @@ struct Tri {
 struct Segment {
     /// Index into the scene's objects (and the fast materials).
     object: u32,
+    /// The object's light group ([`LightGroups`]).
+    group: u32,
     /// The object has vertex normals / tangents.
     has_normals: bool,
     has_tangents: bool,
@@ -65,7 +67,8 @@ pub(crate) struct EpiRenderer<'a> {
     start: Vec<usize>,
     bucket: Vec<u32>,
     materials: Vec<FastMaterial>,
-    lights: FastLights,
+    /// The lights each object receives, by group.
+    lights: LightGroups,
     /// The CPU has AVX2 and FMA.
     lights_avx2: bool,
 }
@@ -135,9 +138,15 @@ impl<'a> EpiRenderer<'a> {
                 fill[j] += 1;
             }
         }
-        let materials = s.scene.objects.iter().map(|o| FastMaterial::new(&o.material, s.lighting.model)).collect();
-        let lights = FastLights::new(s.lighting);
-        let lights_avx2 = lights.avx2();
+        let lights = LightGroups::new(s.scene, s.lighting);
+        let materials = s
+            .scene
+            .objects
+            .iter()
+            .zip(&lights.of_object)
+            .map(|(o, &group)| FastMaterial::new(&o.material, lights.groups[group as usize].model()))
+            .collect();
+        let lights_avx2 = lights.groups[0].avx2();
         EpiRenderer { s, tris, start, bucket, materials, lights, lights_avx2 }
     }
 
@@ -210,6 +219,7 @@ impl<'a> EpiRenderer<'a> {
             let attrs_delta = attrs_a.delta(&attrs_b);
             out.push(Segment {
                 object: t.object,
+                group: self.lights.of_object[t.object as usize],
                 has_normals: !o.normals.is_empty(),
                 has_tangents: !o.tangents.is_empty(),
                 a: [pa[0], pa[2]],
@@ -246,7 +256,7 @@ impl Span {
         #[cfg(target_arch = "x86_64")]
         {
             if avx2 {
-                // SAFETY: the CPU has AVX2 and FMA (checked in FastLights::new).
+                // SAFETY: the CPU has AVX2 and FMA (checked in FastLights::chosen).
                 unsafe { self.draw_avx2(i0, depth, owner, param) };
                 return;
             }
@@ -370,11 +380,19 @@ impl EpiRenderer<'_> {
         let mut param = vec![0.0f64; n_sub];
         // Radiance summed over a view's sub-views, per sub-emitter.
         let mut acc = [vec![0.0f32; n_sub], vec![0.0f32; n_sub], vec![0.0f32; n_sub]];
-        let mut column = Column::default();
-        let mut batch = Batch::default();
+        // The light groups the hololine shows, each with its own column
+        // set-up and batch (`slot`: a segment's group's place among them).
+        let mut shown: Vec<usize> = segments.iter().map(|seg| seg.group as usize).collect();
+        shown.sort_unstable();
+        shown.dedup();
+        let slot: Vec<u32> =
+            segments.iter().map(|seg| shown.binary_search(&(seg.group as usize)).unwrap_or(0) as u32).collect();
+        let lights: Vec<&FastLights> = shown.iter().map(|&g| &self.lights.groups[g]).collect();
+        let mut columns: Vec<Column> = shown.iter().map(|_| Column::default()).collect();
+        let mut batches: Vec<Batch> = shown.iter().map(|_| Batch::default()).collect();
         let mut table = SegmentTable::default();
-        for seg in segments {
-            table.push(self.s.scene, &self.lights, &self.run(seg, true));
+        for (seg, &k) in segments.iter().zip(&slot) {
+            table.push(self.s.scene, lights[k as usize], &self.run(seg, true));
         }
         let all_simple = (0..segments.len()).all(|si| table.simple(si));
         let c_count = self.s.weights.len();
@@ -418,21 +436,26 @@ impl EpiRenderer<'_> {
                     let span = Span { t_first, dt, z_a: seg.a[1], dz, owner: si as u32 };
                     span.draw(i0, &mut depth[i0..i1], &mut owner[i0..i1], &mut param[i0..i1], self.lights_avx2);
                 }
-                column.set(&self.lights, fastshade::normalize([s as f32, k as f32, 1.0]));
-                // Pixels of simple segments go to the batch one by one ...
+                let view = fastshade::normalize([s as f32, k as f32, 1.0]);
+                for (column, l) in columns.iter_mut().zip(&lights) {
+                    column.set(l, view);
+                }
+                // Pixels of simple segments go to their group's batch one by one ...
                 let (lo, hi) = (drawn_lo, drawn_hi.max(drawn_lo));
-                if all_simple {
-                    batch.push_all(lo, &owner[lo..hi], &param[lo..hi], NONE);
+                if all_simple && batches.len() == 1 {
+                    batches[0].push_all(lo, &owner[lo..hi], &param[lo..hi], NONE);
                 } else {
                     for (i, (&o, &t)) in owner.iter().zip(param.iter()).enumerate().take(hi).skip(lo) {
                         if o != NONE && table.simple(o as usize) {
-                            batch.push(i, o, t);
+                            batches[slot[o as usize] as usize].push(i, o, t);
                         }
                     }
                 }
                 let [ar, ag, ab] = &mut acc;
-                stats.shaded += batch.len() as u64;
-                batch.gather(self.s.scene, &table, &self.lights, [ar, ag, ab]);
+                for (batch, l) in batches.iter_mut().zip(&lights) {
+                    stats.shaded += batch.len() as u64;
+                    batch.gather(self.s.scene, &table, l, [&mut ar[..], &mut ag[..], &mut ab[..]]);
+                }
                 // ... the others are shaded run by run, neighbours showing one segment.
                 let mut i = lo;
                 while !all_simple && i < hi {
@@ -445,12 +468,15 @@ impl EpiRenderer<'_> {
                         let seg = &segments[o as usize];
                         let run = self.run(seg, seg.nx * s + seg.c > 0.0);
                         let acc = [&mut ar[i..end], &mut ag[i..end], &mut ab[i..end]];
-                        fastshade::shade_run(self.s.scene, &self.lights, &column, &run, &param[i..end], acc);
+                        let k = slot[o as usize] as usize;
+                        fastshade::shade_run(self.s.scene, lights[k], &columns[k], &run, &param[i..end], acc);
                         stats.shaded += (end - i) as u64;
                     }
                     i = end;
                 }
-                batch.shade(&self.lights, &column, [ar, ag, ab]);
+                for ((batch, l), column) in batches.iter_mut().zip(&lights).zip(&columns) {
+                    batch.shade(l, column, [&mut ar[..], &mut ag[..], &mut ab[..]]);
+                }
                 depth[lo..hi].fill(f64::NEG_INFINITY);
                 owner[lo..hi].fill(NONE);
             }
@@ -558,7 +584,7 @@ mod tests {
                 || Shading { scene: &scene, lighting: &lighting, weights: &weights, rays: &rays, geometry: &g };
             let simd = EpiRenderer::new(shading());
             let mut portable = EpiRenderer::new(shading());
-            portable.lights.portable();
+            portable.lights.groups.iter_mut().for_each(|l| l.portable());
             portable.lights_avx2 = false;
             let line = g.emitters * g.views.count;
             let (mut a, mut b) = (vec![0.0f32; 3 * line], vec![0.0f32; 3 * line]);

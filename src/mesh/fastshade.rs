@@ -4,6 +4,8 @@
 //! in the segment parameter, so this is exact up to f32 rounding; the tests
 //! compare the two renderers, which holds the two shaders together.
 
+use std::collections::HashMap;
+
 use super::shade::{bilerp, sample, Lighting, SpecularModel};
 use super::{Light, Material, Object, Scene, Texture, TextureRef};
 
@@ -73,7 +75,8 @@ fn lobe_threshold(lobe_norm: f64, max_ks: f64, n: f64) -> f32 {
     ((LOBE_FLOOR / scale).powf(1.0 / n).min(1.0) * (1.0 - 1e-6)) as f32
 }
 
-/// Lights in f32, ambient summed.
+/// Lights in f32 (all of a render's, or those a group of materials
+/// receives), ambient summed, and their lobe.
 pub(crate) struct FastLights {
     directional: Vec<([f32; 3], [f32; 3])>,
     point: Vec<([f32; 3], [f32; 3])>,
@@ -89,19 +92,29 @@ impl FastLights {
         self.avx2
     }
 
+    /// The specular lobe.
+    pub(crate) fn model(&self) -> SpecularModel {
+        self.model
+    }
+
     /// Take the portable (SSE2) loops even where AVX2 is there.
     #[cfg(test)]
     pub(crate) fn portable(&mut self) {
         self.avx2 = false;
     }
 
-    pub(crate) fn new(l: &Lighting) -> Self {
-        let mut out = FastLights { directional: vec![], point: vec![], ambient: [0.0; 3], model: l.model, avx2: false };
+    /// The lights of `l` that `chosen` lists (in `l`'s order; `None`: all),
+    /// with lobe `model`.
+    pub(crate) fn chosen(l: &Lighting, chosen: Option<&[u32]>, model: SpecularModel) -> Self {
+        let mut out = FastLights { directional: vec![], point: vec![], ambient: [0.0; 3], model, avx2: false };
         #[cfg(target_arch = "x86_64")]
         {
             out.avx2 = std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
         }
-        for light in &l.lights {
+        for (index, light) in l.lights.iter().enumerate() {
+            if chosen.is_some_and(|c| !c.contains(&(index as u32))) {
+                continue;
+            }
             match light {
                 Light::Directional { direction, irradiance, .. } => {
                     let to = [-direction[0] as f32, -direction[1] as f32, -direction[2] as f32];
@@ -118,6 +131,50 @@ impl FastLights {
             }
         }
         out
+    }
+}
+
+/// What each material of a render receives, computed once per render: one
+/// [`FastLights`] per distinct (light selection, lobe) among the materials,
+/// group 0 being the render's own (every light, its lobe). A render whose
+/// materials choose neither has that one group, so it shades exactly as if
+/// materials could not choose.
+pub(crate) struct LightGroups {
+    /// Group 0: every light, the render's lobe.
+    pub groups: Vec<FastLights>,
+    /// The group of each object of the scene.
+    pub of_object: Vec<u32>,
+}
+
+impl LightGroups {
+    pub(crate) fn new(scene: &Scene, l: &Lighting) -> Self {
+        // Keys: the chosen indices sorted without repeats (`None`: all of
+        // them, however listed), and the lobe.
+        let mut keys: Vec<(Option<Vec<u32>>, SpecularModel)> = vec![(None, l.model)];
+        let mut index: HashMap<(Option<Vec<u32>>, SpecularModel), u32> = HashMap::new();
+        index.insert(keys[0].clone(), 0);
+        let n = l.lights.len() as u32;
+        let of_object = scene
+            .objects
+            .iter()
+            .map(|o| {
+                let m = &o.material;
+                let chosen = m.lights.as_ref().map(|c| {
+                    let mut c: Vec<u32> = c.iter().copied().filter(|&i| i < n).collect();
+                    c.sort_unstable();
+                    c.dedup();
+                    c
+                });
+                let chosen = chosen.filter(|c| c.len() as u32 != n);
+                let key = (chosen, m.specular_model.unwrap_or(l.model));
+                *index.entry(key.clone()).or_insert_with(|| {
+                    keys.push(key);
+                    keys.len() as u32 - 1
+                })
+            })
+            .collect();
+        let groups = keys.iter().map(|(chosen, model)| FastLights::chosen(l, chosen.as_deref(), *model)).collect();
+        LightGroups { groups, of_object }
     }
 }
 
@@ -686,7 +743,7 @@ impl Batch {
         #[cfg(target_arch = "x86_64")]
         {
             if lights.avx2 {
-                // SAFETY: the CPU has AVX2 and FMA (checked in FastLights::new).
+                // SAFETY: the CPU has AVX2 and FMA (checked in FastLights::chosen).
                 unsafe { gather_avx2(self, scene, table, lights, acc) };
                 return;
             }
@@ -705,7 +762,7 @@ impl Batch {
             }
             #[cfg(target_arch = "x86_64")]
             let done = if lights.avx2 {
-                // SAFETY: the CPU has AVX2 and FMA (checked in FastLights::new).
+                // SAFETY: the CPU has AVX2 and FMA (checked in FastLights::chosen).
                 unsafe { shade_avx2(self, lights, column, padded) };
                 true
             } else {

@@ -28,7 +28,8 @@ pub struct MicroReport {
 
 /// The scene as pre-lit micropolygons (one object per object, same names
 /// and order), and the lights that still apply to it: the specular ones
-/// (every light but ambient).
+/// (every light but ambient; a material's choice of lights is renumbered
+/// into them).
 pub fn micropolygons(
     scene: &Scene,
     lights: &[Light],
@@ -41,6 +42,17 @@ pub fn micropolygons(
     let diced = Scene { objects, ..scene.clone() };
     let (colours, bake_report) = bake_diffuse(&diced, lights, bake_options);
     let mut out = Scene { source: scene.source.clone(), warnings: scene.warnings.clone(), ..Scene::default() };
+    // Each light's index among the specular lights returned (ambient ones are dropped).
+    let mut kept = 0u32;
+    let specular_index: Vec<Option<u32>> = lights
+        .iter()
+        .map(|l| {
+            (!matches!(l, Light::Ambient { .. })).then(|| {
+                kept += 1;
+                kept - 1
+            })
+        })
+        .collect();
     for (mut o, colours) in diced.objects.into_iter().zip(colours) {
         let m = &o.material;
         o.material = Material {
@@ -50,6 +62,10 @@ pub fn micropolygons(
             shininess: m.shininess,
             double_sided: m.double_sided,
             prelit: true,
+            specular_model: m.specular_model,
+            lights: m.lights.as_ref().map(|chosen| {
+                chosen.iter().filter_map(|&i| specular_index.get(i as usize).copied().flatten()).collect()
+            }),
             ..Material::default()
         };
         o.colours = colours;

@@ -93,6 +93,26 @@ pub struct Material {
     /// whatever the view — emission, ambient and diffuse light already baked
     /// in — and lights add only their specular term.
     pub prelit: bool,
+    /// The specular lobe of this material; `None`: the render's
+    /// ([`shade::Lighting::model`]).
+    pub specular_model: Option<shade::SpecularModel>,
+    /// The lights this material receives, as indices into the render's
+    /// [`shade::Lighting::lights`] (a set: order and repeats do not
+    /// matter); `None`: all of them. Ambient lights are chosen like the
+    /// others: with a selection, only the ambient lights it lists apply (a
+    /// pre-lit material takes no ambient light either way). An index past
+    /// the render's lights makes the render an error
+    /// ([`shade::Lighting::problem_with`]).
+    pub lights: Option<Vec<u32>>,
+}
+
+impl Material {
+    /// Whether the material receives light `index` of the render's
+    /// [`shade::Lighting::lights`] (see [`Material::lights`]).
+    #[inline]
+    pub fn receives_light(&self, index: usize) -> bool {
+        self.lights.as_ref().map_or(true, |chosen| chosen.iter().any(|&i| i as usize == index))
+    }
 }
 
 impl Default for Material {
@@ -111,6 +131,8 @@ impl Default for Material {
             shininess: 10.0,
             double_sided: false,
             prelit: false,
+            specular_model: None,
+            lights: None,
         }
     }
 }

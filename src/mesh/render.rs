@@ -216,6 +216,9 @@ pub fn render_into(
     if let Some(bad) = options.lighting.lights.iter().find(|l| !light_is_finite(l)) {
         return Err(Error::Usage(format!("a light is not finite or has a negative brightness: {bad:?}")));
     }
+    if let Some(problem) = options.lighting.problem_with(scene) {
+        return Err(Error::Usage(format!("{}: {problem}", scene.source)));
+    }
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);
     let shading = Shading { scene, lighting: &options.lighting, weights: &weights, rays: &rays, geometry };

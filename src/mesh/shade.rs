@@ -16,7 +16,11 @@
 //! point light) and `L_i` the unit vector toward the light. The lobes carry
 //! their usual normalisations, so a white diffuse surface under `E = π`
 //! has radiance 1 and raising `n` narrows a highlight without changing its
-//! energy. No shadows (the seeds' renderers had none either).
+//! energy. No shadows (the seeds' renderers had none either). The sum (the
+//! ambient `L_a` included) runs over the lights the material receives, with
+//! the material's lobe when it names one ([`super::Material::lights`],
+//! [`super::Material::specular_model`]; by default every light and the
+//! render's lobe).
 //!
 //! Everything here is f64 and table-free: the reference ray caster and the
 //! fast rasteriser shade with the same function, so comparing them tests
@@ -25,7 +29,7 @@
 use super::{Light, Object, Scene, Texture, TextureRef, Wrap};
 
 /// Which specular lobe.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum SpecularModel {
     /// `(R·V)^n`, Phong 1975.
     Phong,
@@ -44,16 +48,34 @@ impl SpecularModel {
     }
 }
 
-/// The lights of a render and the lobe they use.
+/// The lights of a render and the lobe they use. A material may take its
+/// own lobe ([`Material::specular_model`](super::Material::specular_model))
+/// and receive only some of the lights
+/// ([`Material::lights`](super::Material::lights)).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lighting {
     /// Lights (ambient ones summed).
     pub lights: Vec<Light>,
-    /// Specular lobe.
+    /// Specular lobe of materials that do not choose their own.
     pub model: SpecularModel,
 }
 
 impl Lighting {
+    /// The first material of `scene` that chooses a light these lights do
+    /// not have, described; `None` when there is none.
+    pub fn problem_with(&self, scene: &Scene) -> Option<String> {
+        scene.objects.iter().find_map(|o| {
+            let chosen = o.material.lights.as_ref()?;
+            let bad = chosen.iter().find(|&&i| i as usize >= self.lights.len())?;
+            Some(format!(
+                "object {:?}: its material {:?} receives light {bad}, but the render has {} lights",
+                o.name,
+                o.material.name,
+                self.lights.len()
+            ))
+        })
+    }
+
     /// The lights used when neither the scene nor the user gives any: one
     /// white directional key light from the upper left, in front (so a white
     /// surface facing it has radiance 1), and a dim ambient of 0.08.
@@ -173,7 +195,8 @@ pub fn face_normal(o: &Object, t: usize) -> [f64; 3] {
 }
 
 /// Radiance (linear RGB) sent from `hit` along the unit vector `view`
-/// (pointing from the surface toward the viewer).
+/// (pointing from the surface toward the viewer), from the lights the hit
+/// object's material receives with its lobe (see [`Lighting`]).
 pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -> [f64; 3] {
     let o = &scene.objects[hit.object as usize];
     let t = hit.triangle as usize;
@@ -265,7 +288,11 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
     let ks = [m.specular[0] as f64, m.specular[1] as f64, m.specular[2] as f64];
     let n_exp = m.shininess.max(0.0) as f64;
     let diffuse = scale(base, std::f64::consts::FRAC_1_PI);
-    for light in &lighting.lights {
+    let model = m.specular_model.unwrap_or(lighting.model);
+    for (index, light) in lighting.lights.iter().enumerate() {
+        if !m.receives_light(index) {
+            continue;
+        }
         let (to_light, e) = match light {
             Light::Ambient { radiance } => {
                 out = add(out, mul(base, f3(*radiance)));
@@ -285,7 +312,7 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
         if cos_i <= 0.0 {
             continue;
         }
-        let lobe = match lighting.model {
+        let lobe = match model {
             SpecularModel::Phong => {
                 let r = sub(scale(normal, 2.0 * cos_i), to_light);
                 let rv = dot(r, view).max(0.0);
@@ -459,6 +486,47 @@ mod tests {
                 assert!((r[c] - (base[c] as f64 + spec[c])).abs() < 1e-12, "{r:?} vs {spec:?}");
             }
         }
+    }
+
+    /// A material choosing light 1 of three gets exactly what a render of
+    /// light 1 alone gives it (ambient included: light 2, not chosen, adds
+    /// nothing); a Phong material in a Blinn render is shaded as in a Phong
+    /// render.
+    #[test]
+    fn materials_choose_their_lights_and_lobe() {
+        let material =
+            Material { base_colour: [0.6, 0.5, 0.4, 1.0], specular: [0.5; 3], shininess: 30.0, ..Material::default() };
+        let key = Light::Directional { direction: normalize([0.3, 0.1, -1.0]), irradiance: [2.0; 3], name: "0".into() };
+        let fill = Light::Point { position: [-0.5, 0.4, 2.0], intensity: [3.0, 2.0, 1.0], name: "1".into() };
+        let ambient = Light::Ambient { radiance: [0.2; 3] };
+        let all = Lighting { lights: vec![key, fill.clone(), ambient], model: SpecularModel::Blinn };
+        let hit = Hit { object: 0, triangle: 0, b1: 0.3, b2: 0.2 };
+        let chosen = plane(Material { lights: Some(vec![1]), ..material.clone() });
+        let whole = plane(material.clone());
+        let only_fill = Lighting { lights: vec![fill], ..all.clone() };
+        for view in [[0.0, 0.0, 1.0], normalize([-0.3, 0.0, 1.0]), normalize([0.5, -0.2, 1.0])] {
+            let got = radiance(&chosen, &all, &hit, view);
+            assert_eq!(got, radiance(&whole, &only_fill, &hit, view), "view {view:?}");
+            assert!(got[0] < radiance(&whole, &all, &hit, view)[0] - 1e-3, "the other lights are left out");
+        }
+        // Ambient is chosen like any light: {2} is the ambient term alone.
+        let ambient_only = plane(Material { lights: Some(vec![2]), ..material.clone() });
+        let r = radiance(&ambient_only, &all, &hit, [0.0, 0.0, 1.0]);
+        let expected: [f64; 3] = std::array::from_fn(|c| 0.0 + material.base_colour[c] as f64 * 0.2f32 as f64);
+        assert_eq!(r, expected);
+        // The lobe: Phong in a Blinn render is a Phong render.
+        let phong = plane(Material { specular_model: Some(SpecularModel::Phong), ..material.clone() });
+        let phong_render = Lighting { model: SpecularModel::Phong, ..all.clone() };
+        for view in [[0.0, 0.0, 1.0], normalize([-0.3, 0.0, 1.0]), normalize([0.5, -0.2, 1.0])] {
+            let got = radiance(&phong, &all, &hit, view);
+            assert_eq!(got, radiance(&whole, &phong_render, &hit, view), "view {view:?}");
+            assert_ne!(got, radiance(&whole, &all, &hit, view), "the lobes differ here");
+        }
+        // An index past the render's lights is the render's error, naming the object.
+        let bad = plane(Material { lights: Some(vec![0, 3]), ..material });
+        let e = all.problem_with(&bad).unwrap();
+        assert!(e.contains("plane") && e.contains("light 3"), "{e}");
+        assert_eq!(all.problem_with(&chosen), None);
     }
 
     #[test]
