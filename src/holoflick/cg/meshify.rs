@@ -66,7 +66,16 @@ struct Meshifier<'a> {
     strip_start: u64,
     /// Changes to undo when a trial strip is rolled back.
     log: Vec<Undo>,
+    /// The last strip's continuations: (triangle, new vertex, replace code, run, winding).
+    moves: Vec<Move>,
+    /// While replaying a strip: push decisions by the strip's step index.
+    plan: Option<Vec<bool>>,
+    /// `steps.len()` when the replayed strip began.
+    plan_base: usize,
 }
+
+/// A strip continuation: (triangle, new vertex, replace code, run, winding).
+type Move = (usize, u32, u8, Run, bool);
 
 /// One change to the meshifier's state, for rolling back a trial strip.
 enum Undo {
@@ -147,6 +156,9 @@ impl<'a> Meshifier<'a> {
             waste: 0,
             strip_start: 0,
             log: Vec::new(),
+            moves: Vec::new(),
+            plan: None,
+            plan_base: 0,
         }
     }
 
@@ -339,7 +351,11 @@ impl<'a> Meshifier<'a> {
         let was_sent = self.sent[v as usize];
         self.waste += COMMAND_BITS + if was_sent { FULL_VERTEX_BITS } else { 0 };
         self.sent[v as usize] = true;
-        let push = self.needs_buffer(v);
+        let planned = self.plan.as_ref().and_then(|p| p.get(self.steps.len().wrapping_sub(self.plan_base)));
+        let push = match planned {
+            Some(&p) => p,
+            None => self.needs_buffer(v),
+        };
         if push {
             let slot = (self.pushes % MESH_BUFFER) as usize;
             let evicted = self.fifo[slot];
@@ -448,9 +464,9 @@ impl<'a> Meshifier<'a> {
     /// The strip's next triangle: across the window's newest edge or its fan
     /// edge, keeping to the vertices earlier strips buffered (so that strips
     /// lie side by side in bands); None to end the strip.
-    fn next_in_strip(&self) -> Option<(usize, u32, u8, Run, bool)> {
+    fn next_in_strip(&self) -> Option<Move> {
         let [a, b, c] = self.window;
-        let mut best: Option<((u64, bool, usize), (usize, u32, u8, Run, bool))> = None;
+        let mut best: Option<((u64, bool, usize), Move)> = None;
         for (x, y, replace) in [(b, c, 3u8), (a, c, 2u8)] {
             for &t in self.around(x) {
                 let t = t as usize;
@@ -483,8 +499,9 @@ impl<'a> Meshifier<'a> {
         (!self.sent[next.1 as usize] || self.buffered(next.1).is_some()).then_some(next)
     }
 
-    /// Restart at triangle `t` rotated by `rot` and follow the strip to its end; returns its triangles.
-    fn strip(&mut self, t: usize, rot: usize) -> usize {
+    /// Restart at triangle `t` rotated by `rot` and follow the strip to its
+    /// end (or, with `replay`, make those moves); returns its triangles.
+    fn strip(&mut self, t: usize, rot: usize, replay: Option<&[Move]>) -> usize {
         let [i, j, k] = self.triangles[t];
         let pick = [[i, j, k], [j, k, i], [k, i, j]][rot % 3];
         self.mark(t);
@@ -496,8 +513,19 @@ impl<'a> Meshifier<'a> {
         self.send(pick[2], 3);
         self.run = Run::Pending;
         self.ccw = true;
+        if replay.is_none() {
+            self.moves.clear();
+        }
         let mut n = 1;
-        while let Some((t, w, replace, run, ccw)) = self.next_in_strip() {
+        loop {
+            let next = match replay {
+                Some(m) => m.get(n - 1).copied(),
+                None => self.next_in_strip(),
+            };
+            let Some((t, w, replace, run, ccw)) = next else { break };
+            if replay.is_none() {
+                self.moves.push((t, w, replace, run, ccw));
+            }
             let [a, b, c] = self.window;
             self.mark(t);
             self.window = if replace == 3 { [b, c, w] } else { [a, c, w] };
@@ -507,6 +535,39 @@ impl<'a> Meshifier<'a> {
             n += 1;
         }
         n
+    }
+
+    /// Which of the strip's steps must push: those whose vertex still has
+    /// triangles left when it leaves the window (the rest are used up
+    /// while in the window and would only age the buffer). `moves` follow
+    /// the restart at `t` rotated by `rot`; the state is the strip's start.
+    fn push_plan(&mut self, t: usize, rot: usize, moves: &[Move]) -> Vec<bool> {
+        let [i, j, k] = self.triangles[t];
+        let pick = [[i, j, k], [j, k, i], [k, i, j]][rot % 3];
+        let mut plan = vec![true; 3 + moves.len()];
+        let mut slots = [(pick[0], 0usize), (pick[1], 1), (pick[2], 2)];
+        let mut used: Vec<u32> = Vec::with_capacity(3 * (1 + moves.len()));
+        let mut emit = |m: &mut Self, t: usize| {
+            for v in m.triangles[t] {
+                m.remaining[v as usize] -= 1;
+                used.push(v);
+            }
+        };
+        emit(self, t);
+        for (step, &(t, w, replace, _, _)) in moves.iter().enumerate() {
+            let leaving = if replace == 3 { slots[0] } else { slots[1] };
+            plan[leaving.1] = self.remaining[leaving.0 as usize] > 0;
+            slots =
+                if replace == 3 { [slots[1], slots[2], (w, 3 + step)] } else { [slots[0], slots[2], (w, 3 + step)] };
+            emit(self, t);
+        }
+        for (v, step) in slots {
+            plan[step] = self.remaining[v as usize] > 0;
+        }
+        for v in used {
+            self.remaining[v as usize] += 1;
+        }
+        plan
     }
 
     /// Where to restart: the oldest buffered vertices still needed, those the
@@ -638,7 +699,7 @@ impl<'a> Meshifier<'a> {
                     }
                     for rot in 0..3 {
                         let s = self.snapshot();
-                        let n = self.strip(t, rot);
+                        let n = self.strip(t, rot, None);
                         let w = self.waste - s.waste;
                         self.rollback(s);
                         if best.none_or(|b| (w as u128) * (b.1 as u128) < (b.0 as u128) * (n as u128)) {
@@ -648,8 +709,17 @@ impl<'a> Meshifier<'a> {
                 }
             }
             let Some((_, _, t, rot)) = best else { break };
+            // Run the chosen strip again to learn its moves, then make them
+            // pushing only what later strips need.
+            let s = self.snapshot();
+            self.strip(t, rot, None);
+            let moves = std::mem::take(&mut self.moves);
+            self.rollback(s);
+            self.plan = Some(self.push_plan(t, rot, &moves));
+            self.plan_base = self.steps.len();
             let from = self.steps.len();
-            self.strip(t, rot);
+            self.strip(t, rot, Some(&moves));
+            self.plan = None;
             for s in &self.steps[from..] {
                 if let Step::Full { vertex, .. } = *s {
                     trail.push(vertex);
