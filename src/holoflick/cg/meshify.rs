@@ -494,9 +494,9 @@ impl<'a> Meshifier<'a> {
                 }
             }
         }
-        let (_, next) = best?;
-        // A continuation that re-sends a vertex costs more than a restart elsewhere.
-        (!self.sent[next.1 as usize] || self.buffered(next.1).is_some()).then_some(next)
+        // Even a costly continuation is taken: the restart's trials weigh
+        // the whole strip against the alternatives.
+        best.map(|b| b.1)
     }
 
     /// Restart at triangle `t` rotated by `rot` and follow the strip to its
