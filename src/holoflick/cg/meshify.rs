@@ -2,15 +2,26 @@
 //! vertices go into the 16-entry mesh buffer, so that each vertex is sent
 //! about once and later uses cost a 9-bit mesh-buffer reference.
 //!
-//! Greedy: a strip continues across the window's newest edge (replace
-//! oldest) or its fan edge (replace middle), choosing the neighbour whose new
-//! vertex is already buffered, else the one with fewest unvisited neighbours.
-//! When it cannot continue it restarts at the unvisited triangle with most
-//! vertices in the buffer, so rows of strips follow each other and the
-//! shared row of vertices is referenced, not resent. Every emitted triangle's
-//! orientation is checked against the rules Java 3D's back end applies
-//! (`GeneralizedStrip`): a continuation that would flip a triangle is not
-//! taken.
+//! Strips side by side, in bands (after Deering 1995 and Chow 1997,
+//! "Optimized geometry compression for real-time rendering"): a strip
+//! continues across the window's newest edge (replace oldest) or its fan
+//! edge (replace middle), preferring triangles that cost no extra vertex and
+//! that touch the row of vertices the previous strip left in the buffer, and
+//! stops after 12 pushes so that its own row is still buffered when the next
+//! strip passes beside it. A restart tries every rotation of the triangles
+//! around the oldest still-needed vertices the last strip pushed, follows
+//! each trial strip to its end (an undo log rolls it back) and keeps the one
+//! with the fewest estimated bits per triangle. The chosen strip is then
+//! replayed pushing only vertices that still have triangles when they leave
+//! the window. When nothing buffered is left, the next strip starts at the
+//! lowest breadth-first level of what remains, so the sweep starts at an end
+//! of each piece. A Tipsify-style fan order is also tried and the cheaper
+//! kept. Teapot and Spot: about 1.07 and 1.16 full vertices per distinct
+//! vertex (the greedy before: 1.23), one restart per 12–14 triangles.
+//!
+//! Every emitted triangle's orientation is checked against the rules Java
+//! 3D's back end applies (`GeneralizedStrip`): a continuation that would
+//! flip a triangle is not taken.
 
 /// One vertex command of the stream.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -99,8 +110,8 @@ struct Snapshot {
 }
 
 /// Order `triangles` (indices below `vertex_count`) into vertex commands:
-/// both strategies are tried and the one with fewer data-carrying vertices
-/// (ties: fewer commands) is kept.
+/// both strategies are tried and the one with fewer estimated bits
+/// (data-carrying vertices and commands) is kept.
 pub(crate) fn meshify(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<Step> {
     let mut strips = Meshifier::new(triangles, vertex_count);
     strips.run_strips();
@@ -669,19 +680,10 @@ impl<'a> Meshifier<'a> {
     fn run_strips(&mut self) {
         let order = self.seed_order();
         let mut cursor = 0usize;
-        let mut trail: Vec<u32> = Vec::new();
         let mut starts: Vec<u32> = Vec::new();
         loop {
             self.log.clear();
             self.restart_vertices(&mut starts);
-            if starts.is_empty() {
-                while let Some(v) = trail.pop() {
-                    if self.remaining[v as usize] > 0 {
-                        starts.push(v);
-                        break;
-                    }
-                }
-            }
             if starts.is_empty() {
                 while cursor < order.len() && self.visited[order[cursor].2 as usize] {
                     cursor += 1;
@@ -717,14 +719,9 @@ impl<'a> Meshifier<'a> {
             self.rollback(s);
             self.plan = Some(self.push_plan(t, rot, &moves));
             self.plan_base = self.steps.len();
-            let from = self.steps.len();
             self.strip(t, rot, Some(&moves));
             self.plan = None;
-            for s in &self.steps[from..] {
-                if let Step::Full { vertex, .. } = *s {
-                    trail.push(vertex);
-                }
-            }
+            self.moves = moves;
         }
     }
 }
