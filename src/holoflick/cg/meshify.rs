@@ -42,6 +42,8 @@ const FULL_VERTEX_BITS: u64 = 45;
 const STRIP_PUSHES: u64 = 12;
 /// Buffered vertices whose triangles a restart tries.
 const RESTART_VERTICES: usize = 2;
+/// At most this many triangles around each of them.
+const TRIALS_PER_VERTEX: usize = 12;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Run {
@@ -55,6 +57,13 @@ struct Meshifier<'a> {
     /// Triangles around each vertex: `incident[offsets[v]..offsets[v + 1]]`.
     offsets: Vec<usize>,
     incident: Vec<u32>,
+    /// Edges from each vertex to higher-numbered ones, as (other vertex,
+    /// triangle) sorted: `edges[edge_offsets[v]..edge_offsets[v + 1]]`, so
+    /// that the triangles on an edge are found without scanning a fan.
+    edge_offsets: Vec<usize>,
+    edges: Vec<(u32, u32)>,
+    /// Per vertex, how many of its triangles (in `incident` order) are known visited.
+    scanned: Vec<u32>,
     visited: Vec<bool>,
     /// Unvisited triangles around each vertex.
     remaining: Vec<u32>,
@@ -109,23 +118,11 @@ struct Snapshot {
     strip_start: u64,
 }
 
-/// Order `triangles` (indices below `vertex_count`) into vertex commands:
-/// both strategies are tried and the one with fewer estimated bits
-/// (data-carrying vertices and commands) is kept.
+/// Order `triangles` (indices below `vertex_count`) into vertex commands.
 pub(crate) fn meshify(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<Step> {
-    let mut strips = Meshifier::new(triangles, vertex_count);
-    strips.run_strips();
-    let mut fans = Meshifier::new(triangles, vertex_count);
-    fans.run_fans();
-    let cost = |steps: &[Step]| {
-        let full = steps.iter().filter(|s| matches!(s, Step::Full { .. })).count();
-        full * FULL_VERTEX_BITS as usize + steps.len() * COMMAND_BITS as usize
-    };
-    if cost(&fans.steps) < cost(&strips.steps) {
-        fans.steps
-    } else {
-        strips.steps
-    }
+    let mut m = Meshifier::new(triangles, vertex_count);
+    m.run_strips();
+    m.steps
 }
 
 impl<'a> Meshifier<'a> {
@@ -149,10 +146,32 @@ impl<'a> Meshifier<'a> {
             }
         }
         let remaining: Vec<u32> = (0..vertex_count).map(|v| (offsets[v + 1] - offsets[v]) as u32).collect();
+        let mut pairs: Vec<(u32, u32, u32)> = Vec::with_capacity(triangles.len() * 3);
+        for (ti, &[a, b, c]) in triangles.iter().enumerate() {
+            for (k, (x, y)) in [(a, b), (b, c), (c, a)].into_iter().enumerate() {
+                // Each distinct edge of the triangle once.
+                let repeated = [(a, b), (b, c)][..k].iter().any(|&(p, q)| (p.min(q), p.max(q)) == (x.min(y), x.max(y)));
+                if x != y && !repeated {
+                    pairs.push((x.min(y), x.max(y), ti as u32));
+                }
+            }
+        }
+        pairs.sort_unstable();
+        let mut edge_offsets = vec![0usize; vertex_count + 1];
+        for &(x, _, _) in &pairs {
+            edge_offsets[x as usize + 1] += 1;
+        }
+        for i in 0..vertex_count {
+            edge_offsets[i + 1] += edge_offsets[i];
+        }
+        let edges = pairs.into_iter().map(|(_, y, t)| (y, t)).collect();
         Meshifier {
             triangles,
             offsets,
             incident,
+            edge_offsets,
+            edges,
+            scanned: vec![0; vertex_count],
             visited: vec![false; triangles.len()],
             remaining,
             pushed_at: vec![u64::MAX; vertex_count],
@@ -173,156 +192,6 @@ impl<'a> Meshifier<'a> {
         }
     }
 
-    /// Could triangle `t` continue the strip?
-    fn can_continue(&self, t: usize) -> bool {
-        let [a, b, c] = self.window;
-        [(b, c, 3u8), (a, c, 2u8)].iter().any(|&(x, y, replace)| {
-            let tri = self.triangles[t];
-            tri.contains(&x)
-                && tri.contains(&y)
-                && tri.iter().find(|&&v| v != x && v != y).is_some_and(|&w| self.predict(w, replace, t).is_some())
-        })
-    }
-
-    /// Continue the strip with triangle `t` if the window allows it with the
-    /// right orientation; true when done.
-    fn try_continue(&mut self, t: usize) -> bool {
-        let [a, b, c] = self.window;
-        for (x, y, replace) in [(b, c, 3u8), (a, c, 2u8)] {
-            let tri = self.triangles[t];
-            if !tri.contains(&x) || !tri.contains(&y) {
-                continue;
-            }
-            let Some(&w) = tri.iter().find(|&&v| v != x && v != y) else { continue };
-            let Some((run, ccw)) = self.predict(w, replace, t) else { continue };
-            self.mark(t);
-            self.window = if replace == 3 { [b, c, w] } else { [a, c, w] };
-            self.run = run;
-            self.ccw = ccw;
-            self.send(w, replace);
-            return true;
-        }
-        false
-    }
-
-    /// Restart the strip with triangle `t`, rotated to begin at `first` when it is a corner.
-    fn restart(&mut self, t: usize, first: Option<u32>) {
-        let [i, j, k] = self.triangles[t];
-        let pick = match first {
-            Some(f) if f == j => [j, k, i],
-            Some(f) if f == k => [k, i, j],
-            _ => [i, j, k],
-        };
-        self.mark(t);
-        self.strip_pushes = 0;
-        self.window = pick;
-        self.send(pick[0], 1);
-        self.send(pick[1], 3);
-        self.send(pick[2], 3);
-        self.run = Run::Pending;
-        self.ccw = true;
-    }
-
-    /// Tipsify-style order (Sander, Nehab and Barczak 2007, "Fast triangle
-    /// reordering for vertex locality"): emit every triangle around a fan
-    /// vertex in counter-clockwise order (a generalized-strip fan), then move
-    /// to the neighbour that is oldest in the mesh buffer while its fan still
-    /// fits before eviction.
-    fn run_fans(&mut self) {
-        let vertex_count = self.remaining.len();
-        let mut dead: Vec<u32> = Vec::new();
-        let mut cursor = 0usize;
-        let mut active = false;
-        let mut fan = (0..vertex_count).find(|&v| self.remaining[v] > 0).map(|v| v as u32);
-        while let Some(f) = fan {
-            let mut ring: Vec<u32> = Vec::new();
-            // Around f, start where the counter-clockwise chain starts.
-            for _ in 0..self.around(f).len() {
-                let Some(mut t) = self.around(f).iter().map(|&t| t as usize).find(|&t| !self.visited[t]) else { break };
-                // A triangle around f that continues the current strip saves a restart.
-                let continuing = if active {
-                    self.around(f).iter().map(|&u| u as usize).find(|&u| !self.visited[u] && self.can_continue(u))
-                } else {
-                    None
-                };
-                if let Some(u) = continuing {
-                    t = u;
-                }
-                for _ in 0..if continuing.is_some() { 0 } else { self.around(f).len() } {
-                    let x = corner_after(self.triangles[t], f);
-                    // The triangle before t around f holds the directed edge x -> f.
-                    match self
-                        .around(f)
-                        .iter()
-                        .map(|&u| u as usize)
-                        .find(|&u| !self.visited[u] && u != t && corner_after(self.triangles[u], x) == f)
-                    {
-                        Some(u) if u != t => t = u,
-                        _ => break,
-                    }
-                }
-                if !(active && self.try_continue(t)) {
-                    self.restart(t, Some(f));
-                    active = true;
-                }
-                ring.extend(self.triangles[t]);
-                dead.extend(self.triangles[t]);
-                // Follow the fan counter-clockwise while it continues.
-                loop {
-                    let y = corner_before(self.triangles[t], f);
-                    let next = self
-                        .around(f)
-                        .iter()
-                        .map(|&u| u as usize)
-                        .find(|&u| !self.visited[u] && corner_after(self.triangles[u], f) == y);
-                    match next {
-                        Some(u) if self.try_continue(u) => {
-                            t = u;
-                            ring.extend(self.triangles[t]);
-                            dead.extend(self.triangles[t]);
-                        }
-                        _ => break,
-                    }
-                }
-            }
-            // Next fan: the oldest buffered neighbour whose fan fits before it is evicted.
-            let mut best: Option<(u64, u32)> = None;
-            for &v in &ring {
-                if self.remaining[v as usize] == 0 {
-                    continue;
-                }
-                let p = match self.buffered(v) {
-                    Some(d) if u64::from(d) + 1 + 2 * u64::from(self.remaining[v as usize]) <= MESH_BUFFER => {
-                        u64::from(d) + 1
-                    }
-                    _ => 0,
-                };
-                if (&best).none_or(|b| p > b.0) {
-                    best = Some((p, v));
-                }
-            }
-            fan = match best {
-                Some((_, v)) => Some(v),
-                None => {
-                    let mut next = None;
-                    while let Some(v) = dead.pop() {
-                        if self.remaining[v as usize] > 0 {
-                            next = Some(v);
-                            break;
-                        }
-                    }
-                    if next.is_none() {
-                        while cursor < vertex_count && self.remaining[cursor] == 0 {
-                            cursor += 1;
-                        }
-                        next = (cursor < vertex_count).then_some(cursor as u32);
-                    }
-                    next
-                }
-            };
-        }
-    }
-
     fn around(&self, v: u32) -> &[u32] {
         &self.incident[self.offsets[v as usize]..self.offsets[v as usize + 1]]
     }
@@ -337,12 +206,19 @@ impl<'a> Meshifier<'a> {
         [(a, b), (b, c), (c, a)].iter().filter(|&&(x, y)| self.across(x, y, t).is_some()).count()
     }
 
+    /// The triangles with both `x` and `y`, in index order (all around `x` when they are equal).
+    fn on_edge(&self, x: u32, y: u32) -> impl Iterator<Item = usize> + '_ {
+        let (lo, hi) = (x.min(y), x.max(y));
+        let list = &self.edges[self.edge_offsets[lo as usize]..self.edge_offsets[lo as usize + 1]];
+        let from = list.partition_point(|e| e.0 < hi);
+        let to = list.partition_point(|e| e.0 <= hi);
+        let same: &[u32] = if x == y { self.around(x) } else { &[] };
+        list[from..to].iter().map(|e| e.1 as usize).chain(same.iter().map(|&t| t as usize))
+    }
+
     /// An unvisited triangle other than `not` with both `x` and `y`.
     fn across(&self, x: u32, y: u32, not: usize) -> Option<usize> {
-        self.around(x)
-            .iter()
-            .map(|&t| t as usize)
-            .find(|&t| t != not && !self.visited[t] && self.triangles[t].contains(&y))
+        self.on_edge(x, y).find(|&t| t != not && !self.visited[t])
     }
 
     fn mark(&mut self, t: usize) {
@@ -479,9 +355,8 @@ impl<'a> Meshifier<'a> {
         let [a, b, c] = self.window;
         let mut best: Option<((u64, bool, usize), Move)> = None;
         for (x, y, replace) in [(b, c, 3u8), (a, c, 2u8)] {
-            for &t in self.around(x) {
-                let t = t as usize;
-                if self.visited[t] || !self.triangles[t].contains(&y) {
+            for t in self.on_edge(x, y) {
+                if self.visited[t] {
                     continue;
                 }
                 let Some(&w) = self.triangles[t].iter().find(|&&v| v != x && v != y) else { continue };
@@ -681,6 +556,7 @@ impl<'a> Meshifier<'a> {
         let order = self.seed_order();
         let mut cursor = 0usize;
         let mut starts: Vec<u32> = Vec::new();
+        let mut candidates: Vec<usize> = Vec::new();
         loop {
             self.log.clear();
             self.restart_vertices(&mut starts);
@@ -691,14 +567,32 @@ impl<'a> Meshifier<'a> {
                 let Some(&(_, _, t)) = order.get(cursor) else { break };
                 starts.push(self.triangles[t as usize][0]);
             }
+            // The first few unvisited triangles around each start (a bound
+            // for high-valence vertices, where trying all would be quadratic).
+            candidates.clear();
+            for &v in &starts {
+                let (base, end) = (self.offsets[v as usize], self.offsets[v as usize + 1]);
+                let scanned = &mut self.scanned[v as usize];
+                while base + (*scanned as usize) < end && self.visited[self.incident[base + *scanned as usize] as usize]
+                {
+                    *scanned += 1;
+                }
+                let mut found = 0;
+                for k in base + self.scanned[v as usize] as usize..end {
+                    let t = self.incident[k] as usize;
+                    if !self.visited[t] && !candidates.contains(&t) {
+                        candidates.push(t);
+                        found += 1;
+                        if found == TRIALS_PER_VERTEX {
+                            break;
+                        }
+                    }
+                }
+            }
             // (estimated bits, triangles, triangle, rotation) of the best trial strip.
             let mut best: Option<(u64, usize, usize, usize)> = None;
-            for &v in &starts {
-                for k in self.offsets[v as usize]..self.offsets[v as usize + 1] {
-                    let t = self.incident[k] as usize;
-                    if self.visited[t] {
-                        continue;
-                    }
+            for &t in &candidates {
+                {
                     for rot in 0..3 {
                         let s = self.snapshot();
                         let n = self.strip(t, rot, None);
@@ -723,22 +617,6 @@ impl<'a> Meshifier<'a> {
             self.plan = None;
             self.moves = moves;
         }
-    }
-}
-
-/// The corner after `v` in `t`'s counter-clockwise order (`v` itself if absent).
-fn corner_after(t: [u32; 3], v: u32) -> u32 {
-    match t.iter().position(|&x| x == v) {
-        Some(i) => t[(i + 1) % 3],
-        None => v,
-    }
-}
-
-/// The corner before `v` in `t`'s counter-clockwise order.
-fn corner_before(t: [u32; 3], v: u32) -> u32 {
-    match t.iter().position(|&x| x == v) {
-        Some(i) => t[(i + 2) % 3],
-        None => v,
     }
 }
 
