@@ -46,6 +46,10 @@ const STRIP_PUSHES: u64 = 12;
 const RESTART_VERTICES: usize = 2;
 /// At most this many triangles around each of them.
 const TRIALS_PER_VERTEX: usize = 12;
+/// Meshes up to this many triangles also try the fan order, which wins on
+/// some small closed meshes; its scans around a vertex are quadratic in the
+/// valence, so larger meshes (where the strips have always won) skip it.
+const FANS_UP_TO: usize = 4096;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Run {
@@ -121,10 +125,25 @@ struct Snapshot {
 }
 
 /// Order `triangles` (indices below `vertex_count`) into vertex commands.
+/// Small meshes also try a fan order and keep the cheaper (fewer estimated
+/// bits: data-carrying vertices and commands).
 pub(crate) fn meshify(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<Step> {
-    let mut m = Meshifier::new(triangles, vertex_count);
-    m.run_strips();
-    m.steps
+    let mut strips = Meshifier::new(triangles, vertex_count);
+    strips.run_strips();
+    if triangles.len() > FANS_UP_TO {
+        return strips.steps;
+    }
+    let mut fans = Meshifier::new(triangles, vertex_count);
+    fans.run_fans();
+    let cost = |steps: &[Step]| {
+        let full = steps.iter().filter(|s| matches!(s, Step::Full { .. })).count();
+        full * FULL_VERTEX_BITS as usize + steps.len() * COMMAND_BITS as usize
+    };
+    if cost(&fans.steps) < cost(&strips.steps) {
+        fans.steps
+    } else {
+        strips.steps
+    }
 }
 
 impl<'a> Meshifier<'a> {
@@ -191,6 +210,156 @@ impl<'a> Meshifier<'a> {
             moves: Vec::new(),
             plan: None,
             plan_base: 0,
+        }
+    }
+
+    /// Could triangle `t` continue the strip?
+    fn can_continue(&self, t: usize) -> bool {
+        let [a, b, c] = self.window;
+        [(b, c, 3u8), (a, c, 2u8)].iter().any(|&(x, y, replace)| {
+            let tri = self.triangles[t];
+            tri.contains(&x)
+                && tri.contains(&y)
+                && tri.iter().find(|&&v| v != x && v != y).is_some_and(|&w| self.predict(w, replace, t).is_some())
+        })
+    }
+
+    /// Continue the strip with triangle `t` if the window allows it with the
+    /// right orientation; true when done.
+    fn try_continue(&mut self, t: usize) -> bool {
+        let [a, b, c] = self.window;
+        for (x, y, replace) in [(b, c, 3u8), (a, c, 2u8)] {
+            let tri = self.triangles[t];
+            if !tri.contains(&x) || !tri.contains(&y) {
+                continue;
+            }
+            let Some(&w) = tri.iter().find(|&&v| v != x && v != y) else { continue };
+            let Some((run, ccw)) = self.predict(w, replace, t) else { continue };
+            self.mark(t);
+            self.window = if replace == 3 { [b, c, w] } else { [a, c, w] };
+            self.run = run;
+            self.ccw = ccw;
+            self.send(w, replace);
+            return true;
+        }
+        false
+    }
+
+    /// Restart the strip with triangle `t`, rotated to begin at `first` when it is a corner.
+    fn restart(&mut self, t: usize, first: Option<u32>) {
+        let [i, j, k] = self.triangles[t];
+        let pick = match first {
+            Some(f) if f == j => [j, k, i],
+            Some(f) if f == k => [k, i, j],
+            _ => [i, j, k],
+        };
+        self.mark(t);
+        self.strip_pushes = 0;
+        self.window = pick;
+        self.send(pick[0], 1);
+        self.send(pick[1], 3);
+        self.send(pick[2], 3);
+        self.run = Run::Pending;
+        self.ccw = true;
+    }
+
+    /// Tipsify-style order (Sander, Nehab and Barczak 2007, "Fast triangle
+    /// reordering for vertex locality"): emit every triangle around a fan
+    /// vertex in counter-clockwise order (a generalized-strip fan), then move
+    /// to the neighbour that is oldest in the mesh buffer while its fan still
+    /// fits before eviction.
+    fn run_fans(&mut self) {
+        let vertex_count = self.remaining.len();
+        let mut dead: Vec<u32> = Vec::new();
+        let mut cursor = 0usize;
+        let mut active = false;
+        let mut fan = (0..vertex_count).find(|&v| self.remaining[v] > 0).map(|v| v as u32);
+        while let Some(f) = fan {
+            let mut ring: Vec<u32> = Vec::new();
+            // Around f, start where the counter-clockwise chain starts.
+            for _ in 0..self.around(f).len() {
+                let Some(mut t) = self.around(f).iter().map(|&t| t as usize).find(|&t| !self.visited[t]) else { break };
+                // A triangle around f that continues the current strip saves a restart.
+                let continuing = if active {
+                    self.around(f).iter().map(|&u| u as usize).find(|&u| !self.visited[u] && self.can_continue(u))
+                } else {
+                    None
+                };
+                if let Some(u) = continuing {
+                    t = u;
+                }
+                for _ in 0..if continuing.is_some() { 0 } else { self.around(f).len() } {
+                    let x = corner_after(self.triangles[t], f);
+                    // The triangle before t around f holds the directed edge x -> f.
+                    match self
+                        .around(f)
+                        .iter()
+                        .map(|&u| u as usize)
+                        .find(|&u| !self.visited[u] && u != t && corner_after(self.triangles[u], x) == f)
+                    {
+                        Some(u) if u != t => t = u,
+                        _ => break,
+                    }
+                }
+                if !(active && self.try_continue(t)) {
+                    self.restart(t, Some(f));
+                    active = true;
+                }
+                ring.extend(self.triangles[t]);
+                dead.extend(self.triangles[t]);
+                // Follow the fan counter-clockwise while it continues.
+                loop {
+                    let y = corner_before(self.triangles[t], f);
+                    let next = self
+                        .around(f)
+                        .iter()
+                        .map(|&u| u as usize)
+                        .find(|&u| !self.visited[u] && corner_after(self.triangles[u], f) == y);
+                    match next {
+                        Some(u) if self.try_continue(u) => {
+                            t = u;
+                            ring.extend(self.triangles[t]);
+                            dead.extend(self.triangles[t]);
+                        }
+                        _ => break,
+                    }
+                }
+            }
+            // Next fan: the oldest buffered neighbour whose fan fits before it is evicted.
+            let mut best: Option<(u64, u32)> = None;
+            for &v in &ring {
+                if self.remaining[v as usize] == 0 {
+                    continue;
+                }
+                let p = match self.buffered(v) {
+                    Some(d) if u64::from(d) + 1 + 2 * u64::from(self.remaining[v as usize]) <= MESH_BUFFER => {
+                        u64::from(d) + 1
+                    }
+                    _ => 0,
+                };
+                if (&best).none_or(|b| p > b.0) {
+                    best = Some((p, v));
+                }
+            }
+            fan = match best {
+                Some((_, v)) => Some(v),
+                None => {
+                    let mut next = None;
+                    while let Some(v) = dead.pop() {
+                        if self.remaining[v as usize] > 0 {
+                            next = Some(v);
+                            break;
+                        }
+                    }
+                    if next.is_none() {
+                        while cursor < vertex_count && self.remaining[cursor] == 0 {
+                            cursor += 1;
+                        }
+                        next = (cursor < vertex_count).then_some(cursor as u32);
+                    }
+                    next
+                }
+            };
         }
     }
 
@@ -619,6 +788,22 @@ impl<'a> Meshifier<'a> {
             self.plan = None;
             self.moves = moves;
         }
+    }
+}
+
+/// The corner after `v` in `t`'s counter-clockwise order (`v` itself if absent).
+fn corner_after(t: [u32; 3], v: u32) -> u32 {
+    match t.iter().position(|&x| x == v) {
+        Some(i) => t[(i + 1) % 3],
+        None => v,
+    }
+}
+
+/// The corner before `v` in `t`'s counter-clockwise order.
+fn corner_before(t: [u32; 3], v: u32) -> u32 {
+    match t.iter().position(|&x| x == v) {
+        Some(i) => t[(i + 2) % 3],
+        None => v,
     }
 }
 
