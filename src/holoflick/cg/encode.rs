@@ -144,28 +144,29 @@ struct Coded {
 /// A full vertex's position, normal and colour codes.
 type CodedVertex = (Coded, Option<Coded>, Option<Coded>);
 
-/// Code `v` (stream units, multiples of 2^`shift`) absolutely or as a delta
-/// from `last` (16-bit wrapping, as the decoder adds), whichever needs fewer bits.
-fn code_values(v: &[i32; 4], last: Option<[i32; 4]>, shift: u32, comps: usize) -> Coded {
+/// Candidate codings of one value set: absolute, and relative when the
+/// decoder has a previous value to add to.
+type Options = [Option<Coded>; 2];
+
+/// Code `v` (stream units, multiples of 2^`shift`) absolutely and as a delta
+/// from `last` (16-bit wrapping, as the decoder adds).
+fn code_values(v: &[i32; 4], last: Option<[i32; 4]>, shift: u32, comps: usize) -> Options {
     let bits = |x: &[i32; 4]| x[..comps].iter().map(|&c| signed_bits(c >> shift)).max().unwrap_or(0);
-    let abs_bits = bits(v);
-    if let Some(l) = last {
+    let absolute = Coded { token: (bits(v), true), values: *v, comps, index: None };
+    let relative = last.map(|l| {
         let d = [0, 1, 2, 3].map(|k| v[k].wrapping_sub(l[k]) as i16 as i32);
-        let rel_bits = bits(&d);
-        if rel_bits <= abs_bits {
-            return Coded { token: (rel_bits, false), values: d, comps, index: None };
-        }
-    }
-    Coded { token: (abs_bits, true), values: *v, comps, index: None }
+        Coded { token: (bits(&d), false), values: d, comps, index: None }
+    });
+    [Some(absolute), relative]
 }
 
-/// Code a normal: a delta (du, dv) within the same sextant and octant when
-/// that is shorter, else absolute (index, u, v).
-fn code_normal(n: NormalCode, last: Option<NormalCode>, shift: u32) -> Coded {
+/// Code a normal absolutely (index, u, v) and, when the decoder can reach
+/// it, as the shortest delta (du, dv).
+fn code_normal(n: NormalCode, last: Option<NormalCode>, shift: u32) -> Options {
     let abs_bits = unsigned_bits((n.u >> shift) as u32).max(unsigned_bits((n.v >> shift) as u32));
     let index = (u32::from(n.sextant) << 3) | u32::from(n.octant);
     let absolute = Coded { token: (abs_bits, true), values: [n.u, n.v, 0, 0], comps: 2, index: Some(index) };
-    let Some(l) = last.filter(|l| l.sextant < 6 && n.sextant < 6) else { return absolute };
+    let Some(l) = last.filter(|l| l.sextant < 6 && n.sextant < 6) else { return [Some(absolute), None] };
     // Deltas the decoder turns into `n`: directly within the same sextant and
     // octant, or across one edge by the reflection Java 3D's
     // processSetNormal applies when the sum leaves the triangle.
@@ -187,12 +188,13 @@ fn code_normal(n: NormalCode, last: Option<NormalCode>, shift: u32) -> Coded {
     }
     let best =
         options.into_iter().map(|(du, dv)| (signed_bits(du >> shift).max(signed_bits(dv >> shift)), du, dv)).min();
-    match best {
-        Some((rel_bits, du, dv)) if 2 * rel_bits < 6 + 2 * abs_bits => {
-            Coded { token: (rel_bits, false), values: [du, dv, 0, 0], comps: 2, index: None }
-        }
-        _ => absolute,
-    }
+    let relative = best.map(|(rel_bits, du, dv)| Coded {
+        token: (rel_bits, false),
+        values: [du, dv, 0, 0],
+        comps: 2,
+        index: None,
+    });
+    [Some(absolute), relative]
 }
 
 /// The bit string "tag [index] components" split into the 6 header bits
@@ -225,43 +227,105 @@ fn split_header(e: TableEntry, c: &Coded) -> (u32, Vec<(u64, u32)>) {
     (h, rest)
 }
 
-/// Frequencies per token, then the table: tag per token and the (data
-/// length, shift) each token's entry gets after Java's "expand" rule
-/// (tag + components × sent bits ≥ 6, data length ≥ 1 where 0 would mean 16).
+/// Bits of one setTable command (8-bit header, 15-bit body).
+const SET_TABLE_BITS: u64 = 23;
+
+/// A table: the token set it holds, tag per token and the (data length,
+/// shift) each token's entry gets after Java's "expand" rule (tag +
+/// components × sent bits ≥ 6, data length ≥ 1 where 0 would mean 16).
+/// A value whose own token is not in the set is sent with the next longer
+/// token of the same kind (sign or zero extended), which frees tag space.
 struct Table {
     id: u32,
     shift: u32,
     /// Components that share the header with the tag (3, or 2 for relative normals; 0: none).
     components: fn(Token) -> u32,
-    counts: HashMap<Token, u64>,
+    /// Components sent per value.
+    comps: u32,
     entries: HashMap<Token, TableEntry>,
 }
 
 impl Table {
-    fn new(id: u32, shift: u32, components: fn(Token) -> u32) -> Self {
-        Table { id, shift, components, counts: HashMap::new(), entries: HashMap::new() }
+    fn new(id: u32, shift: u32, comps: u32, components: fn(Token) -> u32) -> Self {
+        Table { id, shift, components, comps, entries: HashMap::new() }
     }
 
-    fn count(&mut self, t: Token) {
-        *self.counts.entry(t).or_insert(0) += 1;
+    /// (sent bits, shift) of token `t` with a tag of `tag_len` bits.
+    fn expand(&self, t: Token, tag_len: u32) -> (u32, u32) {
+        let comps = (self.components)(t);
+        let (mut sent, mut shift) = (t.0, self.shift);
+        while (comps > 0 && tag_len + comps * sent < 6) || (self.id != 2 && sent + shift == 0) {
+            shift = shift.saturating_sub(1);
+            sent += 1;
+        }
+        (sent, shift)
     }
 
-    fn build(&mut self) {
-        let mut tokens: Vec<Token> = self.counts.keys().copied().collect();
-        tokens.sort();
-        let freqs: Vec<u64> = tokens.iter().map(|t| self.counts[t]).collect();
-        let lengths = limited_lengths(&freqs, 6);
-        let tags = canonical_tags(&lengths);
-        for (k, &t) in tokens.iter().enumerate() {
-            let tag_len = lengths[k];
-            let comps = (self.components)(t);
-            let (mut sent, mut shift) = (t.0, self.shift);
-            while (comps > 0 && tag_len + comps * sent < 6) || (self.id != 2 && sent + shift == 0) {
-                shift = shift.saturating_sub(1);
-                sent += 1;
+    /// Bits of one value with token `t` (in the set) and a `tag_len`-bit tag.
+    fn value_bits(&self, t: Token, tag_len: u32) -> u64 {
+        let index = if self.id == 2 && t.1 { 6 } else { 0 };
+        u64::from(tag_len + self.comps * self.expand(t, tag_len).0 + index)
+    }
+
+    /// The token of `set` that carries values of token `t`.
+    fn carrier(set: &[Token], t: Token) -> Option<Token> {
+        set.iter().copied().filter(|u| u.1 == t.1 && u.0 >= t.0).min()
+    }
+
+    /// Tag lengths for `set` (sorted) under `counts` and the total bits of
+    /// the values and the setTable commands.
+    fn evaluate(&self, set: &[Token], counts: &HashMap<Token, u64>) -> (Vec<u32>, u64) {
+        let mut freqs = vec![0u64; set.len()];
+        for (&t, &c) in counts {
+            if let Some(u) = Self::carrier(set, t) {
+                if let Ok(k) = set.binary_search(&u) {
+                    freqs[k] += c;
+                }
             }
+        }
+        let lengths = limited_lengths(&freqs, 6);
+        let total =
+            set.iter().zip(&freqs).zip(&lengths).map(|((&t, &f), &l)| f * self.value_bits(t, l) + SET_TABLE_BITS).sum();
+        (lengths, total)
+    }
+
+    /// Choose the token set from the value counts: start from every token
+    /// used and merge tokens into the next longer one of the same kind while
+    /// the exact total of tags, data and setTable commands drops.
+    fn build(&mut self, counts: &HashMap<Token, u64>) -> u64 {
+        let mut set: Vec<Token> = counts.keys().copied().collect();
+        set.sort();
+        let (mut lengths, mut total) = self.evaluate(&set, counts);
+        loop {
+            let mut best: Option<(u64, Vec<Token>, Vec<u32>)> = None;
+            for k in 0..set.len() {
+                if Self::carrier(&set[k + 1..], set[k]).is_none() {
+                    continue;
+                }
+                let mut trial = set.clone();
+                trial.remove(k);
+                let (l, t) = self.evaluate(&trial, counts);
+                if t < best.as_ref().map_or(total, |b| b.0) {
+                    best = Some((t, trial, l));
+                }
+            }
+            let Some((t, s, l)) = best else { break };
+            (total, set, lengths) = (t, s, l);
+        }
+        let tags = canonical_tags(&lengths);
+        self.entries.clear();
+        for (k, &t) in set.iter().enumerate() {
+            let tag_len = lengths[k];
+            let (sent, shift) = self.expand(t, tag_len);
             self.entries.insert(t, TableEntry { tag: tags[k], tag_len, data_len: sent + shift, shift, absolute: t.1 });
         }
+        total
+    }
+
+    /// The token a value of token `t` is sent with and its bits, if the table can carry it.
+    fn carry(&self, t: Token) -> Option<(Token, u64)> {
+        let u = self.entries.keys().copied().filter(|u| u.1 == t.1 && u.0 >= t.0).min()?;
+        Some((u, self.value_bits(u, self.entries[&u].tag_len)))
     }
 
     fn entry(&self, t: Token) -> Result<TableEntry> {
@@ -273,6 +337,56 @@ impl Table {
         e.sort_by_key(|e| (e.tag_len, e.tag));
         e.iter().map(|e| e.command(self.id)).collect()
     }
+}
+
+/// Pick one option per value set: first the fewest data bits (relative on
+/// ties), then a few rounds of the cheapest under the tables the previous
+/// choice built; returns the choice with the fewest total bits, its tables built.
+fn choose(options: &[Options], table: &mut Table) -> Vec<usize> {
+    let naive = |c: &Coded| u64::from(c.comps as u32 * c.token.0) + if c.index.is_some() { 6 } else { 0 };
+    let mut choice: Vec<usize> = options
+        .iter()
+        .map(|o| match o {
+            [Some(a), Some(r)] if naive(r) <= naive(a) => 1,
+            [None, Some(_)] => 1,
+            _ => 0,
+        })
+        .collect();
+    let counts = |choice: &[usize]| {
+        let mut m: HashMap<Token, u64> = HashMap::new();
+        for (o, &k) in options.iter().zip(choice) {
+            if let Some(c) = &o[k] {
+                *m.entry(c.token).or_insert(0) += 1;
+            }
+        }
+        m
+    };
+    let mut best = (table.build(&counts(&choice)), choice.clone());
+    for _ in 0..3 {
+        let next: Vec<usize> = options
+            .iter()
+            .zip(&choice)
+            .map(|(o, &k)| {
+                let cost = |j: usize| o[j].and_then(|c| table.carry(c.token)).map(|x| x.1);
+                match (cost(0), cost(1)) {
+                    (Some(a), Some(r)) if r <= a => 1,
+                    (None, Some(_)) => 1,
+                    (Some(_), _) => 0,
+                    _ => k,
+                }
+            })
+            .collect();
+        if next == choice {
+            break;
+        }
+        choice = next;
+        let total = table.build(&counts(&choice));
+        if total < best.0 {
+            best = (total, choice.clone());
+        }
+    }
+    table.build(&counts(&best.1));
+    best.1
 }
 
 /// Commands with header forwarding: each header is written before the
@@ -393,46 +507,60 @@ pub fn encode(mesh: &Mesh, options: &EncodeOptions) -> Result<Encoded> {
     let pos_shift = 16 - o.position_bits;
     let col_shift = 16 - o.color_bits;
     let nor_shift = 6 - o.normal_bits;
-    let mut pos_table = Table::new(0, pos_shift, |_| 3);
-    let mut col_table = Table::new(1, col_shift, |_| 3);
-    let mut nor_table = Table::new(2, nor_shift, |t| if t.1 { 0 } else { 2 });
-    let mut coded: Vec<Option<CodedVertex>> = Vec::with_capacity(steps.len());
-    let mut cur: Option<QVertex> = None;
     let comps = if o.alpha { 4 } else { 3 };
+    let mut pos_table = Table::new(0, pos_shift, 3, |_| 3);
+    let mut col_table = Table::new(1, col_shift, comps as u32, |_| 3);
+    let mut nor_table = Table::new(2, nor_shift, 2, |t| if t.1 { 0 } else { 2 });
+    // Every full vertex's options (the deltas follow the decoder's state,
+    // which does not depend on how earlier values were coded).
+    let (mut pos_opts, mut nor_opts, mut col_opts) = (Vec::new(), Vec::new(), Vec::new());
+    let mut cur: Option<QVertex> = None;
     let wide = |a: [i16; 3]| [i32::from(a[0]), i32::from(a[1]), i32::from(a[2]), 0];
     for s in &steps {
         match *s {
-            Step::Reference { vertex, .. } => {
-                cur = unique.get(vertex as usize).copied();
-                coded.push(None);
-            }
+            Step::Reference { vertex, .. } => cur = unique.get(vertex as usize).copied(),
             Step::Full { vertex, .. } => {
                 let Some(&v) = unique.get(vertex as usize) else { return Err(internal()) };
-                let p = code_values(&wide(v.position), cur.map(|c| wide(c.position)), pos_shift, 3);
-                pos_table.count(p.token);
-                let nc = v.normal.map(|nv| {
-                    let c = code_normal(nv, cur.and_then(|c| c.normal), nor_shift);
-                    nor_table.count(c.token);
-                    c
-                });
-                let cc = v.color.map(|cv| {
-                    let c = code_values(
-                        &cv.map(i32::from),
-                        cur.and_then(|c| c.color).map(|l| l.map(i32::from)),
-                        col_shift,
-                        comps,
-                    );
-                    col_table.count(c.token);
-                    c
-                });
+                pos_opts.push(code_values(&wide(v.position), cur.map(|c| wide(c.position)), pos_shift, 3));
+                if let Some(nv) = v.normal {
+                    nor_opts.push(code_normal(nv, cur.and_then(|c| c.normal), nor_shift));
+                }
+                if let Some(cv) = v.color {
+                    let last = cur.and_then(|c| c.color).map(|l| l.map(i32::from));
+                    col_opts.push(code_values(&cv.map(i32::from), last, col_shift, comps));
+                }
                 cur = Some(v);
-                coded.push(Some((p, nc, cc)));
             }
         }
     }
-    pos_table.build();
-    col_table.build();
-    nor_table.build();
+    // The chosen option of each value set, sent with the token its table carries it by.
+    let pick = |opts: &[Options], table: &mut Table| -> Result<Vec<Coded>> {
+        let choice = choose(opts, table);
+        opts.iter()
+            .zip(choice)
+            .map(|(o, k)| {
+                let mut c = o[k].ok_or_else(internal)?;
+                c.token = table.carry(c.token).ok_or_else(internal)?.0;
+                Ok(c)
+            })
+            .collect()
+    };
+    let pos_coded = pick(&pos_opts, &mut pos_table)?;
+    let nor_coded = pick(&nor_opts, &mut nor_table)?;
+    let col_coded = pick(&col_opts, &mut col_table)?;
+    let (mut pi, mut ni, mut ci) = (pos_coded.into_iter(), nor_coded.into_iter(), col_coded.into_iter());
+    let mut coded: Vec<Option<CodedVertex>> = Vec::with_capacity(steps.len());
+    for s in &steps {
+        coded.push(match s {
+            Step::Reference { .. } => None,
+            Step::Full { .. } => {
+                let p = pi.next().ok_or_else(internal)?;
+                let nc = if has_n { Some(ni.next().ok_or_else(internal)?) } else { None };
+                let cc = if has_c { Some(ci.next().ok_or_else(internal)?) } else { None };
+                Some((p, nc, cc))
+            }
+        });
+    }
 
     let mut cw = CommandWriter::new();
     // setState: header 00011xxn, body "c a 0".
