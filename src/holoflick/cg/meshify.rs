@@ -20,7 +20,7 @@
 //! vertices of very high valence. Meshes up to 4096 triangles also try a
 //! Tipsify-style fan order and keep the cheaper (it wins on some small
 //! closed meshes, e.g. an 80-triangle icosphere). Teapot and Spot: about
-//! 1.07 and 1.16 full vertices per distinct vertex (the greedy before:
+//! 1.07 and 1.18 full vertices per distinct vertex (the greedy before:
 //! 1.23), one restart per 12–14 triangles.
 //!
 //! Every emitted triangle's orientation is checked against the rules Java
