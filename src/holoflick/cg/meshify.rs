@@ -257,8 +257,15 @@ impl<'a> Meshifier<'a> {
             Some(f) if f == k => [k, i, j],
             _ => [i, j, k],
         };
+        self.begin_strip(t, pick);
+    }
+
+    /// Start a new strip (restart code, then two strip vertices) with
+    /// triangle `t`'s corners in the order `pick`.
+    fn begin_strip(&mut self, t: usize, pick: [u32; 3]) {
         self.mark(t);
         self.strip_pushes = 0;
+        self.strip_start = self.pushes;
         self.window = pick;
         self.send(pick[0], 1);
         self.send(pick[1], 3);
@@ -565,15 +572,7 @@ impl<'a> Meshifier<'a> {
     fn strip(&mut self, t: usize, rot: usize, replay: Option<&[Move]>) -> usize {
         let [i, j, k] = self.triangles[t];
         let pick = [[i, j, k], [j, k, i], [k, i, j]][rot % 3];
-        self.mark(t);
-        self.strip_pushes = 0;
-        self.strip_start = self.pushes;
-        self.window = pick;
-        self.send(pick[0], 1);
-        self.send(pick[1], 3);
-        self.send(pick[2], 3);
-        self.run = Run::Pending;
-        self.ccw = true;
+        self.begin_strip(t, pick);
         if replay.is_none() {
             self.moves.clear();
         }
