@@ -9,7 +9,7 @@
 //! the body when the tag and data fill the header, else they finish the
 //! header (Java's `processVertex` reads them before the rest of x/y/z).
 
-use super::bits::{mask, sign_extend, PastEnd, StreamError, WordReader};
+use super::bits::{sign_extend, PastEnd, StreamError, WordReader};
 use super::normals::NormalCode;
 use super::state::{parse_set_table, Sink, State};
 
@@ -150,7 +150,7 @@ fn vertex(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyE
     let d = e.sent_bits("position")?;
     let tag = u32::from(e.tag_len);
     let n = tag + 3 * d;
-    let head = u64::from(header) & mask(6 - tag);
+    let head = u64::from(header) & low_bits(6 - tag);
     let (rpm, bits) = if n >= 6 {
         // The 3 replace/push bits, then the rest of x/y/z: at most 51 bits.
         if !r.ensure(3 + n - 6) {
@@ -166,7 +166,7 @@ fn vertex(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyE
                 "position table entry of tag length {tag} and {d} bits per component leaves {in_header} bits of the header for the 3 replace/push bits"
             )));
         }
-        let rpm = ((u64::from(header) & mask(in_header)) << (3 - in_header)) as u32 | r.read(3 - in_header)?;
+        let rpm = ((u64::from(header) & low_bits(in_header)) << (3 - in_header)) as u32 | r.read(3 - in_header)?;
         (rpm, head >> in_header)
     };
     let x = sign_extend(bits >> (2 * d), d) << e.shift;
@@ -176,6 +176,13 @@ fn vertex(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyE
     st.last_replace = (rpm >> 1) as u8;
     st.apply_position(e.absolute, [x, y, z], push);
     Ok(push)
+}
+
+/// A mask of the `n` low bits for the header's `n <= 6` (no 64-bit case to test).
+#[inline(always)]
+fn low_bits(n: u32) -> u64 {
+    debug_assert!(n <= 6);
+    (1u64 << n) - 1
 }
 
 /// The next `n` bits (`n <= 48`, a body's rest) with one end-of-stream check.
@@ -195,7 +202,7 @@ fn color(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<
     let d = e.sent_bits("colour")?;
     let tag = u32::from(e.tag_len);
     let n = tag + 3 * d;
-    let head = u64::from(header) & mask(6 - tag);
+    let head = u64::from(header) & low_bits(6 - tag);
     let bits = if n >= 6 { (head << (n - 6)) | take_checked(r, n - 6)? } else { head >> (6 - n) };
     // Alpha follows the body; when r, g, b leave room for it inside the
     // header, Java 3D's processSetColor masks it to 0 (a bug kept on purpose:
@@ -218,7 +225,7 @@ fn normal(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result
     let e = st.tables[2][(header & 0x3F) as usize];
     let d = e.sent_bits("normal")?;
     let tag = u32::from(e.tag_len);
-    let head = u64::from(header) & mask(6 - tag);
+    let head = u64::from(header) & low_bits(6 - tag);
     if e.absolute {
         let index = (head << tag) as u32 | r.read(tag)?;
         let u = (r.read(d)? as i32) << e.shift;
