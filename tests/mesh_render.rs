@@ -35,6 +35,23 @@ fn both(scene: &Scene, g: &Geometry, options: &RenderOptions) -> (Modulation, Mo
     (fast.0, reference.0, fast.1)
 }
 
+/// Both engines on a random scene that must cover a tenth of the display:
+/// the reference, and [`compare`]'s figures for the fast path, printed.
+fn fast_against_reference(seed: u64, scene: &Scene, g: &Geometry, options: &RenderOptions) -> (Modulation, f64, f64) {
+    let (fast, reference, stats) = both(scene, g, options);
+    let (off, mean) = compare(&fast, &reference);
+    println!(
+        "seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}",
+        off * 100.0,
+        mean
+    );
+    assert!(
+        reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10,
+        "seed {seed}: scene covers the display"
+    );
+    (reference, off, mean)
+}
+
 /// (fraction of samples differing by more than 1% of the peak, mean |difference| / mean value).
 fn compare(fast: &Modulation, reference: &Modulation) -> (f64, f64) {
     let peak = reference.samples().iter().fold(0.0f32, |a, &b| a.max(b)) as f64;
@@ -110,17 +127,7 @@ fn fast_equals_reference_on_random_scenes() {
         let scene = random_scene(&mut rng, 60);
         let g = small_geometry(z_e);
         let options = RenderOptions { supersample: ss, lighting: lighting(model), engine: Engine::Fast };
-        let (fast, reference, stats) = both(&scene, &g, &options);
-        let (off, mean) = compare(&fast, &reference);
-        println!(
-            "seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}",
-            off * 100.0,
-            mean
-        );
-        assert!(
-            reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10,
-            "scene covers the display"
-        );
+        let (_, off, mean) = fast_against_reference(seed, &scene, &g, &options);
         assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
     }
 }
@@ -408,17 +415,7 @@ fn fast_equals_reference_with_directional_lights_and_vertex_normals() {
             model,
         };
         let options = RenderOptions { supersample: ss, lighting: lights, engine: Engine::Fast };
-        let (fast, reference, stats) = both(&scene, &g, &options);
-        let (off, mean) = compare(&fast, &reference);
-        println!(
-            "seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}",
-            off * 100.0,
-            mean
-        );
-        assert!(
-            reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10,
-            "scene covers the display"
-        );
+        let (_, off, mean) = fast_against_reference(seed, &scene, &g, &options);
         assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
     }
 }
@@ -472,17 +469,7 @@ fn fast_equals_reference_with_textures_in_and_out_of_the_batch() {
             model,
         };
         let options = RenderOptions { supersample: ss, lighting: lights, engine: Engine::Fast };
-        let (fast, reference, stats) = both(&scene, &g, &options);
-        let (off, mean) = compare(&fast, &reference);
-        println!(
-            "seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}",
-            off * 100.0,
-            mean
-        );
-        assert!(
-            reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10,
-            "scene covers the display"
-        );
+        let (_, off, mean) = fast_against_reference(seed, &scene, &g, &options);
         assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
     }
 }
@@ -554,17 +541,7 @@ fn fast_equals_reference_with_per_material_lobes_and_lights() {
         }
         let g = small_geometry(0.005);
         let options = RenderOptions { supersample: ss, lighting: Lighting { lights, model }, engine: Engine::Fast };
-        let (fast, reference, stats) = both(&scene, &g, &options);
-        let (off, mean) = compare(&fast, &reference);
-        println!(
-            "seed {seed}: {:.3}% of samples off by >1% of peak, mean |diff| {:.2e} of mean; {stats:?}",
-            off * 100.0,
-            mean
-        );
-        assert!(
-            reference.samples().iter().filter(|&&v| v > 0.0).count() > reference.samples().len() / 10,
-            "scene covers the display"
-        );
+        let (reference, off, mean) = fast_against_reference(seed, &scene, &g, &options);
         // Tighter than the tests above: no texture or normal map here, only f32 against f64 rounding.
         assert!(off < 0.001 && mean < 1e-4, "seed {seed}: fast path differs from the reference");
         let (_, every_light, _) = both(&plain, &g, &options);
