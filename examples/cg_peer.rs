@@ -175,30 +175,18 @@ fn decode_file(path: &str) -> Result<(), String> {
 fn time(path: &str, runs: &str) -> Result<(), String> {
     let runs: usize = runs.parse().map_err(|_| format!("bad run count {runs}"))?;
     let file = CgFile::read(Path::new(path)).map_err(|e| e.to_string())?;
-    let mut per_pass = Vec::with_capacity(runs);
-    let mut nondegenerate = 0;
-    for _ in 0..runs.max(1) {
-        let start = std::time::Instant::now();
+    // Java 3D's order, into triangle arrays, as CgTool times Java 3D.
+    let java_order = rate(runs, || {
         let mut count = 0;
         for o in &file.objects {
             let d = decode(&o.header, &o.bytes).map_err(|e| e.to_string())?;
             count += d.triangles.iter().filter(|t| !degenerate(t)).count();
         }
-        per_pass.push(start.elapsed().as_secs_f64());
-        nondegenerate = count;
-    }
-    let rate = |passes: &mut Vec<f64>, triangles: usize| {
-        let mean = passes.iter().sum::<f64>() / passes.len() as f64;
-        passes.sort_by(f64::total_cmp);
-        let median = passes[passes.len() / 2];
-        format!("mean {:.0} median {:.0}", triangles as f64 / mean, triangles as f64 / median)
-    };
+        Ok(count)
+    })?;
     // The streaming decoder (what holo's own readers use): triangles handed
-    // out as decoded, nothing stored; degenerate ones are not counted.
-    let mut streamed = Vec::with_capacity(runs);
-    let mut stream_count = 0;
-    for _ in 0..runs.max(1) {
-        let start = std::time::Instant::now();
+    // out as decoded, nothing stored.
+    let streaming = rate(runs, || {
         let mut count = 0;
         for o in &file.objects {
             decode_with(&o.header, &o.bytes, |p| {
@@ -208,11 +196,26 @@ fn time(path: &str, runs: &str) -> Result<(), String> {
             })
             .map_err(|e| e.to_string())?;
         }
-        streamed.push(start.elapsed().as_secs_f64());
-        stream_count = count;
-    }
-    println!("file {path} passes {}", per_pass.len());
-    println!("nondegenerate triangles/s {}", rate(&mut per_pass, nondegenerate));
-    println!("streaming nondegenerate triangles/s {}", rate(&mut streamed, stream_count));
+        Ok(count)
+    })?;
+    println!("file {path} passes {}", runs.max(1));
+    println!("nondegenerate triangles/s {java_order}");
+    println!("streaming nondegenerate triangles/s {streaming}");
     Ok(())
+}
+
+/// `runs` timed passes of `pass` (which returns the non-degenerate
+/// triangles it decoded): "mean X median Y" triangles per second.
+fn rate(runs: usize, mut pass: impl FnMut() -> Result<usize, String>) -> Result<String, String> {
+    let mut seconds = Vec::with_capacity(runs.max(1));
+    let mut triangles = 0;
+    for _ in 0..runs.max(1) {
+        let start = std::time::Instant::now();
+        triangles = pass()?;
+        seconds.push(start.elapsed().as_secs_f64());
+    }
+    let mean = seconds.iter().sum::<f64>() / seconds.len() as f64;
+    seconds.sort_by(f64::total_cmp);
+    let median = seconds[seconds.len() / 2];
+    Ok(format!("mean {:.0} median {:.0}", triangles as f64 / mean, triangles as f64 / median))
 }
