@@ -164,20 +164,23 @@ fn rotate_min(t: &[Vertex; 3], key: impl Fn(&Vertex) -> [i32; 3]) -> [Vertex; 3]
     *r.iter().min_by_key(|r| r.map(|v| key(&v))).unwrap()
 }
 
+/// Every bit of a vertex: position, then normal and colour when present.
+fn vertex_bits(v: &Vertex) -> Vec<u32> {
+    v.position.iter().chain(v.normal.iter().flatten()).chain(v.color.iter().flatten()).map(|c| c.to_bits()).collect()
+}
+
+/// Triangles as sorted bit strings, each rotated to start at its smallest
+/// vertex (Java 3D and the streaming decoder may start a triangle at another corner).
 fn sorted_keys(ts: &[[Vertex; 3]]) -> Vec<Vec<u32>> {
     let mut v: Vec<Vec<u32>> = ts
         .iter()
         .map(|t| {
-            let r = rotate_min(t, |v| v.position.map(|c| (c * 32768.0) as i32));
-            r.iter()
-                .flat_map(|v| {
-                    v.position
-                        .iter()
-                        .chain(v.normal.iter().flatten())
-                        .chain(v.color.iter().flatten())
-                        .map(|c| c.to_bits())
-                })
-                .collect()
+            let k = t.map(|v| vertex_bits(&v));
+            [[0, 1, 2], [1, 2, 0], [2, 0, 1]]
+                .iter()
+                .map(|r| r.iter().flat_map(|&i| k[i].clone()).collect())
+                .min()
+                .unwrap()
         })
         .collect();
     v.sort();
@@ -622,7 +625,7 @@ fn random_stream(rng: &mut ChaCha8Rng) -> Vec<u8> {
 #[test]
 fn fast_and_reference_decoders_agree_on_random_streams() {
     let mut rng = ChaCha8Rng::seed_from_u64(1_000_006);
-    let (mut ok, mut err) = (0, 0);
+    let (mut ok, mut err, mut streamed_primitives) = (0, 0, 0);
     for _ in 0..3000 {
         let bytes = random_stream(&mut rng);
         let kind = [BlockKind::Triangles, BlockKind::Lines, BlockKind::Points][rng.gen_range(0..3)];
@@ -631,12 +634,29 @@ fn fast_and_reference_decoders_agree_on_random_streams() {
             Ok(_) => ok += 1,
             Err(_) => err += 1,
         }
-        // The streaming decoder agrees on success or failure.
-        let mut n = 0;
-        assert_eq!(decode_with(&h, &bytes, |_| n += 1).is_ok(), decode(&h, &bytes).is_ok());
+        // The streaming decoder agrees on success or failure, and on the
+        // primitives: the same triangles (in another order), lines and points.
+        let (mut tris, mut lines, mut points) = (Vec::new(), Vec::new(), Vec::new());
+        let streamed = decode_with(&h, &bytes, |p| match p {
+            Primitive::Triangle(t) => tris.push(*t),
+            Primitive::Line(l) => lines.push(*l),
+            Primitive::Point(v) => points.push(*v),
+        });
+        let java = decode(&h, &bytes);
+        assert_eq!(streamed.is_ok(), java.is_ok());
+        if let Ok(d) = java {
+            assert_eq!(sorted_keys(&tris), sorted_keys(&d.triangles), "streaming and Java-order triangles differ");
+            assert_eq!(lines, d.lines);
+            assert_eq!(points, d.points);
+            streamed_primitives += tris.len() + lines.len() + points.len();
+        }
     }
-    println!("{ok} decoded, {err} refused");
+    println!("{ok} decoded, {err} refused, {streamed_primitives} primitives streamed");
     assert!(ok > 300 && err > 300, "{ok} decoded, {err} refused: the generator should exercise both");
+    assert!(
+        streamed_primitives > 3000,
+        "{streamed_primitives} primitives: the comparison should have something to compare"
+    );
 }
 
 #[test]
