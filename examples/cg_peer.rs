@@ -131,8 +131,9 @@ fn values(v: &Vertex) -> [f32; 10] {
     [v.position[0], v.position[1], v.position[2], n[0], n[1], n[2], c[0], c[1], c[2], c[3]]
 }
 
-fn degenerate(t: &[Vertex; 3]) -> bool {
-    t[0].position == t[1].position || t[1].position == t[2].position || t[0].position == t[2].position
+/// A triangle, given by its corners' positions, with two corners in one place.
+fn degenerate(p: [[f32; 3]; 3]) -> bool {
+    p[0] == p[1] || p[1] == p[2] || p[0] == p[2]
 }
 
 fn decode_file(path: &str) -> Result<(), String> {
@@ -153,7 +154,7 @@ fn decode_file(path: &str) -> Result<(), String> {
         let flags =
             format!("normals {} colors {} alpha {}", u8::from(h.normals), u8::from(h.colors), u8::from(h.alpha));
         let t = d.triangles.len();
-        let degenerate = d.triangles.iter().filter(|t| degenerate(t)).count();
+        let degenerate = d.triangles.iter().filter(|t| degenerate(t.map(|v| v.position))).count();
         println!(
             "object {i} type triangle {flags} bytes {} segments 1 vertices {} triangles {t} degenerate {degenerate}",
             o.bytes.len(),
@@ -180,7 +181,7 @@ fn time(path: &str, runs: &str) -> Result<(), String> {
         let mut count = 0;
         for o in &file.objects {
             let d = decode(&o.header, &o.bytes).map_err(|e| e.to_string())?;
-            count += d.triangles.iter().filter(|t| !degenerate(t)).count();
+            count += d.triangles.iter().filter(|t| !degenerate(t.map(|v| v.position))).count();
         }
         Ok(count)
     })?;
@@ -191,7 +192,7 @@ fn time(path: &str, runs: &str) -> Result<(), String> {
         for o in &file.objects {
             decode_with(&o.header, &o.bytes, |p| {
                 if let Primitive::Triangle(t) = p {
-                    count += usize::from(!degenerate(t));
+                    count += usize::from(!degenerate(t.map(|v| v.position)));
                 }
             })
             .map_err(|e| e.to_string())?;

@@ -92,7 +92,7 @@ fn check_round_trip(
     let mut streamed = Vec::new();
     decode_with(&enc.header, &enc.bytes, |p| {
         if let Primitive::Triangle(t) = p {
-            streamed.push(*t);
+            streamed.push(t.map(|v| *v));
         }
     })
     .expect("streaming decode");
@@ -638,8 +638,8 @@ fn fast_and_reference_decoders_agree_on_random_streams() {
         // primitives: the same triangles (in another order), lines and points.
         let (mut tris, mut lines, mut points) = (Vec::new(), Vec::new(), Vec::new());
         let streamed = decode_with(&h, &bytes, |p| match p {
-            Primitive::Triangle(t) => tris.push(*t),
-            Primitive::Line(l) => lines.push(*l),
+            Primitive::Triangle(t) => tris.push(t.map(|v| *v)),
+            Primitive::Line(l) => lines.push(l.map(|v| *v)),
             Primitive::Point(v) => points.push(*v),
         });
         let java = decode(&h, &bytes);

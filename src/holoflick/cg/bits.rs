@@ -36,7 +36,7 @@ impl<'a> WordReader<'a> {
         WordReader { bytes, next: 0, buf: 0, count: 0 }
     }
 
-    /// Top the buffer up to at least 33 bits when the stream has them.
+    /// Top the buffer up to at least 57 bits when the stream has them.
     /// Away from the end one big-endian 8-byte load fills every whole byte
     /// that fits; the last few bytes go one at a time. (Java refills a
     /// 4-byte word at a time; the bits are the same either way.)
@@ -63,39 +63,60 @@ impl<'a> WordReader<'a> {
         }
     }
 
-    /// The next `n` bits (`n <= 32`) as an unsigned number.
+    /// Top the buffer up to at least 56 bits without looking for the end:
+    /// the caller has made sure that 8 bytes remain to be loaded
+    /// ([`Self::far_from_end`]). Branch-free: the bits of the byte only
+    /// partly taken are loaded again at the same place, and OR-ing equal
+    /// bits changes nothing (bits below `count` are always 0 or the stream's).
     #[inline(always)]
-    pub(crate) fn read(&mut self, n: u32) -> Result<u32, PastEnd> {
-        if n == 0 {
-            return Ok(0);
-        }
-        if self.count < n {
-            self.refill();
-            if self.count < n {
-                return Err(PastEnd);
-            }
-        }
-        let v = (self.buf >> (64 - n)) as u32;
-        self.buf <<= n;
-        self.count -= n;
-        Ok(v)
+    fn refill_fast(&mut self) {
+        let mut word = [0u8; 8];
+        word.copy_from_slice(&self.bytes[self.next..self.next + 8]);
+        // count < n <= 56 here, so the shift is in range.
+        self.buf |= u64::from_be_bytes(word) >> self.count;
+        self.next += ((63 - self.count) >> 3) as usize;
+        self.count |= 56;
     }
 
-    /// Make the next `n` bits (`n <= 57`) available to [`Self::take`]:
-    /// false when the stream ends first. After a refill at least 57 bits are
-    /// buffered unless the stream ends, so one check covers a whole body.
+    /// At least `bytes` bytes remain to be loaded: a command that reads
+    /// fewer than `bytes - 8` bytes can use the `FAST` reads.
     #[inline(always)]
-    pub(crate) fn ensure(&mut self, n: u32) -> bool {
+    pub(crate) fn far_from_end(&self, bytes: usize) -> bool {
+        self.bytes.len() - self.next >= bytes
+    }
+
+    /// The next `n` bits (`n <= 32`) as an unsigned number. `FAST`: no
+    /// end-of-stream check, for callers that checked [`Self::far_from_end`].
+    #[inline(always)]
+    pub(crate) fn read<const FAST: bool>(&mut self, n: u32) -> Result<u32, PastEnd> {
+        if !self.ensure::<FAST>(n) {
+            return Err(PastEnd);
+        }
+        Ok(self.take(n) as u32)
+    }
+
+    /// Make the next `n` bits (`n <= 56`) available to [`Self::take`]:
+    /// false when the stream ends first. After a refill at least 56 bits are
+    /// buffered unless the stream ends, so one check covers a whole body.
+    /// `FAST`: as [`Self::read`].
+    #[inline(always)]
+    pub(crate) fn ensure<const FAST: bool>(&mut self, n: u32) -> bool {
+        if FAST {
+            if self.count < n {
+                self.refill_fast();
+            }
+            return true;
+        }
         if self.count < n {
             self.refill();
         }
         self.count >= n
     }
 
-    /// The next `n` bits (`n <= 57`), which [`Self::ensure`] has made available.
+    /// The next `n` bits (`n <= 56`), which [`Self::ensure`] has made available.
     #[inline(always)]
     pub(crate) fn take(&mut self, n: u32) -> u64 {
-        debug_assert!(n <= self.count && n <= 57);
+        debug_assert!(n <= self.count && n <= 56);
         // Two shifts so that n = 0 gives 0 without a branch.
         let v = (self.buf >> 1) >> (63 - n);
         self.buf <<= n;
@@ -224,15 +245,16 @@ mod tests {
         let mut fast = WordReader::new(&bytes);
         let mut slow = BitByBit::new(&bytes);
         for &(v, n) in &fields {
-            assert_eq!(u64::from(fast.read(n).unwrap()), v);
+            assert_eq!(u64::from(fast.read::<false>(n).unwrap()), v);
             assert_eq!(slow.read(n).unwrap(), v);
             assert_eq!(fast.position(), slow.position());
         }
     }
 
-    /// Random bytes read in random widths (0..=57 bits, by `read` and by
-    /// `ensure`/`take`): the word reader, whose refill takes 8 bytes at a time away from the end, gives
-    /// the bit-by-bit reader's values, positions and end.
+    /// Random bytes read in random widths (0..=56 bits, by `read` and by
+    /// `ensure`/`take`, checked and, 8 bytes or more from the end, `FAST`):
+    /// the word reader, whose refill takes 8 bytes at a time away from the
+    /// end, gives the bit-by-bit reader's values, positions and end.
     #[test]
     fn random_reads_agree() {
         let mut x = 0x9E37_79B9_7F4A_7C15u64;
@@ -247,11 +269,16 @@ mod tests {
             let mut fast = WordReader::new(&bytes);
             let mut slow = BitByBit::new(&bytes);
             loop {
-                let n = (next() % 58) as u32;
+                let n = (next() % 57) as u32;
+                let fast_ok = fast.far_from_end(8) && next() % 2 == 0;
                 let want = slow.read(n);
-                let got = if next() % 2 == 0 && n <= 32 {
-                    fast.read(n).map(u64::from)
-                } else if fast.ensure(n) {
+                let got = if fast_ok && n <= 32 {
+                    fast.read::<true>(n).map(u64::from)
+                } else if fast_ok && fast.ensure::<true>(n) {
+                    Ok(fast.take(n))
+                } else if next() % 2 == 0 && n <= 32 {
+                    fast.read::<false>(n).map(u64::from)
+                } else if fast.ensure::<false>(n) {
                     Ok(fast.take(n))
                 } else {
                     Err(PastEnd)
@@ -271,8 +298,8 @@ mod tests {
     fn past_end_is_an_error() {
         let bytes = [0xAB, 0xCD, 0xEF, 0x01];
         let mut r = WordReader::new(&bytes);
-        assert_eq!(r.read(16).unwrap(), 0xABCD);
-        assert_eq!(r.read(17), Err(PastEnd));
+        assert_eq!(r.read::<false>(16).unwrap(), 0xABCD);
+        assert_eq!(r.read::<false>(17), Err(PastEnd));
         let mut s = BitByBit::new(&bytes);
         assert_eq!(s.read(16).unwrap(), 0xABCD);
         assert_eq!(s.read(17), Err(PastEnd));

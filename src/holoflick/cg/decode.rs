@@ -21,77 +21,96 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
     // The first header is an implicit V_NO_OP whose body (a 5-bit count) starts the stream.
     let mut next: u32 = 0x01;
     while !r.at_end() {
-        let at = r.position();
-        let err = |problem: String| StreamError { bit: at, problem };
-        let past = |_: PastEnd| StreamError { bit: at, problem: "the stream ends inside a command".into() };
-        let current = next;
-        if current & 0xC0 == 0x40 {
-            let (n, c) = (st.bundling_normal, st.bundling_color);
-            let first = if n || c { 6 } else { 8 };
-            let after = r.read(first).map_err(past)?;
-            let push = vertex(&mut r, &mut st, current).map_err(|e| e.at(at))?;
-            let mut pending = after;
-            if n {
-                let following = if c { r.read(6).map_err(past)? } else { r.read(8).map_err(past)? };
-                normal(&mut r, &mut st, pending, push).map_err(|e| e.at(at))?;
-                st.finish_normal(sink).map_err(err)?;
-                pending = following;
-            }
-            if c {
-                let following = r.read(8).map_err(past)?;
-                color(&mut r, &mut st, pending, push).map_err(|e| e.at(at))?;
-                st.finish_color(sink).map_err(err)?;
-                pending = following;
-            }
-            next = pending;
-            let replace = st_replace(&st);
-            st.output_vertex(replace, sink).map_err(err)?;
-            continue;
-        }
-        next = r.read(8).map_err(past)?;
-        match current {
-            h if h & 0xC0 == 0xC0 => {
-                normal(&mut r, &mut st, h, false).map_err(|e| e.at(at))?;
-                st.finish_normal(sink).map_err(err)?;
-            }
-            h if h & 0xC0 == 0x80 => {
-                color(&mut r, &mut st, h, false).map_err(|e| e.at(at))?;
-                st.finish_color(sink).map_err(err)?;
-            }
-            h if h & 0xE0 == 0x20 => {
-                let low = r.read(1).map_err(past)?;
-                let replace = (((h & 1) << 1) | low) as u8;
-                st.mesh_reference(((h >> 1) & 0xF) as usize).map_err(err)?;
-                st.output_vertex(replace, sink).map_err(err)?;
-            }
-            h if h & 0xF8 == 0x18 => {
-                let b = r.read(3).map_err(past)?;
-                st.set_state(h & 1 != 0, (b >> 2) & 1 != 0, (b >> 1) & 1 != 0, sink).map_err(err)?;
-            }
-            h if h & 0xF8 == 0x10 => {
-                let b = r.read(15).map_err(past)?;
-                let (t, first, count, entry) = parse_set_table(h, b);
-                let table = st.tables.get_mut(t).ok_or_else(|| err(no_table(t)))?;
-                for e in table.iter_mut().skip(first).take(count) {
-                    *e = entry;
-                }
-            }
-            0x08 => {
-                r.read(24).map_err(past)?;
-                r.read(32).map_err(past)?;
-            }
-            0x07 => {
-                r.read(8).map_err(past)?;
-            }
-            0x01 => {
-                let count = r.read(5).map_err(past)?;
-                r.read(count).map_err(past)?;
-            }
-            // EOS and the unassigned opcodes have no body.
-            _ => {}
-        }
+        // No command reads more than 173 bits (a vertex with bundled normal
+        // and colour at the widest entries), 22 bytes: with 32 bytes left
+        // to load, its reads need no end-of-stream checks.
+        next = if r.far_from_end(32) {
+            command::<true>(&mut r, &mut st, sink, next)?
+        } else {
+            command::<false>(&mut r, &mut st, sink, next)?
+        };
     }
     st.finish(sink).map_err(|problem| StreamError { bit: r.position(), problem })
+}
+
+/// Decode the command whose header is `current` (its body comes next in
+/// `r`): returns the following header. `FAST`: `r` is far enough from the
+/// end that no read can run past it.
+#[inline(always)]
+fn command<const FAST: bool>(
+    r: &mut WordReader,
+    st: &mut State,
+    sink: &mut impl Sink,
+    current: u32,
+) -> Result<u32, StreamError> {
+    let at = r.position();
+    let err = |problem: String| StreamError { bit: at, problem };
+    let past = |_: PastEnd| StreamError { bit: at, problem: "the stream ends inside a command".into() };
+    if current & 0xC0 == 0x40 {
+        let (n, c) = (st.bundling_normal, st.bundling_color);
+        let first = if n || c { 6 } else { 8 };
+        let after = r.read::<FAST>(first).map_err(past)?;
+        let push = vertex::<FAST>(r, st, current).map_err(|e| e.at(at))?;
+        let mut pending = after;
+        if n {
+            let following = r.read::<FAST>(if c { 6 } else { 8 }).map_err(past)?;
+            normal::<FAST>(r, st, pending, push).map_err(|e| e.at(at))?;
+            st.finish_normal(sink).map_err(err)?;
+            pending = following;
+        }
+        if c {
+            let following = r.read::<FAST>(8).map_err(past)?;
+            color::<FAST>(r, st, pending, push).map_err(|e| e.at(at))?;
+            st.finish_color(sink).map_err(err)?;
+            pending = following;
+        }
+        let replace = st.last_replace;
+        st.output_vertex(replace, sink).map_err(err)?;
+        return Ok(pending);
+    }
+    let next = r.read::<FAST>(8).map_err(past)?;
+    match current {
+        h if h & 0xC0 == 0xC0 => {
+            normal::<FAST>(r, st, h, false).map_err(|e| e.at(at))?;
+            st.finish_normal(sink).map_err(err)?;
+        }
+        h if h & 0xC0 == 0x80 => {
+            color::<FAST>(r, st, h, false).map_err(|e| e.at(at))?;
+            st.finish_color(sink).map_err(err)?;
+        }
+        h if h & 0xE0 == 0x20 => {
+            let low = r.read::<FAST>(1).map_err(past)?;
+            let replace = (((h & 1) << 1) | low) as u8;
+            st.mesh_reference(((h >> 1) & 0xF) as usize).map_err(err)?;
+            st.output_vertex(replace, sink).map_err(err)?;
+        }
+        h if h & 0xF8 == 0x18 => {
+            let b = r.read::<FAST>(3).map_err(past)?;
+            st.set_state(h & 1 != 0, (b >> 2) & 1 != 0, (b >> 1) & 1 != 0, sink).map_err(err)?;
+        }
+        h if h & 0xF8 == 0x10 => {
+            let b = r.read::<FAST>(15).map_err(past)?;
+            let (t, first, count, entry) = parse_set_table(h, b);
+            let table = st.tables.get_mut(t).ok_or_else(|| err(no_table(t)))?;
+            for e in table.iter_mut().skip(first).take(count) {
+                *e = entry;
+            }
+        }
+        0x08 => {
+            r.read::<FAST>(24).map_err(past)?;
+            r.read::<FAST>(32).map_err(past)?;
+        }
+        0x07 => {
+            r.read::<FAST>(8).map_err(past)?;
+        }
+        0x01 => {
+            let count = r.read::<FAST>(5).map_err(past)?;
+            r.read::<FAST>(count).map_err(past)?;
+        }
+        // EOS and the unassigned opcodes have no body.
+        _ => {}
+    }
+    Ok(next)
 }
 
 /// setTable names table 3: Java 3D indexes past its three tables.
@@ -108,12 +127,6 @@ pub(crate) fn check_length(bytes: &[u8]) -> Result<(), StreamError> {
         });
     }
     Ok(())
-}
-
-/// The replace code of the vertex just decoded (kept in the state's last
-/// push bits by [`vertex`]).
-fn st_replace(st: &State) -> u8 {
-    st.last_replace
 }
 
 /// An error inside a command body, before its offset is known.
@@ -145,7 +158,7 @@ impl From<String> for BodyError {
 
 /// A vertex body: returns the mesh-buffer push bit.
 #[inline(always)]
-fn vertex(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyError> {
+fn vertex<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyError> {
     let e = st.tables[0][(header & 0x3F) as usize];
     let d = e.sent_bits("position")?;
     let tag = u32::from(e.tag_len);
@@ -153,7 +166,7 @@ fn vertex(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyE
     let head = u64::from(header) & low_bits(6 - tag);
     let (rpm, bits) = if n >= 6 {
         // The 3 replace/push bits, then the rest of x/y/z: at most 51 bits.
-        if !r.ensure(3 + n - 6) {
+        if !r.ensure::<FAST>(3 + n - 6) {
             return Err(BodyError::PastEnd);
         }
         let rpm = r.take(3) as u32;
@@ -166,7 +179,8 @@ fn vertex(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyE
                 "position table entry of tag length {tag} and {d} bits per component leaves {in_header} bits of the header for the 3 replace/push bits"
             )));
         }
-        let rpm = ((u64::from(header) & low_bits(in_header)) << (3 - in_header)) as u32 | r.read(3 - in_header)?;
+        let rpm =
+            ((u64::from(header) & low_bits(in_header)) << (3 - in_header)) as u32 | r.read::<FAST>(3 - in_header)?;
         (rpm, head >> in_header)
     };
     let x = sign_extend(bits >> (2 * d), d) << e.shift;
@@ -185,10 +199,10 @@ fn low_bits(n: u32) -> u64 {
     (1u64 << n) - 1
 }
 
-/// The next `n` bits (`n <= 48`, a body's rest) with one end-of-stream check.
+/// The next `n` bits (`n <= 48`, a body's rest) with one end-of-stream check (none when `FAST`).
 #[inline(always)]
-fn take_checked(r: &mut WordReader, n: u32) -> Result<u64, PastEnd> {
-    if r.ensure(n) {
+fn take_checked<const FAST: bool>(r: &mut WordReader, n: u32) -> Result<u64, PastEnd> {
+    if r.ensure::<FAST>(n) {
         Ok(r.take(n))
     } else {
         Err(PastEnd)
@@ -197,17 +211,17 @@ fn take_checked(r: &mut WordReader, n: u32) -> Result<u64, PastEnd> {
 
 /// A colour body (header's 6 low bits + body).
 #[inline(always)]
-fn color(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
+fn color<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
     let e = st.tables[1][(header & 0x3F) as usize];
     let d = e.sent_bits("colour")?;
     let tag = u32::from(e.tag_len);
     let n = tag + 3 * d;
     let head = u64::from(header) & low_bits(6 - tag);
-    let bits = if n >= 6 { (head << (n - 6)) | take_checked(r, n - 6)? } else { head >> (6 - n) };
+    let bits = if n >= 6 { (head << (n - 6)) | take_checked::<FAST>(r, n - 6)? } else { head >> (6 - n) };
     // Alpha follows the body; when r, g, b leave room for it inside the
     // header, Java 3D's processSetColor masks it to 0 (a bug kept on purpose:
     // Java decides what such streams mean).
-    let a = if st.doing_alpha && n >= 6 { r.read(d)? } else { 0 };
+    let a = if st.doing_alpha && n >= 6 { r.read::<FAST>(d)? } else { 0 };
     let s = e.shift;
     let values = [
         sign_extend(bits >> (2 * d), d) << s,
@@ -221,19 +235,19 @@ fn color(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<
 
 /// A normal body (header's 6 low bits + body).
 #[inline(always)]
-fn normal(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
+fn normal<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
     let e = st.tables[2][(header & 0x3F) as usize];
     let d = e.sent_bits("normal")?;
     let tag = u32::from(e.tag_len);
     let head = u64::from(header) & low_bits(6 - tag);
     if e.absolute {
-        let index = (head << tag) as u32 | r.read(tag)?;
-        let u = (r.read(d)? as i32) << e.shift;
-        let v = (r.read(d)? as i32) << e.shift;
+        let index = (head << tag) as u32 | r.read::<FAST>(tag)?;
+        let u = (r.read::<FAST>(d)? as i32) << e.shift;
+        let v = (r.read::<FAST>(d)? as i32) << e.shift;
         st.set_normal_code(NormalCode { sextant: ((index >> 3) & 7) as u8, octant: (index & 7) as u8, u, v }, push)?;
     } else {
         let n = tag + 2 * d;
-        let bits = if n >= 6 { (head << (n - 6)) | take_checked(r, n - 6)? } else { head >> (6 - n) };
+        let bits = if n >= 6 { (head << (n - 6)) | take_checked::<FAST>(r, n - 6)? } else { head >> (6 - n) };
         let du = sign_extend(bits >> d, d) << e.shift;
         let dv = sign_extend(bits, d) << e.shift;
         st.add_normal_delta(du, dv, push)?;

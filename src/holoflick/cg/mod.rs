@@ -195,7 +195,7 @@ pub fn decode(header: &CgHeader, bytes: &[u8]) -> Result<Decoded> {
 /// output and same errors as [`decode`]; for tests and fuzzing.
 pub fn decode_reference(header: &CgHeader, bytes: &[u8]) -> Result<Decoded> {
     check_version(header)?;
-    let mut sink = strip::JavaOrder::new(header.kind);
+    let mut sink = strip::JavaOrder::derived(header.kind);
     reference::run(bytes, &mut sink).map_err(stream_error)?;
     let c = sink.out;
     Ok(Decoded { triangles: c.triangles, quantized: c.quantized, lines: c.lines, points: c.points })

@@ -99,10 +99,9 @@ pub(crate) struct State {
     pub tables: [[Entry; 64]; 3],
     pub position: [i16; 3],
     pub color: [i16; 4],
-    /// `position` and `color` as floats (value / 32768), kept beside them:
-    /// converting where the integers are computed, rather than reading them
-    /// back later, avoids a store-forwarding stall per vertex.
-    pub position_f: [f32; 3],
+    /// `color` as floats (value / 32768), kept beside it: converting where
+    /// the integers are computed, rather than reading them back later,
+    /// avoids a store-forwarding stall per vertex.
     pub color_f: [f32; 4],
     pub normal: NormalCode,
     pub normal_f: [f32; 3],
@@ -127,6 +126,11 @@ pub(crate) struct State {
     pub last_replace: u8,
     /// Java 3D's normal table, as floats.
     pub normal_table: &'static NormalTable,
+    /// The vertex the back end outputs now, kept up to date as position,
+    /// normal, colour and the list's format change (so that outputting a
+    /// vertex is a copy; [`Self::derived_vertex`] works it out from the
+    /// integers instead, and the reference decoder outputs that).
+    pub out: Vertex,
 }
 
 impl State {
@@ -135,7 +139,6 @@ impl State {
             tables: [[Entry::default(); 64]; 3],
             position: [0; 3],
             color: [0; 4],
-            position_f: [0.0; 3],
             color_f: [0.0; 4],
             normal: NormalCode::default(),
             normal_f: [0.0; 3],
@@ -158,7 +161,34 @@ impl State {
             global_color: None,
             last_replace: 0,
             normal_table: normal_table(),
+            out: Vertex::default(),
         }
+    }
+
+    /// Bring `out.normal` up to date: the global normal once one is set,
+    /// else the current one; none unless the list has normals.
+    #[inline(always)]
+    fn refresh_normal(&mut self) {
+        self.out.normal = if self.format_normals {
+            Some(match &self.global_normal {
+                Some((_, f)) => *f,
+                None => self.normal_f,
+            })
+        } else {
+            None
+        };
+    }
+
+    /// Bring `out.color` up to date: bundled (alpha 1 unless the stream
+    /// sends alpha), else the global colour with alpha 1, else none.
+    #[inline(always)]
+    fn refresh_color(&mut self) {
+        self.out.color = if self.bundling_color {
+            let c = self.color_f;
+            Some([c[0], c[1], c[2], if self.doing_alpha { c[3] } else { 1.0 }])
+        } else {
+            self.global_color.map(|c| [unit(c[0]), unit(c[1]), unit(c[2]), 1.0])
+        };
     }
 
     /// setState: new bundling flags, and (back end) a new vertex list.
@@ -178,6 +208,8 @@ impl State {
         self.list_open = true;
         self.list_vertices = 0;
         self.format_normals = normals;
+        self.refresh_normal();
+        self.refresh_color();
         Ok(())
     }
 
@@ -189,6 +221,9 @@ impl State {
         let Some(n) = index_normal(self.normal_table, code) else { return Err(outside_grid(code)) };
         self.normal = code;
         self.normal_f = n;
+        if self.format_normals && self.global_normal.is_none() {
+            self.out.normal = Some(n);
+        }
         if push {
             let slot = &mut self.mesh[self.mesh_index];
             slot.normal = NormalCode { u: i32::from(code.u as i16), v: i32::from(code.v as i16), ..code };
@@ -260,6 +295,7 @@ impl State {
                 self.format_normals = true;
             }
             self.global_normal = Some((self.normal, self.normal_f));
+            self.refresh_normal();
         }
         Ok(())
     }
@@ -277,6 +313,7 @@ impl State {
                 self.list_vertices = 0;
             }
             self.global_color = Some(self.color);
+            self.refresh_color();
         }
         Ok(())
     }
@@ -299,6 +336,9 @@ impl State {
         let f = c.map(unit);
         self.color = c;
         self.color_f = f;
+        if self.bundling_color {
+            self.out.color = Some([f[0], f[1], f[2], if self.doing_alpha { f[3] } else { 1.0 }]);
+        }
         if push {
             let slot = &mut self.mesh[self.mesh_index];
             slot.color = c;
@@ -318,7 +358,7 @@ impl State {
         ];
         let f = p.map(unit);
         self.position = p;
-        self.position_f = f;
+        self.out.position = f;
         if push {
             self.mesh_index = (self.mesh_index + 1) & 15;
             self.pushes = (self.pushes + 1).min(16);
@@ -334,24 +374,23 @@ impl State {
         if depth >= self.pushes {
             return Err(format!("mesh-buffer reference {depth} but only {} vertices have been pushed", self.pushes));
         }
-        let entry = self.mesh[(self.mesh_index + 16 - depth) & 15];
+        let entry = &self.mesh[(self.mesh_index + 16 - depth) & 15];
         self.position = entry.position;
-        self.position_f = entry.position_f;
+        self.out.position = entry.position_f;
         if self.bundling_normal && self.use_mesh_normal {
             self.normal = entry.normal;
             self.normal_f = entry.normal_f;
+            if self.global_normal.is_none() {
+                // format_normals holds while bundling normals.
+                self.out.normal = Some(entry.normal_f);
+            }
         }
         if self.bundling_color && self.use_mesh_color {
-            self.color[0] = entry.color[0];
-            self.color[1] = entry.color[1];
-            self.color[2] = entry.color[2];
-            self.color_f[0] = entry.color_f[0];
-            self.color_f[1] = entry.color_f[1];
-            self.color_f[2] = entry.color_f[2];
-            if self.doing_alpha {
-                self.color[3] = entry.color[3];
-                self.color_f[3] = entry.color_f[3];
-            }
+            let (c, f) = (entry.color, entry.color_f);
+            let alpha = self.doing_alpha;
+            self.color = [c[0], c[1], c[2], if alpha { c[3] } else { self.color[3] }];
+            self.color_f = [f[0], f[1], f[2], if alpha { f[3] } else { self.color_f[3] }];
+            self.out.color = Some([f[0], f[1], f[2], if alpha { f[3] } else { 1.0 }]);
         }
         Ok(())
     }
@@ -389,24 +428,22 @@ impl State {
         }
     }
 
-    /// The current vertex in the normalised frame.
+    /// The current vertex in the normalised frame (kept up to date).
     #[inline(always)]
     pub(crate) fn float_vertex(&self) -> Vertex {
-        let normal = if self.format_normals {
-            Some(match &self.global_normal {
-                Some((_, f)) => *f,
-                None => self.normal_f,
-            })
-        } else {
-            None
-        };
-        let color = if self.bundling_color {
-            let c = self.color_f;
-            Some([c[0], c[1], c[2], if self.doing_alpha { c[3] } else { 1.0 }])
-        } else {
-            self.global_color.map(|c| [unit(c[0]), unit(c[1]), unit(c[2]), 1.0])
-        };
-        Vertex { position: self.position_f, normal, color }
+        self.out
+    }
+
+    /// The current vertex in the normalised frame, worked out from the
+    /// integers and the back end's rules rather than kept up to date: the
+    /// reference decoder outputs this, so the tests that make the two
+    /// decoders agree check [`Self::float_vertex`] too.
+    pub(crate) fn derived_vertex(&self) -> Vertex {
+        let normal = self.output_normal().map(|(code, f)| index_normal(self.normal_table, code).unwrap_or(f));
+        let color = self
+            .output_color()
+            .map(|(c, alpha)| [unit(c[0]), unit(c[1]), unit(c[2]), if alpha { unit(c[3]) } else { 1.0 }]);
+        Vertex { position: self.position.map(unit), normal, color }
     }
 
     /// The current vertex as stream integers.

@@ -170,6 +170,9 @@ pub(crate) struct Collected {
 /// Keeps each vertex list and converts it at its end, in Java's order.
 pub(crate) struct JavaOrder {
     kind: BlockKind,
+    /// Take each vertex as [`State::derived_vertex`] works it out (the
+    /// reference decoder) rather than as the state keeps it.
+    derive: bool,
     list: Vec<(QuantizedVertex, Vertex)>,
     flags: Vec<u8>,
     pub out: Collected,
@@ -177,13 +180,19 @@ pub(crate) struct JavaOrder {
 
 impl JavaOrder {
     pub(crate) fn new(kind: BlockKind) -> Self {
-        JavaOrder { kind, list: Vec::new(), flags: Vec::new(), out: Collected::default() }
+        JavaOrder { kind, derive: false, list: Vec::new(), flags: Vec::new(), out: Collected::default() }
+    }
+
+    /// [`Self::new`] for the reference decoder: vertices by [`State::derived_vertex`].
+    pub(crate) fn derived(kind: BlockKind) -> Self {
+        JavaOrder { derive: true, ..Self::new(kind) }
     }
 }
 
 impl Sink for JavaOrder {
     fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String> {
-        self.list.push((state.quantized_vertex(), state.float_vertex()));
+        let v = if self.derive { state.derived_vertex() } else { state.float_vertex() };
+        self.list.push((state.quantized_vertex(), v));
         self.flags.push(replace);
         Ok(())
     }
@@ -214,15 +223,17 @@ impl Sink for JavaOrder {
     }
 }
 
-/// A primitive as the streaming decoder hands it over.
+/// A primitive as the streaming decoder hands it over: its vertices lent
+/// (copying three 48-byte vertices per triangle was a quarter of the
+/// streaming decoder's time).
 #[derive(Clone, Copy, Debug)]
 pub enum Primitive<'a> {
     /// A point (point blocks).
     Point(&'a Vertex),
     /// A line segment (line blocks).
-    Line(&'a [Vertex; 2]),
+    Line([&'a Vertex; 2]),
     /// A triangle, counter-clockwise seen from its front (triangle blocks).
-    Triangle(&'a [Vertex; 3]),
+    Triangle([&'a Vertex; 3]),
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -238,7 +249,8 @@ enum Run {
 pub(crate) struct Streaming<F> {
     kind: BlockKind,
     f: F,
-    /// Vertex storage; `window` says which slot holds the oldest, middle and newest.
+    /// Vertex storage; `window` says which slot holds the oldest, middle and
+    /// newest. A new vertex is written once, into the slot it takes.
     slots: [Vertex; 3],
     window: [usize; 3],
     /// Vertices in the window (a list starts empty).
@@ -267,31 +279,28 @@ impl<F: FnMut(Primitive)> Streaming<F> {
     #[inline(always)]
     fn emit(&mut self, listed: [usize; 3]) {
         let [p, q, r] = if self.ccw { listed } else { [listed[0], listed[2], listed[1]] };
-        let t = [self.slots[p], self.slots[q], self.slots[r]];
-        (self.f)(Primitive::Triangle(&t));
+        (self.f)(Primitive::Triangle([&self.slots[p], &self.slots[q], &self.slots[r]]));
     }
 }
 
 impl<F: FnMut(Primitive)> Sink for Streaming<F> {
     #[inline]
     fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String> {
-        let v = state.float_vertex();
         match self.kind {
             BlockKind::Points => {
-                (self.f)(Primitive::Point(&v));
+                (self.f)(Primitive::Point(&state.float_vertex()));
                 return Ok(());
             }
             BlockKind::Lines => {
                 if self.filled == 0 || (self.need == 0 && replace < REPLACE_MIDDLE) {
-                    self.slots[1] = v;
+                    self.slots[1] = state.float_vertex();
                     self.filled = 1;
                     self.need = 1;
                 } else {
                     self.slots[0] = self.slots[1];
-                    self.slots[1] = v;
+                    self.slots[1] = state.float_vertex();
                     self.need = 0;
-                    let l = [self.slots[0], self.slots[1]];
-                    (self.f)(Primitive::Line(&l));
+                    (self.f)(Primitive::Line([&self.slots[0], &self.slots[1]]));
                 }
                 return Ok(());
             }
@@ -301,12 +310,12 @@ impl<F: FnMut(Primitive)> Sink for Streaming<F> {
         if self.filled == 0 || (self.need == 0 && replace < REPLACE_MIDDLE) {
             self.ccw = replace != RESTART_CW;
             self.window = [0, 1, 2];
-            self.slots[0] = v;
+            self.slots[0] = state.float_vertex();
             self.filled = 1;
             self.need = 2;
             self.run = Run::Pending;
         } else if self.need > 0 {
-            self.slots[self.filled] = v;
+            self.slots[self.filled] = state.float_vertex();
             self.filled += 1;
             self.need -= 1;
             if self.need == 0 {
@@ -314,7 +323,7 @@ impl<F: FnMut(Primitive)> Sink for Streaming<F> {
             }
         } else if replace == REPLACE_OLDEST {
             // The new vertex takes the oldest's slot.
-            self.slots[a] = v;
+            self.slots[a] = state.float_vertex();
             let listed = match self.run {
                 Run::Fan => {
                     self.ccw = !self.ccw;
@@ -343,7 +352,7 @@ impl<F: FnMut(Primitive)> Sink for Streaming<F> {
                 }
             }
             // The new vertex takes the middle's slot.
-            self.slots[b] = v;
+            self.slots[b] = state.float_vertex();
             self.run = Run::Fan;
             self.window = [a, c, b];
             self.emit([a, c, b]);
