@@ -36,26 +36,18 @@ impl<'a> WordReader<'a> {
         WordReader { bytes, next: 0, buf: 0, count: 0 }
     }
 
-    /// Top the buffer up to at least 57 bits when the stream has them.
+    /// Top the buffer up to 56..=63 bits, or to the end of the stream.
     /// Away from the end one big-endian 8-byte load fills every whole byte
-    /// that fits; the last few bytes go one at a time. (Java refills a
-    /// 4-byte word at a time; the bits are the same either way.)
+    /// that fits ([`Self::refill_fast`]); the last few bytes go one at a
+    /// time. (Java refills a 4-byte word at a time; the bits are the same
+    /// either way.)
     #[inline(always)]
     fn refill(&mut self) {
-        if let Some(eight) = self.bytes.get(self.next..self.next + 8) {
-            let mut word = [0u8; 8];
-            word.copy_from_slice(eight);
-            // count <= 32 here, so the shift is in range and at least 3 bytes fit.
-            self.buf |= u64::from_be_bytes(word) >> self.count;
-            let bytes = (64 - self.count) / 8;
-            self.next += bytes as usize;
-            self.count += bytes * 8;
-            // Bits of the byte not taken are cleared so the next load can OR
-            // in (count is 57..=64 here; two shifts make 64 keep everything).
-            self.buf &= !((u64::MAX >> 1) >> (self.count - 1));
+        if self.far_from_end(8) {
+            self.refill_fast();
             return;
         }
-        while self.count <= 56 {
+        while self.count <= 55 {
             let Some(&byte) = self.bytes.get(self.next) else { return };
             self.buf |= u64::from(byte) << (56 - self.count);
             self.count += 8;
@@ -63,16 +55,17 @@ impl<'a> WordReader<'a> {
         }
     }
 
-    /// Top the buffer up to at least 56 bits without looking for the end:
-    /// the caller has made sure that 8 bytes remain to be loaded
+    /// Top the buffer up to 56..=63 bits without looking for the end: the
+    /// caller has made sure that 8 bytes remain to be loaded
     /// ([`Self::far_from_end`]). Branch-free: the bits of the byte only
-    /// partly taken are loaded again at the same place, and OR-ing equal
-    /// bits changes nothing (bits below `count` are always 0 or the stream's).
+    /// partly taken stay in the buffer below `count` and are loaded again
+    /// at the same place, which OR-ing leaves as they are (the bits below
+    /// `count` are always 0 or the stream's own).
     #[inline(always)]
     fn refill_fast(&mut self) {
         let mut word = [0u8; 8];
         word.copy_from_slice(&self.bytes[self.next..self.next + 8]);
-        // count < n <= 56 here, so the shift is in range.
+        // count <= 63 always (every refill leaves 56..=63), so the shift is in range.
         self.buf |= u64::from_be_bytes(word) >> self.count;
         self.next += ((63 - self.count) >> 3) as usize;
         self.count |= 56;
@@ -102,9 +95,11 @@ impl<'a> WordReader<'a> {
     #[inline(always)]
     pub(crate) fn ensure<const FAST: bool>(&mut self, n: u32) -> bool {
         if FAST {
-            if self.count < n {
-                self.refill_fast();
-            }
+            // Unconditionally: a refill costs a few instructions, while a
+            // branch on the bit count goes whichever way the data says and
+            // was mispredicted most of the time.
+            let _ = n;
+            self.refill_fast();
             return true;
         }
         if self.count < n {

@@ -160,7 +160,7 @@ impl From<String> for BodyError {
 #[inline(always)]
 fn vertex<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyError> {
     let e = st.tables[0][(header & 0x3F) as usize];
-    let d = e.sent_bits("position")?;
+    let d = e.sent("position")?;
     let tag = u32::from(e.tag_len);
     let n = tag + 3 * d;
     let head = u64::from(header) & low_bits(6 - tag);
@@ -213,7 +213,7 @@ fn take_checked<const FAST: bool>(r: &mut WordReader, n: u32) -> Result<u64, Pas
 #[inline(always)]
 fn color<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
     let e = st.tables[1][(header & 0x3F) as usize];
-    let d = e.sent_bits("colour")?;
+    let d = e.sent("colour")?;
     let tag = u32::from(e.tag_len);
     let n = tag + 3 * d;
     let head = u64::from(header) & low_bits(6 - tag);
@@ -237,7 +237,7 @@ fn color<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32, push
 #[inline(always)]
 fn normal<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
     let e = st.tables[2][(header & 0x3F) as usize];
-    let d = e.sent_bits("normal")?;
+    let d = e.sent("normal")?;
     let tag = u32::from(e.tag_len);
     let head = u64::from(header) & low_bits(6 - tag);
     if e.absolute {

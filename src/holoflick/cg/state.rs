@@ -18,6 +18,10 @@ pub(crate) struct Entry {
     pub shift: u8,
     /// Absolute (replace) rather than relative (add).
     pub absolute: bool,
+    /// Bits sent per component, `data_len - shift`, or [`Entry::INVALID`]
+    /// when the shift exceeds the length: worked out once, when the table is
+    /// set, for the fast decoder (the reference works it out at each use).
+    pub sent: u8,
 }
 
 impl Entry {
@@ -29,6 +33,18 @@ impl Entry {
             return Err(self.shift_error(table));
         }
         Ok(u32::from(self.data_len - self.shift))
+    }
+
+    /// [`Self::sent`] of an entry whose shift exceeds its length.
+    pub(crate) const INVALID: u8 = u8::MAX;
+
+    /// [`Self::sent_bits`] as set with the table.
+    #[inline(always)]
+    pub(crate) fn sent(&self, table: &str) -> Result<u32, String> {
+        if self.sent == Self::INVALID {
+            return Err(self.shift_error(table));
+        }
+        Ok(u32::from(self.sent))
     }
 
     #[cold]
@@ -54,7 +70,8 @@ pub(crate) fn parse_set_table(header: u32, body: u32) -> (usize, usize, usize, E
     }
     let first = ((adr << (6 - tag_len)) & 0x3F) as usize;
     let count = 1usize << (6 - tag_len);
-    (table, first, count, Entry { tag_len: tag_len as u8, data_len, shift, absolute })
+    let sent = data_len.checked_sub(shift).unwrap_or(Entry::INVALID);
+    (table, first, count, Entry { tag_len: tag_len as u8, data_len, shift, absolute, sent })
 }
 
 /// A stream integer in the normalised frame (value / 32768, exact in f32).
