@@ -236,50 +236,82 @@ pub enum Primitive<'a> {
     Triangle([&'a Vertex; 3]),
 }
 
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Run {
-    /// Just restarted: the fourth vertex decides strip or fan.
-    Pending,
-    /// A strip of this many vertices so far.
-    Strip(usize),
-    Fan,
+/// A restart's window: slots 0, 1, 2.
+const WINDOW_RESTART: u32 = 0x02_01_00;
+
+/// The three slots of a packed window, each masked to 0..=3.
+#[inline(always)]
+fn slots_of(window: u32) -> [usize; 3] {
+    [0, 8, 16].map(|shift| ((window >> shift) & 3) as usize)
 }
 
 /// Emits each primitive as its last vertex arrives: memory is the last three vertices.
+///
+/// Triangles: after a restart's three vertices, each vertex makes one
+/// triangle with two of the window's: replace-oldest (a strip step) drops
+/// the oldest, replace-middle (a fan step) the middle. Orientation needs one
+/// bit: the first triangle is reversed when the restart says clockwise;
+/// every strip step flips it and a fan step keeps it. (That is Java 3D's
+/// `GeneralizedStrip` bookkeeping — a strip's odd triangles swap, a fan
+/// after a strip of even length changes direction — folded into one rule;
+/// the tests hold it to [`java_triangles`] on random streams.) The steady
+/// state is branch-free: strips and fans alternate as the data says.
 pub(crate) struct Streaming<F> {
     kind: BlockKind,
     f: F,
-    /// Vertex storage; `window` says which slot holds the oldest, middle and
-    /// newest. A new vertex is written once, into the slot it takes.
-    slots: [Vertex; 3],
-    window: [usize; 3],
-    /// Vertices in the window (a list starts empty).
-    filled: usize,
-    /// Vertices still owed to the current restart.
-    need: usize,
-    ccw: bool,
-    run: Run,
+    /// Vertex storage (a fourth slot so that indices masked by 3 need no
+    /// bounds check). A new vertex is written once, into the slot it takes.
+    slots: [Vertex; 4],
+    /// The slots of the oldest, middle and newest vertex in bytes 0, 1, 2:
+    /// packed so that it is stored and loaded whole (three byte stores read
+    /// back as one load would stall store forwarding at every vertex).
+    window: u32,
+    /// Vertices of the current restart received, 0..=3 (3: running).
+    filled: u8,
+    /// Emit the window's triangle as (oldest, newest, middle) rather than
+    /// (oldest, middle, newest).
+    flip: bool,
 }
 
 impl<F: FnMut(Primitive)> Streaming<F> {
     pub(crate) fn new(kind: BlockKind, f: F) -> Self {
-        Streaming {
-            kind,
-            f,
-            slots: [Vertex::default(); 3],
-            window: [0, 1, 2],
-            filled: 0,
-            need: 0,
-            ccw: true,
-            run: Run::Pending,
-        }
+        Streaming { kind, f, slots: [Vertex::default(); 4], window: WINDOW_RESTART, filled: 0, flip: false }
     }
 
-    /// Emit the triangle of slots `listed`, reversed when the run is clockwise.
+    /// Emit the window's triangle in the orientation `flip` says.
     #[inline(always)]
-    fn emit(&mut self, listed: [usize; 3]) {
-        let [p, q, r] = if self.ccw { listed } else { [listed[0], listed[2], listed[1]] };
-        (self.f)(Primitive::Triangle([&self.slots[p], &self.slots[q], &self.slots[r]]));
+    fn emit(&mut self) {
+        let [a, b, c] = slots_of(self.window);
+        let (q, r) = if self.flip { (c, b) } else { (b, c) };
+        (self.f)(Primitive::Triangle([&self.slots[a], &self.slots[q], &self.slots[r]]));
+    }
+
+    /// A triangle vertex with its replace code.
+    #[inline(always)]
+    fn triangle_vertex(&mut self, state: &State, replace: u8) {
+        if self.filled == 3 && replace >= REPLACE_MIDDLE {
+            // A strip step takes the oldest's slot, a fan step the middle's.
+            let [a, b, c] = slots_of(self.window);
+            let strip = replace == REPLACE_OLDEST;
+            let (slot, keep) = if strip { (a, b) } else { (b, a) };
+            self.slots[slot] = state.float_vertex();
+            self.window = (keep | (c << 8) | (slot << 16)) as u32;
+            self.flip ^= strip;
+            self.emit();
+            return;
+        }
+        if self.filled == 3 || self.filled == 0 {
+            // A restart (the first vertex of a list is one whatever its code).
+            self.filled = 0;
+            self.window = WINDOW_RESTART;
+            self.flip = replace == RESTART_CW;
+        }
+        // The restart's vertices fill the window in order.
+        self.slots[usize::from(self.filled & 3)] = state.float_vertex();
+        self.filled += 1;
+        if self.filled == 3 {
+            self.emit();
+        }
     }
 }
 
@@ -287,83 +319,31 @@ impl<F: FnMut(Primitive)> Sink for Streaming<F> {
     #[inline]
     fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String> {
         match self.kind {
-            BlockKind::Points => {
-                (self.f)(Primitive::Point(&state.float_vertex()));
-                return Ok(());
-            }
+            BlockKind::Triangles => self.triangle_vertex(state, replace),
+            BlockKind::Points => (self.f)(Primitive::Point(&state.float_vertex())),
             BlockKind::Lines => {
-                if self.filled == 0 || (self.need == 0 && replace < REPLACE_MIDDLE) {
+                // A line strip: a restart takes one more vertex, then each vertex adds a segment.
+                if self.filled == 0 || (self.filled == 2 && replace < REPLACE_MIDDLE) {
                     self.slots[1] = state.float_vertex();
                     self.filled = 1;
-                    self.need = 1;
                 } else {
                     self.slots[0] = self.slots[1];
                     self.slots[1] = state.float_vertex();
-                    self.need = 0;
+                    self.filled = 2;
                     (self.f)(Primitive::Line([&self.slots[0], &self.slots[1]]));
                 }
-                return Ok(());
             }
-            BlockKind::Triangles => {}
-        }
-        let [a, b, c] = self.window;
-        if self.filled == 0 || (self.need == 0 && replace < REPLACE_MIDDLE) {
-            self.ccw = replace != RESTART_CW;
-            self.window = [0, 1, 2];
-            self.slots[0] = state.float_vertex();
-            self.filled = 1;
-            self.need = 2;
-            self.run = Run::Pending;
-        } else if self.need > 0 {
-            self.slots[self.filled] = state.float_vertex();
-            self.filled += 1;
-            self.need -= 1;
-            if self.need == 0 {
-                self.emit([0, 1, 2]);
-            }
-        } else if replace == REPLACE_OLDEST {
-            // The new vertex takes the oldest's slot.
-            self.slots[a] = state.float_vertex();
-            let listed = match self.run {
-                Run::Fan => {
-                    self.ccw = !self.ccw;
-                    self.run = Run::Strip(3);
-                    [b, c, a]
-                }
-                Run::Pending | Run::Strip(_) => {
-                    let len = match self.run {
-                        Run::Strip(l) => l + 1,
-                        _ => 4,
-                    };
-                    self.run = Run::Strip(len);
-                    if (len - 3) % 2 == 0 {
-                        [b, c, a]
-                    } else {
-                        [c, b, a]
-                    }
-                }
-            };
-            self.window = [b, c, a];
-            self.emit(listed);
-        } else {
-            if let Run::Strip(len) = self.run {
-                if len % 2 == 0 {
-                    self.ccw = !self.ccw;
-                }
-            }
-            // The new vertex takes the middle's slot.
-            self.slots[b] = state.float_vertex();
-            self.run = Run::Fan;
-            self.window = [a, c, b];
-            self.emit([a, c, b]);
         }
         Ok(())
     }
 
     fn end_list(&mut self) -> Result<(), String> {
-        let incomplete = self.filled > 0 && self.need > 0;
+        let incomplete = match self.kind {
+            BlockKind::Triangles => self.filled == 1 || self.filled == 2,
+            BlockKind::Lines => self.filled == 1,
+            BlockKind::Points => false,
+        };
         self.filled = 0;
-        self.need = 0;
         if incomplete {
             return Err(match self.kind {
                 BlockKind::Lines => "a line strip restart is not followed by another vertex".into(),
