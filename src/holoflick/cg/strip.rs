@@ -316,7 +316,7 @@ impl<F: FnMut(Primitive)> Streaming<F> {
 }
 
 impl<F: FnMut(Primitive)> Sink for Streaming<F> {
-    #[inline]
+    #[inline(always)]
     fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String> {
         match self.kind {
             BlockKind::Triangles => self.triangle_vertex(state, replace),
