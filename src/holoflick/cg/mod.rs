@@ -184,7 +184,7 @@ fn check_version(header: &CgHeader) -> Result<()> {
 /// Safe on untrusted input.
 pub fn decode(header: &CgHeader, bytes: &[u8]) -> Result<Decoded> {
     check_version(header)?;
-    let mut sink = strip::JavaOrder::new(header.kind);
+    let mut sink = strip::JavaOrder::for_stream(header.kind, bytes.len());
     decode::run(bytes, &mut sink).map_err(stream_error)?;
     let c = sink.out;
     Ok(Decoded { triangles: c.triangles, quantized: c.quantized, lines: c.lines, points: c.points })

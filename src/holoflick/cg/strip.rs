@@ -183,6 +183,18 @@ impl JavaOrder {
         JavaOrder { kind, derive: false, list: Vec::new(), flags: Vec::new(), out: Collected::default() }
     }
 
+    /// [`Self::new`] for a stream of `bytes` bytes: room for as many
+    /// vertices as it can hold (each takes at least 9 bits, a mesh-buffer
+    /// reference), up to a million, so the list never grows by copying.
+    /// Only the pages used are ever touched.
+    pub(crate) fn for_stream(kind: BlockKind, bytes: usize) -> Self {
+        let most = (bytes * 8 / 9).min(1 << 20);
+        let mut j = Self::new(kind);
+        j.list.reserve(most);
+        j.flags.reserve(most);
+        j
+    }
+
     /// [`Self::new`] for the reference decoder: vertices by [`State::derived_vertex`].
     pub(crate) fn derived(kind: BlockKind) -> Self {
         JavaOrder { derive: true, ..Self::new(kind) }
