@@ -185,10 +185,11 @@ impl JavaOrder {
 
     /// [`Self::new`] for a stream of `bytes` bytes: room for as many
     /// vertices as it can hold (each takes at least 9 bits, a mesh-buffer
-    /// reference), up to a million, so the list never grows by copying.
-    /// Only the pages used are ever touched.
+    /// reference), so that the list does not grow by copying (which had
+    /// been most of the time); at most 65 536 (6 MB, only the pages used
+    /// are touched), longer lists grow from there.
     pub(crate) fn for_stream(kind: BlockKind, bytes: usize) -> Self {
-        let most = (bytes * 8 / 9).min(1 << 20);
+        let most = (bytes * 8 / 9).min(1 << 16);
         let mut j = Self::new(kind);
         j.list.reserve(most);
         j.flags.reserve(most);
