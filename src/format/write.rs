@@ -261,29 +261,27 @@ fn write_parts<'a>(
                     },
                 };
                 let header = &meta.headers[part];
-                // Build and compress blocks in parallel batches; chunks are
-                // written in increasing y, so the file's bytes do not depend
-                // on the thread count (exrs's own parallel compressor writes
-                // them in the order they finish).
+                let mut compressor = chunk_writer.sequential_blocks_compressor(&meta);
+                // Build blocks in parallel batches; indices stay in increasing y.
                 let tiles: Vec<_> = header.blocks_increasing_y_order().enumerate().collect();
                 let block_bytes = row_len * header.compression.scan_lines_per_block();
                 // At least a block per thread, so large blocks still build in parallel.
                 let per_batch = (BATCH_BYTES / block_bytes.max(1)).max(rayon::current_num_threads()).clamp(1, 64);
                 for batch in tiles.chunks(per_batch) {
-                    let chunks: Vec<exr::error::Result<(usize, exr::block::chunk::Chunk)>> = {
+                    let chunks: Vec<exr::error::Result<(usize, UncompressedBlock)>> = {
                         use rayon::prelude::*;
                         batch
                             .par_iter()
                             .map(|(index, tile)| {
                                 let bounds = header.get_absolute_block_pixel_coordinates(tile.location)?;
                                 let block = block(&rows, geometry, &order, header, part, bounds, options.sample_type)?;
-                                Ok((*index, block.compress_to_chunk(&meta.headers)?))
+                                Ok((*index, block))
                             })
                             .collect()
                     };
                     for c in chunks {
-                        let (index, chunk) = c?;
-                        chunk_writer.write_chunk(index, chunk)?;
+                        let (index, block) = c?;
+                        compressor.compress_block(index, block)?;
                     }
                 }
             }
