@@ -21,10 +21,14 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
     // The first header is an implicit V_NO_OP whose body (a 5-bit count) starts the stream.
     let mut next: u32 = 0x01;
     while !r.at_end() {
-        // No command reads more than 173 bits (a vertex with bundled normal
-        // and colour at the widest entries), 22 bytes: with 32 bytes left
-        // to load, its reads need no end-of-stream checks.
-        next = if r.far_from_end(32) {
+        // Every read of a FAST command refills from `next`, the first byte
+        // not yet buffered, which runs at most 63 bits ahead of the bits
+        // read. The widest command (a vertex with bundled normal and colour
+        // at the widest entries: 6 + 51 + 6 + 36 + 8 + 48 + 16 = 171 bits)
+        // last loads from where its previous refill, at most 107 bits in,
+        // left `next`: no load ends past 8 + (107 + 63) / 8 < 30 bytes from
+        // here, and 40 leaves room to spare. Nearer the end reads are checked.
+        next = if r.far_from_end(FAST_MARGIN_BYTES) {
             command::<true>(&mut r, &mut st, sink, next)?
         } else {
             command::<false>(&mut r, &mut st, sink, next)?
@@ -32,6 +36,9 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
     }
     st.finish(sink).map_err(|problem| StreamError { bit: r.position(), problem })
 }
+
+/// Bytes still to load beyond which a command's reads need no end checks (see [`run`]).
+const FAST_MARGIN_BYTES: usize = 40;
 
 /// Decode the command whose header is `current` (its body comes next in
 /// `r`): returns the following header. `FAST`: `r` is far enough from the
