@@ -4,7 +4,9 @@
 //! the streaming decoder hands out the same primitives.
 #![no_main]
 
-use holo::holoflick::cg::{decode, decode_reference, decode_with, file::CgFile, BlockKind, CgHeader, Primitive, Vertex};
+use holo::holoflick::cg::{
+    decode, decode_reference, decode_with, file::CgFile, BlockKind, CgHeader, Primitive, Vertex,
+};
 use libfuzzer_sys::fuzz_target;
 
 fn agree(header: &CgHeader, bytes: &[u8]) {
@@ -27,7 +29,9 @@ fn agree(header: &CgHeader, bytes: &[u8]) {
         let canonical = |ts: Vec<[Vec<u32>; 3]>| {
             let mut ts: Vec<_> = ts
                 .into_iter()
-                .map(|[a, b, c]| [[a.clone(), b.clone(), c.clone()], [b.clone(), c.clone(), a.clone()], [c, a, b]].into_iter().min())
+                .map(|[a, b, c]| {
+                    [[a.clone(), b.clone(), c.clone()], [b.clone(), c.clone(), a.clone()], [c, a, b]].into_iter().min()
+                })
                 .collect();
             ts.sort();
             ts

@@ -71,8 +71,8 @@ impl<'a> WordReader<'a> {
         self.count |= 56;
     }
 
-    /// At least `bytes` bytes remain to be loaded: a command that reads
-    /// fewer than `bytes - 8` bytes can use the `FAST` reads.
+    /// At least `bytes` bytes remain to be loaded (the decoder's test for
+    /// `FAST` reads; `decode::run` works out the margin they need).
     #[inline(always)]
     pub(crate) fn far_from_end(&self, bytes: usize) -> bool {
         self.bytes.len() - self.next >= bytes
@@ -98,7 +98,7 @@ impl<'a> WordReader<'a> {
             // Unconditionally: a refill costs a few instructions, while a
             // branch on the bit count goes whichever way the data says and
             // was mispredicted most of the time.
-            let _ = n;
+            debug_assert!(n <= 56);
             self.refill_fast();
             return true;
         }

@@ -279,7 +279,8 @@ pub(crate) struct Streaming<F> {
     /// packed so that it is stored and loaded whole (three byte stores read
     /// back as one load would stall store forwarding at every vertex).
     window: u32,
-    /// Vertices of the current restart received, 0..=3 (3: running).
+    /// Vertices of the current restart received: triangles 0..=3 (3: the
+    /// window is full), lines 0..=2 (2: a segment has been drawn).
     filled: u8,
     /// Emit the window's triangle as (oldest, newest, middle) rather than
     /// (oldest, middle, newest).
