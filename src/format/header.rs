@@ -195,92 +195,10 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
 
     let mut frames = Vec::new();
     let mut chunk_total: u64 = 0;
+    let part_zero = PartZero { colours: &colours, sample_type, geometry: &geometry, compression };
     for (part, header) in headers.iter().enumerate() {
         chunk_total += header.chunk_count as u64;
-        let here = Attributes::new(&[&header.shared_attributes.other, &header.own_attributes.other]);
-        let prefix = if headers.len() > 1 { format!("part {part}: ") } else { String::new() };
-        if part > 0 {
-            let same = channel_list(header).ok() == Some((colours.clone(), sample_type))
-                && here.geometry(&colours).ok().as_ref() == Some(&geometry);
-            if !same {
-                problems.push(format!("{prefix}geometry or channels differ from part 0; every frame must share them"));
-            }
-            if Compression::from_exr(header.compression) != Some(compression) {
-                problems.push(format!("{prefix}compression differs from part 0"));
-            }
-        }
-        if header.deep {
-            problems.push(format!("{prefix}deep data is not allowed"));
-        }
-        if let BlockDescription::Tiles(t) = header.blocks {
-            if t.level_mode != exr::meta::attribute::LevelMode::Singular {
-                problems.push(format!("{prefix}mip or rip levels are not allowed"));
-            }
-        }
-        let display = header.shared_attributes.display_window;
-        if display.position.0 != 0
-            || display.position.1 != 0
-            || display.size.0 != geometry.emitters
-            || display.size.1 != geometry.hololines
-        {
-            problems.push(format!(
-                "{prefix}display window is {}×{} at ({}, {}); it must be emitters × hololines = {}×{} at (0, 0)",
-                display.size.0,
-                display.size.1,
-                display.position.0,
-                display.position.1,
-                geometry.emitters,
-                geometry.hololines
-            ));
-        }
-        let (dx, dy) = (header.own_attributes.layer_position.0, header.own_attributes.layer_position.1);
-        let (dw, dh) = (header.layer_size.0, header.layer_size.1);
-        let inside =
-            dx >= 0 && dy >= 0 && dx as usize + dw <= geometry.emitters && dy as usize + dh <= geometry.hololines;
-        if !inside {
-            problems.push(format!("{prefix}data window {dw}×{dh} at ({dx}, {dy}) is not inside the display window"));
-        }
-        if header.shared_attributes.pixel_aspect != 1.0 {
-            problems
-                .push(format!("{prefix}pixel aspect ratio is {}; it must be 1", header.shared_attributes.pixel_aspect));
-        }
-        let number = match here.optional(name::FRAME, Attributes::int) {
-            Ok(n) => i64::from(n.unwrap_or(part as i32)),
-            Err(e) => {
-                problems.push(format!("{prefix}{e}"));
-                part as i64
-            }
-        };
-        match here.optional(name::FRAME_COUNT, Attributes::int) {
-            Ok(Some(n)) if n as usize != headers.len() => problems.push(format!(
-                "{prefix}{} is {n} but the file has {} part(s)",
-                name::FRAME_COUNT,
-                headers.len()
-            )),
-            Ok(_) => {}
-            Err(e) => problems.push(format!("{prefix}{e}")),
-        }
-        let digest = match here.optional(name::DIGEST, Attributes::string) {
-            Ok(Some(d)) if is_well_formed(&d) => Some(d),
-            Ok(Some(d)) => {
-                problems.push(format!("{prefix}{} {d:?} is not `sha256:` and 64 hex digits", name::DIGEST));
-                None
-            }
-            Ok(None) => {
-                problems.push(format!("{prefix}required attribute {} is missing", name::DIGEST));
-                None
-            }
-            Err(e) => {
-                problems.push(format!("{prefix}{e}"));
-                None
-            }
-        };
-        frames.push(FrameInfo {
-            number,
-            digest,
-            data_window: Window { x: dx.max(0) as usize, y: dy.max(0) as usize, width: dw, height: dh },
-            part,
-        });
+        frames.push(check_part(part, header, headers.len(), &part_zero, &mut problems));
     }
     if frames.windows(2).any(|w| w[1].number <= w[0].number) {
         problems.push("frame numbers (holo.frame) are not strictly increasing from part to part".into());
@@ -318,6 +236,107 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
         unknown_attributes,
     };
     Ok(Parsed { info: Some(info), problems, warnings })
+}
+
+/// What every later part must share with part 0.
+struct PartZero<'a> {
+    colours: &'a [String],
+    sample_type: SampleType,
+    geometry: &'a Geometry,
+    compression: Compression,
+}
+
+/// The rules of one part (one frame): the same channels, geometry and
+/// compression as part 0, flat single-level data, the windows, the frame
+/// number and the digest. Problems are collected; the frame's facts returned.
+fn check_part(
+    part: usize,
+    header: &Header,
+    part_count: usize,
+    zero: &PartZero,
+    problems: &mut Vec<String>,
+) -> FrameInfo {
+    let here = Attributes::new(&[&header.shared_attributes.other, &header.own_attributes.other]);
+    let prefix = if part_count > 1 { format!("part {part}: ") } else { String::new() };
+    if part > 0 {
+        let same = channel_list(header).ok() == Some((zero.colours.to_vec(), zero.sample_type))
+            && here.geometry(zero.colours).ok().as_ref() == Some(zero.geometry);
+        if !same {
+            problems.push(format!("{prefix}geometry or channels differ from part 0; every frame must share them"));
+        }
+        if Compression::from_exr(header.compression) != Some(zero.compression) {
+            problems.push(format!("{prefix}compression differs from part 0"));
+        }
+    }
+    if header.deep {
+        problems.push(format!("{prefix}deep data is not allowed"));
+    }
+    if let BlockDescription::Tiles(t) = header.blocks {
+        if t.level_mode != exr::meta::attribute::LevelMode::Singular {
+            problems.push(format!("{prefix}mip or rip levels are not allowed"));
+        }
+    }
+    let display = header.shared_attributes.display_window;
+    if display.position.0 != 0
+        || display.position.1 != 0
+        || display.size.0 != zero.geometry.emitters
+        || display.size.1 != zero.geometry.hololines
+    {
+        problems.push(format!(
+            "{prefix}display window is {}×{} at ({}, {}); it must be emitters × hololines = {}×{} at (0, 0)",
+            display.size.0,
+            display.size.1,
+            display.position.0,
+            display.position.1,
+            zero.geometry.emitters,
+            zero.geometry.hololines
+        ));
+    }
+    let (dx, dy) = (header.own_attributes.layer_position.0, header.own_attributes.layer_position.1);
+    let (dw, dh) = (header.layer_size.0, header.layer_size.1);
+    let inside =
+        dx >= 0 && dy >= 0 && dx as usize + dw <= zero.geometry.emitters && dy as usize + dh <= zero.geometry.hololines;
+    if !inside {
+        problems.push(format!("{prefix}data window {dw}×{dh} at ({dx}, {dy}) is not inside the display window"));
+    }
+    if header.shared_attributes.pixel_aspect != 1.0 {
+        problems.push(format!("{prefix}pixel aspect ratio is {}; it must be 1", header.shared_attributes.pixel_aspect));
+    }
+    let number = match here.optional(name::FRAME, Attributes::int) {
+        Ok(n) => i64::from(n.unwrap_or(part as i32)),
+        Err(e) => {
+            problems.push(format!("{prefix}{e}"));
+            part as i64
+        }
+    };
+    match here.optional(name::FRAME_COUNT, Attributes::int) {
+        Ok(Some(n)) if n as usize != part_count => {
+            problems.push(format!("{prefix}{} is {n} but the file has {} part(s)", name::FRAME_COUNT, part_count))
+        }
+        Ok(_) => {}
+        Err(e) => problems.push(format!("{prefix}{e}")),
+    }
+    let digest = match here.optional(name::DIGEST, Attributes::string) {
+        Ok(Some(d)) if is_well_formed(&d) => Some(d),
+        Ok(Some(d)) => {
+            problems.push(format!("{prefix}{} {d:?} is not `sha256:` and 64 hex digits", name::DIGEST));
+            None
+        }
+        Ok(None) => {
+            problems.push(format!("{prefix}required attribute {} is missing", name::DIGEST));
+            None
+        }
+        Err(e) => {
+            problems.push(format!("{prefix}{e}"));
+            None
+        }
+    };
+    FrameInfo {
+        number,
+        digest,
+        data_window: Window { x: dx.max(0) as usize, y: dy.max(0) as usize, width: dw, height: dh },
+        part,
+    }
 }
 
 /// The colour suffixes (in R, G, B, Y order) and the sample type of a part.
