@@ -15,7 +15,8 @@ use rustfft::num_complex::Complex64;
 
 use super::chirp::ZonedChirp;
 use super::hogel::HogelGratings;
-use crate::layout::{Basis, Layout, SignalKind};
+use crate::geometry::Geometry;
+use crate::layout::{Basis, Fringe, Layout, SignalKind};
 
 /// The element shapes of a basis.
 #[derive(Clone, Debug, PartialEq)]
@@ -61,6 +62,79 @@ pub struct ColourBasis {
     pub view_sin_edges: Vec<(f64, f64)>,
     /// The in-signal carrier, cycles per sample (zero for I/Q).
     pub carrier: f64,
+}
+
+/// A chirp basis's shape as the layout gives it.
+#[derive(Clone, Copy)]
+struct ChirpShape {
+    chirp_samples: usize,
+    slot_samples: usize,
+    zones: usize,
+    views_per_zone: usize,
+}
+
+/// The zoned chirp of one colour, or `None` when its shape cannot be built;
+/// every reason it does not fit the geometry goes to `problems`.
+fn chirp_elements(
+    shape: ChirpShape,
+    f: &Fringe,
+    g: &Geometry,
+    wavelength_m: f64,
+    carrier: f64,
+    problems: &mut Vec<String>,
+) -> Option<ZonedChirp> {
+    let ChirpShape { chirp_samples, slot_samples, zones, views_per_zone } = shape;
+    let shape_ok = zones > 0
+        && views_per_zone > 0
+        && chirp_samples > 0
+        && chirp_samples % views_per_zone == 0
+        && g.emitter_z_m != 0.0
+        && g.emitter_z_m.is_finite();
+    if !shape_ok {
+        problems.push(format!(
+            "a chirp of {chirp_samples} samples in {zones} zone(s) of {views_per_zone} views needs views that \
+             divide it and an emitter plane off the hologram (z = {} m)",
+            g.emitter_z_m
+        ));
+        return None;
+    }
+    let c = ZonedChirp {
+        sample_pitch_m: f.sample_pitch_m,
+        wavelength_m,
+        emitter_z_m: g.emitter_z_m,
+        chirp_samples,
+        slot_samples,
+        zones,
+        views_per_zone,
+        carrier_cycles_per_sample: carrier,
+    };
+    if zones * views_per_zone != g.views.count {
+        problems.push(format!("{zones} zone(s) × {views_per_zone} views ≠ the geometry's {} views", g.views.count));
+    } else if let Some(v) =
+        (0..g.views.count).find(|&v| (c.view_centre_tan(v).atan() - g.views.theta_rad(v)).abs() > 1e-9)
+    {
+        problems.push(format!(
+            "view {v} of the chirp points at {:.6}°, the geometry's at {:.6}°: the emitter plane z, the chirp \
+             length and the views must agree (views at the centres of equal tan θ segments)",
+            c.view_centre_tan(v).atan().to_degrees(),
+            g.views.theta_rad(v).to_degrees()
+        ));
+    }
+    for zone in 0..zones {
+        let (lo, hi) = c.signal_band(zone);
+        let (min, what) = match f.signal {
+            SignalKind::Iq => (-0.5, "an I/Q signal keeps its band inside ±0.5"),
+            SignalKind::Real => (0.0, "a real signal keeps its band between 0 and 0.5"),
+        };
+        if lo <= min || hi >= 0.5 {
+            problems.push(format!(
+                "zone {} spans {lo:.4} to {hi:.4} cycles per sample at {:.0} nm; {what}",
+                zone + 1,
+                wavelength_m * 1e9
+            ));
+        }
+    }
+    Some(c)
 }
 
 impl ColourBasis {
@@ -124,60 +198,11 @@ impl ColourBasis {
         }
         let elements = match f.basis {
             Basis::Chirp { chirp_samples, slot_samples, zones, views_per_zone } => {
-                let shape_ok = zones > 0
-                    && views_per_zone > 0
-                    && chirp_samples > 0
-                    && chirp_samples % views_per_zone == 0
-                    && g.emitter_z_m != 0.0
-                    && g.emitter_z_m.is_finite();
-                if !shape_ok {
-                    p.push(format!(
-                        "a chirp of {chirp_samples} samples in {zones} zone(s) of {views_per_zone} views needs views that \
-                         divide it and an emitter plane off the hologram (z = {} m)",
-                        g.emitter_z_m
-                    ));
-                    return Err(p);
+                let shape = ChirpShape { chirp_samples, slot_samples, zones, views_per_zone };
+                match chirp_elements(shape, f, g, wavelength_m, carrier, &mut p) {
+                    Some(c) => Elements::Chirp(c),
+                    None => return Err(p),
                 }
-                let c = ZonedChirp {
-                    sample_pitch_m: f.sample_pitch_m,
-                    wavelength_m,
-                    emitter_z_m: g.emitter_z_m,
-                    chirp_samples,
-                    slot_samples,
-                    zones,
-                    views_per_zone,
-                    carrier_cycles_per_sample: carrier,
-                };
-                if zones * views_per_zone != g.views.count {
-                    p.push(format!(
-                        "{zones} zone(s) × {views_per_zone} views ≠ the geometry's {} views",
-                        g.views.count
-                    ));
-                } else if let Some(v) =
-                    (0..g.views.count).find(|&v| (c.view_centre_tan(v).atan() - g.views.theta_rad(v)).abs() > 1e-9)
-                {
-                    p.push(format!(
-                        "view {v} of the chirp points at {:.6}°, the geometry's at {:.6}°: the emitter plane z, the chirp \
-                         length and the views must agree (views at the centres of equal tan θ segments)",
-                        c.view_centre_tan(v).atan().to_degrees(),
-                        g.views.theta_rad(v).to_degrees()
-                    ));
-                }
-                for zone in 0..zones {
-                    let (lo, hi) = c.signal_band(zone);
-                    let (min, what) = match f.signal {
-                        SignalKind::Iq => (-0.5, "an I/Q signal keeps its band inside ±0.5"),
-                        SignalKind::Real => (0.0, "a real signal keeps its band between 0 and 0.5"),
-                    };
-                    if lo <= min || hi >= 0.5 {
-                        p.push(format!(
-                            "zone {} spans {lo:.4} to {hi:.4} cycles per sample at {:.0} nm; {what}",
-                            zone + 1,
-                            wavelength_m * 1e9
-                        ));
-                    }
-                }
-                Elements::Chirp(c)
             }
             Basis::Hogel { hogel_samples } => {
                 if g.emitter_z_m != 0.0 {
