@@ -318,13 +318,7 @@ pub(crate) fn decode_frame(chunk: &[u8]) -> Result<(u32, Frame), Problem> {
                         super::error::tag_text(*ORDER[stage])
                     )));
                 }
-                if frame.objects.len() as u64 >= MAX_OBJECTS {
-                    return Err(Problem::TooLarge {
-                        what: "the number of objects",
-                        value: frame.objects.len() as u64 + 1,
-                        limit: MAX_OBJECTS,
-                    });
-                }
+                Problem::at_most("the number of objects", frame.objects.len() as u64 + 1, MAX_OBJECTS)?;
                 let object =
                     if &tag == b"GEOM" { ObjectRecord::Stored(decode_geom(payload)?) } else { decode_kref(payload)? };
                 frame.objects.push(object);
@@ -366,42 +360,43 @@ fn list<'a>(payload: &'a [u8], name: &str, limit: u64, known: usize) -> Result<(
 }
 
 fn decode_lights(payload: &[u8]) -> Result<Vec<SpecularLight>, Problem> {
-    let (records, _) = list(payload, "LGHT", MAX_LIGHTS, LIGHT_RECORD)?;
-    records
-        .into_iter()
-        .enumerate()
-        .map(|(i, r)| {
-            let mut c = Cursor::new(r);
-            let what = "a light";
-            let kind = c.u32(what)?;
-            c.u32(what)?;
-            let (vector, colour) = (c.vec3(what)?, c.vec3(what)?);
-            match kind {
-                1 => Ok(SpecularLight::Directional { direction: vector, irradiance: colour }),
-                2 => Ok(SpecularLight::Point { position_m: vector, intensity: colour }),
-                k => Err(invalid(format!("light {i} has kind {k}; 1 (directional) and 2 (point) are defined"))),
-            }
-        })
-        .collect()
+    decode_records(payload, "LGHT", MAX_LIGHTS, LIGHT_RECORD, |i, c| {
+        let what = "a light";
+        let kind = c.u32(what)?;
+        c.u32(what)?;
+        let (vector, colour) = (c.vec3(what)?, c.vec3(what)?);
+        match kind {
+            1 => Ok(SpecularLight::Directional { direction: vector, irradiance: colour }),
+            2 => Ok(SpecularLight::Point { position_m: vector, intensity: colour }),
+            k => Err(invalid(format!("light {i} has kind {k}; 1 (directional) and 2 (point) are defined"))),
+        }
+    })
 }
 
 fn decode_materials(payload: &[u8]) -> Result<Vec<SpecularMaterial>, Problem> {
-    let (records, _) = list(payload, "MATL", MAX_MATERIALS, MATERIAL_RECORD)?;
-    records
-        .into_iter()
-        .enumerate()
-        .map(|(i, r)| {
-            let mut c = Cursor::new(r);
-            let what = "a material";
-            let model = match c.u32(what)? {
-                1 => SpecularModel::Phong,
-                2 => SpecularModel::Blinn,
-                k => return Err(invalid(format!("material {i} has model {k}; 1 (Phong) and 2 (Blinn) are defined"))),
-            };
-            c.u32(what)?;
-            Ok(SpecularMaterial { specular: c.vec3(what)?, exponent: c.f64(what)?, model })
-        })
-        .collect()
+    decode_records(payload, "MATL", MAX_MATERIALS, MATERIAL_RECORD, |i, c| {
+        let what = "a material";
+        let model = match c.u32(what)? {
+            1 => SpecularModel::Phong,
+            2 => SpecularModel::Blinn,
+            k => return Err(invalid(format!("material {i} has model {k}; 1 (Phong) and 2 (Blinn) are defined"))),
+        };
+        c.u32(what)?;
+        Ok(SpecularMaterial { specular: c.vec3(what)?, exponent: c.f64(what)?, model })
+    })
+}
+
+/// The records of a list chunk, each decoded by `record(index, cursor)` from
+/// its first `known` bytes (a later minor version may append fields).
+fn decode_records<T>(
+    payload: &[u8],
+    name: &str,
+    limit: u64,
+    known: usize,
+    record: impl Fn(usize, &mut Cursor) -> Result<T, Problem>,
+) -> Result<Vec<T>, Problem> {
+    let (records, _) = list(payload, name, limit, known)?;
+    records.into_iter().enumerate().map(|(i, r)| record(i, &mut Cursor::new(r))).collect()
 }
 
 fn decode_bindings(payload: &[u8]) -> Result<Vec<Binding>, Problem> {
@@ -409,9 +404,7 @@ fn decode_bindings(payload: &[u8]) -> Result<Vec<Binding>, Problem> {
     let what = "the BIND chunk";
     let count = c.u32(what)? as u64;
     c.u32(what)?;
-    if count > MAX_OBJECTS {
-        return Err(Problem::TooLarge { what: "the number of bindings", value: count, limit: MAX_OBJECTS });
-    }
+    Problem::at_most("the number of bindings", count, MAX_OBJECTS)?;
     // Each binding takes at least 12 bytes.
     if count * 12 > c.remaining() as u64 {
         return Err(Problem::Truncated(format!("BIND declares {count} bindings, {} bytes present", c.remaining())));
@@ -421,9 +414,7 @@ fn decode_bindings(payload: &[u8]) -> Result<Vec<Binding>, Problem> {
         let object_id = c.u32(what)?;
         let material = c.u32(what)?;
         let n = c.u32(what)? as u64;
-        if n > MAX_LIGHTS {
-            return Err(Problem::TooLarge { what: "the lights of a binding", value: n, limit: MAX_LIGHTS });
-        }
+        Problem::at_most("the lights of a binding", n, MAX_LIGHTS)?;
         if n * 4 > c.remaining() as u64 {
             return Err(Problem::Truncated(format!(
                 "a binding of object {object_id} lists {n} lights, {} bytes present",
@@ -475,13 +466,7 @@ fn finite(xs: &[f64]) -> bool {
 /// Every rule of spec §6 that a frame alone can break (references are
 /// resolved by the reader, checked against key frames by the writer).
 pub(crate) fn check_frame(number: u32, frame: &Frame) -> Result<(), Problem> {
-    let limit = |what, value: usize, limit: u64| {
-        if value as u64 > limit {
-            Err(Problem::TooLarge { what, value: value as u64, limit })
-        } else {
-            Ok(())
-        }
-    };
+    let limit = |what, value: usize, limit: u64| Problem::at_most(what, value as u64, limit);
     limit("the number of objects", frame.objects.len(), MAX_OBJECTS)?;
     limit("the number of lights", frame.lights.len(), MAX_LIGHTS)?;
     limit("the number of materials", frame.materials.len(), MAX_MATERIALS)?;

@@ -145,6 +145,15 @@ pub(crate) enum Problem {
 }
 
 impl Problem {
+    /// `Ok` when `value` is within `limit`, else the limit broken.
+    pub(crate) fn at_most(what: &'static str, value: u64, limit: u64) -> Result<(), Problem> {
+        if value > limit {
+            Err(Problem::TooLarge { what, value, limit })
+        } else {
+            Ok(())
+        }
+    }
+
     pub(crate) fn at(self, path: &std::path::Path, frame: Option<u32>) -> ContainerError {
         let path = path.to_path_buf();
         let at = At(frame);

@@ -56,15 +56,37 @@ impl HoloFlickReader {
             index: Vec::new(),
             cache: Vec::new(),
         };
+        let (index_offset, count) = reader.read_file_header(file_bytes)?;
+        reader.index = reader.read_index(index_offset, count, file_bytes)?;
+        let first_frame = reader.index.first().map_or(index_offset, |e| e.offset);
+        let head = reader.read_file_chunks(first_frame)?;
         let fail = |p: Problem| p.at(&path, None);
+        let (fps, geometry_version) =
+            head.ok_or_else(|| fail(Problem::Invalid("no HEAD chunk before the first frame".into())))?;
+        if geometry_version[0] != GEOMETRY_VERSION[0] || geometry_version[1] != GEOMETRY_VERSION[1] {
+            return Err(ContainerError::UnsupportedVersion {
+                path,
+                what: "compressed geometry",
+                found: format!("{}.{}.{}", geometry_version[0], geometry_version[1], geometry_version[2]),
+                supported: "1.0.x (Java 3D 1.5.2)",
+            });
+        }
+        reader.info.frames_per_second = fps;
+        reader.info.geometry_version = geometry_version;
+        Ok(reader)
+    }
 
-        // File header (spec §4).
+    /// The file header (spec §4): magic, a version this reader reads, where
+    /// the index is and how many frames it lists.
+    fn read_file_header(&mut self, file_bytes: u64) -> Result<(u64, u64)> {
+        let path = self.path.clone();
+        let fail = |p: Problem| p.at(&path, None);
         if file_bytes < FILE_HEADER_BYTES {
             return Err(fail(Problem::Truncated(format!(
                 "the file header needs {FILE_HEADER_BYTES} bytes, the file has {file_bytes}"
             ))));
         }
-        let header = reader.read_at(0, FILE_HEADER_BYTES as usize, None)?;
+        let header = self.read_at(0, FILE_HEADER_BYTES as usize, None)?;
         if header[..8] != MAGIC {
             return Err(fail(Problem::Invalid(
                 "not a HoloFlick: the file does not start with the HoloFlick magic".into(),
@@ -74,23 +96,27 @@ impl HoloFlickReader {
         let (major, minor) = (le16(8), le16(10));
         if major != VERSION_MAJOR {
             return Err(ContainerError::UnsupportedVersion {
-                path,
+                path: path.clone(),
                 what: "HoloFlick",
                 found: format!("{major}.{minor}"),
                 supported: "1.x",
             });
         }
-        reader.info.version = (major, minor);
+        self.info.version = (major, minor);
         let index_offset = u64::from_le_bytes(header[16..24].try_into().unwrap_or([0; 8]));
         let count = u32::from_le_bytes(header[24..28].try_into().unwrap_or([0; 4])) as u64;
         if index_offset == 0 {
             return Err(fail(Problem::Invalid("unfinished: the index offset is 0 (the writer did not finish)".into())));
         }
-        if count > MAX_FRAMES {
-            return Err(fail(Problem::TooLarge { what: "the number of frames", value: count, limit: MAX_FRAMES }));
-        }
+        Problem::at_most("the number of frames", count, MAX_FRAMES).map_err(fail)?;
+        Ok((index_offset, count))
+    }
 
-        // Frame index (spec §7): the last chunk, ending the file.
+    /// The frame index (spec §7): the last chunk, ending the file; every
+    /// frame inside the file, in order, back to back.
+    fn read_index(&mut self, index_offset: u64, count: u64, file_bytes: u64) -> Result<Vec<IndexEntry>> {
+        let path = self.path.clone();
+        let fail = |p: Problem| p.at(&path, None);
         let index_bytes = 16 + count * INDEX_ENTRY;
         if index_offset % 8 != 0 || index_offset < FILE_HEADER_BYTES + 8 {
             return Err(fail(Problem::Invalid(format!(
@@ -108,7 +134,7 @@ impl HoloFlickReader {
                 file_bytes - index_offset - index_bytes
             ))));
         }
-        let raw = reader.read_at(index_offset, index_bytes as usize, None)?;
+        let raw = self.read_at(index_offset, index_bytes as usize, None)?;
         let mut c = codec::Cursor::new(&raw);
         let (tag, payload) = c.chunk().map_err(fail)?.ok_or_else(|| fail(Problem::Truncated("the index".into())))?;
         if &tag != b"INDX" {
@@ -136,13 +162,7 @@ impl HoloFlickReader {
         }
         for (n, e) in index.iter().enumerate() {
             let next = index.get(n + 1).map_or(index_offset, |f| f.offset);
-            if e.length as u64 > MAX_FRAME_BYTES {
-                return Err(fail(Problem::TooLarge {
-                    what: "a frame's bytes",
-                    value: e.length as u64,
-                    limit: MAX_FRAME_BYTES,
-                }));
-            }
+            Problem::at_most("a frame's bytes", e.length as u64, MAX_FRAME_BYTES).map_err(fail)?;
             let end = e.offset.checked_add(e.length as u64 + padding(e.length as u64));
             if e.offset % 8 != 0 || e.offset < FILE_HEADER_BYTES + 8 || e.length < 16 || end != Some(next) {
                 return Err(ContainerError::Invalid {
@@ -155,29 +175,27 @@ impl HoloFlickReader {
                 });
             }
         }
-        let first_frame = index.first().map_or(index_offset, |e| e.offset);
-        reader.index = index;
+        Ok(index)
+    }
 
-        // File-level chunks (spec §5), between the header and the first frame.
+    /// The file-level chunks (spec §5) between the header and the first
+    /// frame: one HEAD first, text entries, unknown ancillary chunks skipped.
+    fn read_file_chunks(&mut self, first_frame: u64) -> Result<Option<((u32, u32), [u32; 3])>> {
+        let path = self.path.clone();
+        let fail = |p: Problem| p.at(&path, None);
         let mut position = FILE_HEADER_BYTES;
         let mut chunks = 0u64;
         let mut head = None;
         while position < first_frame {
             chunks += 1;
-            if chunks > MAX_FILE_CHUNKS {
-                return Err(fail(Problem::TooLarge {
-                    what: "the number of file-level chunks",
-                    value: chunks,
-                    limit: MAX_FILE_CHUNKS,
-                }));
-            }
+            Problem::at_most("the number of file-level chunks", chunks, MAX_FILE_CHUNKS).map_err(fail)?;
             if first_frame - position < 8 {
                 return Err(fail(Problem::Invalid(format!(
                     "{} stray bytes before the first frame",
                     first_frame - position
                 ))));
             }
-            let h = reader.read_at(position, 8, None)?;
+            let h = self.read_at(position, 8, None)?;
             let tag = [h[0], h[1], h[2], h[3]];
             check_tag(tag).map_err(fail)?;
             let len = u32::from_le_bytes([h[4], h[5], h[6], h[7]]) as u64;
@@ -197,56 +215,27 @@ impl HoloFlickReader {
             match &tag {
                 b"HEAD" if head.is_some() => return Err(fail(Problem::Invalid("two HEAD chunks".into()))),
                 b"HEAD" => {
-                    if len > MAX_TEXT_BYTES {
-                        return Err(fail(Problem::TooLarge {
-                            what: "the HEAD chunk",
-                            value: len,
-                            limit: MAX_TEXT_BYTES,
-                        }));
-                    }
-                    let payload = reader.read_at(position + 8, len as usize, None)?;
+                    Problem::at_most("the HEAD chunk", len, MAX_TEXT_BYTES).map_err(fail)?;
+                    let payload = self.read_at(position + 8, len as usize, None)?;
                     head = Some(codec::decode_head(&payload).map_err(fail)?);
                 }
                 b"text" => {
-                    if len > MAX_TEXT_BYTES {
-                        return Err(fail(Problem::TooLarge {
-                            what: "a text chunk",
-                            value: len,
-                            limit: MAX_TEXT_BYTES,
-                        }));
-                    }
-                    if reader.info.text.len() as u64 >= MAX_TEXT_ENTRIES {
-                        return Err(fail(Problem::TooLarge {
-                            what: "the number of text chunks",
-                            value: reader.info.text.len() as u64 + 1,
-                            limit: MAX_TEXT_ENTRIES,
-                        }));
-                    }
-                    let payload = reader.read_at(position + 8, len as usize, None)?;
+                    Problem::at_most("a text chunk", len, MAX_TEXT_BYTES).map_err(fail)?;
+                    let entries = self.info.text.len() as u64 + 1;
+                    Problem::at_most("the number of text chunks", entries, MAX_TEXT_ENTRIES).map_err(fail)?;
+                    let payload = self.read_at(position + 8, len as usize, None)?;
                     let (key, value) = codec::decode_text(&payload).map_err(fail)?;
-                    if reader.info.text.iter().any(|(k, _)| *k == key) {
+                    if self.info.text.iter().any(|(k, _)| *k == key) {
                         return Err(fail(Problem::Invalid(format!("text key {key:?} appears twice"))));
                     }
-                    reader.info.text.push((key, value));
+                    self.info.text.push((key, value));
                 }
                 _ if is_critical(tag) => return Err(fail(Problem::UnknownChunk(tag))),
                 _ => {}
             }
             position = end;
         }
-        let (fps, geometry_version) =
-            head.ok_or_else(|| fail(Problem::Invalid("no HEAD chunk before the first frame".into())))?;
-        if geometry_version[0] != GEOMETRY_VERSION[0] || geometry_version[1] != GEOMETRY_VERSION[1] {
-            return Err(ContainerError::UnsupportedVersion {
-                path,
-                what: "compressed geometry",
-                found: format!("{}.{}.{}", geometry_version[0], geometry_version[1], geometry_version[2]),
-                supported: "1.0.x (Java 3D 1.5.2)",
-            });
-        }
-        reader.info.frames_per_second = fps;
-        reader.info.geometry_version = geometry_version;
-        Ok(reader)
+        Ok(head)
     }
 
     /// The file.
