@@ -158,16 +158,27 @@ pub fn mark1() -> Layout {
                       focusing chirps"
             .into(),
         geometry,
-        fringe: Some(Fringe {
-            sample_pitch_m: MARK1_PITCH_M,
-            samples_per_hololine: MARK1_SAMPLES,
-            basis: Basis::Chirp { chirp_samples: chirp, slot_samples: slot, zones: 1, views_per_zone: 5 },
-            signal: SignalKind::Real,
-            carrier_cycles_per_sample: vec![0.25],
-            colours: ColourSignals::Separate,
-            frame_buffer: mark1_frame_buffer(),
-            quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
-        }),
+        fringe: Some(mark1_fringe(Basis::Chirp {
+            chirp_samples: chirp,
+            slot_samples: slot,
+            zones: 1,
+            views_per_zone: 5,
+        })),
+    }
+}
+
+/// Mark I's signal side with either basis: a real signal on a quarter-rate
+/// carrier, one signal per colour, 8 bits around code 128.
+fn mark1_fringe(basis: Basis) -> Fringe {
+    Fringe {
+        sample_pitch_m: MARK1_PITCH_M,
+        samples_per_hololine: MARK1_SAMPLES,
+        basis,
+        signal: SignalKind::Real,
+        carrier_cycles_per_sample: vec![0.25],
+        colours: ColourSignals::Separate,
+        frame_buffer: mark1_frame_buffer(),
+        quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
     }
 }
 
@@ -192,16 +203,7 @@ pub fn mark1_hogel() -> Layout {
         description: "MIT Mark I colour with hogels (Lucente): 256 emitters × 64 hololines × 5 views, RGB, 16° zone"
             .into(),
         geometry,
-        fringe: Some(Fringe {
-            sample_pitch_m: MARK1_PITCH_M,
-            samples_per_hololine: MARK1_SAMPLES,
-            basis: Basis::Hogel { hogel_samples: hogel },
-            signal: SignalKind::Real,
-            carrier_cycles_per_sample: vec![0.25],
-            colours: ColourSignals::Separate,
-            frame_buffer: mark1_frame_buffer(),
-            quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
-        }),
+        fringe: Some(mark1_fringe(Basis::Hogel { hogel_samples: hogel })),
     }
 }
 
