@@ -160,7 +160,7 @@ fn frame_into(scene: &Scene, o: &RenderOptions, reused: &mut Modulation) {
     render_into(scene, o, &|_, _| {}, reused).expect("render");
 }
 
-/// (mean |a − b| / mean b, fraction of samples off by > 1% of b's peak), as in tests/mesh_render.rs.
+/// (mean |a − b| / mean b, fraction of samples off by > 1% of b's peak), as in tests/mesh/render.rs.
 fn error(a: &Modulation, b: &Modulation) -> (f64, f64) {
     let peak = b.samples().iter().fold(0.0f32, |x, &y| x.max(y)) as f64;
     let mean = b.samples().iter().map(|&v| v as f64).sum::<f64>() / b.samples().len() as f64;

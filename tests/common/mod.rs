@@ -4,9 +4,20 @@ use std::path::PathBuf;
 
 /// The shared test data folder (`$HOLO_SHARED_DATA`, else `../shared/data`),
 /// or `None` when it is not there: tests then say plainly what did not run.
+///
+/// With `HOLO_REQUIRE_DATA=1` (CI sets it) a missing folder is a failure, not
+/// a skip, so a run without the data cannot pass silently.
 pub fn shared_data() -> Option<PathBuf> {
     let d = std::env::var("HOLO_SHARED_DATA")
         .map(PathBuf::from)
         .unwrap_or_else(|_| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data")));
-    d.is_dir().then_some(d)
+    if d.is_dir() {
+        return Some(d);
+    }
+    assert!(
+        std::env::var("HOLO_REQUIRE_DATA").as_deref() != Ok("1"),
+        "HOLO_REQUIRE_DATA=1 but the shared test data folder {} is not there",
+        d.display()
+    );
+    None
 }

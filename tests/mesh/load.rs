@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use holo::mesh::load::{LoadLimits, SceneSource};
 use holo::mesh::Scene;
 
-mod common;
+use crate::common;
 use common::shared_data;
 
 /// The shared test data folder, or `None` (after saying so) when absent.

@@ -5,7 +5,7 @@
 //! bottom left and leftmost), rig files in both syntaxes, picture decoding,
 //! and bad input, each refused with an error naming the file and camera.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

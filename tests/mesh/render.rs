@@ -8,7 +8,7 @@ use holo::mesh::shade::{Lighting, SpecularModel};
 use holo::mesh::{Light, Material, Object, Scene};
 use holo::Modulation;
 
-mod common;
+use crate::common;
 use common::shared_data;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -13,7 +13,7 @@ use holo::cameras::resample::{resample_rig, CameraOptions, CameraView, Placement
 use holo::geometry::{rgb_channels, Geometry, Views};
 use holo::reconstruct::files::{view_file, EyeAt};
 
-mod common;
+use crate::common;
 use common::shared_data;
 
 fn artefacts() -> PathBuf {

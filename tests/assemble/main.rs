@@ -1,0 +1,9 @@
+//! Fringe assembly and reconstruction: files, frame-buffer layouts, physics, recovery.
+//!
+//! One test binary for this stage of the data flow (each file a module), so a
+//! clean build links a few binaries rather than one per file.
+
+mod files;
+mod layouts;
+mod physics;
+mod reconstruct;

@@ -1,0 +1,9 @@
+//! HoloFlicks: the container, objects, tools, and conversion to modulation.
+//!
+//! One test binary for this stage of the data flow (each file a module), so a
+//! clean build links a few binaries rather than one per file.
+
+mod container;
+mod convert;
+mod objects;
+mod tools;

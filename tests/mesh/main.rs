@@ -1,0 +1,17 @@
+//! Meshes to modulation: loaders, renderers, baking, dicing, culling, camera pictures, writers.
+//!
+//! One test binary for this stage of the data flow (each file a module), so a
+//! clean build links a few binaries rather than one per file.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod bake;
+mod camera;
+mod cull;
+mod dice;
+mod end_to_end;
+mod load;
+mod micro;
+mod render;
+mod write;
