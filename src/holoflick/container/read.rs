@@ -40,6 +40,10 @@ pub struct HoloFlickReader {
     cache: Vec<(u32, KeyFrameObjects)>,
 }
 
+/// What the HEAD chunk says: the frame rate (numerator, denominator) and the
+/// compressed-geometry version (major, minor, minor-minor).
+type Head = ((u32, u32), [u32; 3]);
+
 impl HoloFlickReader {
     /// Open a HoloFlick: reads and checks the file header, the frame index
     /// (every frame inside the file, in order, back to back) and the
@@ -180,7 +184,7 @@ impl HoloFlickReader {
 
     /// The file-level chunks (spec §5) between the header and the first
     /// frame: one HEAD first, text entries, unknown ancillary chunks skipped.
-    fn read_file_chunks(&mut self, first_frame: u64) -> Result<Option<((u32, u32), [u32; 3])>> {
+    fn read_file_chunks(&mut self, first_frame: u64) -> Result<Option<Head>> {
         let path = self.path.clone();
         let fail = |p: Problem| p.at(&path, None);
         let mut position = FILE_HEADER_BYTES;
