@@ -8,6 +8,7 @@ use std::any::Any;
 
 use super::plan::{BlockSink, Blocks, LaneSink, PaddedWeights, Plan};
 use crate::layout::Quantization;
+use crate::simd::Simd;
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::{
     __m128i, __m256, __m256i, _mm256_castsi256_si128, _mm256_cvtps_epi32, _mm256_fmadd_ps, _mm256_max_epu32,
@@ -26,8 +27,9 @@ pub trait FringeSample: Copy + Send + Sync + 'static {
     fn decode(self, q: &Quantization) -> f32;
     /// The value of pixels no signal reaches.
     fn blank(q: &Quantization) -> Self;
-    /// `row[3x + k] = [a, b, c][k][x]`: three components into pixels.
-    fn interleave3(row: &mut [Self], a: &[Self], b: &[Self], c: &[Self]) {
+    /// `row[3x + k] = [a, b, c][k][x]`: three components into pixels (with
+    /// vector instructions where the type has them and `simd` allows).
+    fn interleave3(row: &mut [Self], a: &[Self], b: &[Self], c: &[Self], _simd: Simd) {
         for (((px, a), b), c) in row.chunks_exact_mut(3).zip(a).zip(b).zip(c) {
             px.copy_from_slice(&[*a, *b, *c]);
         }
@@ -48,10 +50,10 @@ impl FringeSample for u8 {
     fn blank(q: &Quantization) -> u8 {
         q.offset.round().clamp(0.0, 255.0) as u8
     }
-    fn interleave3(row: &mut [u8], a: &[u8], b: &[u8], c: &[u8]) {
+    fn interleave3(row: &mut [u8], a: &[u8], b: &[u8], c: &[u8], simd: Simd) {
         assert!(row.len() == 3 * a.len() && a.len() == b.len() && a.len() == c.len());
         #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("ssse3") {
+        if simd.ssse3() {
             // SAFETY: the feature is present; the lengths are checked above.
             unsafe { interleave3_ssse3(row, a, b, c) };
             return;
@@ -300,13 +302,13 @@ impl<T: Copy> LineScratch<T> {
 
 /// Fill one row of pixels: component `k` from `sources[k]` (samples
 /// `from ..`), components without a source left alone.
-pub(super) fn interleave<T: FringeSample>(row: &mut [T], sources: &[Option<&[T]>], from: usize) {
+pub(super) fn interleave<T: FringeSample>(row: &mut [T], sources: &[Option<&[T]>], from: usize, simd: Simd) {
     let components = sources.len();
     let width = row.len() / components;
     match sources {
         [Some(a)] => row.copy_from_slice(&a[from..from + width]),
         [Some(a), Some(b), Some(c)] => {
-            T::interleave3(row, &a[from..from + width], &b[from..from + width], &c[from..from + width])
+            T::interleave3(row, &a[from..from + width], &b[from..from + width], &c[from..from + width], simd)
         }
         _ => {
             for (k, source) in sources.iter().enumerate() {
@@ -315,6 +317,34 @@ pub(super) fn interleave<T: FringeSample>(row: &mut [T], sources: &[Option<&[T]>
                         px[k] = *v;
                     }
                 }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn the_vector_and_portable_interleaves_give_the_same_pixels() {
+        // Widths around the 16-pixel step of the SSSE3 loop, and a long row.
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        for width in [0, 1, 15, 16, 17, 31, 33, 4080] {
+            let planes: Vec<Vec<u8>> = (0..3).map(|_| (0..width).map(|_| rng.gen()).collect()).collect();
+            let [a, b, c] = [&planes[0][..], &planes[1][..], &planes[2][..]];
+            let mut want = vec![0u8; 3 * width];
+            for x in 0..width {
+                want[3 * x..3 * x + 3].copy_from_slice(&[a[x], b[x], c[x]]);
+            }
+            for simd in [Simd::Detect, Simd::Portable] {
+                let mut row = vec![0u8; 3 * width];
+                u8::interleave3(&mut row, a, b, c, simd);
+                assert_eq!(row, want, "width {width}, {simd:?}");
+                let mut row = vec![0u8; 3 * width];
+                interleave(&mut row, &[Some(a), Some(b), Some(c)], 0, simd);
+                assert_eq!(row, want, "width {width}, {simd:?}, through interleave");
             }
         }
     }

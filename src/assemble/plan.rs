@@ -28,6 +28,7 @@ use std::arch::x86_64::{
 
 use super::basis::ColourBasis;
 use crate::layout::SignalKind;
+use crate::simd::Simd;
 
 /// One element covering a block: emitter `base − back` (where `base` is the
 /// block's emitter step), view `view`, table values from `at`.
@@ -141,6 +142,8 @@ pub struct Plan {
     /// Emitters of zero weights before emitter 0 and after the last that
     /// the blocks reach (see [`Plan::padded_weights_into`]).
     padding: (usize, usize),
+    /// Which kernels the processor may run (the portable one when forced).
+    simd: Simd,
 }
 
 /// The most emitter steps the vector kernel takes at a time (its `G`).
@@ -186,10 +189,11 @@ unsafe fn sqrt_into_avx2(hololine: &[f32], out: &mut [f32]) -> Scan {
     sqrt_into(hololine, out)
 }
 
-/// [`sqrt_into`], vectorised for AVX2 when the processor has it.
+/// [`sqrt_into`], vectorised for AVX2 when the processor has it (the
+/// square root is correctly rounded either way: the results are the same).
 fn sqrt_into_dispatch(hololine: &[f32], out: &mut [f32]) -> Scan {
     #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
+    if Simd::Detect.avx2() {
         // SAFETY: the feature the function is compiled for is present.
         return unsafe { sqrt_into_avx2(hololine, out) };
     }
@@ -277,7 +281,14 @@ impl Plan {
         let min_back = lists().map(|t| t.min_back).min().unwrap_or(0);
         let steps = (basis.samples / block).div_ceil(period);
         let padding = (before, (steps + GROUP - 1).saturating_sub(min_back + basis.emitters));
-        Plan { basis, block, period, table_re, table_im, lanes, terms, norm, padding }
+        Plan { basis, block, period, table_re, table_im, lanes, terms, norm, padding, simd: Simd::Detect }
+    }
+
+    /// The same plan, its kernel chosen by `simd` ([`Simd::Portable`]: the
+    /// portable kernel even where AVX2 is present, for checking it).
+    pub fn with_simd(mut self, simd: Simd) -> Self {
+        self.simd = simd;
+        self
     }
 
     /// The basis.
@@ -360,7 +371,7 @@ impl Plan {
         assert!(weights.len() >= (before + self.basis.emitters) * self.basis.views, "one weight per element");
         let iq = self.basis.signal == SignalKind::Iq;
         #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+        if self.simd.avx2_fma() {
             // V vectors of 8 samples per lane and block; P vectors of G
             // blocks at a time, for 10 to 12 accumulators and no spills
             // (measured best). Blocks come in increasing order only with

@@ -107,10 +107,7 @@ impl FastLights {
     /// with lobe `model`.
     pub(crate) fn chosen(l: &Lighting, chosen: Option<&[u32]>, model: SpecularModel) -> Self {
         let mut out = FastLights { directional: vec![], point: vec![], ambient: [0.0; 3], model, avx2: false };
-        #[cfg(target_arch = "x86_64")]
-        {
-            out.avx2 = std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
-        }
+        out.avx2 = crate::simd::Simd::Detect.avx2_fma();
         for (index, light) in l.lights.iter().enumerate() {
             if chosen.is_some_and(|c| !c.contains(&(index as u32))) {
                 continue;
