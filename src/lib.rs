@@ -5,6 +5,7 @@
 //! `.holo` file, spec/holo-format.md), [`layout`] (display profiles),
 //! [`pattern`] (test patterns) and [`views`] (PNG export and import).
 #![deny(missing_docs)]
+#![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod assemble;
 pub mod cameras;

@@ -70,46 +70,52 @@ impl FringeSample for u8 {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "ssse3")]
 unsafe fn interleave3_ssse3(row: &mut [u8], a: &[u8], b: &[u8], c: &[u8]) {
-    use std::arch::x86_64::{_mm_loadu_si128, _mm_or_si128, _mm_sfence, _mm_shuffle_epi8, _mm_stream_si128};
-    // MASKS[o][s][j]: output vector o, byte j takes source s's byte
-    // (16o + j) / 3 when (16o + j) mod 3 = s, else zero (0x80).
-    const MASKS: [[[u8; 16]; 3]; 3] = {
-        let mut masks = [[[0x80u8; 16]; 3]; 3];
-        let mut i = 0;
-        while i < 48 {
-            masks[i / 16][i % 3][i % 16] = (i / 3) as u8;
-            i += 1;
-        }
-        masks
-    };
-    let m = MASKS.map(|per_output| per_output.map(|mask| _mm_loadu_si128(mask.as_ptr().cast::<__m128i>())));
-    // The frame buffer is written once and not read back here: aligned rows
-    // are streamed past the caches (no read of the lines first).
-    let stream = row.as_ptr() as usize % 16 == 0;
-    let pixels = a.len();
-    let mut x = 0;
-    while x + 16 <= pixels {
-        let src = [a, b, c].map(|s| _mm_loadu_si128(s.as_ptr().add(x).cast::<__m128i>()));
-        for (o, m) in m.iter().enumerate() {
-            let v = _mm_or_si128(
-                _mm_or_si128(_mm_shuffle_epi8(src[0], m[0]), _mm_shuffle_epi8(src[1], m[1])),
-                _mm_shuffle_epi8(src[2], m[2]),
-            );
-            let to = row.as_mut_ptr().add(3 * x + 16 * o).cast::<__m128i>();
-            if stream {
-                _mm_stream_si128(to, v);
-            } else {
-                _mm_storeu_si128(to, v);
+    // SAFETY: SSSE3 is present (the caller checked it for this target_feature
+    // function). Loads read 16 bytes at x <= pixels - 16 of each input; stores
+    // write 16 bytes at 3x + 16o <= 3 pixels - 16 of `row`, whose length the
+    // caller checked to be 3 pixels.
+    unsafe {
+        use std::arch::x86_64::{_mm_loadu_si128, _mm_or_si128, _mm_sfence, _mm_shuffle_epi8, _mm_stream_si128};
+        // MASKS[o][s][j]: output vector o, byte j takes source s's byte
+        // (16o + j) / 3 when (16o + j) mod 3 = s, else zero (0x80).
+        const MASKS: [[[u8; 16]; 3]; 3] = {
+            let mut masks = [[[0x80u8; 16]; 3]; 3];
+            let mut i = 0;
+            while i < 48 {
+                masks[i / 16][i % 3][i % 16] = (i / 3) as u8;
+                i += 1;
             }
+            masks
+        };
+        let m = MASKS.map(|per_output| per_output.map(|mask| _mm_loadu_si128(mask.as_ptr().cast::<__m128i>())));
+        // The frame buffer is written once and not read back here: aligned rows
+        // are streamed past the caches (no read of the lines first).
+        let stream = row.as_ptr() as usize % 16 == 0;
+        let pixels = a.len();
+        let mut x = 0;
+        while x + 16 <= pixels {
+            let src = [a, b, c].map(|s| _mm_loadu_si128(s.as_ptr().add(x).cast::<__m128i>()));
+            for (o, m) in m.iter().enumerate() {
+                let v = _mm_or_si128(
+                    _mm_or_si128(_mm_shuffle_epi8(src[0], m[0]), _mm_shuffle_epi8(src[1], m[1])),
+                    _mm_shuffle_epi8(src[2], m[2]),
+                );
+                let to = row.as_mut_ptr().add(3 * x + 16 * o).cast::<__m128i>();
+                if stream {
+                    _mm_stream_si128(to, v);
+                } else {
+                    _mm_storeu_si128(to, v);
+                }
+            }
+            x += 16;
         }
-        x += 16;
-    }
-    if stream {
-        // Streamed stores are ordered before anything after this function.
-        _mm_sfence();
-    }
-    for x in x..pixels {
-        row[3 * x..3 * x + 3].copy_from_slice(&[a[x], b[x], c[x]]);
+        if stream {
+            // Streamed stores are ordered before anything after this function.
+            _mm_sfence();
+        }
+        for x in x..pixels {
+            row[3 * x..3 * x + 3].copy_from_slice(&[a[x], b[x], c[x]]);
+        }
     }
 }
 
@@ -217,47 +223,53 @@ impl LaneSink for Encoder<'_, u8> {
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     unsafe fn put_vectors<const V: usize>(&mut self, lane: usize, first: usize, acc: &[__m256; V], norm: f32) {
-        let Some(ch) = self.lane_channel[lane] else { return };
-        let (offset, scale) = (_mm256_set1_ps(self.q.offset as f32), _mm256_set1_ps(norm * self.q.gain as f32));
-        let codes: [__m256; V] = std::array::from_fn(|v| _mm256_fmadd_ps(acc[v], scale, offset));
-        // Rounded to the nearest, ties to even (the default rounding mode).
-        let rounded: [__m256i; V] = std::array::from_fn(|v| _mm256_cvtps_epi32(codes[v]));
-        // Out of 0 ..= 255 (or beyond i32, or NaN) as unsigned: above 255.
-        let largest = rounded.iter().fold(_mm256_setzero_si256(), |m, c| _mm256_max_epu32(m, *c));
-        let len = 8 * V;
-        let at = if self.reversed { self.samples - first - len } else { first };
-        let out = &mut self.codes[ch][at..at + len];
-        if _mm256_testz_si256(largest, _mm256_set1_epi32(!255)) == 0 {
-            let mut floats = [[0f32; 8]; V];
-            for (floats, codes) in floats.iter_mut().zip(&codes) {
-                _mm256_storeu_ps(floats.as_mut_ptr(), *codes);
+        // SAFETY: only the AVX2 + FMA kernel calls this (features checked by
+        // `Simd::avx2_fma`); each store writes `run` <= `len` bytes inside `out`, a
+        // slice of `len` codes.
+        unsafe {
+            let Some(ch) = self.lane_channel[lane] else { return };
+            let (offset, scale) = (_mm256_set1_ps(self.q.offset as f32), _mm256_set1_ps(norm * self.q.gain as f32));
+            let codes: [__m256; V] = std::array::from_fn(|v| _mm256_fmadd_ps(acc[v], scale, offset));
+            // Rounded to the nearest, ties to even (the default rounding mode).
+            let rounded: [__m256i; V] = std::array::from_fn(|v| _mm256_cvtps_epi32(codes[v]));
+            // Out of 0 ..= 255 (or beyond i32, or NaN) as unsigned: above 255.
+            let largest = rounded.iter().fold(_mm256_setzero_si256(), |m, c| _mm256_max_epu32(m, *c));
+            let len = 8 * V;
+            let at = if self.reversed { self.samples - first - len } else { first };
+            let out = &mut self.codes[ch][at..at + len];
+            if _mm256_testz_si256(largest, _mm256_set1_epi32(!255)) == 0 {
+                let mut floats = [[0f32; 8]; V];
+                for (floats, codes) in floats.iter_mut().zip(&codes) {
+                    _mm256_storeu_ps(floats.as_mut_ptr(), *codes);
+                }
+                self.clipped += encode_with(floats.as_flattened(), self.reversed, out, |code| code);
+                return;
             }
-            self.clipped += encode_with(floats.as_flattened(), self.reversed, out, |code| code);
-            return;
-        }
-        // Four vectors of codes into 32 bytes in sample order (or reversed):
-        // the packs interleave the 128-bit halves, the permutation undoes it.
-        let forward = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
-        let backward = _mm256_setr_epi32(7, 3, 6, 2, 5, 1, 4, 0);
-        let reverse_within_words = _mm256_setr_epi8(
-            3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12,
-        );
-        let run = len.min(32);
-        for g in 0..V.div_ceil(4) {
-            // Fewer than four vectors: repeated, and only the first bytes kept.
-            let c = |k: usize| rounded[(4 * g + k) % V];
-            let packed = _mm256_packus_epi16(_mm256_packs_epi32(c(0), c(1)), _mm256_packs_epi32(c(2), c(3)));
-            let (bytes, to) = if self.reversed {
-                let bytes = _mm256_permutevar8x32_epi32(packed, backward);
-                (_mm256_shuffle_epi8(bytes, reverse_within_words), len - (g + 1) * run)
-            } else {
-                (_mm256_permutevar8x32_epi32(packed, forward), g * run)
-            };
-            let to = out[to..to + run].as_mut_ptr();
-            match run {
-                32 => _mm256_storeu_si256(to.cast::<__m256i>(), bytes),
-                16 => _mm_storeu_si128(to.cast::<__m128i>(), _mm256_castsi256_si128(bytes)),
-                _ => _mm_storel_epi64(to.cast::<__m128i>(), _mm256_castsi256_si128(bytes)),
+            // Four vectors of codes into 32 bytes in sample order (or reversed):
+            // the packs interleave the 128-bit halves, the permutation undoes it.
+            let forward = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+            let backward = _mm256_setr_epi32(7, 3, 6, 2, 5, 1, 4, 0);
+            let reverse_within_words = _mm256_setr_epi8(
+                3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13,
+                12,
+            );
+            let run = len.min(32);
+            for g in 0..V.div_ceil(4) {
+                // Fewer than four vectors: repeated, and only the first bytes kept.
+                let c = |k: usize| rounded[(4 * g + k) % V];
+                let packed = _mm256_packus_epi16(_mm256_packs_epi32(c(0), c(1)), _mm256_packs_epi32(c(2), c(3)));
+                let (bytes, to) = if self.reversed {
+                    let bytes = _mm256_permutevar8x32_epi32(packed, backward);
+                    (_mm256_shuffle_epi8(bytes, reverse_within_words), len - (g + 1) * run)
+                } else {
+                    (_mm256_permutevar8x32_epi32(packed, forward), g * run)
+                };
+                let to = out[to..to + run].as_mut_ptr();
+                match run {
+                    32 => _mm256_storeu_si256(to.cast::<__m256i>(), bytes),
+                    16 => _mm_storeu_si128(to.cast::<__m128i>(), _mm256_castsi256_si128(bytes)),
+                    _ => _mm_storel_epi64(to.cast::<__m128i>(), _mm256_castsi256_si128(bytes)),
+                }
             }
         }
     }

@@ -95,11 +95,15 @@ pub(crate) trait LaneSink: BlockSink {
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     unsafe fn put_vectors<const V: usize>(&mut self, lane: usize, first: usize, acc: &[__m256; V], norm: f32) {
-        let mut values = [[0f32; 8]; V];
-        for (values, acc) in values.iter_mut().zip(acc) {
-            _mm256_storeu_ps(values.as_mut_ptr(), _mm256_mul_ps(*acc, _mm256_set1_ps(norm)));
+        // SAFETY: only the AVX2 + FMA kernel calls this; each store writes 8 floats
+        // into an array of 8.
+        unsafe {
+            let mut values = [[0f32; 8]; V];
+            for (values, acc) in values.iter_mut().zip(acc) {
+                _mm256_storeu_ps(values.as_mut_ptr(), _mm256_mul_ps(*acc, _mm256_set1_ps(norm)));
+            }
+            self.put(lane, first, values.as_flattened());
         }
-        self.put(lane, first, values.as_flattened());
     }
 }
 
@@ -437,30 +441,35 @@ impl Plan {
         zone: usize,
         sink: &mut S,
     ) {
-        const { assert!(V % P == 0 && G <= GROUP) };
-        let (views, period, block) = (self.basis.views, self.period, self.block);
-        let (blocks, stored) = (self.basis.samples / block, weights.len() / views);
-        for base in (0..blocks.div_ceil(period)).step_by(G) {
-            let last = base + G - 1;
-            for (phase, terms) in self.terms[zone].iter().enumerate() {
-                // Whether every weight the terms of these blocks name is in the buffer.
-                let inside = terms.max_back <= base + before && last + before < stored + terms.min_back;
-                for part in (0..L * V).step_by(P) {
-                    let (lane, first) = (part / V, (part % V) * 8);
-                    if inside {
-                        // Past the buffer's end when all terms reach back:
-                        // the taps' offsets bring it back inside, as checked.
-                        let row = weights.as_ptr().wrapping_add((base + before) * views);
-                        for (k, acc) in self.sum_taps::<P, G>(&terms.taps, row, part * 8).iter().enumerate() {
-                            let b = (base + k) * period + phase;
-                            if b < blocks {
-                                sink.put_vectors(lane, b * block + first, acc, self.norm);
+        // SAFETY: AVX2 and FMA are present (the caller checked them through
+        // `Simd::avx2_fma`). `sum_taps` runs only where `inside` holds, so every
+        // weight its taps name lies in `weights`; `sum_checked` checks each weight.
+        unsafe {
+            const { assert!(V % P == 0 && G <= GROUP) };
+            let (views, period, block) = (self.basis.views, self.period, self.block);
+            let (blocks, stored) = (self.basis.samples / block, weights.len() / views);
+            for base in (0..blocks.div_ceil(period)).step_by(G) {
+                let last = base + G - 1;
+                for (phase, terms) in self.terms[zone].iter().enumerate() {
+                    // Whether every weight the terms of these blocks name is in the buffer.
+                    let inside = terms.max_back <= base + before && last + before < stored + terms.min_back;
+                    for part in (0..L * V).step_by(P) {
+                        let (lane, first) = (part / V, (part % V) * 8);
+                        if inside {
+                            // Past the buffer's end when all terms reach back:
+                            // the taps' offsets bring it back inside, as checked.
+                            let row = weights.as_ptr().wrapping_add((base + before) * views);
+                            for (k, acc) in self.sum_taps::<P, G>(&terms.taps, row, part * 8).iter().enumerate() {
+                                let b = (base + k) * period + phase;
+                                if b < blocks {
+                                    sink.put_vectors(lane, b * block + first, acc, self.norm);
+                                }
                             }
-                        }
-                    } else {
-                        for b in (base..=last).map(|base| base * period + phase).filter(|b| *b < blocks) {
-                            let acc = self.sum_checked::<P, L>(&terms.list, weights, before, b / period, part * 8);
-                            sink.put_vectors(lane, b * block + first, &acc, self.norm);
+                        } else {
+                            for b in (base..=last).map(|base| base * period + phase).filter(|b| *b < blocks) {
+                                let acc = self.sum_checked::<P, L>(&terms.list, weights, before, b / period, part * 8);
+                                sink.put_vectors(lane, b * block + first, &acc, self.norm);
+                            }
                         }
                     }
                 }
@@ -482,22 +491,27 @@ impl Plan {
         row: *const f32,
         offset: usize,
     ) -> [[__m256; P]; G] {
-        let views = self.basis.views;
-        let mut acc = [[_mm256_setzero_ps(); G]; P];
-        for tap in taps {
-            let w = row.wrapping_offset(tap.weight as isize);
-            let w: [__m256; G] = std::array::from_fn(|k| _mm256_broadcast_ss(&*w.add(k * views)));
-            // Inside the table: checked in `Plan::new`.
-            let values = self.lanes.as_ptr().add(tap.table as usize + offset);
-            // One vector of values at a time, for all G blocks: few registers live.
-            for (p, acc) in acc.iter_mut().enumerate() {
-                let x = _mm256_loadu_ps(values.add(p * 8));
-                for (acc, w) in acc.iter_mut().zip(&w) {
-                    *acc = _mm256_fmadd_ps(*w, x, *acc);
+        // SAFETY: the caller guarantees AVX2 and FMA and that every weight the taps
+        // name is in the buffer; tap table offsets were checked against `lanes` in
+        // `Plan::new`, so each 8-float load at `tap.table + offset + 8p` is inside.
+        unsafe {
+            let views = self.basis.views;
+            let mut acc = [[_mm256_setzero_ps(); G]; P];
+            for tap in taps {
+                let w = row.wrapping_offset(tap.weight as isize);
+                let w: [__m256; G] = std::array::from_fn(|k| _mm256_broadcast_ss(&*w.add(k * views)));
+                // Inside the table: checked in `Plan::new`.
+                let values = self.lanes.as_ptr().add(tap.table as usize + offset);
+                // One vector of values at a time, for all G blocks: few registers live.
+                for (p, acc) in acc.iter_mut().enumerate() {
+                    let x = _mm256_loadu_ps(values.add(p * 8));
+                    for (acc, w) in acc.iter_mut().zip(&w) {
+                        *acc = _mm256_fmadd_ps(*w, x, *acc);
+                    }
                 }
             }
+            std::array::from_fn(|k| std::array::from_fn(|p| acc[p][k]))
         }
-        std::array::from_fn(|k| std::array::from_fn(|p| acc[p][k]))
     }
 
     /// One block whose terms may name emitters beyond the hololine's ends:
@@ -513,18 +527,22 @@ impl Plan {
         base: usize,
         offset: usize,
     ) -> [__m256; P] {
-        let mut acc = [_mm256_setzero_ps(); P];
-        for t in terms {
-            let Some(e) = base.checked_sub(t.back as usize).filter(|e| *e < self.basis.emitters) else {
-                continue;
-            };
-            let w = weights[(before + e) * self.basis.views + t.view as usize];
-            let values = &self.lanes[t.at as usize * L + offset..][..P * 8];
-            for (p, acc) in acc.iter_mut().enumerate() {
-                *acc = _mm256_fmadd_ps(_mm256_set1_ps(w), _mm256_loadu_ps(values[p * 8..].as_ptr()), *acc);
+        // SAFETY: the caller guarantees AVX2 and FMA; each load reads 8 floats from
+        // `values[8p..]`, a slice of `8P` floats.
+        unsafe {
+            let mut acc = [_mm256_setzero_ps(); P];
+            for t in terms {
+                let Some(e) = base.checked_sub(t.back as usize).filter(|e| *e < self.basis.emitters) else {
+                    continue;
+                };
+                let w = weights[(before + e) * self.basis.views + t.view as usize];
+                let values = &self.lanes[t.at as usize * L + offset..][..P * 8];
+                for (p, acc) in acc.iter_mut().enumerate() {
+                    *acc = _mm256_fmadd_ps(_mm256_set1_ps(w), _mm256_loadu_ps(values[p * 8..].as_ptr()), *acc);
+                }
             }
+            acc
         }
-        acc
     }
 
     /// The portable kernel: blocks of `B` samples and `L` lanes with
