@@ -17,7 +17,7 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use holo::holoflick::cg::{decode, decode_with, write_cg_file, CgFile, EncodeOptions, Mesh, Primitive, Vertex};
+use holo::holoflick::cg::{decode, decode_with, encode as encode_mesh, CgFile, EncodeOptions, Mesh, Primitive, Vertex};
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -98,8 +98,9 @@ fn encode(args: &[String]) -> Result<(), String> {
     let options = EncodeOptions { position_bits: bits[0], color_bits: bits[1], normal_bits: bits[2], alpha: true };
     let mesh =
         Mesh { positions: &positions, normals: normals.as_deref(), colors: colours.as_deref(), triangles: &triangles };
-    let _ = std::fs::remove_file(output);
-    let encoded = write_cg_file(Path::new(output), &mesh, &options).map_err(|e| e.to_string())?;
+    let encoded = encode_mesh(&mesh, &options).map_err(|e| e.to_string())?;
+    // A test driver's scratch output: replaced in place, no temporary file.
+    std::fs::write(output, CgFile::from_encoded(&encoded).to_bytes()).map_err(|e| format!("{output}: {e}"))?;
     let file_bytes = std::fs::metadata(output).map(|m| m.len()).unwrap_or(0);
     let h = encoded.header;
     let present = u32::from(h.normals) | u32::from(h.colors) << 1 | u32::from(h.alpha) << 2;

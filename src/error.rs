@@ -87,6 +87,10 @@ pub enum Error {
         /// Digest of the samples read.
         computed: String,
     },
+    /// The compressed-geometry codec refused a `.cg` file, a stream or a mesh
+    /// (its message names the file when there is one).
+    #[error(transparent)]
+    CompressedGeometry(#[from] holo_cg::Error),
     /// A request that does not fit the data (bad frame index, region, geometry mismatch, ...).
     #[error("{0}")]
     Usage(String),

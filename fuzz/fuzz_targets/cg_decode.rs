@@ -4,9 +4,7 @@
 //! the streaming decoder hands out the same primitives.
 #![no_main]
 
-use holo::holoflick::cg::{
-    decode, decode_reference, decode_with, file::CgFile, BlockKind, CgHeader, Primitive, Vertex,
-};
+use holo_cg::{decode, decode_reference, decode_with, file::CgFile, BlockKind, CgHeader, Primitive, Vertex};
 use libfuzzer_sys::fuzz_target;
 
 fn agree(header: &CgHeader, bytes: &[u8]) {

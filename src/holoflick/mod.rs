@@ -3,12 +3,13 @@
 //!
 //! - [`cg`]: Michael Deering's compressed geometry exactly as Java 3D 1.5.2
 //!   reads and writes it (stream format 1.0.2) and Java 3D's `.cg` resource
-//!   files. Start reading at [`cg::encode`] and [`cg::decode`].
+//!   files: the workspace crate `holo-cg` (folder `cg/`), which stands alone,
+//!   re-exported here. Start reading at [`cg::encode`] and [`cg::decode`].
 //! - [`container`]: the `.hflk` file (spec/holoflick.md): frames of geometry
 //!   blocks with their transforms, specular lights and materials, bindings,
 //!   the viewer's couch and key frames.
 
-pub mod cg;
+pub use holo_cg as cg;
 pub mod container;
 pub mod convert;
 pub mod encode;

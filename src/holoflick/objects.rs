@@ -21,10 +21,6 @@ use crate::{Error, Result};
 /// base colour is not baked in: that is a converter's choice).
 pub fn encode_object(id: u32, o: &Object, options: &EncodeOptions) -> Result<(GeometryObject, EncodeStats)> {
     let o = with_flat_normals(o);
-    let named = |e: Error| match e {
-        Error::Usage(m) => Error::Usage(format!("object \"{}\": {m}", o.name)),
-        other => other,
-    };
     // Colours up to 1 go as they are (the stream's largest, 1 − 2^(1 − bits),
     // takes 1, as in Java 3D); brighter radiance is scaled so the brightest
     // component lands on that largest value.
@@ -47,7 +43,8 @@ pub fn encode_object(id: u32, o: &Object, options: &EncodeOptions) -> Result<(Ge
         colors: (!colours.is_empty()).then_some(&colours[..]),
         triangles: &o.triangles,
     };
-    let encoded = cg::encode(&mesh, options).map_err(named)?;
+    // The codec knows no object names: the message gains the object's here.
+    let encoded = cg::encode(&mesh, options).map_err(|e| Error::Usage(format!("object \"{}\": {e}", o.name)))?;
     let descriptor = Descriptor::from_cg_header(&encoded.header);
     let block = GeometryBlock::new(descriptor, &encoded.bytes)
         .map_err(|m| Error::Usage(format!("object \"{}\": {m}", o.name)))?;
@@ -104,10 +101,7 @@ pub fn decode_block(name: &str, block: &GeometryBlock) -> Result<(Object, usize)
         }
         _ => skipped += 1,
     })
-    .map_err(|e| match e {
-        Error::Invalid { problem, .. } => Error::Usage(format!("object {name}: {problem}")),
-        other => other,
-    })?;
+    .map_err(|e| Error::Usage(format!("object {name}: {e}")))?;
     // Vertices may lack normals or colours in part of a block (a list
     // without them): keep the lists whole or empty.
     if !with_normals || o.normals.len() != o.positions.len() {

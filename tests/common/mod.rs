@@ -1,5 +1,8 @@
 //! Helpers shared by the integration tests.
 
+// Each test binary uses its own subset of these helpers.
+#![allow(dead_code)]
+
 use std::path::PathBuf;
 
 /// The shared test data folder (`$HOLO_SHARED_DATA`, else `../shared/data`),
@@ -20,4 +23,11 @@ pub fn shared_data() -> Option<PathBuf> {
         d.display()
     );
     None
+}
+
+/// A file of the shared data that is not there: said plainly, and a failure
+/// when `HOLO_REQUIRE_DATA=1`.
+pub fn missing(what: &str) {
+    assert!(std::env::var("HOLO_REQUIRE_DATA").as_deref() != Ok("1"), "{what} is missing and HOLO_REQUIRE_DATA=1");
+    println!("SKIPPED: {what} not present");
 }

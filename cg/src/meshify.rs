@@ -2,8 +2,9 @@
 //! vertices go into the 16-entry mesh buffer, so that each vertex is sent
 //! about once and later uses cost a 9-bit mesh-buffer reference.
 //!
-//! Strips side by side, in bands (after Deering 1995 and Chow 1997,
-//! "Optimized geometry compression for real-time rendering"): a strip
+//! Strips side by side, in bands (after M. Deering, "Geometry Compression",
+//! SIGGRAPH 1995, and M. Chow, "Optimized Geometry Compression for Real-time
+//! Rendering", IEEE Visualization 1997): a strip
 //! continues across the window's newest edge (replace oldest) or its fan
 //! edge (replace middle), preferring triangles that cost no extra vertex and
 //! that touch the row of vertices the previous strip left in the buffer, and
@@ -841,7 +842,7 @@ impl<T> NoneOr<T> for Option<&T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::holoflick::cg::strip::java_triangles;
+    use crate::strip::java_triangles;
 
     /// The steps decode (as Java's back end would) to exactly the input triangles, oriented.
     fn check(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<Step> {

@@ -13,7 +13,7 @@ use super::huffman::{canonical_tags, limited_lengths, TableEntry};
 use super::meshify::{meshify, Step};
 use super::normals::{quantize_normal, NormalCode};
 use super::CgHeader;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use std::collections::HashMap;
 
 /// An indexed triangle mesh to encode.
@@ -89,10 +89,6 @@ impl Encoded {
     pub fn model_from_normalised(&self, normalised: [f32; 3]) -> [f64; 3] {
         [0, 1, 2].map(|k| f64::from(normalised[k]) / self.scale + self.center[k])
     }
-}
-
-fn usage(msg: String) -> Error {
-    Error::Usage(msg)
 }
 
 /// One vertex's stream integers.
@@ -438,43 +434,10 @@ impl CommandWriter {
 /// length, indices out of range, non-finite positions.
 pub fn encode(mesh: &Mesh, options: &EncodeOptions) -> Result<Encoded> {
     let o = options;
-    if !(1..=16).contains(&o.position_bits) || !(2..=16).contains(&o.color_bits) || o.normal_bits > 6 {
-        return Err(usage(format!(
-            "compressed geometry: bits must be position 1..=16, colour 2..=16, normal 0..=6 (got {}, {}, {})",
-            o.position_bits, o.color_bits, o.normal_bits
-        )));
-    }
+    check_input(mesh, o)?;
     let n = mesh.positions.len();
-    if mesh.normals.is_some_and(|a| a.len() != n) || mesh.colors.is_some_and(|a| a.len() != n) {
-        return Err(usage(format!("compressed geometry: {n} positions but normals or colours of another length")));
-    }
-    if n > u32::MAX as usize / 2 {
-        return Err(usage(format!("compressed geometry: {n} vertices is too many")));
-    }
-    if let Some(t) = mesh.triangles.iter().find(|t| t.iter().any(|&i| i as usize >= n)) {
-        return Err(usage(format!("compressed geometry: triangle {t:?} indexes past the {n} vertices")));
-    }
-    if mesh.positions.iter().any(|p| p.iter().any(|c| !c.is_finite())) {
-        return Err(usage("compressed geometry: a position is not finite".into()));
-    }
-    // Bounds, centre and scale as Java 3D's CompressionStream: the largest
-    // extent maps to ±(1 − 2^(1-bits)), one step inside the frame.
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in mesh.positions {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let (center, range) = if n == 0 {
-        ([0.0; 3], 0.0)
-    } else {
-        ([0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0), (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max))
-    };
+    let (center, scale) = normalising_frame(mesh.positions, o.position_bits);
     let pos_step = 1i32 << (16 - o.position_bits);
-    let inside = 1.0 - f64::from(pos_step) / 32768.0;
-    let scale = if range > 0.0 { 2.0 / range * inside } else { 1.0 };
     let col_step = 1i32 << (16 - o.color_bits);
 
     // Quantize and merge vertices whose stream integers are equal.
@@ -605,5 +568,54 @@ pub fn encode(mesh: &Mesh, options: &EncodeOptions) -> Result<Encoded> {
 }
 
 fn internal() -> Error {
-    Error::Usage("compressed geometry encoder: inconsistent internal state (a bug)".into())
+    Error::Internal
+}
+
+/// Centre (model units) and scale (normalised units per model unit) that
+/// map the positions into the stream's frame, as Java 3D's
+/// `CompressionStream` does: the largest extent maps to ±(1 − 2^(1-bits)),
+/// one step inside the frame.
+fn normalising_frame(positions: &[[f64; 3]], position_bits: u32) -> ([f64; 3], f64) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let (center, range) = if positions.is_empty() {
+        ([0.0; 3], 0.0)
+    } else {
+        ([0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0), (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max))
+    };
+    let pos_step = 1i32 << (16 - position_bits);
+    let inside = 1.0 - f64::from(pos_step) / 32768.0;
+    let scale = if range > 0.0 { 2.0 / range * inside } else { 1.0 };
+    (center, scale)
+}
+
+/// The checks [`encode`] makes before any work.
+fn check_input(mesh: &Mesh, o: &EncodeOptions) -> Result<()> {
+    if !(1..=16).contains(&o.position_bits) || !(2..=16).contains(&o.color_bits) || o.normal_bits > 6 {
+        return Err(Error::BitsOutOfRange { position: o.position_bits, color: o.color_bits, normal: o.normal_bits });
+    }
+    let n = mesh.positions.len();
+    let lengths = [("normals", mesh.normals.map(<[_]>::len)), ("colours", mesh.colors.map(<[_]>::len))];
+    if let Some((attribute, Some(len))) = lengths.into_iter().find(|(_, len)| len.is_some_and(|l| l != n)) {
+        return Err(Error::AttributeLength { positions: n, attribute, len });
+    }
+    let max = u32::MAX as usize / 2;
+    if n > max {
+        return Err(Error::TooManyVertices { vertices: n, max });
+    }
+    if let Some((index, &triangle)) =
+        mesh.triangles.iter().enumerate().find(|(_, t)| t.iter().any(|&i| i as usize >= n))
+    {
+        return Err(Error::IndexOutOfRange { index, triangle, vertices: n });
+    }
+    if let Some(vertex) = mesh.positions.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
+        return Err(Error::NonFinitePosition { vertex });
+    }
+    Ok(())
 }

@@ -14,6 +14,7 @@
 
 use super::state::{Sink, State};
 use super::{BlockKind, QuantizedVertex, Vertex};
+use crate::error::StreamProblem;
 
 const RESTART_CW: u8 = 0;
 const REPLACE_MIDDLE: u8 = 2;
@@ -21,7 +22,7 @@ const REPLACE_OLDEST: u8 = 3;
 
 /// One vertex list's triangles as (strips, fans) of indices, Java's way.
 /// `Err` when a restart lacks its two following vertices.
-pub(crate) fn java_triangles(flags: &[u8]) -> Result<Vec<[usize; 3]>, String> {
+pub(crate) fn java_triangles(flags: &[u8]) -> Result<Vec<[usize; 3]>, StreamProblem> {
     let size = flags.len();
     if size == 0 {
         // Java throws here (GeneralizedStrip0); an empty list simply has no triangles.
@@ -76,7 +77,7 @@ pub(crate) fn java_triangles(flags: &[u8]) -> Result<Vec<[usize; 3]>, String> {
         }
     }
     if v != size {
-        return Err("a strip restart is not followed by two more vertices".into());
+        return Err(StreamProblem::UnfinishedStrip);
     }
     if cur == REPLACE_MIDDLE {
         fan(start, length, ccw, transition, &mut fans);
@@ -133,7 +134,7 @@ fn fan(start: usize, length: usize, ccw: bool, transition: bool, out: &mut Vec<[
 }
 
 /// One vertex list's line strips (Java's toLineStrips): restarts begin a new strip.
-pub(crate) fn java_lines(flags: &[u8]) -> Result<Vec<[usize; 2]>, String> {
+pub(crate) fn java_lines(flags: &[u8]) -> Result<Vec<[usize; 2]>, StreamProblem> {
     let size = flags.len();
     if size == 0 {
         return Ok(Vec::new());
@@ -152,7 +153,7 @@ pub(crate) fn java_lines(flags: &[u8]) -> Result<Vec<[usize; 2]>, String> {
         }
     }
     if v != size {
-        return Err("a line strip restart is not followed by another vertex".into());
+        return Err(StreamProblem::UnfinishedLine);
     }
     out.extend((start..start + length - 1).map(|i| [i, i + 1]));
     Ok(out)
@@ -203,14 +204,14 @@ impl JavaOrder {
 }
 
 impl Sink for JavaOrder {
-    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String> {
+    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), StreamProblem> {
         let v = if self.derive { state.derived_vertex() } else { state.float_vertex() };
         self.list.push((state.quantized_vertex(), v));
         self.flags.push(replace);
         Ok(())
     }
 
-    fn end_list(&mut self) -> Result<(), String> {
+    fn end_list(&mut self) -> Result<(), StreamProblem> {
         match self.kind {
             BlockKind::Triangles => {
                 // A list's triangles never outnumber its vertices: one
@@ -331,7 +332,7 @@ impl<F: FnMut(Primitive)> Streaming<F> {
 
 impl<F: FnMut(Primitive)> Sink for Streaming<F> {
     #[inline(always)]
-    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String> {
+    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), StreamProblem> {
         match self.kind {
             BlockKind::Triangles => self.triangle_vertex(state, replace),
             BlockKind::Points => (self.f)(Primitive::Point(&state.float_vertex())),
@@ -351,7 +352,7 @@ impl<F: FnMut(Primitive)> Sink for Streaming<F> {
         Ok(())
     }
 
-    fn end_list(&mut self) -> Result<(), String> {
+    fn end_list(&mut self) -> Result<(), StreamProblem> {
         let incomplete = match self.kind {
             BlockKind::Triangles => self.filled == 1 || self.filled == 2,
             BlockKind::Lines => self.filled == 1,
@@ -360,8 +361,8 @@ impl<F: FnMut(Primitive)> Sink for Streaming<F> {
         self.filled = 0;
         if incomplete {
             return Err(match self.kind {
-                BlockKind::Lines => "a line strip restart is not followed by another vertex".into(),
-                _ => "a strip restart is not followed by two more vertices".into(),
+                BlockKind::Lines => StreamProblem::UnfinishedLine,
+                _ => StreamProblem::UnfinishedStrip,
             });
         }
         Ok(())

@@ -4,19 +4,41 @@
 //! number of 4-byte words (the decoders check that up front), and reading
 //! past its last bit is an error ("the stream ends inside a command").
 
+use crate::error::StreamProblem;
+
 /// Where a stream read went wrong: the bit offset (from the start of the
-/// stream) of the command being decoded, and what is wrong.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct StreamError {
+/// stream) of the command being decoded, and what is wrong. Small and
+/// `Copy` for the decoders' hot loops; [`crate::Error::Stream`] outside.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct StreamError {
     /// Bit offset of the start of the command (its header) in the stream.
     pub bit: u64,
-    /// What is wrong, as one sentence.
-    pub problem: String,
+    /// What is wrong.
+    pub problem: StreamProblem,
+}
+
+impl From<StreamError> for crate::Error {
+    fn from(e: StreamError) -> Self {
+        crate::Error::Stream { bit: e.bit, problem: e.problem }
+    }
 }
 
 /// Reading ran past the end of the stream (the caller adds the command's offset).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct PastEnd;
+
+impl From<PastEnd> for StreamProblem {
+    fn from(_: PastEnd) -> Self {
+        StreamProblem::EndsInsideCommand
+    }
+}
+
+impl StreamProblem {
+    /// This problem in the command whose header is at `bit`.
+    pub(crate) fn at(self, bit: u64) -> StreamError {
+        StreamError { bit, problem: self }
+    }
+}
 
 /// Fast reader: a 64-bit left-aligned buffer refilled with as many whole
 /// bytes as fit.
@@ -60,7 +82,10 @@ impl<'a> WordReader<'a> {
     /// ([`Self::far_from_end`]). Branch-free: the bits of the byte only
     /// partly taken stay in the buffer below `count` and are loaded again
     /// at the same place, which OR-ing leaves as they are (the bits below
-    /// `count` are always 0 or the stream's own).
+    /// `count` are always 0 or the stream's own). "Without looking for the
+    /// end" means no branch on the stream's length: the slice below is still
+    /// bounds-checked, so were the margin of `decode::run` ever wrong this
+    /// would panic, never read outside the stream (the crate has no `unsafe`).
     #[inline(always)]
     fn refill_fast(&mut self) {
         let mut word = [0u8; 8];

@@ -1,15 +1,28 @@
 //! Deering compressed geometry, exactly as Java 3D 1.5.2 reads it (stream
 //! format 1.0.2), and Java 3D's `.cg` resource files.
 //!
-//! A stream is a bit string of commands, each an 8-bit header and a body;
-//! headers run one command ahead of their bodies ("header forwarding"), and
-//! the first body belongs to an implicit no-op. Positions, colours and normals
-//! are Huffman-coded deltas or absolute values; a 16-entry mesh buffer lets a
-//! vertex be sent once and referenced later; 2-bit replace codes on every
-//! vertex make generalized triangle strips. The normative description we
-//! follow is Java 3D's source (`GeometryDecompressor`, `GeneralizedStrip`,
-//! `CompressionStream*`, `CompressedGeometryFile`), summarised with every
-//! trap in `/work/notes/issue6-research.md`.
+//! The crate stands alone: it depends on nothing but `thiserror` and
+//! `smallvec`, works on slices of plain arrays and bytes, and leaves writing
+//! files to its caller (how bytes reach a disk safely is the application's
+//! business).
+//!
+//! The format is Michael Deering's (M. Deering, "Geometry Compression",
+//! SIGGRAPH 1995). A stream is a bit string of commands, each an 8-bit
+//! header and a body; headers run one command ahead of their bodies
+//! ("header forwarding"), and the first body belongs to an implicit no-op.
+//! Positions, colours and normals are Huffman-coded deltas or absolute
+//! values (the paper's sections on quantization, delta coding and its
+//! modified Huffman tables); a 16-entry mesh buffer lets a vertex be sent
+//! once and referenced later, and 2-bit replace codes on every vertex make
+//! generalized triangle strips (the paper's "generalized triangle mesh");
+//! normals are points of a sextant/octant/(u, v) grid on the unit sphere
+//! (its section on normal compression). The paper leaves details open;
+//! Java 3D 1.5.2 fixes them, and its decoder is the working definition this
+//! crate follows bit for bit: *The Java 3D API Specification*, appendix B
+//! "3D Geometry Compression", and its source (`GeometryDecompressor`,
+//! `GeneralizedStrip`, `GeometryDecompressorShape3D` in `javax.media.j3d`;
+//! `CompressionStream*` and `CompressedGeometryFile` in
+//! `com.sun.j3d.utils.geometry.compression`).
 //!
 //! Where to start:
 //! * [`encode`] a [`Mesh`] with [`EncodeOptions`] (bits for position, colour
@@ -18,8 +31,35 @@
 //! * [`decode`] a stream into triangles exactly as Java 3D builds them, or
 //!   [`decode_with`] to receive each primitive as it is decoded;
 //!   [`decode_reference`] is the slow, literal twin of [`decode`];
-//! * [`file`](mod@file) reads and writes `.cg` files; [`write_cg_file`] and
-//!   [`read_cg_file`] are the one-call forms for tests and tools.
+//! * [`file`](mod@file) parses `.cg` files and lays them out
+//!   ([`CgFile::parse`], [`CgFile::to_bytes`]); [`read_cg_file`] reads and
+//!   decodes one in a call.
+//!
+//! ```
+//! use holo_cg::{decode, encode, CgFile, EncodeOptions, Mesh};
+//!
+//! // A unit square in the z = 0 plane, two triangles counter-clockwise from +z.
+//! let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+//! let triangles = [[0, 1, 2], [0, 2, 3]];
+//! let mesh = Mesh { positions: &positions, normals: None, colors: None, triangles: &triangles };
+//! let encoded = encode(&mesh, &EncodeOptions::default())?;
+//! let decoded = decode(&encoded.header, &encoded.bytes)?;
+//! assert_eq!(decoded.triangles.len(), 2);
+//!
+//! // 16 position bits: each corner comes back within half a step (2^-16 of
+//! // the normalised frame) of an input vertex, once mapped to model units.
+//! let tolerance = 0.5f64.powi(16) / encoded.scale * 1.001;
+//! for corner in decoded.triangles.iter().flatten() {
+//!     let p = encoded.model_from_normalised(corner.position);
+//!     assert!(positions.iter().any(|q| (0..3).all(|k| (p[k] - q[k]).abs() <= tolerance)));
+//! }
+//!
+//! // As a one-object `.cg` file, which Java 3D's CompressedGeometryFile reads.
+//! let bytes = CgFile::from_encoded(&encoded).to_bytes();
+//! let file = CgFile::parse(&bytes, std::path::Path::new("square.cg"))?;
+//! assert_eq!(decode(&file.objects[0].header, &file.objects[0].bytes)?, decoded);
+//! # Ok::<(), holo_cg::Error>(())
+//! ```
 //!
 //! Decoded values are in Java 3D's normalised frame, computed with Java's
 //! float arithmetic: a position is the 16-bit value / 32768, a colour
@@ -31,11 +71,22 @@
 //!
 //! Safety on untrusted input: every decoder entry point returns an error,
 //! never panics, on any bytes; output grows only with decoded vertices, of
-//! which a stream of `n` bits holds at most `n / 9`.
+//! which a stream of `n` bits holds at most `n / 9`. The crate has no
+//! `unsafe` code: the fast decoder's reads without end-of-stream checks are
+//! ordinary bounds-checked slice reads that a margin keeps in range (see
+//! `decode.rs`), so a mistake there would be a panic, never undefined
+//! behaviour.
+
+// No unsafe code at all; should some ever be needed, each unsafe operation
+// must still sit in its own `unsafe` block with a `// SAFETY:` comment.
+#![forbid(unsafe_code)]
+#![deny(unsafe_op_in_unsafe_fn)]
+#![warn(missing_docs)]
 
 mod bits;
 mod decode;
 mod encode;
+mod error;
 pub mod file;
 mod huffman;
 mod meshify;
@@ -44,15 +95,11 @@ mod reference;
 mod state;
 mod strip;
 
-use std::path::Path;
-
-pub use bits::StreamError;
 pub use encode::{encode, EncodeOptions, EncodeStats, Encoded, Mesh};
-pub use file::{read_cg_file, write_cg_file, CgFile, CgObject};
+pub use error::{Error, FileProblem, Result, StreamProblem, Table};
+pub use file::{read_cg_file, CgFile, CgObject};
 pub use normals::{normal_error_bound_rad, NormalCode};
 pub use strip::Primitive;
-
-use crate::{Error, Result};
 
 /// What a compressed-geometry block holds (Java 3D's bufferType).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -130,22 +177,9 @@ pub struct Decoded {
     pub points: Vec<Vertex>,
 }
 
-fn stream_error(e: StreamError) -> Error {
-    Error::Invalid {
-        path: Path::new("compressed geometry stream").to_path_buf(),
-        problem: format!("at bit {}: {}", e.bit, e.problem),
-    }
-}
-
 fn check_version(header: &CgHeader) -> Result<()> {
     if !header.version_supported() {
-        let [a, b, c] = header.version;
-        return Err(Error::Invalid {
-            path: Path::new("compressed geometry stream").to_path_buf(),
-            problem: format!(
-                "format version {a}.{b}.{c} is newer than 1.0.x, which Java 3D 1.5.2 and this decoder read"
-            ),
-        });
+        return Err(Error::UnsupportedVersion { version: header.version });
     }
     Ok(())
 }
@@ -185,7 +219,7 @@ fn check_version(header: &CgHeader) -> Result<()> {
 pub fn decode(header: &CgHeader, bytes: &[u8]) -> Result<Decoded> {
     check_version(header)?;
     let mut sink = strip::JavaOrder::for_stream(header.kind, bytes.len());
-    decode::run(bytes, &mut sink).map_err(stream_error)?;
+    decode::run(bytes, &mut sink).map_err(Error::from)?;
     let c = sink.out;
     Ok(Decoded { triangles: c.triangles, quantized: c.quantized, lines: c.lines, points: c.points })
 }
@@ -196,7 +230,7 @@ pub fn decode(header: &CgHeader, bytes: &[u8]) -> Result<Decoded> {
 pub fn decode_reference(header: &CgHeader, bytes: &[u8]) -> Result<Decoded> {
     check_version(header)?;
     let mut sink = strip::JavaOrder::derived(header.kind);
-    reference::run(bytes, &mut sink).map_err(stream_error)?;
+    reference::run(bytes, &mut sink).map_err(Error::from)?;
     let c = sink.out;
     Ok(Decoded { triangles: c.triangles, quantized: c.quantized, lines: c.lines, points: c.points })
 }
@@ -212,5 +246,5 @@ pub fn decode_reference(header: &CgHeader, bytes: &[u8]) -> Result<Decoded> {
 pub fn decode_with(header: &CgHeader, bytes: &[u8], f: impl FnMut(Primitive)) -> Result<()> {
     check_version(header)?;
     let mut sink = strip::Streaming::new(header.kind, f);
-    decode::run(bytes, &mut sink).map_err(stream_error)
+    decode::run(bytes, &mut sink).map_err(Error::from)
 }

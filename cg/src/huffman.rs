@@ -1,6 +1,10 @@
 //! Decompression tables from data: optimal prefix codes under the format's
 //! limit of 6-bit tags (package-merge), canonical tag assignment, and the
-//! setTable commands that load them.
+//! setTable commands that load them. The tables are Deering's modified
+//! Huffman coding (M. Deering, "Geometry Compression", SIGGRAPH 1995): a
+//! tag of up to 6 bits selects an entry giving the data length, a right
+//! shift and absolute or relative, and setTable fills the 64 entries a tag
+//! prefix covers (Java 3D API Specification, appendix B).
 
 /// Code lengths (0..=`max_len`) minimising Σ frequency × length for
 /// `freqs` (all > 0), by package-merge; one symbol gets length 0.

@@ -8,9 +8,10 @@
 //! single bit string; tests make the two agree on random streams.
 
 use super::bits::{BitByBit, StreamError};
-use super::decode::{check_length, no_table, BodyError};
+use super::decode::{check_length, no_table};
 use super::normals::NormalCode;
 use super::state::{parse_set_table, Entry, Sink, State};
+use crate::error::{StreamProblem, Table};
 
 /// One table as the setTable commands that built it.
 #[derive(Default)]
@@ -37,9 +38,9 @@ struct Ref<'a> {
 }
 
 impl Ref<'_> {
-    fn bits(&mut self, n: i64) -> Result<i64, BodyError> {
+    fn bits(&mut self, n: i64) -> Result<i64, StreamProblem> {
         if n < 0 {
-            return Err(BodyError::Invalid(format!("negative bit count {n}")));
+            return Err(StreamProblem::NegativeBitCount { bits: n });
         }
         Ok(self.r.read(n as u32)? as i64)
     }
@@ -67,8 +68,8 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
     let mut next: i64 = 0x01;
     while !d.r.at_end() {
         let at = d.r.position();
-        let fail = |e: BodyError| e.at(at);
-        let err = |problem: String| StreamError { bit: at, problem };
+        let fail = |e: StreamProblem| e.at(at);
+        let err = fail;
         let current = next;
         if current & 0xC0 == 0x40 {
             let (bn, bc) = (st.bundling_normal, st.bundling_color);
@@ -120,19 +121,22 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
             d.bits(8).map_err(fail)?;
         }
     }
-    st.finish(sink).map_err(|problem| StreamError { bit: d.r.position(), problem })
+    st.finish(sink).map_err(|problem| problem.at(d.r.position()))
 }
 
-fn vertex(d: &mut Ref, st: &mut State, header: i64) -> Result<bool, BodyError> {
+fn vertex(d: &mut Ref, st: &mut State, header: i64) -> Result<bool, StreamProblem> {
     let gct = d.tables[0].lookup(header as u32);
-    let data_len = i64::from(gct.sent_bits("position")?);
+    let data_len = i64::from(gct.sent_bits(Table::Position)?);
     let tag = i64::from(gct.tag_len);
     let ii = if 6 - 3 * data_len - tag > 0 {
         let num_bits = 6 - 3 * data_len - tag;
         if num_bits > 3 {
-            return Err(BodyError::Invalid(format!(
-                "position table entry of tag length {tag} and {data_len} bits per component leaves {num_bits} bits of the header for the 3 replace/push bits"
-            )));
+            // All three small: tag <= 6, data_len <= 16, num_bits 4..=6.
+            return Err(StreamProblem::ReplaceBitsInHeader {
+                tag_len: tag as u32,
+                data_len: data_len as u32,
+                header_bits: num_bits as u32,
+            });
         }
         let jj = header & bmask(num_bits);
         d.bits(3 - num_bits)? | (jj << (3 - num_bits))
@@ -177,9 +181,9 @@ fn vertex(d: &mut Ref, st: &mut State, header: i64) -> Result<bool, BodyError> {
     Ok(push)
 }
 
-fn set_color(d: &mut Ref, st: &mut State, header: i64, push: bool) -> Result<(), BodyError> {
+fn set_color(d: &mut Ref, st: &mut State, header: i64, push: bool) -> Result<(), StreamProblem> {
     let gct = d.tables[1].lookup(header as u32);
-    let dl = i64::from(gct.sent_bits("colour")?);
+    let dl = i64::from(gct.sent_bits(Table::Color)?);
     let tag = i64::from(gct.tag_len);
     let alpha = st.doing_alpha;
     let mut r = header & bmask(6 - tag);
@@ -245,9 +249,9 @@ fn set_color(d: &mut Ref, st: &mut State, header: i64, push: bool) -> Result<(),
     Ok(())
 }
 
-fn set_normal(d: &mut Ref, st: &mut State, header: i64, push: bool) -> Result<(), BodyError> {
+fn set_normal(d: &mut Ref, st: &mut State, header: i64, push: bool) -> Result<(), StreamProblem> {
     let gct = d.tables[2].lookup(header as u32);
-    let dl = i64::from(gct.sent_bits("normal")?);
+    let dl = i64::from(gct.sent_bits(Table::Normal)?);
     let tag = i64::from(gct.tag_len);
     let s = gct.shift;
     if gct.absolute {

@@ -6,6 +6,7 @@
 
 use super::normals::{index_normal, normal_table, NormalCode, NormalTable};
 use super::{QuantizedVertex, Vertex};
+use crate::error::{StreamProblem, Table};
 
 /// One entry of a decompression table (`HuffmanTableEntry` in Java 3D).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -28,7 +29,7 @@ impl Entry {
     /// Bits sent per component, or an error when the shift exceeds the length
     /// (Java 3D would call `getBits` with a negative count and fail).
     #[inline(always)]
-    pub(crate) fn sent_bits(&self, table: &str) -> Result<u32, String> {
+    pub(crate) fn sent_bits(&self, table: Table) -> Result<u32, StreamProblem> {
         if self.shift > self.data_len {
             return Err(self.shift_error(table));
         }
@@ -40,7 +41,7 @@ impl Entry {
 
     /// [`Self::sent_bits`] as set with the table.
     #[inline(always)]
-    pub(crate) fn sent(&self, table: &str) -> Result<u32, String> {
+    pub(crate) fn sent(&self, table: Table) -> Result<u32, StreamProblem> {
         if self.sent == Self::INVALID {
             return Err(self.shift_error(table));
         }
@@ -48,8 +49,8 @@ impl Entry {
     }
 
     #[cold]
-    fn shift_error(&self, table: &str) -> String {
-        format!("{table} table entry shifts by {} bits, more than its data length {}", self.shift, self.data_len)
+    fn shift_error(&self, table: Table) -> StreamProblem {
+        StreamProblem::ShiftExceedsLength { table, shift: self.shift, data_len: self.data_len }
     }
 }
 
@@ -81,8 +82,8 @@ fn unit(v: i16) -> f32 {
 }
 
 #[cold]
-fn outside_grid(code: NormalCode) -> String {
-    format!("normal (u, v) = ({}, {}) lies outside the 64-step grid", code.u, code.v)
+fn outside_grid(code: NormalCode) -> StreamProblem {
+    StreamProblem::NormalOutsideGrid { u: code.u, v: code.v }
 }
 
 /// One mesh-buffer slot (Java 3D `MeshBufferEntry`: all shorts).
@@ -106,9 +107,9 @@ pub(crate) struct MeshEntry {
 pub(crate) trait Sink {
     /// The decoder's current vertex ([`State::float_vertex`],
     /// [`State::quantized_vertex`]) with its generalized-strip replace code (0..=3).
-    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), String>;
+    fn vertex(&mut self, state: &State, replace: u8) -> Result<(), StreamProblem>;
     /// The current vertex list ends (Java 3D builds a Shape3D from it).
-    fn end_list(&mut self) -> Result<(), String>;
+    fn end_list(&mut self) -> Result<(), StreamProblem>;
 }
 
 /// Everything a decoder carries between commands.
@@ -215,7 +216,7 @@ impl State {
         colors: bool,
         alpha: bool,
         sink: &mut impl Sink,
-    ) -> Result<(), String> {
+    ) -> Result<(), StreamProblem> {
         self.bundling_normal = normals;
         self.bundling_color = colors;
         self.doing_alpha = alpha;
@@ -234,7 +235,7 @@ impl State {
     /// does, then the optional push into the slot the vertex just pushed
     /// (Java's slots hold shorts: u and v are truncated there).
     #[inline(always)]
-    pub(crate) fn set_normal_code(&mut self, code: NormalCode, push: bool) -> Result<(), String> {
+    pub(crate) fn set_normal_code(&mut self, code: NormalCode, push: bool) -> Result<(), StreamProblem> {
         let Some(n) = index_normal(self.normal_table, code) else { return Err(outside_grid(code)) };
         self.normal = code;
         self.normal_f = n;
@@ -253,7 +254,7 @@ impl State {
     /// (`GeometryDecompressor.processSetNormal`): one reflection across the
     /// edge the delta crossed, changing sextant or octant.
     #[inline(always)]
-    pub(crate) fn add_normal_delta(&mut self, du: i32, dv: i32, push: bool) -> Result<(), String> {
+    pub(crate) fn add_normal_delta(&mut self, du: i32, dv: i32, push: bool) -> Result<(), StreamProblem> {
         let mut c = self.normal;
         c.u = c.u.wrapping_add(du);
         c.v = c.v.wrapping_add(dv);
@@ -290,7 +291,7 @@ impl State {
                     s => s,
                 };
             } else {
-                return Err(format!("relative normal change ({du}, {dv}) leaves both u and v negative"));
+                return Err(StreamProblem::NormalDeltaOutside { du, dv });
             }
         }
         self.set_normal_code(c, push)
@@ -298,11 +299,11 @@ impl State {
 
     /// After a setNormal body: (back end) the global normal.
     #[inline]
-    pub(crate) fn finish_normal(&mut self, sink: &mut impl Sink) -> Result<(), String> {
+    pub(crate) fn finish_normal(&mut self, sink: &mut impl Sink) -> Result<(), StreamProblem> {
         self.use_mesh_normal = false;
         if !self.bundling_normal {
             if !self.list_open {
-                return Err("a global normal comes before any setState command".into());
+                return Err(StreamProblem::NormalBeforeSetState);
             }
             if !self.format_normals {
                 if self.list_vertices > 0 {
@@ -319,11 +320,11 @@ impl State {
 
     /// After a setColor body: (back end) the global colour.
     #[inline]
-    pub(crate) fn finish_color(&mut self, sink: &mut impl Sink) -> Result<(), String> {
+    pub(crate) fn finish_color(&mut self, sink: &mut impl Sink) -> Result<(), StreamProblem> {
         self.use_mesh_color = false;
         if !self.bundling_color {
             if !self.list_open {
-                return Err("a global colour comes before any setState command".into());
+                return Err(StreamProblem::ColorBeforeSetState);
             }
             if self.list_vertices > 0 {
                 sink.end_list()?;
@@ -387,9 +388,9 @@ impl State {
 
     /// A mesh-buffer reference `depth` pushes back (0 = most recent).
     #[inline]
-    pub(crate) fn mesh_reference(&mut self, depth: usize) -> Result<(), String> {
+    pub(crate) fn mesh_reference(&mut self, depth: usize) -> Result<(), StreamProblem> {
         if depth >= self.pushes {
-            return Err(format!("mesh-buffer reference {depth} but only {} vertices have been pushed", self.pushes));
+            return Err(StreamProblem::MeshReferenceTooDeep { depth, pushes: self.pushes });
         }
         let entry = &self.mesh[(self.mesh_index + 16 - depth) & 15];
         self.position = entry.position;
@@ -414,9 +415,9 @@ impl State {
 
     /// Output the current vertex (after a vertex command or a mesh-buffer reference).
     #[inline(always)]
-    pub(crate) fn output_vertex(&mut self, replace: u8, sink: &mut impl Sink) -> Result<(), String> {
+    pub(crate) fn output_vertex(&mut self, replace: u8, sink: &mut impl Sink) -> Result<(), StreamProblem> {
         if !self.list_open {
-            return Err("a vertex comes before any setState command".into());
+            return Err(StreamProblem::VertexBeforeSetState);
         }
         self.use_mesh_normal = true;
         self.use_mesh_color = true;
@@ -474,7 +475,7 @@ impl State {
     }
 
     /// The end of the stream: the back end builds its last Shape3D.
-    pub(crate) fn finish(&mut self, sink: &mut impl Sink) -> Result<(), String> {
+    pub(crate) fn finish(&mut self, sink: &mut impl Sink) -> Result<(), StreamProblem> {
         if self.list_open {
             sink.end_list()?;
         }

@@ -1,7 +1,11 @@
 //! Normals as compressed geometry codes them: a sextant (which of six
 //! triangles of an octant), an octant (the signs of x, y, z) and a point
 //! `(u, v)` of a triangular grid of 64 steps per side, plus 14 special
-//! normals (the 6 axes and the 8 diagonals).
+//! normals (the 6 axes and the 8 diagonals). The representation is
+//! Deering's (M. Deering, "Geometry Compression", SIGGRAPH 1995, its
+//! section on normals: the sphere folded by the octant's signs and the
+//! sextant's ordering of |x|, |y|, |z| onto one small patch, addressed by
+//! (u, v) angles).
 //!
 //! The decoding table and the unfolding are Java 3D's
 //! (`GeometryDecompressor`: static initialiser, `indexNormal`); the encoder's

@@ -1,8 +1,10 @@
 //! The fast decoder: a 64-bit word-refilled bit reader and Java 3D's
 //! 64-entry table lookup per header. Command by command it does what
-//! `GeometryDecompressor.processDecompression` does (see
-//! `/work/notes/issue6-research.md` §1–§6 and the module docs of
-//! [`super`]); [`super::reference`] is the slow twin the tests compare it with.
+//! `GeometryDecompressor.processDecompression` of Java 3D 1.5.2 does (the
+//! command set of Deering, "Geometry Compression", SIGGRAPH 1995, as the Java
+//! 3D API Specification, appendix B "3D Geometry Compression", lays it out;
+//! the crate docs list where Java 3D departs from it); [`super::reference`]
+//! is the slow twin the tests compare it with.
 //!
 //! Each body is read as one "logical" bit string: the header's 6 low bits
 //! followed by the body. For a vertex the 3 replace/push bits come first in
@@ -12,6 +14,7 @@
 use super::bits::{sign_extend, PastEnd, StreamError, WordReader};
 use super::normals::NormalCode;
 use super::state::{parse_set_table, Sink, State};
+use crate::error::{StreamProblem, Table};
 
 /// Decode `bytes` command by command into `sink`.
 pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError> {
@@ -34,7 +37,7 @@ pub(crate) fn run(bytes: &[u8], sink: &mut impl Sink) -> Result<(), StreamError>
             command::<false>(&mut r, &mut st, sink, next)?
         };
     }
-    st.finish(sink).map_err(|problem| StreamError { bit: r.position(), problem })
+    st.finish(sink).map_err(|problem| problem.at(r.position()))
 }
 
 /// Bytes still to load beyond which a command's reads need no end checks (see [`run`]).
@@ -51,8 +54,8 @@ fn command<const FAST: bool>(
     current: u32,
 ) -> Result<u32, StreamError> {
     let at = r.position();
-    let err = |problem: String| StreamError { bit: at, problem };
-    let past = |_: PastEnd| StreamError { bit: at, problem: "the stream ends inside a command".into() };
+    let err = |problem: StreamProblem| problem.at(at);
+    let past = |_: PastEnd| StreamProblem::EndsInsideCommand.at(at);
     if current & 0xC0 == 0x40 {
         let (n, c) = (st.bundling_normal, st.bundling_color);
         let first = if n || c { 6 } else { 8 };
@@ -121,60 +124,30 @@ fn command<const FAST: bool>(
 }
 
 /// setTable names table 3: Java 3D indexes past its three tables.
-pub(crate) fn no_table(t: usize) -> String {
-    format!("setTable names table {t}; there are 3 (0 position, 1 colour, 2 normal)")
+pub(crate) fn no_table(table: usize) -> StreamProblem {
+    StreamProblem::NoSuchTable { table }
 }
 
 /// Java 3D's decoder refills 4 bytes at a time: any other length reads past the buffer.
 pub(crate) fn check_length(bytes: &[u8]) -> Result<(), StreamError> {
     if bytes.len() % 4 != 0 {
-        return Err(StreamError {
-            bit: 0,
-            problem: format!("the stream is {} bytes long, not a whole number of 4-byte words", bytes.len()),
-        });
+        return Err(StreamProblem::Length { bytes: bytes.len() }.at(0));
     }
     Ok(())
 }
 
-/// An error inside a command body, before its offset is known.
-pub(crate) enum BodyError {
-    PastEnd,
-    Invalid(String),
-}
-
-impl BodyError {
-    pub(crate) fn at(self, bit: u64) -> StreamError {
-        match self {
-            BodyError::PastEnd => StreamError { bit, problem: "the stream ends inside a command".into() },
-            BodyError::Invalid(problem) => StreamError { bit, problem },
-        }
-    }
-}
-
-impl From<PastEnd> for BodyError {
-    fn from(_: PastEnd) -> Self {
-        BodyError::PastEnd
-    }
-}
-
-impl From<String> for BodyError {
-    fn from(s: String) -> Self {
-        BodyError::Invalid(s)
-    }
-}
-
 /// A vertex body: returns the mesh-buffer push bit.
 #[inline(always)]
-fn vertex<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, BodyError> {
+fn vertex<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32) -> Result<bool, StreamProblem> {
     let e = st.tables[0][(header & 0x3F) as usize];
-    let d = e.sent("position")?;
+    let d = e.sent(Table::Position)?;
     let tag = u32::from(e.tag_len);
     let n = tag + 3 * d;
     let head = u64::from(header) & low_bits(6 - tag);
     let (rpm, bits) = if n >= 6 {
         // The 3 replace/push bits, then the rest of x/y/z: at most 51 bits.
         if !r.ensure::<FAST>(3 + n - 6) {
-            return Err(BodyError::PastEnd);
+            return Err(StreamProblem::EndsInsideCommand);
         }
         let rpm = r.take(3) as u32;
         let rest = r.take(n - 6);
@@ -182,9 +155,7 @@ fn vertex<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32) -> 
     } else {
         let in_header = 6 - n;
         if in_header > 3 {
-            return Err(BodyError::Invalid(format!(
-                "position table entry of tag length {tag} and {d} bits per component leaves {in_header} bits of the header for the 3 replace/push bits"
-            )));
+            return Err(StreamProblem::ReplaceBitsInHeader { tag_len: tag, data_len: d, header_bits: in_header });
         }
         let rpm =
             ((u64::from(header) & low_bits(in_header)) << (3 - in_header)) as u32 | r.read::<FAST>(3 - in_header)?;
@@ -218,9 +189,9 @@ fn take_checked<const FAST: bool>(r: &mut WordReader, n: u32) -> Result<u64, Pas
 
 /// A colour body (header's 6 low bits + body).
 #[inline(always)]
-fn color<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
+fn color<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), StreamProblem> {
     let e = st.tables[1][(header & 0x3F) as usize];
-    let d = e.sent("colour")?;
+    let d = e.sent(Table::Color)?;
     let tag = u32::from(e.tag_len);
     let n = tag + 3 * d;
     let head = u64::from(header) & low_bits(6 - tag);
@@ -242,9 +213,9 @@ fn color<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32, push
 
 /// A normal body (header's 6 low bits + body).
 #[inline(always)]
-fn normal<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), BodyError> {
+fn normal<const FAST: bool>(r: &mut WordReader, st: &mut State, header: u32, push: bool) -> Result<(), StreamProblem> {
     let e = st.tables[2][(header & 0x3F) as usize];
-    let d = e.sent("normal")?;
+    let d = e.sent(Table::Normal)?;
     let tag = u32::from(e.tag_len);
     let head = u64::from(header) & low_bits(6 - tag);
     if e.absolute {

@@ -14,11 +14,20 @@
 //! normals, 0x08 colours, 0x10 alpha) and the stream. The directory, at an
 //! 8-byte aligned offset after the last object, holds one 64-bit offset per
 //! object. No bounds are stored; every object takes the file's version.
+//!
+//! This is the layout Java 3D 1.5.2's
+//! `com.sun.j3d.utils.geometry.compression.CompressedGeometryFile` reads
+//! and writes; Java 3D documents it only in that class's source.
+//!
+//! Writing a file is left to the caller: [`CgFile::to_bytes`] gives the
+//! bytes, and how they reach the disk (a temporary file renamed into place,
+//! what happens on an interrupt) is the application's output discipline,
+//! not the codec's.
 
 use std::path::Path;
 
-use super::{decode, encode, BlockKind, CgHeader, Decoded, EncodeOptions, Encoded, Mesh};
-use crate::{Error, Result};
+use super::{decode, BlockKind, CgHeader, Decoded, Encoded};
+use crate::error::{Error, FileProblem, Result};
 
 /// `CompressedGeometryFile.MAGIC_NUMBER`.
 pub const MAGIC: u32 = 0xBADD_FAB4;
@@ -58,11 +67,11 @@ impl CgFile {
     /// order, and that each stream fits its object. Safe on untrusted input:
     /// nothing is allocated before the sizes are checked against the file's.
     pub fn parse(bytes: &[u8], path: &Path) -> Result<CgFile> {
-        let bad = |problem: String| Error::invalid(path, problem);
-        let short = || bad(format!("{} bytes is too short for the 32-byte .cg header", bytes.len()));
+        let bad = |problem: FileProblem| Error::File { path: path.to_path_buf(), problem };
+        let short = || bad(FileProblem::TooShort { bytes: bytes.len() });
         let magic = be32(bytes, 0).ok_or_else(short)?;
         if magic != MAGIC {
-            return Err(bad(format!("magic number {magic:#010X} is not {MAGIC:#010X}: not a Java 3D .cg file")));
+            return Err(bad(FileProblem::BadMagic { magic }));
         }
         let version =
             [be32(bytes, 4).ok_or_else(short)?, be32(bytes, 8).ok_or_else(short)?, be32(bytes, 12).ok_or_else(short)?];
@@ -71,9 +80,7 @@ impl CgFile {
         let len = bytes.len() as u64;
         let dir_end = (count as u64).checked_mul(8).and_then(|n| n.checked_add(directory));
         if directory < 32 || dir_end.map_or(true, |e| e > len) {
-            return Err(bad(format!(
-                "the directory of {count} objects at offset {directory} does not fit in the file's {len} bytes"
-            )));
+            return Err(bad(FileProblem::DirectoryOutside { objects: count, offset: directory, bytes: len }));
         }
         let offsets: Vec<u64> =
             (0..count).map(|i| be64(bytes, directory as usize + 8 * i).unwrap_or(u64::MAX)).collect();
@@ -81,22 +88,21 @@ impl CgFile {
         for (i, &start) in offsets.iter().enumerate() {
             let end = offsets.get(i + 1).copied().unwrap_or(directory);
             if start < 32 || end > directory || start.saturating_add(8) > end {
-                return Err(bad(format!("object {i} at offset {start} does not fit before the next one at {end}")));
+                return Err(bad(FileProblem::ObjectOutside { object: i, offset: start, end }));
             }
             let start = start as usize;
             let size = be32(bytes, start).unwrap_or(0) as u64;
             let descriptor = be32(bytes, start + 4).unwrap_or(0);
-            if size > end - start as u64 - 8 {
-                return Err(bad(format!(
-                    "object {i} declares {size} bytes of geometry but its block holds {}",
-                    end - start as u64 - 8
-                )));
+            let room = end - start as u64 - 8;
+            let outside = FileProblem::StreamOutside { object: i, size, room };
+            if size > room {
+                return Err(bad(outside));
             }
             let kind = match descriptor & 3 {
                 1 => BlockKind::Points,
                 2 => BlockKind::Lines,
                 3 => BlockKind::Triangles,
-                _ => return Err(bad(format!("object {i} has geometry type 0 (1 point, 2 line, 3 triangle)"))),
+                _ => return Err(bad(FileProblem::NoPrimitive { object: i })),
             };
             let header = CgHeader {
                 kind,
@@ -105,9 +111,8 @@ impl CgFile {
                 alpha: descriptor & 0x10 != 0,
                 version,
             };
-            let data = bytes
-                .get(start + 8..start + 8 + size as usize)
-                .ok_or_else(|| bad(format!("object {i} is truncated")))?;
+            // Inside the file by the checks above; `get` rather than indexing, so no input can panic here.
+            let data = bytes.get(start + 8..start + 8 + size as usize).ok_or_else(|| bad(outside))?;
             objects.push(CgObject { header, bytes: data.to_vec() });
         }
         Ok(CgFile { version, objects })
@@ -153,28 +158,18 @@ impl CgFile {
 
     /// Read a `.cg` file.
     pub fn read(path: &Path) -> Result<CgFile> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
         CgFile::parse(&bytes, path)
     }
 
-    /// Write a `.cg` file: beside `path`, renamed into place; an existing
-    /// file is kept (and named in the error) unless `overwrite`.
-    pub fn write(&self, path: &Path, overwrite: bool) -> Result<()> {
-        crate::format::write_bytes_beside(path, &self.to_bytes(), overwrite)
+    /// A one-object file holding `encoded`'s stream, at its version (the
+    /// centre and scale, which no `.cg` file stores, are left out).
+    pub fn from_encoded(encoded: &Encoded) -> CgFile {
+        CgFile {
+            version: encoded.header.version,
+            objects: vec![CgObject { header: encoded.header, bytes: encoded.bytes.clone() }],
+        }
     }
-}
-
-/// Encode `mesh` and write it as a one-object `.cg` file Java 3D's
-/// `CompressedGeometryFile` reads (an existing file is refused). Returns the encoding (its centre and
-/// scale map the decoded normalised positions back to model space).
-pub fn write_cg_file(path: &Path, mesh: &Mesh, options: &EncodeOptions) -> Result<Encoded> {
-    let encoded = encode(mesh, options)?;
-    let file = CgFile {
-        version: encoded.header.version,
-        objects: vec![CgObject { header: encoded.header, bytes: encoded.bytes.clone() }],
-    };
-    file.write(path, false)?;
-    Ok(encoded)
 }
 
 /// Read a `.cg` file and decode every object as Java 3D does
@@ -185,10 +180,11 @@ pub fn read_cg_file(path: &Path) -> Result<Vec<Decoded>> {
     file.objects
         .iter()
         .enumerate()
-        .map(|(i, o)| {
-            decode(&o.header, &o.bytes).map_err(|e| match e {
-                Error::Invalid { problem, .. } => Error::invalid(path, format!("object {i}: {problem}")),
-                other => other,
+        .map(|(object, o)| {
+            decode(&o.header, &o.bytes).map_err(|e| Error::Object {
+                path: path.to_path_buf(),
+                object,
+                source: Box::new(e),
             })
         })
         .collect()
