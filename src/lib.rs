@@ -15,13 +15,14 @@ pub mod holoflick;
 pub mod layout;
 pub mod mesh;
 mod modulation;
+pub mod output;
 pub mod pattern;
 pub mod reconstruct;
 pub mod report;
 pub mod resample;
 pub mod views;
 
-pub use error::{Error, Result};
+pub use error::{Error, OutputProblem, Result, SetProblem};
 pub use format::{read, write, HoloFile, WriteOptions};
 pub use geometry::Geometry;
 pub use modulation::{Band, Modulation};
