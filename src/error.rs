@@ -94,6 +94,90 @@ pub enum Error {
     /// A request that does not fit the data (bad frame index, region, geometry mismatch, ...).
     #[error("{0}")]
     Usage(String),
+    /// An output that cannot be written as asked, found before any work
+    /// (it exists, its folder is missing, it is one of the inputs) or when
+    /// a set of files is replaced.
+    #[error("{path}: {problem}", path = .path.display())]
+    Output {
+        /// The output concerned.
+        path: PathBuf,
+        /// What is wrong with writing it.
+        problem: OutputProblem,
+    },
+    /// A set of files (fringes, views) that does not agree with its
+    /// manifest, or has none: part of it is missing, mixed with other
+    /// files, or was never completed.
+    #[error("{path}: {problem}", path = .path.display())]
+    Set {
+        /// The file or folder concerned.
+        path: PathBuf,
+        /// How it disagrees.
+        problem: SetProblem,
+    },
+}
+
+/// How a set of files disagrees with its manifest: the problems of
+/// [`Error::Set`](crate::Error::Set).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SetProblem {
+    /// The folder has no manifest: not a set, or one whose writing was interrupted.
+    #[error("has no {0}: not a complete set of files (its writing was interrupted, or the files come from elsewhere)")]
+    NoManifest(String),
+    /// The manifest lists no files with their digests (written before
+    /// manifests did); `remedy` says how to make the set again.
+    #[error("lists no files with their sizes and digests, so the set cannot be checked; {remedy}")]
+    NoFileList {
+        /// What to do, e.g. "assemble the fringes again".
+        remedy: &'static str,
+    },
+    /// The manifest lists a name that is not a plain file name.
+    #[error("lists {0:?}, which is not the name of a file in its folder")]
+    BadName(String),
+    /// A listed file is missing.
+    #[error("listed in {0} but missing: the set is incomplete")]
+    Missing(String),
+    /// A listed file has another size.
+    #[error("is {found} bytes; {manifest} lists {listed}: not the file of this set")]
+    Size {
+        /// The manifest's name.
+        manifest: String,
+        /// Bytes listed.
+        listed: u64,
+        /// Bytes found.
+        found: u64,
+    },
+    /// A listed file has another SHA-256.
+    #[error("its SHA-256 differs from the one {0} lists: not the file of this set")]
+    Digest(String),
+}
+
+/// Why an output cannot be written: the problems of
+/// [`Error::Output`](crate::Error::Output).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum OutputProblem {
+    /// The file exists and replacing it was not asked for.
+    #[error("already exists; not overwritten")]
+    Exists,
+    /// The folder the file would go in does not exist.
+    #[error("the folder {} does not exist", .0.display())]
+    FolderMissing(PathBuf),
+    /// The output is one of the command's inputs (the same path, or another
+    /// name of the same file); replacing it would destroy what is read.
+    #[error("is the input {}; an output never replaces one of its inputs", .0.display())]
+    IsAnInput(PathBuf),
+    /// A file is wanted where a folder is, or a folder where a file is.
+    #[error("{0}")]
+    WrongKind(&'static str),
+    /// A folder already holds a set of files (its manifest names them) and
+    /// replacing it was not asked for.
+    #[error("already exists as a set of files ({0} lists them); not overwritten")]
+    SetExists(String),
+    /// The process is being interrupted: its temporary files are being
+    /// removed, and nothing more is put in place.
+    #[error("not put in place: the process is being interrupted")]
+    Interrupted,
 }
 
 /// Result with the library's error.

@@ -16,6 +16,7 @@ pub mod holoflick;
 pub mod layout;
 pub mod mesh;
 mod modulation;
+pub mod output;
 pub mod pattern;
 pub mod reconstruct;
 pub mod report;
@@ -23,7 +24,7 @@ pub mod resample;
 pub mod simd;
 pub mod views;
 
-pub use error::{Error, Result};
+pub use error::{Error, OutputProblem, Result, SetProblem};
 pub use format::{read, write, HoloFile, WriteOptions};
 pub use geometry::Geometry;
 pub use modulation::{Band, Modulation};

@@ -217,7 +217,7 @@ pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
     std::fs::create_dir_all(&scene_dir).map_err(|e| crate::Error::io(&scene_dir, e))?;
     for (name, bytes) in DEMO_SCENE {
         let path = scene_dir.join(name);
-        std::fs::write(&path, bytes).map_err(|e| crate::Error::io(&path, e))?;
+        crate::output::write_bytes_beside(&path, bytes, true)?;
     }
     let scene = scene_dir.join("spot.obj");
     let layout = layout::mark3();
@@ -276,7 +276,7 @@ fn demo_movie(dir: &Path, layout: &layout::Layout) -> Result<DemoMovie> {
     use crate::reconstruct::files::{view_file, EyeAt};
     std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
     let scene = dir.join("AnimatedMorphCube.glb");
-    std::fs::write(&scene, DEMO_MOVIE).map_err(|e| crate::Error::io(&scene, e))?;
+    crate::output::write_bytes_beside(&scene, DEMO_MOVIE, true)?;
     let holoflick = dir.join("cube.hflk");
     let started = std::time::Instant::now();
     let options = HoloFlickEncodeOptions {

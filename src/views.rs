@@ -3,14 +3,18 @@
 //! PNG") is: `linear = sample / white`, clamped to [0, 1], encoded with the
 //! sRGB transfer function and quantised to 8 or 16 bits; import inverts it.
 //! A sidecar `holo-views.json` records the geometry and the tone mapping, so
-//! `import-views` can rebuild the file without being told them again.
+//! `import-views` can rebuild the file without being told them again. The
+//! PNGs and the sidecar are one set ([`crate::output::FileSet`]): the sidecar
+//! is written last and lists every PNG with its size and SHA-256, and an
+//! import refuses a folder whose PNGs disagree with it.
 
 use std::path::{Path, PathBuf};
 
-use image::{ImageBuffer, Luma, Rgb};
+use image::{ImageBuffer, ImageFormat, Luma, Rgb};
 use serde::{Deserialize, Serialize};
 
 use crate::format::view_digits;
+use crate::output::{check_set_output, verify_set, FileSet, SetFile};
 use crate::{Error, Geometry, Modulation, Result};
 
 /// Name of the sidecar written next to the PNGs.
@@ -38,6 +42,10 @@ pub struct Sidecar {
     pub geometry: Geometry,
     /// The tone mapping used.
     pub tone: ToneMapping,
+    /// Every PNG with its size and SHA-256 (empty in sidecars written before
+    /// sets listed their files: such a folder is not imported as a set).
+    #[serde(default)]
+    pub files: Vec<SetFile>,
 }
 
 /// sRGB encoding of a linear value in [0, 1] (IEC 61966-2-1).
@@ -77,18 +85,15 @@ fn check_tone(tone: &ToneMapping) -> Result<()> {
 }
 
 /// Write every view of `m` as a PNG into `dir` (created if needed), plus the
-/// sidecar. Refuses to replace existing files unless `overwrite`.
+/// sidecar, as one set: nothing is in place until every PNG is complete.
+/// Refuses to replace an existing set or file unless `overwrite`; returns
+/// every file written, the sidecar last.
 pub fn export_views(m: &Modulation, dir: &Path, tone: &ToneMapping, overwrite: bool) -> Result<Vec<PathBuf>> {
     check_tone(tone)?;
     let g = m.geometry();
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    let mut targets: Vec<PathBuf> = (0..g.views.count).map(|v| dir.join(view_file_name(v, g.views.count))).collect();
-    targets.push(dir.join(SIDECAR));
-    if !overwrite {
-        if let Some(p) = targets.iter().find(|p| p.exists()) {
-            return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", p.display())));
-        }
-    }
+    let names: Vec<String> = (0..g.views.count).map(|v| view_file_name(v, g.views.count)).collect();
+    check_set_output(dir, SIDECAR, &names, &[], overwrite)?;
+    let mut set = FileSet::create(dir, SIDECAR)?;
     let colour_slot = |name: &str| match name {
         "R" => 0,
         "G" => 1,
@@ -100,42 +105,50 @@ pub fn export_views(m: &Modulation, dir: &Path, tone: &ToneMapping, overwrite: b
         (srgb_encode(f64::from(x) / f64::from(tone.white)) * max).round()
     };
     let (w, h) = (g.emitters as u32, g.hololines as u32);
-    for (v, path) in targets.iter().take(g.views.count).enumerate() {
-        let save = |result: image::ImageResult<()>| {
-            result.map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
-        };
-        match (mono, tone.bits) {
-            (Some(c), 8) => save(
-                ImageBuffer::from_fn(w, h, |x, y| Luma([quantise(m.get(c, y as usize, x as usize, v)) as u8]))
-                    .save(path),
-            )?,
-            (Some(c), _) => save(
-                ImageBuffer::from_fn(w, h, |x, y| Luma([quantise(m.get(c, y as usize, x as usize, v)) as u16]))
-                    .save(path),
-            )?,
-            (None, bits) => {
-                let mut rgb = vec![[0f64; 3]; (w * h) as usize];
-                for (c, ch) in g.channels.iter().enumerate() {
-                    for j in 0..g.hololines {
-                        for e in 0..g.emitters {
-                            rgb[j * g.emitters + e][colour_slot(&ch.name)] = quantise(m.get(c, j, e, v));
+    for (v, name) in names.iter().enumerate() {
+        let path = dir.join(name);
+        set.add(name, |out| {
+            let save = |result: image::ImageResult<()>| {
+                result.map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+            };
+            match (mono, tone.bits) {
+                (Some(c), 8) => save(
+                    ImageBuffer::from_fn(w, h, |x, y| Luma([quantise(m.get(c, y as usize, x as usize, v)) as u8]))
+                        .write_to(out, ImageFormat::Png),
+                ),
+                (Some(c), _) => save(
+                    ImageBuffer::from_fn(w, h, |x, y| Luma([quantise(m.get(c, y as usize, x as usize, v)) as u16]))
+                        .write_to(out, ImageFormat::Png),
+                ),
+                (None, bits) => {
+                    let mut rgb = vec![[0f64; 3]; (w * h) as usize];
+                    for (c, ch) in g.channels.iter().enumerate() {
+                        for j in 0..g.hololines {
+                            for e in 0..g.emitters {
+                                rgb[j * g.emitters + e][colour_slot(&ch.name)] = quantise(m.get(c, j, e, v));
+                            }
                         }
                     }
-                }
-                let px = |x: u32, y: u32| rgb[(y * w + x) as usize];
-                if bits == 8 {
-                    save(ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u8))).save(path))?
-                } else {
-                    save(ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u16))).save(path))?
+                    let px = |x: u32, y: u32| rgb[(y * w + x) as usize];
+                    if bits == 8 {
+                        save(
+                            ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u8)))
+                                .write_to(out, ImageFormat::Png),
+                        )
+                    } else {
+                        save(
+                            ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u16)))
+                                .write_to(out, ImageFormat::Png),
+                        )
+                    }
                 }
             }
-        }
+        })?;
     }
-    let sidecar = Sidecar { geometry: g.clone(), tone: tone.clone() };
-    let json = serde_json::to_string_pretty(&sidecar).map_err(|e| Error::Usage(e.to_string()))?;
-    let side = dir.join(SIDECAR);
-    std::fs::write(&side, json).map_err(|e| Error::io(&side, e))?;
-    Ok(targets)
+    set.commit(overwrite, |files| {
+        let sidecar = Sidecar { geometry: g.clone(), tone: tone.clone(), files: files.to_vec() };
+        serde_json::to_string_pretty(&sidecar).map(String::into_bytes).map_err(|e| Error::Usage(e.to_string()))
+    })
 }
 
 /// Read the sidecar of an exported directory.
@@ -154,8 +167,17 @@ pub fn read_geometry_json(path: &Path) -> Result<Geometry> {
 }
 
 /// Build a modulation from the PNGs in `dir` (the inverse of [`export_views`]).
+/// A folder with a sidecar is a set: its PNGs are first checked against the
+/// sizes and digests the sidecar lists, and a folder that disagrees (or
+/// whose sidecar lists none) is refused, naming the file. A folder without
+/// a sidecar holds pictures made elsewhere and is read as it is.
 pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Result<Modulation> {
     check_tone(tone)?;
+    let sidecar_path = dir.join(SIDECAR);
+    if sidecar_path.exists() {
+        let sidecar = read_sidecar(&sidecar_path)?;
+        verify_set(dir, SIDECAR, &sidecar.files, "export the views again")?;
+    }
     let g = geometry;
     let mut m = Modulation::zeros(g.clone())?;
     for v in 0..g.views.count {

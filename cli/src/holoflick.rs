@@ -8,6 +8,8 @@ use holo::holoflick::cg::EncodeOptions;
 use holo::holoflick::container::ViewerCouch;
 use holo::holoflick::tools::{info, pack, unpack, PackOptions};
 
+use crate::{check_output, error_text};
+
 #[derive(Subcommand)]
 pub enum HoloflickCommand {
     /// Describe a HoloFlick (.hflk) or Java 3D compressed-geometry (.cg) file:
@@ -137,9 +139,11 @@ fn parse_couch(s: &str) -> Result<ViewerCouch, String> {
 pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
     match command {
         HoloflickCommand::Info { file } => {
-            print!("{}", info(&file).map_err(|e| e.to_string())?);
+            out!("{}", info(&file).map_err(error_text)?);
         }
         HoloflickCommand::Pack { meshes, output, bits, fps, frames, couch, key_interval, force } => {
+            let read: Vec<&std::path::Path> = meshes.iter().map(PathBuf::as_path).collect();
+            check_output(&output, &read, force)?;
             let options = PackOptions {
                 encode: bits.options(),
                 frames_per_second: fps,
@@ -153,12 +157,12 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
                 bar.set_length(all as u64);
                 bar.set_position(done as u64);
             })
-            .map_err(|e| e.to_string())?;
+            .map_err(error_text)?;
             bar.finish_and_clear();
             for w in &report.warnings {
                 eprintln!("holo: warning: {w}");
             }
-            println!(
+            outln!(
                 "wrote {} ({} bytes): {} frames, {} objects stored, {} from key frames, {} triangles, {:.2} stream bytes/triangle",
                 report.path.display(),
                 report.file_bytes,
@@ -169,7 +173,7 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
                 report.stream_bytes as f64 / report.triangles.max(1) as f64
             );
             for (i, (c, s)) in report.cg_transforms.iter().enumerate() {
-                println!("  object {i}: model = normalised × {s:.6e} + ({:.6}, {:.6}, {:.6})", c[0], c[1], c[2]);
+                outln!("  object {i}: model = normalised × {s:.6e} + ({:.6}, {:.6}, {:.6})", c[0], c[1], c[2]);
             }
         }
         HoloflickCommand::Encode {
@@ -186,6 +190,7 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
             force,
         } => {
             use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
+            check_output(&output, &[&scene, std::path::Path::new(&layout)], force)?;
             let g = crate::layout_geometry(&layout)?;
             let options = HoloFlickEncodeOptions {
                 micropolygon,
@@ -203,10 +208,10 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
                 bar.set_length(all as u64);
                 bar.set_position(done as u64);
             })
-            .map_err(|e| e.to_string())?;
+            .map_err(error_text)?;
             bar.finish_and_clear();
             let p = &report.pack;
-            println!(
+            outln!(
                 "wrote {} ({} bytes): {} frames, {} micropolygons, {} objects stored, {} from key frames, {:.2} stream bytes/micropolygon",
                 p.path.display(),
                 p.file_bytes,
@@ -216,11 +221,12 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
                 p.references,
                 p.stream_bytes as f64 / p.triangles.max(1) as f64
             );
-            println!("{}", report.placed);
+            outln!("{}", report.placed);
         }
         HoloflickCommand::Unpack { file, frame, output, force } => {
-            let triangles = unpack(&file, frame, &output, force).map_err(|e| e.to_string())?;
-            println!("wrote {} ({triangles} triangles of frame {frame})", output.display());
+            check_output(&output, &[&file], force)?;
+            let triangles = unpack(&file, frame, &output, force).map_err(error_text)?;
+            outln!("wrote {} ({triangles} triangles of frame {frame})", output.display());
         }
     }
     Ok(ExitCode::SUCCESS)

@@ -7,6 +7,20 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+/// `print!` to stdout through [`print_out`]: a closed stdout ends the process quietly.
+macro_rules! out {
+    ($($arg:tt)*) => {
+        $crate::print_out(format_args!($($arg)*))
+    };
+}
+
+/// `println!` to stdout through [`print_out`]: a closed stdout ends the process quietly.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        $crate::print_out(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
 mod holoflick;
 use holo::assemble::output::{assemble_file, AssembleOptions, FringeFormat, FRINGE_SIDECAR};
 use holo::cameras::quilt::{QuiltOptions, QuiltSpec};
@@ -507,7 +521,60 @@ fn parse_compression(s: &str) -> Result<Compression, String> {
     })
 }
 
+/// Write to stdout. Rust ignores SIGPIPE, so a reader that goes away (as
+/// `head` does) shows up here as a broken pipe: the listing was cut short
+/// on purpose, and the process ends quietly with success, as it would by
+/// SIGPIPE. Any other failure to write is an error.
+fn print_out(args: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_fmt(args).and_then(|()| stdout.flush()) {
+        Ok(()) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => {
+            holo::output::remove_temporaries();
+            std::process::exit(0);
+        }
+        Err(e) => {
+            holo::output::remove_temporaries();
+            eprintln!("holo: error: cannot write to standard output: {e}");
+            std::process::exit(1);
+        }
+    }
+}
+
+/// A library error as the one sentence the user reads; a refusal to
+/// replace something says how to ask for it.
+fn error_text(e: holo::Error) -> String {
+    match &e {
+        holo::Error::Output { problem: holo::OutputProblem::Exists | holo::OutputProblem::SetExists(_), .. } => {
+            format!("{e} (use --force to replace it)")
+        }
+        _ => e.to_string(),
+    }
+}
+
+/// Refuse, before any work, an output that exists (without `force`), whose
+/// folder is missing, or that is one of `inputs`, where an input folder
+/// stands for itself and every file in it.
+fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<(), String> {
+    let mut read: Vec<PathBuf> = Vec::new();
+    for input in inputs {
+        read.push(input.to_path_buf());
+        if let Ok(entries) = std::fs::read_dir(input) {
+            read.extend(entries.flatten().map(|e| e.path()));
+        }
+    }
+    let read: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
+    holo::output::check_output(output, &read, force).map_err(error_text)
+}
+
 fn main() -> ExitCode {
+    // First, so an interrupt at any later point removes what is half written.
+    if let Err(e) = holo::output::install_interrupt_cleanup() {
+        eprintln!(
+            "holo: warning: cannot watch for interrupts ({e}); an interrupted write may leave hidden temporary files"
+        );
+    }
     let cli = Cli::parse();
     // A panic is a bug; still, the user gets one sentence, not a backtrace.
     std::panic::set_hook(Box::new(|info| {
@@ -530,6 +597,7 @@ fn run(cli: Cli) -> Outcome {
         Command::Info { files, json, headers_only } => info(&files, json, !headers_only),
         Command::Validate { files, json } => validate(&files, json),
         Command::Pattern { layout, kind, emitter, view, every, cell, level, channels, write } => {
+            check_output(&write.output, &[Path::new(&layout)], write.force)?;
             let mut geometry = layout_geometry(&layout)?;
             match channels {
                 Some(ChannelsArg::Rgb) => geometry.channels = rgb_channels(),
@@ -537,13 +605,16 @@ fn run(cli: Cli) -> Outcome {
                 None => {}
             }
             let pattern = Pattern { kind, emitter, view, every, cell, level };
-            let m = pattern.render(&geometry).map_err(|e| e.to_string())?;
+            let m = pattern.render(&geometry).map_err(error_text)?;
             let source = format!("{} layout={layout}", pattern.describe());
             write_file(&m, &write, source)
         }
         Command::ExportViews { file, out, frame, bits, white, force } => {
-            let holo_file = holo::HoloFile::open(&file).map_err(|e| e.to_string())?;
-            let m = holo_file.read_frame(frame).map_err(|e| e.to_string())?;
+            let holo_file = holo::HoloFile::open(&file).map_err(error_text)?;
+            let views = holo_file.geometry().views.count;
+            let names: Vec<String> = (0..views).map(|v| holo::views::view_file_name(v, views)).collect();
+            holo::output::check_set_output(&out, SIDECAR, &names, &[&file], force).map_err(error_text)?;
+            let m = holo_file.read_frame(frame).map_err(error_text)?;
             let white = if white == "auto" {
                 let max = m.value_range().1;
                 if max > 0.0 {
@@ -555,8 +626,8 @@ fn run(cli: Cli) -> Outcome {
                 white.parse::<f32>().map_err(|_| format!("--white {white:?} is not a number or `auto`"))?
             };
             let written =
-                holo::views::export_views(&m, &out, &ToneMapping { white, bits }, force).map_err(|e| e.to_string())?;
-            println!("wrote {} view PNGs and {} to {}", written.len() - 1, SIDECAR, out.display());
+                holo::views::export_views(&m, &out, &ToneMapping { white, bits }, force).map_err(error_text)?;
+            outln!("wrote {} view PNGs and {} to {}", written.len() - 1, SIDECAR, out.display());
             Ok(ExitCode::SUCCESS)
         }
         Command::ExportQuilt {
@@ -592,11 +663,14 @@ fn run(cli: Cli) -> Outcome {
             let out = match (output, output_dir) {
                 (Some(path), _) => path,
                 (None, Some(dir)) => {
+                    // The folder is made only for an input that opens.
+                    holo::HoloFile::open(&file).map_err(error_text)?;
                     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
                     dir.join(name())
                 }
                 (None, None) => file.with_file_name(name()),
             };
+            check_output(&out, &[&file], force)?;
             let report = holo::cameras::quilt::export_quilt(
                 &file,
                 frame,
@@ -604,8 +678,8 @@ fn run(cli: Cli) -> Outcome {
                 &out,
                 &QuiltOptions { white, overwrite: force },
             )
-            .map_err(|e| e.to_string())?;
-            println!(
+            .map_err(error_text)?;
+            outln!(
                 "wrote {}: a {}×{} quilt of {} views ({}×{} tiles of {}×{}) of frame {frame} of {}, white = {}",
                 report.path.display(),
                 report.width,
@@ -626,7 +700,7 @@ fn run(cli: Cli) -> Outcome {
                 .exists()
                 .then(|| holo::views::read_sidecar(&sidecar_path))
                 .transpose()
-                .map_err(|e| e.to_string())?;
+                .map_err(error_text)?;
             let g = match (&geometry, &sidecar) {
                 (Some(name), _) => layout_geometry(name)?,
                 (None, Some(s)) => s.geometry.clone(),
@@ -637,15 +711,19 @@ fn run(cli: Cli) -> Outcome {
                     ))
                 }
             };
+            let views: Vec<PathBuf> =
+                (0..g.views.count).map(|v| dir.join(holo::views::view_file_name(v, g.views.count))).collect();
+            let read: Vec<&Path> = std::iter::once(dir.as_path()).chain(views.iter().map(PathBuf::as_path)).collect();
+            check_output(&write.output, &read, write.force)?;
             let mut tone = sidecar.map(|s| s.tone).unwrap_or_default();
             if let Some(w) = white {
                 tone.white = w;
             }
-            let m = holo::views::import_views(&dir, &g, &tone).map_err(|e| e.to_string())?;
+            let m = holo::views::import_views(&dir, &g, &tone).map_err(error_text)?;
             write_file(&m, &write, format!("holo import-views from {}", dir.display()))
         }
         Command::Assemble { file, layout, out, frames, format, resample, force } => {
-            let layout = Layout::load(&layout).map_err(|e| e.to_string())?;
+            let layout = Layout::load(&layout).map_err(error_text)?;
             let options = AssembleOptions { frames, format, overwrite: force, resample };
             let bar = progress_bar("frames", true);
             bar.set_message("assembling");
@@ -654,10 +732,10 @@ fn run(cli: Cli) -> Outcome {
                 bar.set_length(total as u64);
                 bar.set_position(done as u64);
             })
-            .map_err(|e| e.to_string())?;
+            .map_err(error_text)?;
             bar.finish_and_clear();
             let seconds = started.elapsed().as_secs_f64();
-            println!(
+            outln!(
                 "assembled {} frame(s) of {} for {} in {seconds:.2} s: {} files and {FRINGE_SIDECAR} in {}",
                 report.frames.len(),
                 file.display(),
@@ -666,9 +744,11 @@ fn run(cli: Cli) -> Outcome {
                 out.display()
             );
             if let Some(r) = report.resampled {
-                println!(
+                outln!(
                     "resampled onto {} by rays: {} of {} samples had no ray in the file and are black",
-                    layout.name, r.outside, r.total
+                    layout.name,
+                    r.outside,
+                    r.total
                 );
             }
             if report.stats.clipped > 0 {
@@ -682,39 +762,39 @@ fn run(cli: Cli) -> Outcome {
         }
         Command::Check { file, layout, frame, fringes, hololines, json } => {
             let layout = match (&layout, &fringes) {
-                (Some(name), _) => Some(Layout::load(name).map_err(|e| e.to_string())?),
+                (Some(name), _) => Some(Layout::load(name).map_err(error_text)?),
                 (None, Some(_)) => None,
-                (None, None) => Some(Layout::load("mark3").map_err(|e| e.to_string())?),
+                (None, None) => Some(Layout::load("mark3").map_err(error_text)?),
             };
             let options = holo::reconstruct::files::CheckOptions { frame, fringes, hololines };
-            let checked =
-                holo::reconstruct::files::check_file(&file, layout.as_ref(), &options).map_err(|e| e.to_string())?;
+            let checked = holo::reconstruct::files::check_file(&file, layout.as_ref(), &options).map_err(error_text)?;
             if json {
-                println!("{}", serde_json::to_string_pretty(&checked).map_err(|e| e.to_string())?);
+                outln!("{}", serde_json::to_string_pretty(&checked).map_err(|e| e.to_string())?);
             } else {
-                print!("{checked}");
+                out!("{checked}");
             }
             Ok(ExitCode::SUCCESS)
         }
         Command::View { input, layout, eye, distance, pupil, frame, white, output, force } => {
             let layout = match layout {
-                Some(name) => Some(Layout::load(&name).map_err(|e| e.to_string())?),
+                Some(name) => Some(Layout::load(&name).map_err(error_text)?),
                 None if holo::reconstruct::files::is_fringe_dir(&input) => None,
-                None => Some(Layout::load("mark3").map_err(|e| e.to_string())?),
+                None => Some(Layout::load("mark3").map_err(error_text)?),
             };
             if !(pupil.is_finite() && pupil > 0.0) || distance.is_some_and(|d| !(d.is_finite() && d > 0.0)) {
                 return Err(format!("--pupil {pupil} and --distance must be positive millimetres"));
             }
+            check_output(&output, &[&input], force)?;
             let at = holo::reconstruct::files::EyeAt {
                 x_m: eye.0 * 1e-3,
                 y_m: eye.1 * 1e-3,
                 distance_m: distance.map(|d| d * 1e-3),
                 pupil_m: pupil * 1e-3,
             };
-            let pictures = holo::reconstruct::files::view_file(&input, layout.as_ref(), frame, &[at])
-                .map_err(|e| e.to_string())?;
-            pictures[0].write_png(&output, white, force).map_err(|e| e.to_string())?;
-            println!(
+            let pictures =
+                holo::reconstruct::files::view_file(&input, layout.as_ref(), frame, &[at]).map_err(error_text)?;
+            pictures[0].write_png(&output, white, force).map_err(error_text)?;
+            outln!(
                 "wrote {}: what an eye at x = {} mm sees of {} ({} × {} emitters × hololines)",
                 output.display(),
                 eye.0,
@@ -726,16 +806,17 @@ fn run(cli: Cli) -> Outcome {
         }
         Command::Holoflick(command) => holoflick::run(command),
         Command::Layout { name, json } => {
-            let layout = Layout::load(&name).map_err(|e| e.to_string())?;
+            let layout = Layout::load(&name).map_err(error_text)?;
             if json {
-                println!("{}", serde_json::to_string_pretty(&layout).map_err(|e| e.to_string())?);
+                outln!("{}", serde_json::to_string_pretty(&layout).map_err(|e| e.to_string())?);
             } else {
-                print!("{}", layout.to_toml());
+                out!("{}", layout.to_toml());
             }
             Ok(ExitCode::SUCCESS)
         }
         Command::Convert(ConvertCommand::Holoflick { file, layout, frames, supersample, fit, write }) => {
             use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
+            check_output(&write.output, &[&file, Path::new(&layout)], write.force)?;
             let g = layout_geometry(&layout)?;
             let options = HoloFlickConvertOptions {
                 frames,
@@ -749,13 +830,13 @@ fn run(cli: Cli) -> Outcome {
                 bar.set_length(total as u64);
                 bar.set_position(done as u64);
             })
-            .map_err(|e| e.to_string())?;
+            .map_err(error_text)?;
             bar.finish_and_clear();
             for w in &report.warnings {
                 eprintln!("holo: warning: {w}");
             }
             let w = report.work;
-            println!(
+            outln!(
                 "converted frames {}..{} of {} into {} in {:.2} s",
                 report.frames.start,
                 report.frames.end,
@@ -763,7 +844,7 @@ fn run(cli: Cli) -> Outcome {
                 report.path.display(),
                 started.elapsed().as_secs_f64()
             );
-            println!(
+            outln!(
                 "objects decoded {}, reused from key frames {}, skipped unseen {}; {} back faces dropped; {} segments rasterised, {} sub-rays shaded",
                 w.decoded, w.reused, w.unseen_objects, w.back_faces, w.render.segments, w.render.shaded
             );
@@ -789,12 +870,15 @@ fn run(cli: Cli) -> Outcome {
             use holo::mesh::convert::{convert_mesh, ConvertOptions};
             use holo::mesh::place::{display_volume, Placement};
             use holo::mesh::render::{Engine, RenderOptions};
+            let mut read = vec![scene.as_path(), Path::new(&layout)];
+            read.extend(lights.as_deref());
+            check_output(&write.output, &read, write.force)?;
             let g = layout_geometry(&layout)?;
             let (lo, hi) = display_volume(&g);
             let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), g.emitter_z_m];
             let mut user_lights = Vec::new();
             if let Some(path) = &lights {
-                user_lights.extend(holo::mesh::shade::read_lights(path, centre).map_err(|e| e.to_string())?);
+                user_lights.extend(holo::mesh::shade::read_lights(path, centre).map_err(error_text)?);
             }
             for spec in &light {
                 user_lights.push(holo::mesh::shade::parse_light(spec, centre)?);
@@ -829,7 +913,7 @@ fn run(cli: Cli) -> Outcome {
                 bar.set_length(total as u64);
                 bar.set_position(done as u64);
             })
-            .map_err(|e| e.to_string())?;
+            .map_err(error_text)?;
             bar.finish_and_clear();
             for w in &report.warnings {
                 eprintln!("holo: warning: {w}");
@@ -837,7 +921,7 @@ fn run(cli: Cli) -> Outcome {
             for w in &report.written.warnings {
                 eprintln!("holo: warning: {}: {w}", report.path.display());
             }
-            println!(
+            outln!(
                 "converted {} ({} triangles in {} objects) into {} frame(s) of {} in {:.2} s",
                 scene.display(),
                 report.triangles,
@@ -846,8 +930,8 @@ fn run(cli: Cli) -> Outcome {
                 report.path.display(),
                 started.elapsed().as_secs_f64()
             );
-            println!("{}", report.placed);
-            println!(
+            outln!("{}", report.placed);
+            outln!(
                 "{} light(s); {} segments rasterised, {} sub-rays shaded",
                 report.lights.len(),
                 report.stats.segments,
@@ -877,6 +961,10 @@ fn run(cli: Cli) -> Outcome {
             use holo::cameras::convert::{convert_camera_files, CameraConvertOptions};
             use holo::cameras::read::OpenOptions;
             use holo::cameras::resample::{Blend, CameraOptions, PlacementRequest};
+            check_output(&write.output, &[&input, Path::new(&layout)], write.force)?;
+            if let Some(mask) = &unseen_mask {
+                check_output(mask, &[&input, &write.output], write.force)?;
+            }
             let g = layout_geometry(&layout)?;
             let mut open = OpenOptions::default();
             open.folder.baseline = baseline;
@@ -895,7 +983,7 @@ fn run(cli: Cli) -> Outcome {
             }
             let options = CameraConvertOptions {
                 resample: CameraOptions {
-                    blend: Blend::parse(&blend).map_err(|e| e.to_string())?,
+                    blend: Blend::parse(&blend).map_err(error_text)?,
                     placement: PlacementRequest { scale: scale.map(|s| s * 1e-3), centre: center, focus, fill_width },
                     use_depth: !no_depth,
                     want_mask: false,
@@ -911,21 +999,21 @@ fn run(cli: Cli) -> Outcome {
                 bar.set_length(total as u64);
                 bar.set_position(done as u64);
             })
-            .map_err(|e| e.to_string())?;
+            .map_err(error_text)?;
             bar.finish_and_clear();
             for w in report.resample.warnings.iter().chain(&report.written.warnings) {
                 eprintln!("holo: warning: {w}");
             }
             let r = &report.resample;
-            println!(
+            outln!(
                 "converted {} ({}) into {} in {:.2} s",
                 input.display(),
                 r.surface,
                 report.path.display(),
                 started.elapsed().as_secs_f64()
             );
-            println!("placement: {}", r.placement);
-            println!(
+            outln!("placement: {}", r.placement);
+            outln!(
                 "{} rays, {} taps per emitter; {} ({:.1}%) seen by no camera and left black",
                 r.rays,
                 r.emitter_taps,
@@ -935,8 +1023,8 @@ fn run(cli: Cli) -> Outcome {
             Ok(ExitCode::SUCCESS)
         }
         Command::Demo { out } => {
-            let demo = holo::report::demo(&out).map_err(|e| e.to_string())?;
-            print!("{demo}");
+            let demo = holo::report::demo(&out).map_err(error_text)?;
+            out!("{demo}");
             Ok(ExitCode::SUCCESS)
         }
     }
@@ -950,7 +1038,7 @@ fn layout_geometry(name: &str) -> Result<Geometry, String> {
             return Ok(g);
         }
     }
-    Layout::load(name).map(|l| l.geometry).map_err(|e| e.to_string())
+    Layout::load(name).map(|l| l.geometry).map_err(error_text)
 }
 
 impl WriteArgs {
@@ -976,33 +1064,27 @@ fn progress_bar(unit: &str, message: bool) -> indicatif::ProgressBar {
 
 fn write_file(m: &holo::Modulation, args: &WriteArgs, source: String) -> Outcome {
     let options = args.options(source);
-    let report = holo::write(&args.output, m, &options).map_err(|e| e.to_string())?;
+    let report = holo::write(&args.output, m, &options).map_err(error_text)?;
     for w in &report.warnings {
         eprintln!("holo: warning: {}: {w}", args.output.display());
     }
-    println!("wrote {} ({} bytes, {})", report.path.display(), report.file_bytes, report.digests[0]);
+    outln!("wrote {} ({} bytes, {})", report.path.display(), report.file_bytes, report.digests[0]);
     Ok(ExitCode::SUCCESS)
 }
 
 fn info(files: &[PathBuf], json: bool, values: bool) -> Outcome {
-    let infos = files
-        .iter()
-        .map(|f| holo::report::info(f, values))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| e.to_string())?;
+    let infos =
+        files.iter().map(|f| holo::report::info(f, values)).collect::<Result<Vec<_>, _>>().map_err(error_text)?;
     let same = (infos.len() > 1).then(|| infos.windows(2).all(|w| holo::report::same_content(&w[0], &w[1])));
     if json {
         let value = serde_json::json!({ "files": infos, "same_content": same });
-        println!("{}", serde_json::to_string_pretty(&value).map_err(|e| e.to_string())?);
+        outln!("{}", serde_json::to_string_pretty(&value).map_err(|e| e.to_string())?);
     } else {
         for i in &infos {
-            print!("{i}");
+            out!("{i}");
         }
         if let Some(same) = same {
-            println!(
-                "same content: {}",
-                if same { "yes (equal geometry, sample type and frame digests)" } else { "no" }
-            );
+            outln!("same content: {}", if same { "yes (equal geometry, sample type and frame digests)" } else { "no" });
         }
     }
     Ok(ExitCode::SUCCESS)
@@ -1023,19 +1105,19 @@ fn validate(files: &[PathBuf], json: bool) -> Outcome {
             continue;
         }
         if valid {
-            println!("{}: valid", f.display());
+            outln!("{}: valid", f.display());
         } else {
-            println!("{}: INVALID, {} violation(s)", f.display(), violations.len());
+            outln!("{}: INVALID, {} violation(s)", f.display(), violations.len());
         }
         for v in &violations {
-            println!("  violation: {v}");
+            outln!("  violation: {v}");
         }
         for w in &warnings {
-            println!("  warning: {w}");
+            outln!("  warning: {w}");
         }
     }
     if json {
-        println!("{}", serde_json::to_string_pretty(&reports).map_err(|e| e.to_string())?);
+        outln!("{}", serde_json::to_string_pretty(&reports).map_err(|e| e.to_string())?);
     }
     Ok(if all_valid { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }

@@ -3,11 +3,14 @@
 //! `holo-fringes.json` sidecar that names the layout (in full, so custom
 //! profiles travel with their fringes) and the files.
 //!
-//! Existing files are never replaced unless asked; every file is written
-//! beside its target and renamed into place when complete.
+//! The images and the sidecar are one set ([`crate::output::FileSet`]): all
+//! images are written as temporaries, put in place together, and the
+//! sidecar, which lists every image with its size and SHA-256, comes last.
+//! An existing set is replaced whole, and only when asked; a reader refuses
+//! a folder whose sidecar is missing or disagrees with its images.
 
 use std::fs::File;
-use std::io::{BufWriter, Read, Write};
+use std::io::{Read, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -15,6 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Assembler, FrameImages, FrameStats};
 use crate::layout::Layout;
+use crate::output::{check_set_output, verify_set, AtomicFile, FileSet, SetFile};
 use crate::{Error, Result};
 
 /// Name of the sidecar in a fringe directory.
@@ -70,6 +74,10 @@ pub struct FringeSidecar {
     pub source: String,
     /// The frames, in order.
     pub frames: Vec<FringeFrame>,
+    /// Every image of the set with its size and SHA-256 (empty in sidecars
+    /// written before sets listed their files: such a set is refused).
+    #[serde(default)]
+    pub files: Vec<SetFile>,
 }
 
 /// One assembled frame in a sidecar.
@@ -142,14 +150,8 @@ pub fn assemble_file(
     let names = |index: usize| -> Vec<String> {
         fb.image_names.iter().map(|n| image_file_name(index, n, options.format)).collect()
     };
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
-    let mut targets: Vec<PathBuf> = range.clone().flat_map(names).map(|n| out_dir.join(n)).collect();
-    targets.push(out_dir.join(FRINGE_SIDECAR));
-    if !options.overwrite {
-        if let Some(p) = targets.iter().find(|p| p.exists()) {
-            return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", p.display())));
-        }
-    }
+    let all_names: Vec<String> = range.clone().flat_map(names).collect();
+    check_set_output(out_dir, FRINGE_SIDECAR, &all_names, &[input], options.overwrite)?;
     // Check the geometry before any work, with the file named.
     let zero = crate::Modulation::zeros(file.geometry().clone())?;
     let fits = assembler.check_geometry(&zero);
@@ -162,6 +164,8 @@ pub fn assemble_file(
         }
     };
 
+    // The folder is made only now that the input is open and fits.
+    let mut set = FileSet::create(out_dir, FRINGE_SIDECAR)?;
     let mut bytes: FrameImages<u8> = FrameImages { width: 0, height: 0, components: 0, images: vec![] };
     let mut floats: FrameImages<f32> = FrameImages { width: 0, height: 0, components: 0, images: vec![] };
     let mut frames = Vec::new();
@@ -181,14 +185,11 @@ pub fn assemble_file(
         .map_err(|e| with_frame(e, input, index))?;
         let files = names(index);
         for (image, name) in files.iter().enumerate() {
-            let path = out_dir.join(name);
-            match options.format {
-                FringeFormat::Png => write_png(&path, &bytes, image, options.overwrite)?,
-                FringeFormat::Raw => write_atomic(&path, options.overwrite, |w| {
-                    w.write_all(&bytes.images[image]).map_err(|e| Error::io(&path, e))
-                })?,
-                FringeFormat::Exr => write_exr(&path, &floats, image, options.overwrite)?,
-            }
+            set.add(name, |out| match options.format {
+                FringeFormat::Png => write_png(out, &bytes, image),
+                FringeFormat::Raw => out.write_all(&bytes.images[image]).map_err(|e| Error::io(out.destination(), e)),
+                FringeFormat::Exr => write_exr(out, &floats, image),
+            })?;
         }
         total.clipped += stats.clipped;
         total.dark_hololines += stats.dark_hololines;
@@ -200,7 +201,7 @@ pub fn assemble_file(
         });
         progress(done + 1, range.len());
     }
-    let sidecar = FringeSidecar {
+    let mut sidecar = FringeSidecar {
         layout: layout.clone(),
         format: options.format,
         width: fb.width,
@@ -208,11 +209,13 @@ pub fn assemble_file(
         components: fb.components,
         source: input.display().to_string(),
         frames: frames.clone(),
+        files: vec![],
     };
-    let side = out_dir.join(FRINGE_SIDECAR);
-    let json = serde_json::to_string_pretty(&sidecar).expect("plain data");
-    write_atomic(&side, options.overwrite, |w| w.write_all(json.as_bytes()).map_err(|e| Error::io(&side, e)))?;
-    Ok(AssembleReport { files: targets, frames, stats: total, resampled })
+    let files = set.commit(options.overwrite, |listed| {
+        sidecar.files = listed.to_vec();
+        Ok(serde_json::to_string_pretty(&sidecar).expect("plain data").into_bytes())
+    })?;
+    Ok(AssembleReport { files, frames, stats: total, resampled })
 }
 
 fn with_frame(e: Error, input: &Path, frame: usize) -> Error {
@@ -224,15 +227,24 @@ fn with_frame(e: Error, input: &Path, frame: usize) -> Error {
     }
 }
 
-/// Read a fringe directory's sidecar.
+/// Read a fringe directory's sidecar, once the images it lists are checked
+/// against their sizes and digests: a folder without a sidecar, or whose
+/// images are missing, mixed with others or damaged, is refused, naming the
+/// file.
 pub fn read_sidecar(dir: &Path) -> Result<FringeSidecar> {
-    let path = dir.join(FRINGE_SIDECAR);
+    let path = crate::output::require_manifest(dir, FRINGE_SIDECAR)?;
     let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
     let sidecar: FringeSidecar =
         serde_json::from_str(&text).map_err(|e| Error::invalid(&path, format!("not a fringe sidecar: {e}")))?;
     let problems = sidecar.layout.problems();
     if !problems.is_empty() {
         return Err(Error::invalid(&path, format!("inconsistent layout: {}", problems.join("; "))));
+    }
+    verify_set(dir, FRINGE_SIDECAR, &sidecar.files, "assemble the fringes again")?;
+    if let Some(name) =
+        sidecar.frames.iter().flat_map(|f| &f.files).find(|n| !sidecar.files.iter().any(|f| &f.name == *n))
+    {
+        return Err(Error::invalid(&path, format!("frame image {name} is not among the files it lists")));
     }
     Ok(sidecar)
 }
@@ -292,32 +304,6 @@ impl StoredImages {
     }
 }
 
-/// Write through a temporary file beside `path`, renamed into place when
-/// complete; an existing `path` is kept unless `overwrite`.
-pub(crate) fn write_atomic(
-    path: &Path,
-    overwrite: bool,
-    fill: impl FnOnce(&mut BufWriter<&File>) -> Result<()>,
-) -> Result<()> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let mut builder = tempfile::Builder::new();
-    let prefix = format!(".{name}.");
-    builder.prefix(&prefix).suffix(".partial");
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let temp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, e))?;
-    {
-        let mut w = BufWriter::with_capacity(1 << 20, temp.as_file());
-        fill(&mut w)?;
-        w.flush().map_err(|e| Error::io(temp.path(), e))?;
-    }
-    crate::format::persist(temp, path, overwrite)
-}
-
 fn colour_type(path: &Path, components: usize) -> Result<image::ExtendedColorType> {
     match components {
         1 => Ok(image::ExtendedColorType::L8),
@@ -327,17 +313,16 @@ fn colour_type(path: &Path, components: usize) -> Result<image::ExtendedColorTyp
     }
 }
 
-fn write_png(path: &Path, images: &FrameImages<u8>, image: usize, overwrite: bool) -> Result<()> {
+fn write_png(out: &mut AtomicFile, images: &FrameImages<u8>, image: usize) -> Result<()> {
     use image::codecs::png::{CompressionType, FilterType, PngEncoder};
     use image::ImageEncoder;
-    let colour = colour_type(path, images.components)?;
-    write_atomic(path, overwrite, |w| {
-        // Fast deflate after the Sub filter: blank and dark areas become zero
-        // runs, which it packs well; fringes themselves are noise-like.
-        PngEncoder::new_with_quality(w, CompressionType::Fast, FilterType::Sub)
-            .write_image(&images.images[image], images.width as u32, images.height as u32, colour)
-            .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
-    })
+    let path = out.destination().to_path_buf();
+    let colour = colour_type(&path, images.components)?;
+    // Fast deflate after the Sub filter: blank and dark areas become zero
+    // runs, which it packs well; fringes themselves are noise-like.
+    PngEncoder::new_with_quality(out, CompressionType::Fast, FilterType::Sub)
+        .write_image(&images.images[image], images.width as u32, images.height as u32, colour)
+        .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
 }
 
 fn read_png(path: &Path, w: usize, h: usize, c: usize) -> Result<Vec<u8>> {
@@ -359,8 +344,9 @@ fn read_png(path: &Path, w: usize, h: usize, c: usize) -> Result<Vec<u8>> {
 
 const COMPONENT_NAMES: [&str; 4] = ["R", "G", "B", "A"];
 
-fn write_exr(path: &Path, images: &FrameImages<f32>, image: usize, overwrite: bool) -> crate::Result<()> {
+fn write_exr(out: &mut AtomicFile, images: &FrameImages<f32>, image: usize) -> crate::Result<()> {
     use exr::prelude::*;
+    let path = out.destination().to_path_buf();
     let (w, h, c) = (images.width, images.height, images.components);
     if c > COMPONENT_NAMES.len() {
         return Err(crate::Error::Usage(format!(
@@ -381,9 +367,7 @@ fn write_exr(path: &Path, images: &FrameImages<f32>, image: usize, overwrite: bo
         Encoding { compression: exr::compression::Compression::ZIP16, ..Encoding::default() },
         AnyChannels::sort(channels),
     );
-    write_atomic(path, overwrite, |out| {
-        Image::from_layer(layer).write().to_buffered(out).map_err(|e| crate::Error::exr(path, e))
-    })
+    Image::from_layer(layer).write().to_buffered(out).map_err(|e| crate::Error::exr(&path, e))
 }
 
 fn read_exr(path: &Path, w: usize, h: usize, c: usize) -> crate::Result<Vec<f32>> {

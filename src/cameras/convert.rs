@@ -54,13 +54,7 @@ pub fn convert_cameras(
     if let Some(p) = rig.problem() {
         return Err(Error::Usage(p));
     }
-    if !options.write.overwrite {
-        for path in std::iter::once(output).chain(options.unseen_png.as_deref()) {
-            if path.exists() {
-                return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", path.display())));
-            }
-        }
-    }
+    check_outputs(output, options, &[])?;
     let views: Vec<CameraView> = rig.cameras.par_iter().map(load).collect::<Result<_>>()?;
     for (cam, view) in rig.cameras.iter().zip(&views) {
         if view.picture.size() != (cam.width, cam.height) {
@@ -107,7 +101,7 @@ pub fn convert_cameras(
         Ok(())
     })?;
     if let Some(path) = &options.unseen_png {
-        write_unseen_png(path, geometry, unseen_grey)?;
+        write_unseen_png(path, geometry, unseen_grey, options.write.overwrite)?;
     }
     let report = resampler.report(unseen, options.resample.want_mask.then_some(mask));
     Ok(CameraConvertReport { path: output.to_path_buf(), cameras: rig.cameras.len(), resample: report, written })
@@ -122,10 +116,30 @@ fn unseen_fraction_grey<'m>(g: &Geometry, mask: &'m [bool]) -> impl Iterator<Ite
 }
 
 /// The unseen picture: one pixel per (emitter, hololine).
-fn write_unseen_png(path: &Path, g: &Geometry, grey: Vec<u8>) -> Result<()> {
-    let img = image::GrayImage::from_raw(g.emitters as u32, g.hololines as u32, grey)
-        .ok_or_else(|| Error::Usage("unseen mask: size mismatch".into()))?;
-    img.save(path).map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+fn write_unseen_png(path: &Path, g: &Geometry, grey: Vec<u8>, overwrite: bool) -> Result<()> {
+    use image::ImageEncoder;
+    if grey.len() != g.emitters * g.hololines {
+        return Err(Error::Usage(format!("{}: unseen mask: size mismatch", path.display())));
+    }
+    crate::output::write_atomically(path, overwrite, |out| {
+        image::codecs::png::PngEncoder::new(out)
+            .write_image(&grey, g.emitters as u32, g.hololines as u32, image::ExtendedColorType::L8)
+            .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+    })?;
+    Ok(())
+}
+
+/// The outputs (the `.holo` file and the unseen picture) checked before any
+/// work against each other's rules and the inputs.
+fn check_outputs(output: &Path, options: &CameraConvertOptions, inputs: &[&Path]) -> Result<()> {
+    let overwrite = options.write.overwrite;
+    crate::output::check_output(output, inputs, overwrite)?;
+    if let Some(png) = &options.unseen_png {
+        let mut read = inputs.to_vec();
+        read.push(output);
+        crate::output::check_output(png, &read, overwrite)?;
+    }
+    Ok(())
 }
 
 /// A camera's picture (linear) and, when `use_depth` and the
@@ -147,6 +161,7 @@ pub fn convert_camera_files(
     options: &CameraConvertOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<CameraConvertReport> {
+    check_outputs(output, options, &[input])?;
     let rig = super::open_rig_with(input, open)?;
     let (linear, use_depth) = (rig.linear, options.resample.use_depth);
     convert_cameras(&rig, &|cam: &Camera| load_view(cam, linear, use_depth), geometry, output, options, progress)

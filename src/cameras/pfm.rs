@@ -119,7 +119,7 @@ pub fn write_pfm(path: &Path, width: usize, height: usize, samples: &[f32]) -> R
             bytes.extend_from_slice(&v.to_le_bytes());
         }
     }
-    std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
+    crate::output::write_bytes_beside(path, &bytes, true)
 }
 
 /// The camera's depth map as camera `z` per pixel (world units, top row

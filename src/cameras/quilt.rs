@@ -445,11 +445,12 @@ impl Quilt {
         } else {
             (self.rgb.iter().flat_map(|p| p.map(code)).collect(), ExtendedColorType::Rgb8)
         };
-        crate::assemble::output::write_atomic(path, overwrite, |w| {
+        crate::output::write_atomically(path, overwrite, |w| {
             PngEncoder::new(w)
                 .write_image(&bytes, self.width as u32, self.height as u32, colour)
                 .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
-        })
+        })?;
+        Ok(())
     }
 }
 
@@ -487,7 +488,8 @@ pub struct QuiltReport {
 
 /// Read frame `frame` of `holo_path` and write its quilt to `out_path` (an
 /// 8-bit sRGB PNG). The output is refused before any work if it exists and
-/// `options.overwrite` is not set.
+/// `options.overwrite` is not set, if its folder is missing, or if it is the
+/// input.
 pub fn export_quilt(
     holo_path: &Path,
     frame: usize,
@@ -503,9 +505,7 @@ pub fn export_quilt(
             return Err(Error::Usage(format!("{}: white {w} must be a positive brightness", out_path.display())));
         }
     }
-    if !options.overwrite && out_path.exists() {
-        return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", out_path.display())));
-    }
+    crate::output::check_output(out_path, &[holo_path], options.overwrite)?;
     let file = crate::HoloFile::open(holo_path)?;
     let m = file.read_frame(frame)?;
     let quilt = quilt_from_modulation(&m, spec)?;

@@ -12,8 +12,9 @@ mod header;
 mod read;
 mod validate;
 mod write;
-pub(crate) use write::{persist, write_bytes_beside};
 
+/// Write a small file whole, atomically: [`crate::output::write_bytes_beside`].
+pub use crate::output::write_bytes_beside;
 pub use attributes::{is_known as is_known_attribute, name as attribute, Radiometry, VERSION};
 pub use channels::{channel_name, parse_channel_name, view_digits, ChannelOrder};
 pub use digest::frame_digest;

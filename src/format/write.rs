@@ -19,6 +19,7 @@ use super::channels::ChannelOrder;
 use super::digest::{frame_digest, row_bytes, stored_row, RowDigest, DIGEST_PREFIX};
 use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SIDE};
 use crate::geometry::Geometry;
+use crate::output::{AtomicFile, Spool};
 use crate::{Band, Error, Modulation, Result};
 
 /// How to write.
@@ -125,12 +126,8 @@ pub fn write_frame_in_bands(
     }
     let order = ChannelOrder::new(geometry);
     let row_len = row_bytes(geometry, options.sample_type);
-    let spool = tempfile::Builder::new()
-        .prefix(&format!(".{}.", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default()))
-        .suffix(".spool")
-        .tempfile_in(directory_of(path))
-        .map_err(|e| Error::io(directory_of(path), e))?;
-    let mut spool_out = BufWriter::with_capacity(1 << 20, spool.as_file());
+    let spool = Spool::create(path)?;
+    let mut spool_out = BufWriter::with_capacity(1 << 20, spool.file());
     let mut digest = RowDigest::default();
     let mut row = vec![0u8; row_len];
     let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
@@ -161,7 +158,9 @@ pub fn write_frame_in_bands(
     spool_out.flush().map_err(|e| Error::io(spool.path(), e))?;
     drop(spool_out);
     let window = window_from(x0, y0, x1, y1);
-    let rows = Rows::Spooled { file: std::sync::Mutex::new(spool.reopen().map_err(|e| Error::io(spool.path(), e))?) };
+    let rows = Rows::Spooled {
+        file: std::sync::Mutex::new(spool.file().try_clone().map_err(|e| Error::io(spool.path(), e))?),
+    };
     write_parts(path, geometry, options, vec![window], vec![digest.finish()], Some(rows), |_| {
         Err(Error::Usage("internal: a one-frame write asked for a second frame".into()))
     })
@@ -230,22 +229,13 @@ fn write_parts<'a>(
     let headers: Vec<Header> =
         (0..frame_count).map(|i| part_header(geometry, options, i, frame_count, &windows[i], &digests[i])).collect();
 
-    let dir = directory_of(path);
-    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let prefix = format!(".{file_name}.");
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".partial");
-    // tempfile creates 0600 files; an output file gets the usual 0666 less the umask.
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let temp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, e))?;
+    let mut temp = AtomicFile::create(path)?;
 
     let mut failure: Option<Error> = None;
     let order = ChannelOrder::new(geometry);
     let row_len = row_bytes(geometry, options.sample_type);
     let written = {
-        let out = BufWriter::with_capacity(1 << 20, temp.as_file());
-        exr::block::write(out, headers.into(), true, |meta, chunk_writer| {
+        exr::block::write(&mut temp, headers.into(), true, |meta, chunk_writer| {
             for (part, digest) in digests.iter_mut().enumerate() {
                 let rows = match first.take() {
                     Some(rows) => rows,
@@ -291,11 +281,12 @@ fn write_parts<'a>(
     if let Some(e) = failure {
         return Err(e);
     }
-    written.map_err(|e| Error::exr(temp.path(), e))?;
+    written.map_err(|e| Error::exr(temp.temporary_path(), e))?;
+    temp.flush().map_err(|e| Error::io(temp.temporary_path(), e))?;
     if !options.compression.is_lossless_for(options.sample_type) {
         // The digest must describe what a reader will decode, not what was
         // asked for; read back band by band, so memory stays bounded.
-        let stored = super::read::HoloFile::open(temp.path())?;
+        let stored = super::read::HoloFile::open(temp.temporary_path())?;
         let mut row = vec![0u8; row_len];
         for (i, d) in digests.iter_mut().enumerate() {
             let mut digest = RowDigest::default();
@@ -311,52 +302,9 @@ fn write_parts<'a>(
             *d = digest.finish();
         }
     }
-    canonicalize_headers(temp.path(), &digests)?;
-    temp.as_file().sync_all().map_err(|e| Error::io(temp.path(), e))?;
-    let file_bytes = temp.as_file().metadata().map_err(|e| Error::io(temp.path(), e))?.len();
-    persist(temp, path, options.overwrite)?;
+    canonicalize_headers(temp.temporary_path(), &digests)?;
+    let file_bytes = temp.commit(options.overwrite)?;
     Ok(WriteReport { path: path.to_path_buf(), file_bytes, digests, warnings })
-}
-
-/// The directory a file is written in (`.` for a bare name).
-fn directory_of(path: &Path) -> &Path {
-    match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    }
-}
-
-/// Write a small file whole: `bytes` to a temporary file beside `path`,
-/// renamed into place; an existing `path` is kept (and named in the error)
-/// unless `overwrite`.
-pub(crate) fn write_bytes_beside(path: &Path, bytes: &[u8], overwrite: bool) -> Result<()> {
-    if !overwrite && path.exists() {
-        return Err(Error::Usage(format!("{}: already exists; not overwritten", path.display())));
-    }
-    let dir = directory_of(path);
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".holo.").suffix(".partial");
-    // tempfile creates 0600 files; an output file gets the usual 0666 less the umask.
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let mut temp = builder.tempfile_in(dir).map_err(|e| Error::io(dir, e))?;
-    temp.write_all(bytes).map_err(|e| Error::io(temp.path(), e))?;
-    temp.as_file().sync_all().map_err(|e| Error::io(temp.path(), e))?;
-    persist(temp, path, overwrite)
-}
-
-/// Rename a finished temporary file into place: an existing `path` is kept
-/// (and named in the error) unless `overwrite`.
-pub(crate) fn persist(temp: tempfile::NamedTempFile, path: &Path, overwrite: bool) -> Result<()> {
-    let persisted = if overwrite { temp.persist(path) } else { temp.persist_noclobber(path) };
-    persisted.map_err(|e| {
-        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
-            Error::Usage(format!("{}: already exists; not overwritten", path.display()))
-        } else {
-            Error::io(path, e.error)
-        }
-    })?;
-    Ok(())
 }
 
 fn check_writable(path: &Path, g: &Geometry, frame_count: usize, options: &WriteOptions) -> Result<()> {
@@ -378,7 +326,7 @@ fn check_writable(path: &Path, g: &Geometry, frame_count: usize, options: &Write
         return Err(Error::Usage(format!("{}: geometry exceeds the format's limits", path.display())));
     }
     if !options.overwrite && path.exists() {
-        return Err(Error::Usage(format!("{}: already exists; not overwritten", path.display())));
+        return Err(Error::Output { path: path.to_path_buf(), problem: crate::OutputProblem::Exists });
     }
     Ok(())
 }

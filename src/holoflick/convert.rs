@@ -106,6 +106,7 @@ pub fn convert_holoflick(
     options: &HoloFlickConvertOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<HoloFlickConvertReport> {
+    crate::output::check_output(output, &[input], options.write.overwrite)?;
     let mut reader = HoloFlickReader::open(input)?;
     let count = reader.frame_count() as usize;
     let frames = options.frames.clone().unwrap_or(0..count);
@@ -116,9 +117,6 @@ pub fn convert_holoflick(
             frames.start,
             frames.end
         )));
-    }
-    if !options.write.overwrite && output.exists() {
-        return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", output.display())));
     }
     let (zone_lo, zone_hi) = viewing_zone(geometry);
     let mut warnings = Vec::new();

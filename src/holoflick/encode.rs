@@ -111,9 +111,7 @@ pub fn encode_holoflick(
     if !(options.micropolygon.is_finite() && options.micropolygon > 0.0) {
         return Err(Error::Usage(format!("--micropolygon must be positive (got {})", options.micropolygon)));
     }
-    if !options.overwrite && output.exists() {
-        return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", output.display())));
-    }
+    crate::output::check_output(output, &[input], options.overwrite)?;
     let source = SceneSource::open(input)?;
     let frames = match (&options.frames, source.animation_duration_s()) {
         (Some(r), Some(_)) => r.clone(),

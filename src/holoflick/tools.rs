@@ -99,9 +99,8 @@ pub fn pack(
     if !(options.frames_per_second.is_finite() && options.frames_per_second > 0.0) {
         return Err(Error::Usage(format!("--fps must be positive (got {})", options.frames_per_second)));
     }
-    if !options.overwrite && output.exists() {
-        return Err(Error::Usage(format!("{}: already exists; not overwritten (use --force)", output.display())));
-    }
+    let read: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    crate::output::check_output(output, &read, options.overwrite)?;
     let sources: Vec<SceneSource> = inputs.iter().map(|p| SceneSource::open(p)).collect::<Result<_>>()?;
     let mut frames = Vec::new();
     for (input, s) in sources.iter().enumerate() {
@@ -382,6 +381,7 @@ fn named(path: &Path, e: Error) -> Error {
 
 /// `holo holoflick unpack`: frame `frame` of `input` as a `.glb` or `.ply` mesh.
 pub fn unpack(input: &Path, frame: usize, output: &Path, overwrite: bool) -> Result<usize> {
+    crate::output::check_output(output, &[input], overwrite)?;
     let objects = frame_objects(input, frame)?;
     crate::mesh::write::write_mesh(output, &objects, overwrite)?;
     Ok(objects.iter().map(|o| o.triangles.len()).sum())

@@ -173,7 +173,7 @@ pub fn write_camera_picture(pic: &CameraPicture, png_path: &Path, pfm_depth_path
             bytes.extend_from_slice(&code.to_ne_bytes());
         }
     }
-    crate::assemble::output::write_atomic(png_path, true, |out| {
+    crate::output::write_atomically(png_path, true, |out| {
         PngEncoder::new(out)
             .write_image(&bytes, w, h, ExtendedColorType::Rgb16)
             .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", png_path.display())))
@@ -188,7 +188,7 @@ pub fn write_camera_picture(pic: &CameraPicture, png_path: &Path, pfm_depth_path
 /// the bottom of the picture to the top, as the format requires. `values`
 /// are row by row from the top.
 fn write_pfm_grey(path: &Path, width: usize, height: usize, values: &[f32]) -> Result<()> {
-    crate::assemble::output::write_atomic(path, true, |out| {
+    crate::output::write_atomically(path, true, |out| {
         let io = |e| Error::io(path, e);
         write!(out, "Pf\n{width} {height}\n-1.0\n").map_err(io)?;
         for row in values.chunks_exact(width).rev() {
@@ -197,7 +197,8 @@ fn write_pfm_grey(path: &Path, width: usize, height: usize, values: &[f32]) -> R
             }
         }
         Ok(())
-    })
+    })?;
+    Ok(())
 }
 
 #[cfg(test)]

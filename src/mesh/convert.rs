@@ -89,6 +89,7 @@ pub fn convert_mesh(
     if !(options.fps.is_finite() && options.fps > 0.0) {
         return Err(Error::Usage(format!("--fps must be a positive number, not {}", options.fps)));
     }
+    crate::output::check_output(output, &[input], options.write.overwrite)?;
     let source = SceneSource::open(input)?;
     let frames = match (&options.frames, source.animation_duration_s()) {
         (Some(r), _) => r.clone(),

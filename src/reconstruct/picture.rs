@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::assemble::output::write_atomic;
+use crate::output::write_atomically;
 use crate::views::srgb_encode;
 use crate::{Error, Result};
 
@@ -71,10 +71,11 @@ impl Picture {
             }
         }
         let colour = if mono { ExtendedColorType::L8 } else { ExtendedColorType::Rgb8 };
-        write_atomic(path, overwrite, |w| {
+        write_atomically(path, overwrite, |w| {
             PngEncoder::new(w)
                 .write_image(&pixels, width as u32, height as u32, colour)
                 .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
-        })
+        })?;
+        Ok(())
     }
 }

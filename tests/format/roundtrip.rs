@@ -312,7 +312,7 @@ fn banded_writes_refuse_bad_samples_and_keep_what_was_there() {
     let path = dir.path().join("kept.holo");
     std::fs::write(&path, b"mine").unwrap();
     let refused = holo::format::write_frame_in_bands(&path, &g, 4, &WriteOptions::default(), |_| Ok(()));
-    assert!(matches!(refused, Err(holo::Error::Usage(ref m)) if m.contains("already exists")));
+    assert!(matches!(refused, Err(holo::Error::Output { problem: holo::OutputProblem::Exists, .. })));
     assert_eq!(std::fs::read(&path).unwrap(), b"mine");
 
     let out = dir.path().join("bad.holo");

@@ -108,12 +108,33 @@ pub enum ContainerError {
         /// What is wrong with the request.
         problem: String,
     },
+    /// The output cannot be written as asked (it exists, its folder is
+    /// missing, the process is being interrupted).
+    #[error("{}: {problem}", .path.display())]
+    Output {
+        /// The output concerned.
+        path: PathBuf,
+        /// What is wrong with writing it.
+        problem: crate::OutputProblem,
+    },
+}
+
+impl ContainerError {
+    /// An error of the atomic writer ([`crate::output`]) in the container's terms.
+    pub(crate) fn from_output(e: crate::Error) -> ContainerError {
+        match e {
+            crate::Error::Io { path, source } => ContainerError::Io { path, source },
+            crate::Error::Output { path, problem } => ContainerError::Output { path, problem },
+            other => ContainerError::Usage { path: PathBuf::new(), problem: other.to_string() },
+        }
+    }
 }
 
 impl From<ContainerError> for crate::Error {
     fn from(e: ContainerError) -> Self {
         match e {
             ContainerError::Io { path, source } => crate::Error::Io { path, source },
+            ContainerError::Output { path, problem } => crate::Error::Output { path, problem },
             ContainerError::Usage { .. } => crate::Error::Usage(e.to_string()),
             other => {
                 let path = match &other {

@@ -4,9 +4,10 @@
 //! [`HoloFlickWriter::finish`]. Spec §4–§8.
 
 use std::collections::HashMap;
-use std::fs::File;
-use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::io::{Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
+
+use crate::output::AtomicFile;
 
 use super::codec::{self, put_chunk};
 use super::error::{At, ContainerError};
@@ -52,8 +53,7 @@ pub struct WriteReport {
 pub struct HoloFlickWriter {
     path: PathBuf,
     overwrite: bool,
-    temp: tempfile::NamedTempFile,
-    out: BufWriter<File>,
+    out: AtomicFile,
     position: u64,
     index: Vec<(u64, u32, u32)>,
     /// Key frame → (object id → bytes of its geometry record).
@@ -85,22 +85,9 @@ impl HoloFlickWriter {
             }
         }
         if !options.overwrite && path.exists() {
-            return Err(usage("already exists; not overwritten".into()));
+            return Err(ContainerError::Output { path: path.to_path_buf(), problem: crate::OutputProblem::Exists });
         }
-        let dir = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let mut builder = tempfile::Builder::new();
-        let prefix = format!(".{file_name}.");
-        builder.prefix(&prefix).suffix(".partial");
-        // tempfile creates 0600 files; an output file gets the usual 0666 less the umask.
-        #[cfg(unix)]
-        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-        let io = |e| ContainerError::Io { path: dir.to_path_buf(), source: e };
-        let temp = builder.tempfile_in(dir).map_err(io)?;
-        let file = temp.as_file().try_clone().map_err(io)?;
+        let out = AtomicFile::create(path).map_err(ContainerError::from_output)?;
 
         let mut head = Vec::with_capacity(256);
         head.extend_from_slice(&MAGIC);
@@ -116,8 +103,7 @@ impl HoloFlickWriter {
         let mut writer = HoloFlickWriter {
             path: path.to_path_buf(),
             overwrite: options.overwrite,
-            temp,
-            out: BufWriter::with_capacity(1 << 20, file),
+            out,
             position: 0,
             index: Vec::new(),
             key_frames: HashMap::new(),
@@ -216,36 +202,23 @@ impl HoloFlickWriter {
         let mut chunk = Vec::with_capacity(8 + p.len());
         put_chunk(&mut chunk, *b"INDX", &p);
         self.put(&chunk)?;
-        let temp_path = self.temp.path().to_path_buf();
+        let temp_path = self.out.temporary_path().to_path_buf();
         let io = |e| ContainerError::Io { path: temp_path.clone(), source: e };
         self.out.seek(SeekFrom::Start(16)).map_err(io)?;
         self.out.write_all(&index_offset.to_le_bytes()).map_err(io)?;
         self.out.write_all(&count.to_le_bytes()).map_err(io)?;
-        self.out.flush().map_err(io)?;
-        self.temp.as_file().sync_all().map_err(io)?;
         let file_bytes = self.position;
-        persist(self.temp, &self.path, self.overwrite)?;
+        self.out.commit(self.overwrite).map_err(ContainerError::from_output)?;
         Ok(WriteReport { path: self.path, frames: count, file_bytes })
     }
 
     fn put(&mut self, bytes: &[u8]) -> Result<()> {
         self.out
             .write_all(bytes)
-            .map_err(|e| ContainerError::Io { path: self.temp.path().to_path_buf(), source: e })?;
+            .map_err(|e| ContainerError::Io { path: self.out.temporary_path().to_path_buf(), source: e })?;
         self.position += bytes.len() as u64;
         Ok(())
     }
-}
-
-fn persist(temp: tempfile::NamedTempFile, path: &Path, overwrite: bool) -> Result<()> {
-    let persisted = if overwrite { temp.persist(path) } else { temp.persist_noclobber(path) };
-    persisted.map(|_| ()).map_err(|e| {
-        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
-            ContainerError::Usage { path: path.to_path_buf(), problem: "already exists; not overwritten".into() }
-        } else {
-            ContainerError::Io { path: path.to_path_buf(), source: e.error }
-        }
-    })
 }
 
 /// Write geometry blocks as a Java 3D `.cg` file (format 1.0.2, all
@@ -254,10 +227,7 @@ fn persist(temp: tempfile::NamedTempFile, path: &Path, overwrite: bool) -> Resul
 pub fn write_cg_file(path: impl AsRef<Path>, blocks: &[GeometryBlock], overwrite: bool) -> Result<u64> {
     let path = path.as_ref();
     if !overwrite && path.exists() {
-        return Err(ContainerError::Usage {
-            path: path.to_path_buf(),
-            problem: "already exists; not overwritten".into(),
-        });
+        return Err(ContainerError::Output { path: path.to_path_buf(), problem: crate::OutputProblem::Exists });
     }
     // The layout is the codec's (`CgFile::to_bytes`, one place); blocks are
     // copied in unchanged.
@@ -269,19 +239,6 @@ pub fn write_cg_file(path: impl AsRef<Path>, blocks: &[GeometryBlock], overwrite
             .collect(),
     };
     let out = file.to_bytes();
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let io = |e| ContainerError::Io { path: dir.to_path_buf(), source: e };
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".cg.").suffix(".partial");
-    // tempfile creates 0600 files; an output file gets the usual 0666 less the umask.
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let mut temp = builder.tempfile_in(dir).map_err(io)?;
-    temp.write_all(&out).map_err(io)?;
-    temp.as_file().sync_all().map_err(io)?;
-    persist(temp, path, overwrite)?;
+    crate::output::write_bytes_beside(path, &out, overwrite).map_err(ContainerError::from_output)?;
     Ok(out.len() as u64)
 }

@@ -1,0 +1,358 @@
+//! The output discipline as a user meets it: interrupts leave nothing half
+//! written, sets of files are replaced whole and refused when mixed, a full
+//! disk truncates nothing, an output never replaces its input, a closed pipe
+//! ends a listing quietly, and refusals come before any work.
+
+use std::collections::BTreeMap;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use holo::geometry::{mono_channel, Geometry, Views};
+use holo::{Modulation, WriteOptions};
+
+const HOLO: &str = env!("CARGO_BIN_EXE_holo");
+
+fn holo(args: &[&str], cwd: &Path) -> Output {
+    Command::new(HOLO).args(args).current_dir(cwd).output().expect("run holo")
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+fn ok(o: Output) -> Output {
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    o
+}
+
+fn fixture(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures").join(path)
+}
+
+/// Hidden files in `dir`: temporaries and spools left behind.
+fn hidden(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect()
+}
+
+/// Every file of `dir` with its bytes.
+fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap()))
+        .collect()
+}
+
+/// Wait until a hidden file ending in `suffix` is in `dir` (the child is
+/// then mid-write); panics with the child's messages if it ends first.
+fn wait_for_hidden(child: &mut Child, dir: &Path, suffix: &str) {
+    let started = Instant::now();
+    loop {
+        if std::fs::read_dir(dir).unwrap().flatten().any(|e| {
+            e.file_name().to_string_lossy().starts_with('.') && e.file_name().to_string_lossy().ends_with(suffix)
+        }) {
+            return;
+        }
+        if let Some(status) = child.try_wait().unwrap() {
+            let mut messages = String::new();
+            std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut messages).unwrap();
+            panic!("the child ended ({status}) before writing a {suffix} file: {messages}");
+        }
+        assert!(started.elapsed() < Duration::from_secs(300), "no {suffix} file after 300 s");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}
+
+fn spawn(args: &[&str], cwd: &Path) -> Child {
+    Command::new(HOLO)
+        .args(args)
+        .current_dir(cwd)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start holo")
+}
+
+/// Send `signal` (a name as `kill` takes it) to the child and wait for it.
+fn interrupt(child: Child, signal: &str) -> (Option<i32>, String) {
+    let pid = child.id().to_string();
+    assert!(Command::new("kill").args([&format!("-{signal}"), &pid]).status().unwrap().success());
+    let out = child.wait_with_output().unwrap();
+    (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// Mark III with `hololines` hololines, as a user would edit the profile.
+fn small_profile(d: &Path, hololines: usize) -> PathBuf {
+    let o = ok(holo(&["layout", "mark3"], d));
+    let profile = String::from_utf8(o.stdout).unwrap().replace("hololines = 440", &format!("hololines = {hololines}"));
+    let path = d.join("small.toml");
+    std::fs::write(&path, profile).unwrap();
+    path
+}
+
+/// A noise value in [0, 1) from a position, the same every run.
+fn noise(k: u64) -> f32 {
+    let mut x = k.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0x5DEE_CE66;
+    x ^= x >> 29;
+    x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x ^= x >> 32;
+    (x % 1_000_000) as f32 / 1_000_000.0
+}
+
+#[test]
+fn interrupts_remove_temporaries_keep_the_previous_file_and_say_which_signal() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark3", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    ok(holo(&["export-quilt", "ramp.holo", "-o", "ramp_qs8x6a0.75.png"], d));
+    let glb = fixture("mesh/AnimatedMorphCube.glb");
+    let spot = fixture("mesh/spot/spot.obj");
+    let (glb, spot) = (glb.to_str().unwrap(), spot.to_str().unwrap());
+    let mesh: &[&str] =
+        &["convert", "mesh", glb, "--frames", "0..4", "--f32", "--compression", "none", "-o", "out.holo", "--force"];
+    let cameras: &[&str] = &["convert", "cameras", "ramp_qs8x6a0.75.png", "-o", "out.holo", "--force"];
+    let encode: &[&str] = &["holoflick", "encode", spot, "-o", "out.hflk", "--force"];
+    for (args, output, mid_write) in
+        [(mesh, "out.holo", ".partial"), (cameras, "out.holo", ".spool"), (encode, "out.hflk", ".partial")]
+    {
+        for (signal, code) in [("INT", 130), ("TERM", 143), ("HUP", 129)] {
+            let previous = format!("the previous {output}, kept through SIG{signal}").into_bytes();
+            std::fs::write(d.join(output), &previous).unwrap();
+            let mut child = spawn(args, d);
+            wait_for_hidden(&mut child, d, mid_write);
+            let (status, messages) = interrupt(child, signal);
+            assert_eq!(status, Some(code), "{args:?} on SIG{signal}: {messages}");
+            assert_eq!(hidden(d), Vec::<String>::new(), "{args:?} on SIG{signal} left temporaries");
+            assert_eq!(std::fs::read(d.join(output)).unwrap(), previous, "{args:?} on SIG{signal}");
+        }
+    }
+}
+
+#[test]
+fn an_interrupted_assemble_keeps_the_previous_set_and_a_mixed_set_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 2);
+    let p = profile.to_str().unwrap();
+    ok(holo(&["pattern", "--layout", p, "--kind", "colour-bars", "-o", "a.holo"], d));
+    ok(holo(&["pattern", "--layout", p, "--kind", "checkerboard", "--cell", "3", "-o", "c.holo"], d));
+    // Another file, long enough that an interrupt finds it mid-set.
+    let g = holo::layout::Layout::load(p).unwrap().geometry;
+    let frames = 200;
+    holo::format::write_frames(d.join("b.holo"), &g, frames, &WriteOptions::default(), |i| {
+        let m = Modulation::from_fn(g.clone(), |_, j, e, v| noise((i * 7919 + j * 131 + e * 17 + v) as u64))?;
+        Ok(std::borrow::Cow::Owned(m))
+    })
+    .unwrap();
+    ok(holo(&["assemble", "a.holo", "--layout", p, "-o", "fringes"], d));
+    let fringes = d.join("fringes");
+    let before = snapshot(&fringes);
+    let checked = ok(holo(&["check", "a.holo", "--fringes", "fringes", "--json"], d));
+
+    let mut child = spawn(&["assemble", "b.holo", "--layout", p, "-o", "fringes", "--force"], d);
+    wait_for_hidden(&mut child, &fringes, ".partial");
+    let (status, messages) = interrupt(child, "INT");
+    assert_eq!(status, Some(130), "{messages}");
+    assert_eq!(hidden(&fringes), Vec::<String>::new());
+    assert!(snapshot(&fringes) == before, "the interrupted run changed the previous set");
+    // The set is still a's, whole: checked as before; b is refused.
+    let again = ok(holo(&["check", "a.holo", "--fringes", "fringes", "--json"], d));
+    let report = |o: &Output| serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()["signal"].clone();
+    assert_eq!(report(&again), report(&checked));
+    let o = holo(&["check", "b.holo", "--fringes", "fringes"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+
+    // A set mixed by hand: one image replaced by another file's.
+    ok(holo(&["assemble", "c.holo", "--layout", p, "-o", "other"], d));
+    std::fs::copy(d.join("other/frame0000-head1.png"), fringes.join("frame0000-head1.png")).unwrap();
+    for args in [&["check", "a.holo", "--fringes", "fringes"][..], &["view", "fringes", "-o", "v.png"]] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(
+            text(&o).contains("frame0000-head1.png") && text(&o).contains("not the file of this set"),
+            "{}",
+            text(&o)
+        );
+    }
+    // A set whose sidecar is gone (an interrupt between taking the old set
+    // apart and putting the new one in place) is not a set.
+    std::fs::remove_file(d.join("other/holo-fringes.json")).unwrap();
+    let o = holo(&["view", "other", "-o", "w.png"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("holo-fringes.json"), "{}", text(&o));
+}
+
+/// A small file whose view 5 is noise (a PNG of some kilobytes) and whose
+/// other views are flat (PNGs of a few hundred bytes), or all noise.
+fn views_file(d: &Path, name: &str, all_noise: bool) {
+    let g = Geometry::centred(32, 64, Views::tan_spaced(16, -0.2, 0.2), 1.3e-4, 2.4e-4, 0.027, 0.6, mono_channel());
+    let m = Modulation::from_fn(
+        g,
+        |_, j, e, v| {
+            if all_noise || v == 5 {
+                noise((j * 64 + e) as u64 * 16 + v as u64)
+            } else {
+                0.5
+            }
+        },
+    )
+    .unwrap();
+    holo::write(d.join(name), &m, &WriteOptions::default()).unwrap();
+}
+
+/// Every file a failed export left in `views` (temporaries too), and those
+/// under a final name that are not whole PNGs.
+fn left_behind(views: &Path) -> (Vec<PathBuf>, Vec<PathBuf>) {
+    let left: Vec<PathBuf> =
+        std::fs::read_dir(views).map(|r| r.flatten().map(|e| e.path()).collect()).unwrap_or_default();
+    let truncated = left
+        .iter()
+        .filter(|p| !p.file_name().unwrap().to_string_lossy().starts_with('.') && image::open(p).is_err())
+        .cloned()
+        .collect();
+    (left, truncated)
+}
+
+/// What a failed export must leave: no file under its final name that is
+/// not whole, and here none at all (no PNG is in place before all are
+/// complete, the sidecar comes last), nor any temporary.
+fn assert_nothing_left((left, truncated): (Vec<PathBuf>, Vec<PathBuf>)) {
+    assert_eq!(truncated, Vec::<PathBuf>::new(), "truncated under their final names");
+    assert_eq!(left, Vec::<PathBuf>::new(), "left by an export that failed");
+}
+
+#[test]
+fn an_export_whose_writes_fail_truncates_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    views_file(d, "one-noisy.holo", false);
+    views_file(d, "noisy.holo", true);
+    // A file-size limit (2 KiB) the noisy view's PNG exceeds: the write
+    // fails mid-way through the views, as on a full disk.
+    let o = Command::new("sh")
+        .args([
+            "-c",
+            "trap '' XFSZ; ulimit -f 4; exec \"$@\"",
+            "sh",
+            HOLO,
+            "export-views",
+            "one-noisy.holo",
+            "-o",
+            "views",
+        ])
+        .current_dir(d)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("view_005.png"), "{}", text(&o));
+    assert_nothing_left(left_behind(&d.join("views")));
+
+    // A full file system, when this machine lets a test mount one.
+    let mount = d.join("small-disk");
+    std::fs::create_dir(&mount).unwrap();
+    let mounted = Command::new("mount").args(["-t", "tmpfs", "-o", "size=64k", "tmpfs"]).arg(&mount).output();
+    if !mounted.as_ref().is_ok_and(|o| o.status.success()) {
+        eprintln!("note: mount -t tmpfs is not permitted here; the full-disk variant was skipped");
+        return;
+    }
+    let o = holo(&["export-views", "noisy.holo", "-o", "small-disk/views"], d);
+    let left = left_behind(&mount.join("views"));
+    assert!(Command::new("umount").arg(&mount).status().unwrap().success());
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("No space left"), "{}", text(&o));
+    assert_nothing_left(left);
+}
+
+#[test]
+fn an_output_never_replaces_its_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "same.holo"], d));
+    let before = std::fs::read(d.join("same.holo")).unwrap();
+    std::fs::hard_link(d.join("same.holo"), d.join("linked.holo")).unwrap();
+    std::os::unix::fs::symlink("same.holo", d.join("alias.holo")).unwrap();
+    for output in ["same.holo", "./same.holo", "linked.holo", "alias.holo"] {
+        let o = holo(&["export-quilt", "same.holo", "-o", output, "--force"], d);
+        assert_eq!(o.status.code(), Some(1), "{output}: {}", text(&o));
+        assert!(text(&o).contains("is the input"), "{}", text(&o));
+        assert_eq!(std::fs::read(d.join("same.holo")).unwrap(), before, "{output}");
+    }
+    for args in [
+        &["pattern", "--layout", "same.holo", "--kind", "checkerboard", "-o", "linked.holo", "--force"][..],
+        &["view", "same.holo", "--layout", "mark1", "-o", "same.holo", "--force"],
+        &["import-views", ".", "--geometry", "mark1", "-o", "same.holo", "--force"],
+    ] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains("is the input"), "{args:?}: {}", text(&o));
+        assert_eq!(std::fs::read(d.join("same.holo")).unwrap(), before, "{args:?}");
+    }
+}
+
+#[test]
+fn a_closed_stdout_ends_a_listing_quietly() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "a.holo"], d));
+    // Far more than a pipe holds, so the writer meets the closed pipe.
+    let mut args = vec!["info", "--headers-only"];
+    args.extend(std::iter::repeat("a.holo").take(600));
+    let mut child =
+        Command::new(HOLO).args(&args).current_dir(d).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap()).read_line(&mut first).unwrap();
+    assert!(first.contains("a.holo"), "{first}");
+    // The reader is gone (as `head -1` goes).
+    let out = child.wait_with_output().unwrap();
+    let messages = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{messages}");
+    assert!(messages.is_empty(), "{messages}");
+}
+
+#[test]
+fn refusals_come_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark3", "--kind", "colour-bars", "-o", "m3.holo"], d));
+    std::fs::write(d.join("taken.png"), b"mine").unwrap();
+    for (output, needle) in [("taken.png", "already exists"), ("no/such/folder/v.png", "does not exist")] {
+        let started = Instant::now();
+        let o = holo(&["view", "m3.holo", "-o", output], d);
+        let seconds = started.elapsed().as_secs_f64();
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+        assert!(text(&o).contains(needle) && text(&o).contains(output), "{}", text(&o));
+        assert!(seconds < 0.5, "view took {seconds:.2} s to refuse {output}");
+    }
+    assert_eq!(std::fs::read(d.join("taken.png")).unwrap(), b"mine");
+    for args in [
+        &["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "no/such/folder/p.holo"][..],
+        &["convert", "mesh", "m3.holo", "-o", "taken.png"],
+        &["export-quilt", "m3.holo", "-o", "taken.png"],
+    ] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains("already exists") || text(&o).contains("does not exist"), "{}", text(&o));
+    }
+
+    // assemble makes its folder only for an input it can read and assemble.
+    let mut cut = std::fs::read(d.join("m3.holo")).unwrap();
+    cut.truncate(cut.len() - 200);
+    std::fs::write(d.join("cut.holo"), cut).unwrap();
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "m1.holo"], d));
+    for input in ["missing.holo", "cut.holo", "m1.holo"] {
+        let o = holo(&["assemble", input, "-o", "made"], d);
+        assert_eq!(o.status.code(), Some(1), "{input}: {}", text(&o));
+        assert!(!d.join("made").exists(), "assemble {input} left a folder");
+        let o = holo(&["export-views", input, "-o", "views/of/it"], d);
+        if input != "m1.holo" {
+            assert_eq!(o.status.code(), Some(1), "{input}: {}", text(&o));
+            assert!(!d.join("views").exists(), "export-views {input} left a folder");
+        }
+    }
+}

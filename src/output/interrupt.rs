@@ -1,0 +1,144 @@
+//! The registry of live temporaries, and what SIGINT, SIGTERM and SIGHUP do
+//! with it.
+//!
+//! A temporary is registered in the same critical section that creates it,
+//! and leaves the registry in the same critical section that renames or
+//! removes it. The cleanup takes the lock, marks the registry interrupted,
+//! removes every file still registered and exits the process with the lock
+//! held: a rename either happened before the cleanup began (the file is in
+//! place and no longer registered) or never happens.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use crate::{Error, OutputProblem, Result};
+
+struct Registry {
+    next_id: u64,
+    live: BTreeMap<u64, PathBuf>,
+    /// Set once the cleanup has begun: no temporary is created or renamed after.
+    interrupted: bool,
+}
+
+static REGISTRY: Mutex<Registry> = Mutex::new(Registry { next_id: 0, live: BTreeMap::new(), interrupted: false });
+
+/// The registry, whatever a panicking holder left: its map stays
+/// consistent because every update is a single insert or remove.
+fn registry() -> MutexGuard<'static, Registry> {
+    REGISTRY.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+fn interrupted(destination: &Path) -> Error {
+    Error::Output { path: destination.to_path_buf(), problem: OutputProblem::Interrupted }
+}
+
+/// Create a temporary with `make` and register it, both under the lock.
+pub(super) fn create_registered(
+    destination: &Path,
+    make: impl FnOnce() -> Result<(PathBuf, File)>,
+) -> Result<(u64, PathBuf, File)> {
+    let mut registry = registry();
+    if registry.interrupted {
+        return Err(interrupted(destination));
+    }
+    let (path, file) = make()?;
+    let id = registry.next_id;
+    registry.next_id += 1;
+    registry.live.insert(id, path.clone());
+    Ok((id, path, file))
+}
+
+/// Remove a temporary and forget it.
+pub(super) fn remove_registered(id: u64, path: &Path) {
+    let mut registry = registry();
+    if registry.live.remove(&id).is_some() {
+        // Nothing useful can be done about a temporary that cannot be
+        // removed while unwinding from another error; it stays hidden.
+        let _ = std::fs::remove_file(path);
+    }
+}
+
+/// Rename temporary `id` at `from` to `to` and forget it, under the lock;
+/// refused once the cleanup has begun. Without `overwrite` an existing `to`
+/// is kept and the rename refused.
+pub(super) fn rename_registered(id: u64, from: &Path, to: &Path, overwrite: bool) -> Result<()> {
+    let mut registry = registry();
+    if registry.interrupted {
+        return Err(interrupted(to));
+    }
+    if overwrite {
+        std::fs::rename(from, to).map_err(|e| Error::io(to, e))?;
+    } else {
+        // An atomic no-replace rename (renameat2 where the file system has
+        // it, else link and unlink); a failed attempt leaves the temporary.
+        tempfile::TempPath::try_from_path(from).map_err(|e| Error::io(from, e))?.persist_noclobber(to).map_err(
+            |e| {
+                let _ = e.path.keep();
+                if e.error.kind() == std::io::ErrorKind::AlreadyExists {
+                    Error::Output { path: to.to_path_buf(), problem: OutputProblem::Exists }
+                } else {
+                    Error::io(to, e.error)
+                }
+            },
+        )?;
+    }
+    registry.live.remove(&id);
+    Ok(())
+}
+
+/// Remove a file in place (one of a replaced set's), under the lock and only
+/// before the cleanup has begun, so an interrupt never finds a set half
+/// taken apart by a step it did not see. A file already gone is no error.
+pub(super) fn remove_in_place(path: &Path) -> Result<()> {
+    let registry = registry();
+    if registry.interrupted {
+        return Err(interrupted(path));
+    }
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path, e)),
+        _ => Ok(()),
+    }
+}
+
+/// Remove every registered temporary now and refuse to create or rename any
+/// from here on. For a program that handles signals itself and is about to
+/// exit; [`install_interrupt_cleanup`] calls it. Returns how many files were
+/// removed.
+pub fn remove_temporaries() -> usize {
+    let mut registry = registry();
+    remove_all(&mut registry)
+}
+
+fn remove_all(registry: &mut Registry) -> usize {
+    registry.interrupted = true;
+    let live = std::mem::take(&mut registry.live);
+    live.values().filter(|path| std::fs::remove_file(path).is_ok()).count()
+}
+
+/// On SIGINT, SIGTERM or SIGHUP: remove every temporary file and spool this
+/// process has open, leave every existing file as it was, and exit with
+/// 128 + the signal's number (130, 143, 129). A dedicated thread waits for
+/// the signals; calling this again does nothing. A program that does not
+/// call it keeps the default behaviour of these signals.
+pub fn install_interrupt_cleanup() -> std::io::Result<()> {
+    static INSTALLED: Mutex<bool> = Mutex::new(false);
+    let mut installed = INSTALLED.lock().unwrap_or_else(PoisonError::into_inner);
+    if *installed {
+        return Ok(());
+    }
+    use signal_hook::consts::signal::{SIGHUP, SIGINT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])?;
+    std::thread::Builder::new().name("holo-interrupt".into()).spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            let mut registry = registry();
+            remove_all(&mut registry);
+            // Exit with the lock held, so no other thread renames a file in
+            // place between the cleanup and the end of the process.
+            std::process::exit(128 + signal);
+        }
+    })?;
+    *installed = true;
+    Ok(())
+}
