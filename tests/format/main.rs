@@ -1,8 +1,10 @@
-//! The .holo file: round trips, frozen vectors, damaged and hostile inputs.
+//! The .holo file and every file holo writes: round trips, frozen vectors, damaged and hostile inputs, the
+//! output discipline (atomic files, sets, checks before work).
 //!
 //! One test binary for this stage of the data flow (each file a module), so a
 //! clean build links a few binaries rather than one per file.
 
 mod bad_input;
+mod output;
 mod roundtrip;
 mod vectors;
