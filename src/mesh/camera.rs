@@ -19,9 +19,10 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use super::bvh::Bvh;
-use super::shade::{dot, radiance, scale, Hit, Lighting};
+use super::shade::{radiance, Hit, Lighting};
 use super::Scene;
 use crate::cameras::Camera;
+use crate::math::{dot, scale};
 use crate::{Error, Result};
 
 /// A rendered camera picture, row by row from the top (pixel `(u, v)` at
@@ -273,7 +274,7 @@ mod tests {
         Lighting {
             lights: vec![
                 Light::Directional {
-                    direction: crate::mesh::shade::normalize([0.4, -0.5, -1.0]),
+                    direction: crate::math::normalize([0.4, -0.5, -1.0]),
                     irradiance: [3.0, 2.5, 2.0],
                     name: "key".into(),
                 },

@@ -5,7 +5,8 @@
 
 use super::bvh::Bvh;
 use super::render::{HololineRenderer, RenderStats, Shading};
-use super::shade::{dot, normalize, radiance, scale, Hit};
+use super::shade::{radiance, Hit};
+use crate::math::{dot, normalize, scale};
 
 pub(crate) struct TraceRenderer<'a> {
     s: Shading<'a>,
