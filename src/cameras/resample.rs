@@ -753,7 +753,7 @@ impl<'a> RigResampler<'a> {
         Ok(RigResampler {
             views,
             weights: channel_weights(&names),
-            slopes: (0..g.views.count).map(|k| g.views.theta_rad(k).tan()).collect(),
+            slopes: (0..g.views.count).map(|k| g.ray_slope_x(k as f64)).collect(),
             tap_x_m: (0..taps).map(|k| g.emitter_pitch_m * ((k as f64 + 0.5) / taps as f64 - 0.5)).collect(),
             rig,
             g: g.clone(),
@@ -777,15 +777,13 @@ impl<'a> RigResampler<'a> {
         for (i, row) in band.samples_mut().chunks_exact_mut(e * v).enumerate() {
             rows[i % lines.len()].push(row);
         }
-        let span = g.viewer_distance_m - g.emitter_z_m;
         let want_mask = self.options.want_mask;
         let per_line: Vec<(u64, Vec<bool>)> = rows
             .into_par_iter()
             .zip(lines.clone())
             .map(|(mut rows, j)| {
                 let y = g.hololine_y_m(j);
-                // Vertically every ray of the hololine goes through the viewer line.
-                let sy = (g.viewer_height_m - y) / span;
+                let sy = g.ray_slope_y(y);
                 let mut mask = if want_mask { vec![false; e * v] } else { Vec::new() };
                 let mut unseen = 0u64;
                 let (mut w, mut scratch) = (Vec::new(), Scratch::default());

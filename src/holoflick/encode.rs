@@ -83,11 +83,7 @@ pub struct HoloFlickEncodeReport {
 /// widened by the display's height and a little depth.
 pub fn display_couch(g: &Geometry) -> ViewerCouch {
     let d = g.viewer_distance_m - g.emitter_z_m;
-    let xs = [g.emitter_x_m(0), g.emitter_x_m(g.emitters.saturating_sub(1))];
-    let slopes = [g.views.theta_rad(0).tan(), g.views.theta_rad(g.views.count.saturating_sub(1)).tan()];
-    let reach: Vec<f64> = xs.iter().flat_map(|x| slopes.iter().map(move |s| x + s * d)).collect();
-    let (lo, hi) =
-        (reach.iter().copied().fold(f64::INFINITY, f64::min), reach.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+    let (lo, hi) = g.viewer_line_reach_m();
     let height = (g.hololine_y_m(0) - g.hololine_y_m(g.hololines.saturating_sub(1))).abs() + g.hololine_pitch_m;
     let margin = 0.05 * d.abs().max(1e-3);
     ViewerCouch {

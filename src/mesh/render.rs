@@ -1,9 +1,10 @@
 //! Rendering a placed scene into modulation: the rays of a geometry (with
 //! supersampling), and the driver that runs an engine over every hololine.
 //!
-//! Ray `(j, e, v)` (spec/holo-format.md §2) passes through `(x_e, y_j, z_e)`
-//! with direction `d = (tan θ_v, k_j, 1)`, where `k_j = (y_v − y_j)/(D − z_e)`
-//! takes it through the viewer line (`y = y_v, z = D`). Its visible point is
+//! Ray `(j, e, v)` ([`Geometry::ray`], spec/holo-format.md §2) passes
+//! through `(x_e, y_j, z_e)` with direction `d = (tan θ_v, k_j, 1)`, where
+//! `k_j = (y_v − y_j)/(D − z_e)` takes it through the viewer line
+//! (`y = y_v, z = D`). Its visible point is
 //! the first surface met walking back from the viewer line along `−d`
 //! (nearest the viewer, in front of or behind the emitter plane, never behind
 //! the viewer). The radiance stored is what that point sends along `d`.
@@ -11,13 +12,14 @@
 //! Supersampling averages `S_e × S_v` rays per sample: emitters at
 //! `x_e + pitch·((i + ½)/S_e − ½)` across the emitter's aperture, and views
 //! at fractional view indices `v + (i + ½)/S_v − ½` mapped through the
-//! file's spacing rule, so the sub-rays tile each view's angular interval.
+//! file's spacing rule ([`Geometry::ray_at`]), so the sub-rays tile each
+//! view's angular interval.
 
 use rayon::prelude::*;
 
 use super::shade::{channel_weights, Lighting};
 use super::Scene;
-use crate::geometry::{Geometry, ViewSpacing, Views};
+use crate::geometry::Geometry;
 use crate::{Error, Modulation, Result};
 
 /// Sub-rays per sample: across each emitter's aperture and each view's
@@ -136,12 +138,11 @@ impl Rays {
         let sub_view_slope = (0..g.views.count * s.view)
             .map(|i| {
                 let (v, k) = (i / s.view, i % s.view);
-                let f = v as f64 + (k as f64 + 0.5) / s.view as f64 - 0.5;
-                view_theta_at(&g.views, f).tan()
+                g.ray_slope_x(v as f64 + (k as f64 + 0.5) / s.view as f64 - 0.5)
             })
             .collect();
         let hololine_y_m: Vec<f64> = (0..g.hololines).map(|j| g.hololine_y_m(j)).collect();
-        let hololine_slope = hololine_y_m.iter().map(|y| (g.viewer_height_m - y) / span).collect();
+        let hololine_slope = hololine_y_m.iter().map(|&y| g.ray_slope_y(y)).collect();
         Ok(Rays {
             sub_emitter_x_m,
             sub_view_slope,
@@ -152,32 +153,6 @@ impl Rays {
             viewer_height_m: g.viewer_height_m,
             supersample: s,
         })
-    }
-}
-
-/// The direction of a fractional view index `f` (view `v` at `f = v`),
-/// following the spacing rule; explicit lists are interpolated linearly
-/// and extended by their end intervals.
-pub fn view_theta_at(views: &Views, f: f64) -> f64 {
-    let n = views.count;
-    if let ViewSpacing::Explicit(list) = &views.spacing {
-        if n == 1 {
-            return list[0];
-        }
-        let i = (f.floor().max(0.0) as usize).min(n - 2);
-        let t = f - i as f64;
-        return list[i] + (list[i + 1] - list[i]) * t;
-    }
-    if n <= 1 {
-        return views.first_theta_rad;
-    }
-    let t = f / (n - 1) as f64;
-    let lerp = |a: f64, b: f64| a + (b - a) * t;
-    match views.spacing {
-        ViewSpacing::Tan => lerp(views.first_theta_rad.tan(), views.last_theta_rad.tan()).atan(),
-        ViewSpacing::Sin => lerp(views.first_theta_rad.sin(), views.last_theta_rad.sin()).clamp(-1.0, 1.0).asin(),
-        ViewSpacing::Angle => lerp(views.first_theta_rad, views.last_theta_rad),
-        ViewSpacing::Explicit(_) => unreachable!("handled above"),
     }
 }
 
