@@ -159,7 +159,13 @@ pub fn convert_holoflick(
                 return Err(e);
             }
         };
-        let options = RenderOptions { lighting, ..options.render.clone() };
+        // The frame's own lights, exactly: its colours are pre-lit, so a
+        // frame without lights shows them as they are.
+        let options = RenderOptions {
+            supersample: options.render.supersample,
+            engine: options.render.engine,
+            ..RenderOptions::lit_exactly(lighting)
+        };
         let (m, stats) = render(&scene, geometry, &options, &|_, _| {})?;
         state.work.render += stats;
         progress(i + 1, n_frames);

@@ -23,7 +23,7 @@ use crate::mesh::dice::{display_budget, DiceOptions};
 use crate::mesh::load::SceneSource;
 use crate::mesh::micro::micropolygons;
 use crate::mesh::place::{apply, place, Placed, Placement};
-use crate::mesh::shade::Lighting;
+use crate::mesh::render::RenderOptions;
 use crate::{Error, Result};
 
 /// How to encode.
@@ -159,7 +159,9 @@ pub fn encode_holoflick(
                 s
             }
         };
-        let lights = if scene.lights.is_empty() { Lighting::default_lights() } else { scene.lights.clone() };
+        // Baked with the lights a render of the scene uses, as `convert mesh`
+        // lights it.
+        let lights = RenderOptions::default().lighting_for(&scene).lights;
         let (micro, specular_lights, micro_report) = micropolygons(&scene, &lights, &budget, &dice, &bake)?;
         micro_count += micro_report.dice.triangles_out;
         shadowed += micro_report.bake.shadowed;

@@ -45,7 +45,9 @@ pub struct CameraPicture {
 const MAX_SAMPLES_PER_AXIS: usize = 64;
 
 /// Render what `camera` sees of `scene` (camera world = scene coordinates,
-/// metres) under `lighting`, with `samples_per_pixel_axis²` rays per pixel.
+/// metres) under exactly `lighting` (the scene's own lights are not added:
+/// [`super::render::RenderOptions::lighting_for`] gives those a render of
+/// the scene uses), with `samples_per_pixel_axis²` rays per pixel.
 pub fn camera_picture(
     scene: &Scene,
     lighting: &Lighting,

@@ -14,6 +14,9 @@
 //! at fractional view indices `v + (i + ½)/S_v − ½` mapped through the
 //! file's spacing rule ([`Geometry::ray_at`]), so the sub-rays tile each
 //! view's angular interval.
+//!
+//! The lights are the scene's own unless the options say otherwise
+//! ([`RenderOptions::lighting_for`]).
 
 use rayon::prelude::*;
 
@@ -51,12 +54,23 @@ pub enum Engine {
 }
 
 /// Everything a render needs besides the scene and geometry.
+///
+/// The lights a render uses are decided in one place,
+/// [`RenderOptions::lighting_for`]: by default the scene's own lights, or
+/// [`Lighting::default_lights`] when the scene has none.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderOptions {
     /// Sub-rays per sample.
     pub supersample: Supersample,
-    /// Lights and specular lobe.
+    /// The specular lobe, and lights added after the scene's own.
     pub lighting: Lighting,
+    /// Light with the scene's own lights ([`Scene::lights`]), before
+    /// `lighting.lights`.
+    pub scene_lights: bool,
+    /// When the scene's lights (if used) and `lighting.lights` are none at
+    /// all, light with [`Lighting::default_lights`]; when false, such a
+    /// render shows emission and pre-lit colours only.
+    pub default_lights: bool,
     /// Which renderer.
     pub engine: Engine,
 }
@@ -65,9 +79,33 @@ impl Default for RenderOptions {
     fn default() -> Self {
         RenderOptions {
             supersample: Supersample::default(),
-            lighting: Lighting { lights: Lighting::default_lights(), model: Default::default() },
+            lighting: Lighting { lights: Vec::new(), model: Default::default() },
+            scene_lights: true,
+            default_lights: true,
             engine: Engine::Fast,
         }
+    }
+}
+
+impl RenderOptions {
+    /// Options that light every scene with exactly `lighting`: not the
+    /// scene's own lights, and no default lights when it has none.
+    pub fn lit_exactly(lighting: Lighting) -> RenderOptions {
+        RenderOptions { lighting, scene_lights: false, default_lights: false, ..RenderOptions::default() }
+    }
+
+    /// The lights (and lobe) a render of `scene` with these options uses:
+    /// the scene's own lights when `scene_lights`, then `lighting.lights`,
+    /// and the default lights when that makes none and `default_lights`.
+    /// A material's light indices ([`super::Material::lights`]) count in
+    /// this list.
+    pub fn lighting_for(&self, scene: &Scene) -> Lighting {
+        let mut lights = if self.scene_lights { scene.lights.clone() } else { Vec::new() };
+        lights.extend(self.lighting.lights.iter().cloned());
+        if lights.is_empty() && self.default_lights {
+            lights = Lighting::default_lights();
+        }
+        Lighting { lights, model: self.lighting.model }
     }
 }
 
@@ -188,15 +226,16 @@ pub fn render_into(
     if let Some(problem) = scene.problem() {
         return Err(Error::Usage(format!("{}: {problem}", scene.source)));
     }
-    if let Some(bad) = options.lighting.lights.iter().find(|l| !light_is_finite(l)) {
+    let lighting = options.lighting_for(scene);
+    if let Some(bad) = lighting.lights.iter().find(|l| !light_is_finite(l)) {
         return Err(Error::Usage(format!("a light is not finite or has a negative brightness: {bad:?}")));
     }
-    if let Some(problem) = options.lighting.problem_with(scene) {
+    if let Some(problem) = lighting.problem_with(scene) {
         return Err(Error::Usage(format!("{}: {problem}", scene.source)));
     }
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);
-    let shading = Shading { scene, lighting: &options.lighting, weights: &weights, rays: &rays, geometry };
+    let shading = Shading { scene, lighting: &lighting, weights: &weights, rays: &rays, geometry };
     Ok(match options.engine {
         Engine::Fast => run(&super::epi::EpiRenderer::new(shading), frame, progress),
         Engine::Reference => run(&super::trace::TraceRenderer::new(shading), frame, progress),

@@ -77,7 +77,9 @@ impl HololineRenderer for TraceRenderer<'_> {
 /// `pupil_samples` eye positions across a pupil `pupil_m` wide. Returned as
 /// `(hololine, emitter, channel)` with the geometry's channels, the layout
 /// of [`crate::reconstruct::picture::Picture::data`]. This is what a perfect display
-/// would show that eye; the tests compare `holo view` with it.
+/// would show that eye; the tests compare `holo view` with it. The scene is
+/// lit by exactly `lighting` ([`super::render::RenderOptions::lighting_for`]
+/// gives the lights a render of the scene uses).
 pub fn eye_picture(
     scene: &super::Scene,
     lighting: &super::shade::Lighting,
