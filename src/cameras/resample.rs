@@ -325,33 +325,7 @@ impl RigGeometry {
             })
             .collect();
         let cameras_on_surface = Interpolator::new(&points, rig)?;
-        // Collinear cameras are a rail, which samples parallax along its
-        // line only: across the display's horizontal parallax it works, but a
-        // line running up and down would give every view of a hololine the
-        // same camera. Such a rig needs cameras off the line (a grid).
-        if let Interpolator::Line { axis, sorted, .. } = &cameras_on_surface {
-            let horizontal = match &surface {
-                Surface::Plane { u, v, .. } => dot(add(scale(*u, axis[0]), scale(*v, axis[1])), x_d).abs(),
-                Surface::Directions { .. } => axis[0].abs(),
-            };
-            if horizontal < std::f64::consts::FRAC_1_SQRT_2 || g.parallax == crate::geometry::Parallax::Full {
-                let (first, last) = (sorted[0].1, sorted[sorted.len() - 1].1);
-                return Err(Error::Usage(format!(
-                    "{}: cameras {} to {} are collinear, on a line {:.0}° from the display's horizontal{}: \
-                     a rail gives parallax only along its line, so these cameras cannot fill the display's views; \
-                     add cameras off the line (a grid) or turn the rail across the horizontal parallax",
-                    rig.source,
-                    rig.cameras[first].name,
-                    rig.cameras[last].name,
-                    horizontal.clamp(0.0, 1.0).acos().to_degrees(),
-                    if g.parallax == crate::geometry::Parallax::Full {
-                        " and the display has full parallax"
-                    } else {
-                        ""
-                    }
-                )));
-            }
-        }
+        refuse_a_rail_off_the_horizontal(rig, g, &surface, &cameras_on_surface, x_d)?;
         // Placement: the focus point at the middle of the emitter plane, and
         // by default the cameras as far from it as the viewer line is from
         // the emitter plane. Then a rail's vertical centre of projection is
@@ -361,37 +335,8 @@ impl RigGeometry {
         let middle = (0..n)
             .min_by(|&a, &b| length(sub(centres[a], mean_centre)).total_cmp(&length(sub(centres[b], mean_centre))))
             .expect("cameras");
+        let (scale_d, scale_words, focus_depth) = display_scale(rig, g, request, middle, focus_point)?;
         let cam = &rig.cameras[middle];
-        let focus_depth = dot(sub(focus_point, cam.pose.centre), cam.axis()).abs();
-        let view_width = cam.width as f64 / cam.intrinsics.fx * focus_depth;
-        let display_width = g.emitters as f64 * g.emitter_pitch_m;
-        let viewer_span = g.viewer_distance_m - g.emitter_z_m;
-        let (scale_d, scale_words) = match request.scale {
-            Some(s) if s > 0.0 && s.is_finite() => (s, format!("scale {s} m per unit (given)")),
-            Some(s) => return Err(Error::Usage(format!("--scale must be positive (got {s})"))),
-            None if request.fill_width || viewer_span.is_nan() || viewer_span <= 0.0 => (
-                display_width / view_width,
-                format!(
-                    "scale {:.4e} m per unit: camera {}'s view at the focus ({view_width:.4} units wide) fills the display's {:.1} mm",
-                    display_width / view_width,
-                    cam.name,
-                    display_width * 1e3
-                ),
-            ),
-            None => {
-                let s = viewer_span / focus_depth;
-                (
-                    s,
-                    format!(
-                        "scale {s:.4e} m per unit: the cameras ({focus_depth:.4} units from the focus) at the viewer's {:.0} mm; camera {}'s view at the focus spans {:.1} mm of the display's {:.1} mm",
-                        viewer_span * 1e3,
-                        cam.name,
-                        view_width * s * 1e3,
-                        display_width * 1e3
-                    ),
-                )
-            }
-        };
         let centre = request.centre.unwrap_or(focus_point);
         let placement = Placement { rotation, centre, scale: scale_d };
         let placement_words = format!(
@@ -1045,6 +990,84 @@ fn symmetric_eigen(mut a: [[f64; 3]; 3]) -> ([[f64; 3]; 3], [f64; 3]) {
     order.sort_by(|&i, &j| a[j][j].total_cmp(&a[i][i]));
     let vectors = order.map(|i| [v[0][i], v[1][i], v[2][i]]);
     (vectors, order.map(|i| a[i][i]))
+}
+
+/// Collinear cameras are a rail, which samples parallax along its line
+/// only: across the display's horizontal parallax it works, but a line
+/// running up and down would give every view of a hololine the same camera.
+/// Such a rig needs cameras off the line (a grid).
+fn refuse_a_rail_off_the_horizontal(
+    rig: &Rig,
+    g: &Geometry,
+    surface: &Surface,
+    cameras_on_surface: &Interpolator,
+    x_d: [f64; 3],
+) -> Result<()> {
+    if let Interpolator::Line { axis, sorted, .. } = cameras_on_surface {
+        let horizontal = match surface {
+            Surface::Plane { u, v, .. } => dot(add(scale(*u, axis[0]), scale(*v, axis[1])), x_d).abs(),
+            Surface::Directions { .. } => axis[0].abs(),
+        };
+        if horizontal < std::f64::consts::FRAC_1_SQRT_2 || g.parallax == crate::geometry::Parallax::Full {
+            let (first, last) = (sorted[0].1, sorted[sorted.len() - 1].1);
+            return Err(Error::Usage(format!(
+                "{}: cameras {} to {} are collinear, on a line {:.0}° from the display's horizontal{}: \
+                 a rail gives parallax only along its line, so these cameras cannot fill the display's views; \
+                 add cameras off the line (a grid) or turn the rail across the horizontal parallax",
+                rig.source,
+                rig.cameras[first].name,
+                rig.cameras[last].name,
+                horizontal.clamp(0.0, 1.0).acos().to_degrees(),
+                if g.parallax == crate::geometry::Parallax::Full { " and the display has full parallax" } else { "" }
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Display metres per capture unit: given, or the cameras as far from the
+/// focus as the viewer line is from the emitter plane, or (`fill_width`)
+/// camera `middle`'s view filling the display's width. With its description
+/// and camera `middle`'s depth of the focus point.
+fn display_scale(
+    rig: &Rig,
+    g: &Geometry,
+    request: &PlacementRequest,
+    middle: usize,
+    focus_point: [f64; 3],
+) -> Result<(f64, String, f64)> {
+    let cam = &rig.cameras[middle];
+    let focus_depth = dot(sub(focus_point, cam.pose.centre), cam.axis()).abs();
+    let view_width = cam.width as f64 / cam.intrinsics.fx * focus_depth;
+    let display_width = g.emitters as f64 * g.emitter_pitch_m;
+    let viewer_span = g.viewer_distance_m - g.emitter_z_m;
+    let (scale_d, scale_words) = match request.scale {
+        Some(s) if s > 0.0 && s.is_finite() => (s, format!("scale {s} m per unit (given)")),
+        Some(s) => return Err(Error::Usage(format!("--scale must be positive (got {s})"))),
+        None if request.fill_width || viewer_span.is_nan() || viewer_span <= 0.0 => (
+            display_width / view_width,
+            format!(
+                "scale {:.4e} m per unit: camera {}'s view at the focus ({view_width:.4} units wide) fills the display's {:.1} mm",
+                display_width / view_width,
+                cam.name,
+                display_width * 1e3
+            ),
+        ),
+        None => {
+            let s = viewer_span / focus_depth;
+            (
+                s,
+                format!(
+                    "scale {s:.4e} m per unit: the cameras ({focus_depth:.4} units from the focus) at the viewer's {:.0} mm; camera {}'s view at the focus spans {:.1} mm of the display's {:.1} mm",
+                    viewer_span * 1e3,
+                    cam.name,
+                    view_width * s * 1e3,
+                    display_width * 1e3
+                ),
+            )
+        }
+    };
+    Ok((scale_d, scale_words, focus_depth))
 }
 
 /// Where the cameras' axes come closest to meeting (least squares), if
