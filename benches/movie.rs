@@ -33,7 +33,9 @@ fn play(reader: &mut HoloFlickReader, frame: &mut Modulation, options: &RenderOp
         scene.objects.push(world);
     }
     let lights: Vec<Light> = f.frame.lights.iter().map(mesh_light).collect();
-    let options = RenderOptions { lighting: Lighting { lights, ..options.lighting.clone() }, ..options.clone() };
+    // The frame's lights exactly, as `holo convert holoflick` renders it.
+    let exact = RenderOptions::lit_exactly(Lighting { lights, ..options.lighting.clone() });
+    let options = RenderOptions { supersample: options.supersample, engine: options.engine, ..exact };
     render_into(&scene, &options, &|_, _| {}, frame).expect("render");
     scene.triangle_count()
 }

@@ -48,19 +48,30 @@ pub struct Views {
 }
 
 impl Views {
-    /// Direction of view `v` in radians.
+    /// Direction of view `v` in radians ([`Views::theta_at`] at `v`).
     pub fn theta_rad(&self, v: usize) -> f64 {
+        self.theta_at(v as f64)
+    }
+
+    /// Direction in radians of the fractional view index `view_index`
+    /// (view `v` at `v as f64`): the spacing rule, the one place it is
+    /// written. Between views the rule is followed continuously (an explicit
+    /// list linearly, exact at its own angles); beyond the first and last
+    /// view it is extended (an explicit list by its end intervals). `sin θ`
+    /// is clamped to ±1 before `asin`: a supersampled view half an interval
+    /// beyond a last view near 90° is 90°, not NaN.
+    pub fn theta_at(&self, view_index: f64) -> f64 {
         if let ViewSpacing::Explicit(list) = &self.spacing {
-            return list[v];
+            return explicit_theta_at(list, view_index).unwrap_or(self.first_theta_rad);
         }
         if self.count <= 1 {
             return self.first_theta_rad;
         }
-        let t = v as f64 / (self.count - 1) as f64;
+        let t = view_index / (self.count - 1) as f64;
         let lerp = |a: f64, b: f64| a + (b - a) * t;
         match self.spacing {
             ViewSpacing::Tan => lerp(self.first_theta_rad.tan(), self.last_theta_rad.tan()).atan(),
-            ViewSpacing::Sin => lerp(self.first_theta_rad.sin(), self.last_theta_rad.sin()).asin(),
+            ViewSpacing::Sin => lerp(self.first_theta_rad.sin(), self.last_theta_rad.sin()).clamp(-1.0, 1.0).asin(),
             ViewSpacing::Angle => lerp(self.first_theta_rad, self.last_theta_rad),
             ViewSpacing::Explicit(_) => unreachable!("handled above"),
         }
@@ -92,6 +103,48 @@ impl Views {
     /// Uniform-in-`tan θ` views spanning `[first, last]`.
     pub fn tan_spaced(count: usize, first_theta_rad: f64, last_theta_rad: f64) -> Self {
         Views { count, first_theta_rad, last_theta_rad, spacing: ViewSpacing::Tan }
+    }
+}
+
+/// [`Views::theta_at`] for an explicit list: the listed angle at a whole
+/// index, linear in between and beyond; `None` for an empty list.
+fn explicit_theta_at(list: &[f64], view_index: f64) -> Option<f64> {
+    let whole = view_index.floor();
+    if whole == view_index && whole >= 0.0 && whole < list.len() as f64 {
+        return Some(list[whole as usize]);
+    }
+    if list.len() < 2 {
+        return list.first().copied();
+    }
+    let i = (whole.max(0.0) as usize).min(list.len() - 2);
+    let t = view_index - i as f64;
+    Some(list[i] + (list[i + 1] - list[i]) * t)
+}
+
+/// A ray of the display (spec/holo-format.md §2): the ray of a sample
+/// `(hololine, emitter, view)`, or of a sub-sample between them. It leaves
+/// the emitter plane at `origin_m` and travels toward the viewer, `+z`, with
+/// direction `(slope_x, slope_y, 1)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Where it crosses the emitter plane, `(x, y, z_e)` in metres.
+    pub origin_m: [f64; 3],
+    /// `dx/dz`: `tan θ` of its view.
+    pub slope_x: f64,
+    /// `dy/dz`: toward the viewer line, which it crosses.
+    pub slope_y: f64,
+}
+
+impl Ray {
+    /// `(slope_x, slope_y, 1)`: its direction, not unit.
+    pub fn direction(&self) -> [f64; 3] {
+        [self.slope_x, self.slope_y, 1.0]
+    }
+
+    /// Its point at depth `z_m`: `origin + (z − z_e) · direction`.
+    pub fn at_z(&self, z_m: f64) -> [f64; 3] {
+        let dz = z_m - self.origin_m[2];
+        [self.origin_m[0] + self.slope_x * dz, self.origin_m[1] + self.slope_y * dz, z_m]
     }
 }
 
@@ -173,6 +226,46 @@ impl Geometry {
     /// `y` of hololine `j`, metres.
     pub fn hololine_y_m(&self, j: usize) -> f64 {
         self.hololine_top_y_m - j as f64 * self.hololine_pitch_m
+    }
+    /// `dy/dz` of every ray that leaves the emitter plane at height `y_m`:
+    /// horizontal-parallax rays all pass through the viewer line, so
+    /// `(y_v − y)/(D − z_e)`.
+    pub fn ray_slope_y(&self, y_m: f64) -> f64 {
+        (self.viewer_height_m - y_m) / (self.viewer_distance_m - self.emitter_z_m)
+    }
+    /// `dx/dz` of the rays of a (fractional) view index: `tan θ` of
+    /// [`Views::theta_at`].
+    pub fn ray_slope_x(&self, view_index: f64) -> f64 {
+        self.views.theta_at(view_index).tan()
+    }
+    /// `dx/dz` of the ray from `x_m` on the emitter plane to the eye at
+    /// `eye_x_m` on the viewer line.
+    pub fn ray_slope_x_toward(&self, x_m: f64, eye_x_m: f64) -> f64 {
+        (eye_x_m - x_m) / (self.viewer_distance_m - self.emitter_z_m)
+    }
+    /// The ray of sample `(hololine, emitter, view)`: from the emitter, in
+    /// the view's direction, toward the viewer line.
+    pub fn ray(&self, hololine: usize, emitter: usize, view: usize) -> Ray {
+        self.ray_at(self.emitter_x_m(emitter), self.hololine_y_m(hololine), view as f64)
+    }
+    /// The ray leaving the emitter plane at `(x_m, y_m)` in the direction of
+    /// the fractional view index `view_index`: a sub-ray across an emitter's
+    /// aperture and a view's interval.
+    pub fn ray_at(&self, x_m: f64, y_m: f64, view_index: f64) -> Ray {
+        Ray {
+            origin_m: [x_m, y_m, self.emitter_z_m],
+            slope_x: self.ray_slope_x(view_index),
+            slope_y: self.ray_slope_y(y_m),
+        }
+    }
+    /// The stretch of the viewer line the views reach, `(x_min, x_max)` in
+    /// metres: where the rays of the first and last emitter in the first
+    /// and last view cross it.
+    pub fn viewer_line_reach_m(&self) -> (f64, f64) {
+        let (last_e, last_v) = (self.emitters.saturating_sub(1), self.views.count.saturating_sub(1));
+        let reach = [0, last_e].map(|e| [0, last_v].map(|v| self.ray(0, e, v).at_z(self.viewer_distance_m)[0]));
+        let reach = reach.iter().flatten().copied();
+        (reach.clone().fold(f64::INFINITY, f64::min), reach.fold(f64::NEG_INFINITY, f64::max))
     }
     /// Samples in one frame (all channels).
     pub fn samples_per_frame(&self) -> u64 {
@@ -305,5 +398,95 @@ impl Geometry {
             out.push("a single view must have equal first and last angles".into());
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// View `v`'s direction from the definition of each spacing: equal
+    /// steps of `tan θ`, `sin θ` or `θ` from the first view, or the list.
+    fn theta_by_definition(views: &Views, v: usize) -> f64 {
+        let n = views.count;
+        let (a, b) = (views.first_theta_rad, views.last_theta_rad);
+        let steps = |x: fn(f64) -> f64| x(a) + v as f64 * ((x(b) - x(a)) / (n - 1) as f64);
+        match &views.spacing {
+            ViewSpacing::Explicit(list) => list[v],
+            _ if n == 1 => a,
+            ViewSpacing::Tan => steps(f64::tan).atan(),
+            ViewSpacing::Sin => steps(f64::sin).asin(),
+            ViewSpacing::Angle => steps(|t| t),
+        }
+    }
+
+    #[test]
+    fn rays_agree_with_first_principles_on_every_builtin_layout() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(16);
+        for name in crate::layout::BUILTIN {
+            let g = crate::layout::builtin(name).unwrap().geometry;
+            let (d, z_e) = (g.viewer_distance_m, g.emitter_z_m);
+            for _ in 0..2000 {
+                let (j, e, v) =
+                    (rng.gen_range(0..g.hololines), rng.gen_range(0..g.emitters), rng.gen_range(0..g.views.count));
+                let ray = g.ray(j, e, v);
+                // It leaves the emitter ...
+                let x_e = g.emitter_left_x_m + e as f64 * g.emitter_pitch_m;
+                let y_j = g.hololine_top_y_m - j as f64 * g.hololine_pitch_m;
+                for (got, want) in ray.origin_m.iter().zip([x_e, y_j, z_e]) {
+                    assert!((got - want).abs() < 1e-15, "{name} ({j}, {e}, {v}): origin {:?}", ray.origin_m);
+                }
+                // ... in the view's direction, to the viewer line.
+                let theta = theta_by_definition(&g.views, v);
+                let on_viewer_line = [x_e + (d - z_e) * theta.tan(), g.viewer_height_m, d];
+                let reached = ray.at_z(d);
+                for (got, want) in reached.iter().zip(on_viewer_line) {
+                    assert!(
+                        (got - want).abs() < 1e-12,
+                        "{name} ({j}, {e}, {v}): reaches {reached:?}, not {on_viewer_line:?}"
+                    );
+                }
+                assert!((ray.slope_x.atan() - theta).abs() < 1e-12, "{name} view {v}");
+                // A point halfway lies on the same line.
+                let half = ray.at_z(0.5 * (z_e + d));
+                let between = [0.5 * (x_e + on_viewer_line[0]), 0.5 * (y_j + g.viewer_height_m)];
+                assert!((half[0] - between[0]).abs() < 1e-12 && (half[1] - between[1]).abs() < 1e-12);
+                // Sub-rays between two views point between them.
+                if v + 1 < g.views.count {
+                    let f = v as f64 + rng.gen_range(0.0..1.0);
+                    let s = g.ray_at(x_e, y_j, f).slope_x;
+                    assert!(s >= g.ray_slope_x(v as f64) && s <= g.ray_slope_x((v + 1) as f64), "{name} view {f}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_spacing_rule_is_exact_at_the_views_and_never_nan_beyond_them() {
+        // The render's sub-views used to clamp sin θ before asin and the
+        // views themselves did not: half a view beyond a last view at 89.9°
+        // the extrapolated sine is above 1, 90° one way and NaN the other.
+        let views =
+            Views { count: 5, first_theta_rad: 0.0, last_theta_rad: 89.9f64.to_radians(), spacing: ViewSpacing::Sin };
+        assert_eq!(views.theta_at(4.5), std::f64::consts::FRAC_PI_2);
+        assert!(views.theta_at(-0.5) < 0.0);
+        assert!((views.theta_rad(4) - views.last_theta_rad).abs() < 1e-12);
+        // An explicit list: its own angles at whole indices (the last one
+        // too, which the interpolation would round), linear between and
+        // beyond, and no panic past the end.
+        let list = vec![-0.5, -0.21, 0.0, 0.1, 0.3];
+        let views = Views {
+            count: 5,
+            first_theta_rad: -0.5,
+            last_theta_rad: 0.3,
+            spacing: ViewSpacing::Explicit(list.clone()),
+        };
+        for (v, t) in list.iter().enumerate() {
+            assert_eq!(views.theta_rad(v), *t);
+        }
+        assert!((views.theta_at(3.5) - 0.2).abs() < 1e-15);
+        assert!((views.theta_rad(5) - 0.5).abs() < 1e-15);
+        assert!((views.theta_at(-1.0) + 0.79).abs() < 1e-15);
     }
 }

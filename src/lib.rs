@@ -14,6 +14,7 @@ pub mod format;
 pub mod geometry;
 pub mod holoflick;
 pub mod layout;
+pub mod math;
 pub mod mesh;
 mod modulation;
 pub mod output;

@@ -73,7 +73,7 @@ pub fn resample(source: &Modulation, target: &Geometry) -> Result<(Modulation, R
     for j in 0..target.hololines {
         let y = target.hololine_y_m(j);
         // The ray's height at the source's emitter plane, on its way to the viewer line.
-        let slope = (target.viewer_height_m - y) / (target.viewer_distance_m - target.emitter_z_m);
+        let slope = target.ray_slope_y(y);
         let rows = lerp((s.hololine_top_y_m - (y + dz * slope)) / s.hololine_pitch_m, s.hololines);
         for e in 0..target.emitters {
             for v in 0..target.views.count {

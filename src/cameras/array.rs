@@ -4,14 +4,15 @@
 //! shifted so that every view is centred on one point in front of the middle
 //! (the "shifted sensor" that gives zero disparity at the focus distance).
 
-use super::{look_rotation, vec3, Camera, ImageSource, Intrinsics, Pose};
+use super::{look_rotation, Camera, ImageSource, Intrinsics, Pose};
+use crate::math;
 
 /// The middle of an array and the orientation its cameras share.
 pub(crate) struct ArrayFrame {
     /// Middle of the array, world units.
     pub(crate) centre: [f64; 3],
     /// World to camera, rows = right, down, forward.
-    pub(crate) rotation: [[f64; 3]; 3],
+    pub(crate) rotation: math::Mat3,
 }
 
 impl ArrayFrame {
@@ -22,14 +23,14 @@ impl ArrayFrame {
         if !(finite(centre) && finite(direction) && finite(up)) {
             return Err("the array's centre, direction and up must be finite".into());
         }
-        if vec3::norm(direction) == 0.0 {
+        if math::length(direction) == 0.0 {
             return Err("the viewing direction is the zero vector".into());
         }
-        let sine = vec3::norm(vec3::cross(direction, up)) / (vec3::norm(direction) * vec3::norm(up));
+        let sine = math::length(math::cross(direction, up)) / (math::length(direction) * math::length(up));
         if sine.is_nan() || sine <= 1e-9 {
             return Err(format!("up {up:?} is zero or parallel to the viewing direction {direction:?}"));
         }
-        Ok(ArrayFrame { centre, rotation: look_rotation(direction, vec3::scale(up, -1.0)) })
+        Ok(ArrayFrame { centre, rotation: look_rotation(direction, math::scale(up, -1.0)) })
     }
 
     /// The cameras' right (world, unit).
@@ -65,11 +66,11 @@ impl ArrayFrame {
             width,
             height,
             intrinsics: Intrinsics::centred(width, height, fx, fy),
-            pose: Pose { rotation: self.rotation, centre: vec3::add(self.centre, offset) },
+            pose: Pose { rotation: self.rotation, centre: math::add(self.centre, offset) },
             depth: None,
         };
         if let Some(f) = converge {
-            let point = vec3::add(self.centre, vec3::scale(self.forward(), f));
+            let point = math::add(self.centre, math::scale(self.forward(), f));
             if !camera.centre_on(point) {
                 return Err(format!(
                     "camera {}: the point the array converges on ({f} in front of its middle) is not in front of it",

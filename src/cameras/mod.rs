@@ -14,13 +14,14 @@ pub mod resample;
 
 use std::path::PathBuf;
 
+use crate::math::{self, cross, det3, dot, mat3_apply, mat3_transpose_apply, unit, Mat3};
+
 mod array;
 pub mod image;
 pub mod pfm;
 pub mod quilt;
 pub mod read;
 pub mod rig_file;
-mod vec3;
 
 pub use read::{open_rig, open_rig_with};
 
@@ -42,8 +43,9 @@ pub struct Intrinsics {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
     /// World to camera: the rows are the camera's `x` (right), `y` (down)
-    /// and `z` (viewing direction) axes in world coordinates.
-    pub rotation: [[f64; 3]; 3],
+    /// and `z` (viewing direction) axes in world coordinates (row-major,
+    /// [`Mat3`]).
+    pub rotation: Mat3,
     /// Centre of projection, world units.
     pub centre: [f64; 3],
 }
@@ -159,10 +161,8 @@ impl Camera {
     pub fn ray(&self, u: f64, v: f64) -> [f64; 3] {
         let k = &self.intrinsics;
         let c = [(u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0];
-        let r = &self.pose.rotation;
-        let w = [0, 1, 2].map(|i| r[0][i] * c[0] + r[1][i] * c[1] + r[2][i] * c[2]);
-        let l = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-        w.map(|x| x / l)
+        // NaN for a broken rotation, which `problem` reports.
+        unit(mat3_transpose_apply(&self.pose.rotation, c)).unwrap_or([f64::NAN; 3])
     }
 
     /// What is wrong with this camera's numbers, if anything (names it).
@@ -193,15 +193,14 @@ impl Camera {
         let r = &self.pose.rotation;
         for i in 0..3 {
             for j in 0..3 {
-                let d: f64 = (0..3).map(|k| r[i][k] * r[j][k]).sum();
+                let d = dot(r[i], r[j]);
                 let want = if i == j { 1.0 } else { 0.0 };
                 if (d - want).abs() > 1e-4 {
                     return Some(format!("the rotation is not orthonormal (row {i}·row {j} = {d:.6})"));
                 }
             }
         }
-        let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
-            + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+        let det = det3(r);
         if det < 0.0 {
             return Some(format!("the rotation is a reflection (determinant {det:.3})"));
         }
@@ -214,8 +213,8 @@ impl Camera {
     /// gantry captures). False, and the camera unchanged, when `p` is not in
     /// front of the camera.
     pub fn centre_on(&mut self, p: [f64; 3]) -> bool {
-        let d = vec3::sub(p, self.pose.centre);
-        let c = self.pose.rotation.map(|row| vec3::dot(row, d));
+        let d = math::sub(p, self.pose.centre);
+        let c = mat3_apply(&self.pose.rotation, d);
         if c[2].is_nan() || c[2] <= 0.0 {
             return false;
         }
@@ -236,13 +235,9 @@ impl Intrinsics {
 
 /// The rotation whose camera looks along `forward` with `down` as near the
 /// picture's `+y` as it can be (both world vectors, not necessarily unit).
-pub fn look_rotation(forward: [f64; 3], down: [f64; 3]) -> [[f64; 3]; 3] {
-    let unit = |v: [f64; 3]| {
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        v.map(|x| x / l)
-    };
-    let cross =
-        |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+pub fn look_rotation(forward: [f64; 3], down: [f64; 3]) -> Mat3 {
+    // NaN for parallel or zero vectors, which the camera checks report.
+    let unit = |v: [f64; 3]| unit(v).unwrap_or([f64::NAN; 3]);
     let z = unit(forward);
     let x = unit(cross(down, z));
     let y = cross(z, x);
@@ -283,7 +278,7 @@ impl Rig {
     pub fn coincident_cameras(&self) -> Option<(usize, usize)> {
         let centres: Vec<[f64; 3]> = self.cameras.iter().map(|c| c.pose.centre).collect();
         let first = *centres.first()?;
-        let extent = centres.iter().map(|&c| vec3::norm(vec3::sub(c, first))).fold(0.0, f64::max);
+        let extent = centres.iter().map(|&c| math::length(math::sub(c, first))).fold(0.0, f64::max);
         let tolerance = 1e-9 * extent;
         // Sorted along x, only neighbours within the tolerance in x can coincide.
         let mut order: Vec<usize> = (0..centres.len()).collect();
@@ -293,7 +288,7 @@ impl Rig {
                 if centres[b][0] - centres[a][0] > tolerance {
                     break;
                 }
-                if vec3::norm(vec3::sub(centres[a], centres[b])) <= tolerance {
+                if math::length(math::sub(centres[a], centres[b])) <= tolerance {
                     return Some((a.min(b), a.max(b)));
                 }
             }

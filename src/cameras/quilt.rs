@@ -370,7 +370,7 @@ pub fn quilt_from_modulation(m: &Modulation, spec: &QuiltSpec) -> Result<Quilt> 
                 let i = row_up * spec.columns + px / spec.tile_width;
                 let u = (px % spec.tile_width) as f64;
                 let (x, y) = f.point(spec, u, v);
-                let theta = ((f.eye_x[i] - x) / f.s).atan();
+                let theta = g.ray_slope_x_toward(x, f.eye_x[i]).atan();
                 let tj = taps((g.hololine_top_y_m - y) / g.hololine_pitch_m, g.hololines);
                 let te = taps((x - g.emitter_left_x_m) / g.emitter_pitch_m, g.emitters);
                 let tv = if g.views.count == 1 { taps(0.0, 1) } else { taps(g.views.index_at(theta), g.views.count) };
@@ -529,7 +529,6 @@ pub fn export_quilt(
 mod tests {
     use super::*;
     use crate::geometry::{mono_channel, rgb_channels, ViewSpacing, Views};
-    use crate::mesh::render::view_theta_at;
 
     /// 30 hololines of 0.5 mm, 40 emitters of 0.5 mm (20 × 15 mm), viewer at
     /// 500 mm, emitter plane 5 mm in front of the hologram.
@@ -605,7 +604,7 @@ mod tests {
                     assert!((got - want).abs() < 1e-5, "{:?} view {i}: {got} vs {want}", views.spacing);
                 }
                 // The inverse is right: the rule maps it back.
-                assert!((view_theta_at(&views, f) - phi).abs() < 1e-12, "{:?} {phi}", views.spacing);
+                assert!((views.theta_at(f) - phi).abs() < 1e-12, "{:?} {phi}", views.spacing);
             }
         }
     }

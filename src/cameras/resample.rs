@@ -30,6 +30,7 @@ use spade::{DelaunayTriangulation, Point2, PositionInTriangulation, Triangulatio
 use super::image::Picture;
 use super::{Camera, Rig};
 use crate::geometry::Geometry;
+use crate::math::{add, cross, det3, dot, length, mat3_transpose_apply, normalize_or, scale, sub, Mat3};
 use crate::mesh::shade::channel_weights;
 use crate::{Band, Error, Modulation, Result};
 
@@ -70,8 +71,9 @@ impl Blend {
 /// display's `x`, `y`, `z` axes in capture coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Placement {
-    /// Capture to display rotation (rows: display axes in capture coordinates).
-    pub rotation: [[f64; 3]; 3],
+    /// Capture to display rotation (rows: display axes in capture
+    /// coordinates; row-major, [`Mat3`]).
+    pub rotation: Mat3,
     /// The capture point shown at the middle of the emitter plane.
     pub centre: [f64; 3],
     /// Display metres per capture unit.
@@ -255,14 +257,15 @@ impl RigGeometry {
         let centres: Vec<[f64; 3]> = rig.cameras.iter().map(|c| c.pose.centre).collect();
         let mean_centre = mean(&centres);
         let mean_axis = mean(&rig.cameras.iter().map(|c| c.axis()).collect::<Vec<_>>());
-        let axes_agree = norm(mean_axis) > 0.7;
+        let axes_agree = length(mean_axis) > 0.7;
         let (axes, spread, extent) = principal_axes(&centres);
         // Display axes in capture coordinates: x along the cameras' mean
         // right, y against their mean down, z against their mean view.
         let right = mean(&rig.cameras.iter().map(|c| c.pose.rotation[0]).collect::<Vec<_>>());
         let down = mean(&rig.cameras.iter().map(|c| c.pose.rotation[1]).collect::<Vec<_>>());
-        let z_d = if axes_agree { unit(scale(mean_axis, -1.0)) } else { unit(cross(right, scale(down, -1.0))) };
-        let x_d = unit(sub(right, scale(z_d, dot(right, z_d))));
+        let z_d =
+            if axes_agree { normalized(scale(mean_axis, -1.0)) } else { normalized(cross(right, scale(down, -1.0))) };
+        let x_d = normalized(sub(right, scale(z_d, dot(right, z_d))));
         let y_d = cross(z_d, x_d);
         let rotation = [x_d, y_d, z_d];
         // Where the capture is in focus: on the mean axis at the focus
@@ -278,7 +281,7 @@ impl RigGeometry {
             if !(f > 0.0 && f.is_finite()) {
                 return Err(Error::Usage(format!("--focus must be a positive distance (got {f})")));
             }
-            (add(mean_centre, scale(unit(mean_axis), f)), format!("focus {f:.4} units in front of the cameras"))
+            (add(mean_centre, scale(normalized(mean_axis), f)), format!("focus {f:.4} units in front of the cameras"))
         } else {
             let p = axes_meet(&rig.cameras).ok_or_else(|| {
                 Error::Usage(format!("{}: the cameras look in different directions whose axes do not meet", rig.source))
@@ -298,11 +301,11 @@ impl RigGeometry {
         } else if axes_agree && spread[1] <= 0.01 * spread[0] {
             // A rail: the plane through it, as square to the mean axis as it can be.
             let along = axes[0];
-            let normal = unit(sub(z_d, scale(along, dot(z_d, along))));
+            let normal = normalized(sub(z_d, scale(along, dot(z_d, along))));
             Surface::Plane { origin: mean_centre, u: along, v: cross(normal, along), normal }
         } else if axes_agree && spread[2] <= 0.02 * spread[1] && dot(axes[2], z_d).abs() > 0.7 {
             let normal = if dot(axes[2], z_d) > 0.0 { axes[2] } else { scale(axes[2], -1.0) };
-            let u = unit(sub(x_d, scale(normal, dot(x_d, normal))));
+            let u = normalized(sub(x_d, scale(normal, dot(x_d, normal))));
             Surface::Plane { origin: mean_centre, u, v: cross(normal, u), normal }
         } else {
             Surface::Directions { centre: focus_point }
@@ -318,37 +321,11 @@ impl RigGeometry {
             .iter()
             .map(|&c| match &surface {
                 Surface::Plane { origin, u, v, .. } => [dot(sub(c, *origin), *u), dot(sub(c, *origin), *v)],
-                Surface::Directions { centre } => direction_coords(unit(sub(c, *centre)), &rotation),
+                Surface::Directions { centre } => direction_coords(normalized(sub(c, *centre)), &rotation),
             })
             .collect();
         let cameras_on_surface = Interpolator::new(&points, rig)?;
-        // Collinear cameras are a rail, which samples parallax along its
-        // line only: across the display's horizontal parallax it works, but a
-        // line running up and down would give every view of a hololine the
-        // same camera. Such a rig needs cameras off the line (a grid).
-        if let Interpolator::Line { axis, sorted, .. } = &cameras_on_surface {
-            let horizontal = match &surface {
-                Surface::Plane { u, v, .. } => dot(add(scale(*u, axis[0]), scale(*v, axis[1])), x_d).abs(),
-                Surface::Directions { .. } => axis[0].abs(),
-            };
-            if horizontal < std::f64::consts::FRAC_1_SQRT_2 || g.parallax == crate::geometry::Parallax::Full {
-                let (first, last) = (sorted[0].1, sorted[sorted.len() - 1].1);
-                return Err(Error::Usage(format!(
-                    "{}: cameras {} to {} are collinear, on a line {:.0}° from the display's horizontal{}: \
-                     a rail gives parallax only along its line, so these cameras cannot fill the display's views; \
-                     add cameras off the line (a grid) or turn the rail across the horizontal parallax",
-                    rig.source,
-                    rig.cameras[first].name,
-                    rig.cameras[last].name,
-                    horizontal.clamp(0.0, 1.0).acos().to_degrees(),
-                    if g.parallax == crate::geometry::Parallax::Full {
-                        " and the display has full parallax"
-                    } else {
-                        ""
-                    }
-                )));
-            }
-        }
+        refuse_a_rail_off_the_horizontal(rig, g, &surface, &cameras_on_surface, x_d)?;
         // Placement: the focus point at the middle of the emitter plane, and
         // by default the cameras as far from it as the viewer line is from
         // the emitter plane. Then a rail's vertical centre of projection is
@@ -356,39 +333,10 @@ impl RigGeometry {
         // off the focus plane keeps its vertical perspective. `fill_width`
         // instead fills the display's width with the middle camera's view.
         let middle = (0..n)
-            .min_by(|&a, &b| norm(sub(centres[a], mean_centre)).total_cmp(&norm(sub(centres[b], mean_centre))))
+            .min_by(|&a, &b| length(sub(centres[a], mean_centre)).total_cmp(&length(sub(centres[b], mean_centre))))
             .expect("cameras");
+        let (scale_d, scale_words, focus_depth) = display_scale(rig, g, request, middle, focus_point)?;
         let cam = &rig.cameras[middle];
-        let focus_depth = dot(sub(focus_point, cam.pose.centre), cam.axis()).abs();
-        let view_width = cam.width as f64 / cam.intrinsics.fx * focus_depth;
-        let display_width = g.emitters as f64 * g.emitter_pitch_m;
-        let viewer_span = g.viewer_distance_m - g.emitter_z_m;
-        let (scale_d, scale_words) = match request.scale {
-            Some(s) if s > 0.0 && s.is_finite() => (s, format!("scale {s} m per unit (given)")),
-            Some(s) => return Err(Error::Usage(format!("--scale must be positive (got {s})"))),
-            None if request.fill_width || viewer_span.is_nan() || viewer_span <= 0.0 => (
-                display_width / view_width,
-                format!(
-                    "scale {:.4e} m per unit: camera {}'s view at the focus ({view_width:.4} units wide) fills the display's {:.1} mm",
-                    display_width / view_width,
-                    cam.name,
-                    display_width * 1e3
-                ),
-            ),
-            None => {
-                let s = viewer_span / focus_depth;
-                (
-                    s,
-                    format!(
-                        "scale {s:.4e} m per unit: the cameras ({focus_depth:.4} units from the focus) at the viewer's {:.0} mm; camera {}'s view at the focus spans {:.1} mm of the display's {:.1} mm",
-                        viewer_span * 1e3,
-                        cam.name,
-                        view_width * s * 1e3,
-                        display_width * 1e3
-                    ),
-                )
-            }
-        };
         let centre = request.centre.unwrap_or(focus_point);
         let placement = Placement { rotation, centre, scale: scale_d };
         let placement_words = format!(
@@ -457,9 +405,8 @@ impl RigGeometry {
         let p = &self.placement;
         let r = &p.rotation;
         let d_display = [x / p.scale, y / p.scale, 0.0];
-        let origin =
-            add(p.centre, [0, 1, 2].map(|k| r[0][k] * d_display[0] + r[1][k] * d_display[1] + r[2][k] * d_display[2]));
-        let dir = unit([0, 1, 2].map(|k| r[0][k] * sx + r[1][k] * sy + r[2][k]));
+        let origin = add(p.centre, mat3_transpose_apply(r, d_display));
+        let dir = normalized(mat3_transpose_apply(r, [sx, sy, 1.0]));
         (origin, dir)
     }
 
@@ -751,7 +698,7 @@ impl<'a> RigResampler<'a> {
         Ok(RigResampler {
             views,
             weights: channel_weights(&names),
-            slopes: (0..g.views.count).map(|k| g.views.theta_rad(k).tan()).collect(),
+            slopes: (0..g.views.count).map(|k| g.ray_slope_x(k as f64)).collect(),
             tap_x_m: (0..taps).map(|k| g.emitter_pitch_m * ((k as f64 + 0.5) / taps as f64 - 0.5)).collect(),
             rig,
             g: g.clone(),
@@ -775,15 +722,13 @@ impl<'a> RigResampler<'a> {
         for (i, row) in band.samples_mut().chunks_exact_mut(e * v).enumerate() {
             rows[i % lines.len()].push(row);
         }
-        let span = g.viewer_distance_m - g.emitter_z_m;
         let want_mask = self.options.want_mask;
         let per_line: Vec<(u64, Vec<bool>)> = rows
             .into_par_iter()
             .zip(lines.clone())
             .map(|(mut rows, j)| {
                 let y = g.hololine_y_m(j);
-                // Vertically every ray of the hololine goes through the viewer line.
-                let sy = (g.viewer_height_m - y) / span;
+                let sy = g.ray_slope_y(y);
                 let mut mask = if want_mask { vec![false; e * v] } else { Vec::new() };
                 let mut unseen = 0u64;
                 let (mut w, mut scratch) = (Vec::new(), Scratch::default());
@@ -929,7 +874,7 @@ fn refine_with_depth(
         // The point of the ray whose camera z is `z`.
         let t = (z - dot(sub(origin, cam.pose.centre), axis)) / along;
         let next = add(origin, scale(dir, t));
-        let moved = norm(sub(next, p));
+        let moved = length(sub(next, p));
         p = next;
         if moved <= 1e-9 * z.abs().max(1e-300) {
             break;
@@ -969,9 +914,9 @@ fn list_names(names: &[&str]) -> String {
 
 /// Two cameras at one place looking the same way (to calibration precision).
 fn same_pose(a: &Camera, b: &Camera) -> bool {
-    let scale = norm(a.pose.centre).max(norm(b.pose.centre)).max(1e-300);
-    norm(sub(a.pose.centre, b.pose.centre)) <= 1e-9 * scale
-        && (0..3).all(|i| norm(sub(a.pose.rotation[i], b.pose.rotation[i])) <= 1e-9)
+    let scale = length(a.pose.centre).max(length(b.pose.centre)).max(1e-300);
+    length(sub(a.pose.centre, b.pose.centre)) <= 1e-9 * scale
+        && (0..3).all(|i| length(sub(a.pose.rotation[i], b.pose.rotation[i])) <= 1e-9)
 }
 
 fn mean(v: &[[f64; 3]]) -> [f64; 3] {
@@ -993,7 +938,7 @@ fn principal_axes(points: &[[f64; 3]]) -> ([[f64; 3]; 3], [f64; 3], f64) {
     let mut extent = 0.0f64;
     for p in points {
         let d = sub(*p, m);
-        extent = extent.max(norm(d));
+        extent = extent.max(length(d));
         for a in 0..3 {
             for b in 0..3 {
                 cov[a][b] += d[a] * d[b] / points.len() as f64;
@@ -1047,6 +992,84 @@ fn symmetric_eigen(mut a: [[f64; 3]; 3]) -> ([[f64; 3]; 3], [f64; 3]) {
     (vectors, order.map(|i| a[i][i]))
 }
 
+/// Collinear cameras are a rail, which samples parallax along its line
+/// only: across the display's horizontal parallax it works, but a line
+/// running up and down would give every view of a hololine the same camera.
+/// Such a rig needs cameras off the line (a grid).
+fn refuse_a_rail_off_the_horizontal(
+    rig: &Rig,
+    g: &Geometry,
+    surface: &Surface,
+    cameras_on_surface: &Interpolator,
+    x_d: [f64; 3],
+) -> Result<()> {
+    if let Interpolator::Line { axis, sorted, .. } = cameras_on_surface {
+        let horizontal = match surface {
+            Surface::Plane { u, v, .. } => dot(add(scale(*u, axis[0]), scale(*v, axis[1])), x_d).abs(),
+            Surface::Directions { .. } => axis[0].abs(),
+        };
+        if horizontal < std::f64::consts::FRAC_1_SQRT_2 || g.parallax == crate::geometry::Parallax::Full {
+            let (first, last) = (sorted[0].1, sorted[sorted.len() - 1].1);
+            return Err(Error::Usage(format!(
+                "{}: cameras {} to {} are collinear, on a line {:.0}° from the display's horizontal{}: \
+                 a rail gives parallax only along its line, so these cameras cannot fill the display's views; \
+                 add cameras off the line (a grid) or turn the rail across the horizontal parallax",
+                rig.source,
+                rig.cameras[first].name,
+                rig.cameras[last].name,
+                horizontal.clamp(0.0, 1.0).acos().to_degrees(),
+                if g.parallax == crate::geometry::Parallax::Full { " and the display has full parallax" } else { "" }
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Display metres per capture unit: given, or the cameras as far from the
+/// focus as the viewer line is from the emitter plane, or (`fill_width`)
+/// camera `middle`'s view filling the display's width. With its description
+/// and camera `middle`'s depth of the focus point.
+fn display_scale(
+    rig: &Rig,
+    g: &Geometry,
+    request: &PlacementRequest,
+    middle: usize,
+    focus_point: [f64; 3],
+) -> Result<(f64, String, f64)> {
+    let cam = &rig.cameras[middle];
+    let focus_depth = dot(sub(focus_point, cam.pose.centre), cam.axis()).abs();
+    let view_width = cam.width as f64 / cam.intrinsics.fx * focus_depth;
+    let display_width = g.emitters as f64 * g.emitter_pitch_m;
+    let viewer_span = g.viewer_distance_m - g.emitter_z_m;
+    let (scale_d, scale_words) = match request.scale {
+        Some(s) if s > 0.0 && s.is_finite() => (s, format!("scale {s} m per unit (given)")),
+        Some(s) => return Err(Error::Usage(format!("--scale must be positive (got {s})"))),
+        None if request.fill_width || viewer_span.is_nan() || viewer_span <= 0.0 => (
+            display_width / view_width,
+            format!(
+                "scale {:.4e} m per unit: camera {}'s view at the focus ({view_width:.4} units wide) fills the display's {:.1} mm",
+                display_width / view_width,
+                cam.name,
+                display_width * 1e3
+            ),
+        ),
+        None => {
+            let s = viewer_span / focus_depth;
+            (
+                s,
+                format!(
+                    "scale {s:.4e} m per unit: the cameras ({focus_depth:.4} units from the focus) at the viewer's {:.0} mm; camera {}'s view at the focus spans {:.1} mm of the display's {:.1} mm",
+                    viewer_span * 1e3,
+                    cam.name,
+                    view_width * s * 1e3,
+                    display_width * 1e3
+                ),
+            )
+        }
+    };
+    Ok((scale_d, scale_words, focus_depth))
+}
+
 /// Where the cameras' axes come closest to meeting (least squares), if
 /// they are not all parallel.
 fn axes_meet(cameras: &[Camera]) -> Option<[f64; 3]> {
@@ -1067,7 +1090,7 @@ fn axes_meet(cameras: &[Camera]) -> Option<[f64; 3]> {
 }
 
 fn solve3(m: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
-    let det = dot(m[0], cross(m[1], m[2]));
+    let det = det3(&m);
     let scale_m = m.iter().flatten().fold(0.0f64, |a, &b| a.max(b.abs()));
     if det.is_nan() || det.abs() <= 1e-9 * scale_m.powi(3) {
         return None;
@@ -1078,7 +1101,7 @@ fn solve3(m: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
         for i in 0..3 {
             c[i][k] = r[i];
         }
-        dot(c[0], cross(c[1], c[2])) / det
+        det3(&c) / det
     };
     Some([col(0), col(1), col(2)])
 }
@@ -1090,24 +1113,8 @@ fn direction_coords(d: [f64; 3], rotation: &[[f64; 3]; 3]) -> [f64; 2] {
     [x.atan2(z), y.clamp(-1.0, 1.0).asin()]
 }
 
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-fn unit(a: [f64; 3]) -> [f64; 3] {
-    scale(a, 1.0 / norm(a))
+/// `a · (1/|a|)`; NaN for a zero vector, which the placement's checks
+/// then report, rather than a made-up direction.
+fn normalized(a: [f64; 3]) -> [f64; 3] {
+    normalize_or(a, [f64::NAN; 3])
 }

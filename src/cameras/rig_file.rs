@@ -10,7 +10,8 @@ use toml::{Table, Value};
 
 use super::array::ArrayFrame;
 use super::image::image_size;
-use super::{look_rotation, vec3, Camera, DepthKind, DepthSource, ImageSource, Intrinsics, Pose, Rig};
+use super::{look_rotation, Camera, DepthKind, DepthSource, ImageSource, Intrinsics, Pose, Rig};
+use crate::math;
 use crate::{Error, Result};
 
 const TOP_KEYS: &[&str] = &["units", "focus_distance", "linear", "image_size", "cameras", "rail", "grid"];
@@ -179,7 +180,7 @@ fn pose(k: &Keys) -> Result<Pose, String> {
                 return Err(k.err("`r` and `t` give the pose: leave out position, rotation, look_at, direction and up"));
             }
             // x_c = r X + t, so the centre is −rᵀ t.
-            Ok(Pose { rotation: r, centre: vec3::scale(vec3::transpose_times(&r, t), -1.0) })
+            Ok(Pose { rotation: r, centre: math::scale(math::mat3_transpose_apply(&r, t), -1.0) })
         }
         (Some(_), None) | (None, Some(_)) => Err(k.err("`r` and `t` go together (x_camera = r·X + t)")),
         (None, None) => {
@@ -193,20 +194,20 @@ fn pose(k: &Keys) -> Result<Pose, String> {
                     }
                     return Ok(Pose { rotation: r, centre: position });
                 }
-                (None, Some(target), None) => vec3::sub(target, position),
+                (None, Some(target), None) => math::sub(target, position),
                 (None, None, Some(d)) => d,
                 _ => return Err(k.err("give exactly one of rotation, look_at and direction")),
             };
             let up = up.unwrap_or([0.0, 1.0, 0.0]);
-            if vec3::norm(forward) == 0.0 {
+            if math::length(forward) == 0.0 {
                 return Err(k.err("the viewing direction is zero (look_at is the camera's position?)"));
             }
-            let sine = vec3::norm(vec3::cross(forward, up)) / (vec3::norm(forward) * vec3::norm(up));
+            let sine = math::length(math::cross(forward, up)) / (math::length(forward) * math::length(up));
             // NaN passes on to the calibration check, which names it.
             if sine <= 1e-9 {
                 return Err(k.err(format!("up {up:?} is zero or parallel to the viewing direction {forward:?}")));
             }
-            Ok(Pose { rotation: look_rotation(forward, vec3::scale(up, -1.0)), centre: position })
+            Ok(Pose { rotation: look_rotation(forward, math::scale(up, -1.0)), centre: position })
         }
     }
 }
@@ -289,12 +290,12 @@ fn array(s: &Settings, value: &Value, shape: Shape) -> Result<Vec<Camera>, Strin
     // the display's hologram plane is.
     let centre = match (k.numbers::<3>("centre")?, s.focus) {
         (Some(c), _) => c,
-        (None, Some(f)) if vec3::norm(direction) > 0.0 => vec3::scale(direction, -f / vec3::norm(direction)),
+        (None, Some(f)) if math::length(direction) > 0.0 => math::scale(direction, -f / math::length(direction)),
         (None, _) => [0.0; 3],
     };
     let frame = ArrayFrame::new(centre, direction, up).map_err(|e| k.err(e))?;
     let axis = match k.numbers::<3>("axis")? {
-        Some(a) if vec3::norm(a) > 0.0 && vec3::norm(a).is_finite() => vec3::scale(a, 1.0 / vec3::norm(a)),
+        Some(a) if math::length(a) > 0.0 && math::length(a).is_finite() => math::scale(a, 1.0 / math::length(a)),
         Some(a) => return Err(k.err(format!("the rail's axis {a:?} must be a non-zero direction"))),
         None => frame.right(),
     };
@@ -324,10 +325,10 @@ fn array(s: &Settings, value: &Value, shape: Shape) -> Result<Vec<Camera>, Strin
         }
         let (fx, fy, principal) = Lens::default().resolve(&s.lens, this).map_err(|e| format!("{who}: {e}"))?;
         let offset = match shape {
-            Shape::Rail => vec3::scale(axis, (col as f64 - (columns as f64 - 1.0) / 2.0) * bx),
-            Shape::Grid => vec3::add(
-                vec3::scale(frame.right(), (col as f64 - (columns as f64 - 1.0) / 2.0) * bx),
-                vec3::scale(frame.down(), (row as f64 - (rows as f64 - 1.0) / 2.0) * by),
+            Shape::Rail => math::scale(axis, (col as f64 - (columns as f64 - 1.0) / 2.0) * bx),
+            Shape::Grid => math::add(
+                math::scale(frame.right(), (col as f64 - (columns as f64 - 1.0) / 2.0) * bx),
+                math::scale(frame.down(), (row as f64 - (rows as f64 - 1.0) / 2.0) * by),
             ),
         };
         let mut camera =

@@ -85,12 +85,7 @@ pub struct HoloFlickConvertReport {
 /// The box of the display's viewing zone: every point of the viewer line a
 /// view reaches (spec/holo-format.md §1), as a flat box.
 fn viewing_zone(g: &Geometry) -> ([f64; 3], [f64; 3]) {
-    let d = g.viewer_distance_m - g.emitter_z_m;
-    let xs = [g.emitter_x_m(0), g.emitter_x_m(g.emitters.saturating_sub(1))];
-    let slopes = [g.views.theta_rad(0).tan(), g.views.theta_rad(g.views.count.saturating_sub(1)).tan()];
-    let reach: Vec<f64> = xs.iter().flat_map(|x| slopes.iter().map(move |s| x + s * d)).collect();
-    let lo = reach.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = reach.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let (lo, hi) = g.viewer_line_reach_m();
     ([lo, g.viewer_height_m, g.viewer_distance_m], [hi, g.viewer_height_m, g.viewer_distance_m])
 }
 
@@ -162,7 +157,13 @@ pub fn convert_holoflick(
                 return Err(e);
             }
         };
-        let options = RenderOptions { lighting, ..options.render.clone() };
+        // The frame's own lights, exactly: its colours are pre-lit, so a
+        // frame without lights shows them as they are.
+        let options = RenderOptions {
+            supersample: options.render.supersample,
+            engine: options.render.engine,
+            ..RenderOptions::lit_exactly(lighting)
+        };
         let (m, stats) = render(&scene, geometry, &options, &|_, _| {})?;
         state.work.render += stats;
         progress(i + 1, n_frames);

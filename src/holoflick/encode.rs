@@ -23,7 +23,7 @@ use crate::mesh::dice::{display_budget, DiceOptions};
 use crate::mesh::load::SceneSource;
 use crate::mesh::micro::micropolygons;
 use crate::mesh::place::{apply, place, Placed, Placement};
-use crate::mesh::shade::Lighting;
+use crate::mesh::render::RenderOptions;
 use crate::{Error, Result};
 
 /// How to encode.
@@ -83,11 +83,7 @@ pub struct HoloFlickEncodeReport {
 /// widened by the display's height and a little depth.
 pub fn display_couch(g: &Geometry) -> ViewerCouch {
     let d = g.viewer_distance_m - g.emitter_z_m;
-    let xs = [g.emitter_x_m(0), g.emitter_x_m(g.emitters.saturating_sub(1))];
-    let slopes = [g.views.theta_rad(0).tan(), g.views.theta_rad(g.views.count.saturating_sub(1)).tan()];
-    let reach: Vec<f64> = xs.iter().flat_map(|x| slopes.iter().map(move |s| x + s * d)).collect();
-    let (lo, hi) =
-        (reach.iter().copied().fold(f64::INFINITY, f64::min), reach.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+    let (lo, hi) = g.viewer_line_reach_m();
     let height = (g.hololine_y_m(0) - g.hololine_y_m(g.hololines.saturating_sub(1))).abs() + g.hololine_pitch_m;
     let margin = 0.05 * d.abs().max(1e-3);
     ViewerCouch {
@@ -161,7 +157,9 @@ pub fn encode_holoflick(
                 s
             }
         };
-        let lights = if scene.lights.is_empty() { Lighting::default_lights() } else { scene.lights.clone() };
+        // Baked with the lights a render of the scene uses, as `convert mesh`
+        // lights it.
+        let lights = RenderOptions::default().lighting_for(&scene).lights;
         let (micro, specular_lights, micro_report) = micropolygons(&scene, &lights, &budget, &dice, &bake)?;
         micro_count += micro_report.dice.triangles_out;
         shadowed += micro_report.bake.shadowed;

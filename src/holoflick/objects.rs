@@ -10,6 +10,7 @@
 
 use super::cg::{self, EncodeOptions, EncodeStats};
 use super::container::{Descriptor, GeometryBlock, GeometryObject, Matrix4, SpecularLight};
+use crate::math::{det3, inverse_transpose3, linear, mat3_apply, narrow, transform_point, unit, widen};
 use crate::mesh::dice::with_flat_normals;
 use crate::mesh::{Light, Material, Object};
 use crate::{Error, Result};
@@ -118,50 +119,25 @@ pub fn decode_block(name: &str, block: &GeometryBlock) -> Result<(Object, usize)
 /// colours times `radiance_scale`; a mirroring transform turns the winding.
 pub fn to_world(o: &Object, world_from_object: &Matrix4, radiance_scale: f64) -> Result<Object> {
     let m = world_from_object;
-    let normal_matrix = inverse_transpose_3x3(m)
+    let lin = linear(m);
+    let normal_matrix = inverse_transpose3(&lin)
         .ok_or_else(|| Error::Usage(format!("object {}: its transform cannot be inverted", o.name)))?;
     let mut out = o.clone();
     for p in &mut out.positions {
-        let q = *p;
-        *p = std::array::from_fn(|r| m[r][0] * q[0] + m[r][1] * q[1] + m[r][2] * q[2] + m[r][3]);
+        *p = transform_point(m, *p);
     }
     for n in &mut out.normals {
-        let v = n.map(f64::from);
-        let w: [f64; 3] = std::array::from_fn(|r| {
-            normal_matrix[r][0] * v[0] + normal_matrix[r][1] * v[1] + normal_matrix[r][2] * v[2]
-        });
-        let l = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-        *n = if l > 0.0 { w.map(|x| (x / l) as f32) } else { [0.0; 3] };
+        *n = unit(mat3_apply(&normal_matrix, widen(*n))).map_or([0.0; 3], narrow);
     }
     let s = radiance_scale as f32;
     for c in &mut out.colours {
         *c = [c[0] * s, c[1] * s, c[2] * s, c[3]];
     }
     // A mirroring transform turns the winding (spec §6.4).
-    if determinant_3x3(m) < 0.0 {
+    if det3(&lin) < 0.0 {
         out.triangles.iter_mut().for_each(|t| t.swap(1, 2));
     }
     Ok(out)
-}
-
-fn determinant_3x3(m: &Matrix4) -> f64 {
-    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-}
-
-/// `(M₃ₓ₃⁻¹)ᵀ`, which maps normals; `None` when singular.
-fn inverse_transpose_3x3(m: &Matrix4) -> Option<[[f64; 3]; 3]> {
-    let det = determinant_3x3(m);
-    if det == 0.0 || !det.is_finite() {
-        return None;
-    }
-    // The cofactor matrix divided by the determinant is the inverse's transpose.
-    let c = |r0: usize, r1: usize, c0: usize, c1: usize| m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
-    Some([
-        [c(1, 2, 1, 2) / det, -c(1, 2, 0, 2) / det, c(1, 2, 0, 1) / det],
-        [-c(0, 2, 1, 2) / det, c(0, 2, 0, 2) / det, -c(0, 2, 0, 1) / det],
-        [c(0, 1, 1, 2) / det, -c(0, 1, 0, 2) / det, c(0, 1, 0, 1) / det],
-    ])
 }
 
 /// A HoloFlick specular light as the mesh renderer's light.

@@ -19,6 +19,7 @@ use super::container::{
     SpecularLight, SpecularMaterial, SpecularModel, ViewerCouch, WriteOptions, IDENTITY,
 };
 use super::objects::{decode_object, encode_object};
+use crate::math::{unit, widen};
 use crate::mesh::load::SceneSource;
 use crate::mesh::shade::sample;
 use crate::mesh::{Light, Object, Scene};
@@ -310,11 +311,7 @@ fn coloured(scene: &Scene, o: &Object) -> Object {
 pub(crate) fn specular_light(l: &Light) -> Option<SpecularLight> {
     match l {
         Light::Directional { direction, irradiance, .. } => {
-            let len = (direction[0].powi(2) + direction[1].powi(2) + direction[2].powi(2)).sqrt();
-            (len > 0.0).then(|| SpecularLight::Directional {
-                direction: direction.map(|x| x / len),
-                irradiance: irradiance.map(f64::from),
-            })
+            unit(*direction).map(|direction| SpecularLight::Directional { direction, irradiance: widen(*irradiance) })
         }
         Light::Point { position, intensity, .. } => {
             Some(SpecularLight::Point { position_m: *position, intensity: intensity.map(f64::from) })

@@ -16,6 +16,7 @@ use rayon::prelude::*;
 use super::bvh::Bvh;
 use super::shade::{face_normal, radiance, Hit, Lighting};
 use super::{Light, Scene};
+use crate::math::{add, dot, length, scale, sub, unit};
 
 /// How to bake.
 #[derive(Clone, Copy, Debug, Default)]
@@ -72,12 +73,7 @@ pub fn bake_diffuse(scene: &Scene, lights: &[Light], options: &BakeOptions) -> (
                 .map(|(i, c)| {
                     let Some((t, k)) = *c else { return ([0.0; 4], 0) };
                     let hit = Hit { object: oi as u32, triangle: t, b1: f64::from(k == 1), b2: f64::from(k == 2) };
-                    let face = face_normal(o, t as usize);
-                    let len = (face[0] * face[0] + face[1] * face[1] + face[2] * face[2]).sqrt();
-                    if len == 0.0 || !len.is_finite() {
-                        return ([0.0; 4], 0);
-                    }
-                    let view = face.map(|x| x / len);
+                    let Some(view) = unit(face_normal(o, t as usize)) else { return ([0.0; 4], 0) };
                     let emitted = radiance(&matte, &unlit, &hit, view);
                     let mut sum = emitted;
                     let mut shadowed = 0;
@@ -87,7 +83,7 @@ pub fn bake_diffuse(scene: &Scene, lights: &[Light], options: &BakeOptions) -> (
                             continue;
                         }
                         let lit = radiance(&matte, lighting, &hit, view);
-                        let term = [lit[0] - emitted[0], lit[1] - emitted[1], lit[2] - emitted[2]];
+                        let term = sub(lit, emitted);
                         if term == [0.0; 3] {
                             continue;
                         }
@@ -97,9 +93,7 @@ pub fn bake_diffuse(scene: &Scene, lights: &[Light], options: &BakeOptions) -> (
                                 continue;
                             }
                         }
-                        for c in 0..3 {
-                            sum[c] += term[c];
-                        }
+                        sum = add(sum, term);
                     }
                     let alpha = o.material.base_colour[3] * o.colours.get(i).map_or(1.0, |c| c[3]);
                     ([sum[0] as f32, sum[1] as f32, sum[2] as f32, alpha], shadowed)
@@ -120,23 +114,15 @@ fn blocked(bvh: &Bvh, position: [f64; 3], normal: [f64; 3], light: &Light, exten
         Light::Ambient { .. } => return false,
         Light::Directional { direction, .. } => (direction.map(|x| -x), f64::INFINITY),
         Light::Point { position: p, .. } => {
-            let d = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
-            (d, (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
+            let d = sub(*p, position);
+            (d, length(d))
         }
     };
-    let len = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
-    if len == 0.0 || !len.is_finite() {
-        return false;
-    }
-    let dir = dir.map(|x| x / len);
+    let Some(dir) = unit(dir) else { return false };
     // Start just off the surface, on the side the light is (the term is
     // non-zero, so that is the side the shader lit).
-    let side = if normal[0] * dir[0] + normal[1] * dir[1] + normal[2] * dir[2] >= 0.0 { 1.0 } else { -1.0 };
+    let side = if dot(normal, dir) >= 0.0 { 1.0 } else { -1.0 };
     let eps = 1e-7 * extent;
-    let origin = [
-        position[0] + side * eps * normal[0],
-        position[1] + side * eps * normal[1],
-        position[2] + side * eps * normal[2],
-    ];
+    let origin = add(position, scale(normal, side * eps));
     bvh.nearest(origin, dir, eps, |_, _| true).is_some_and(|h| h.t < reach - eps)
 }

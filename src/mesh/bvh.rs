@@ -2,8 +2,8 @@
 //! the reference ray caster. Median split on the longest axis of the
 //! centroids: simple, and good enough for a reference.
 
-use super::shade::{cross, dot, sub};
 use super::Scene;
+use crate::math::{cross, dot, sub};
 
 /// One triangle: its object and index, and its vertices.
 #[derive(Clone, Copy, Debug)]

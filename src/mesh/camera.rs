@@ -19,9 +19,10 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use super::bvh::Bvh;
-use super::shade::{dot, radiance, scale, Hit, Lighting};
+use super::shade::{radiance, Hit, Lighting};
 use super::Scene;
 use crate::cameras::Camera;
+use crate::math::{dot, scale};
 use crate::{Error, Result};
 
 /// A rendered camera picture, row by row from the top (pixel `(u, v)` at
@@ -44,7 +45,9 @@ pub struct CameraPicture {
 const MAX_SAMPLES_PER_AXIS: usize = 64;
 
 /// Render what `camera` sees of `scene` (camera world = scene coordinates,
-/// metres) under `lighting`, with `samples_per_pixel_axis²` rays per pixel.
+/// metres) under exactly `lighting` (the scene's own lights are not added:
+/// [`super::render::RenderOptions::lighting_for`] gives those a render of
+/// the scene uses), with `samples_per_pixel_axis²` rays per pixel.
 pub fn camera_picture(
     scene: &Scene,
     lighting: &Lighting,
@@ -274,7 +277,7 @@ mod tests {
         Lighting {
             lights: vec![
                 Light::Directional {
-                    direction: crate::mesh::shade::normalize([0.4, -0.5, -1.0]),
+                    direction: crate::math::normalize([0.4, -0.5, -1.0]),
                     irradiance: [3.0, 2.5, 2.0],
                     name: "key".into(),
                 },

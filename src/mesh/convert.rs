@@ -22,14 +22,10 @@ use crate::{Error, Result};
 pub struct ConvertOptions {
     /// Where the scene goes.
     pub placement: Placement,
-    /// Renderer, supersampling and specular lobe; its lights are added to
-    /// the scene's own (the default lights are used only when neither the
-    /// scene nor the user gives any).
+    /// Renderer, supersampling, specular lobe and lights: its lights (in
+    /// display metres, after placement) are added to the scene's own
+    /// (see [`RenderOptions::lighting_for`]).
     pub render: RenderOptions,
-    /// Lights the user gave, in display metres (after placement).
-    pub user_lights: Vec<Light>,
-    /// Use the lights the scene file defines.
-    pub use_scene_lights: bool,
     /// Frames to convert (animated glTF): frame `i` is the scene at `i / fps`.
     pub frames: Option<Range<usize>>,
     /// Frame rate for sampling animations.
@@ -42,12 +38,7 @@ impl Default for ConvertOptions {
     fn default() -> Self {
         ConvertOptions {
             placement: Placement::default(),
-            render: RenderOptions {
-                lighting: super::shade::Lighting { lights: vec![], model: Default::default() },
-                ..RenderOptions::default()
-            },
-            user_lights: vec![],
-            use_scene_lights: true,
+            render: RenderOptions::default(),
             frames: None,
             fps: 30.0,
             write: WriteOptions::default(),
@@ -111,15 +102,7 @@ pub fn convert_mesh(
     let placed = place(&mut first, geometry, &options.placement)?;
     let mut warnings = first.warnings.clone();
     let (triangles, objects) = (first.triangle_count(), first.objects.len());
-    let lighting_for = |scene: &super::Scene| {
-        let mut lights = if options.use_scene_lights { scene.lights.clone() } else { vec![] };
-        lights.extend(options.user_lights.iter().cloned());
-        if lights.is_empty() {
-            lights = super::shade::Lighting::default_lights();
-        }
-        super::shade::Lighting { lights, model: options.render.lighting.model }
-    };
-    let lights = lighting_for(&first).lights;
+    let lights = options.render.lighting_for(&first).lights;
     let mut stats = RenderStats::default();
     let mut first = Some(first);
     let mut write = options.write.clone();
@@ -155,8 +138,7 @@ pub fn convert_mesh(
                 s
             }
         };
-        let render_options = RenderOptions { lighting: lighting_for(&scene), ..options.render.clone() };
-        let (m, s) = render(&scene, geometry, &render_options, &|done, total| progress(i, done, total))?;
+        let (m, s) = render(&scene, geometry, &options.render, &|done, total| progress(i, done, total))?;
         stats += s;
         Ok(Cow::Owned(m))
     })?;

@@ -36,14 +36,16 @@ pub fn display_sees_box(g: &Geometry, lo: [f64; 3], hi: [f64; 3]) -> bool {
     let n = g.views.count;
     let (mut s_lo, mut s_hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in 0..n {
-        let s = g.views.theta_rad(v).tan();
+        let s = g.ray_slope_x(v as f64);
         s_lo = s_lo.min(s);
         s_hi = s_hi.max(s);
     }
     let spacing = if n > 1 { (s_hi - s_lo) / (n - 1) as f64 } else { 0.0 };
     let slopes = [s_lo - 0.5 * spacing, s_hi + 0.5 * spacing];
-    let (z_e, z_v, y_v) = (g.emitter_z_m, g.viewer_distance_m, g.viewer_height_m);
-    let span = z_v - z_e;
+    let z_e = g.emitter_z_m;
+    // Rays rise or fall toward the viewer line; a geometry with that line on
+    // the emitter plane (invalid) has no such slope: keep its rays level.
+    let slope_y = |y: f64| if g.viewer_distance_m != z_e { g.ray_slope_y(y) } else { 0.0 };
     let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
     for z in [lo[2], hi[2]] {
         let dz = z - z_e;
@@ -55,7 +57,7 @@ pub fn display_sees_box(g: &Geometry, lo: [f64; 3], hi: [f64; 3]) -> bool {
             }
         }
         for y in ys {
-            let at = if span != 0.0 { y + (y_v - y) * dz / span } else { y };
+            let at = y + slope_y(y) * dz;
             y_lo = y_lo.min(at);
             y_hi = y_hi.max(at);
         }

@@ -20,6 +20,7 @@
 use std::collections::HashMap;
 
 use super::Object;
+use crate::math::{distance, midpoint, narrow, unit};
 use crate::{Error, Result};
 
 /// How to dice.
@@ -122,7 +123,7 @@ pub fn dice(
             let split: [bool; 3] = std::array::from_fn(|k| {
                 let (a, b) = (p[k], p[(k + 1) % 3]);
                 let m = midpoint(a, b);
-                let length = dist(a, b);
+                let length = distance(a, b);
                 let budget = max_edge_m(m);
                 // Not finite or not positive: leave the edge alone.
                 length > budget && budget > 0.0 && budget.is_finite()
@@ -144,7 +145,7 @@ pub fn dice(
                     work.push([mab, b, mbc]);
                     // The quad (a, mab, mbc, c) along its shorter diagonal.
                     let pos = |i: u32| d.o.positions[i as usize];
-                    if dist(pos(a), pos(mbc)) <= dist(pos(mab), pos(c)) {
+                    if distance(pos(a), pos(mbc)) <= distance(pos(mab), pos(c)) {
                         work.extend([[a, mab, mbc], [a, mbc, c]]);
                     } else {
                         work.extend([[a, mab, c], [mab, mbc, c]]);
@@ -233,11 +234,13 @@ impl Dicer<'_> {
             .map_err(|_| Error::Usage(format!("object \"{}\": more than 2³² vertices after dicing", o.name)))?;
         o.positions.push(p);
         if o.normals.len() + 1 == o.positions.len() {
-            o.normals.push(normalize_f32(lerp_f32(o.normals[i], o.normals[j])));
+            let n = midpoint(o.normals[i], o.normals[j]);
+            o.normals.push(unit(n).unwrap_or(n));
         }
         if o.tangents.len() + 1 == o.positions.len() {
             let (ta, tb) = (o.tangents[i], o.tangents[j]);
-            let t = normalize_f32(lerp_f32([ta[0], ta[1], ta[2]], [tb[0], tb[1], tb[2]]));
+            let t = midpoint([ta[0], ta[1], ta[2]], [tb[0], tb[1], tb[2]]);
+            let t = unit(t).unwrap_or(t);
             o.tangents.push([t[0], t[1], t[2], ta[3]]);
         }
         for set in &mut o.uv_sets {
@@ -255,14 +258,6 @@ impl Dicer<'_> {
     }
 }
 
-fn midpoint(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    std::array::from_fn(|k| (a[k] + b[k]) * 0.5)
-}
-
-fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
-
 /// The Phong-tessellation point halfway along edge (a, b): the flat midpoint
 /// moved toward its projections onto the tangent planes at both ends.
 fn phong_midpoint(a: [f64; 3], b: [f64; 3], na: [f32; 3], nb: [f32; 3]) -> [f64; 3] {
@@ -275,19 +270,6 @@ fn phong_midpoint(a: [f64; 3], b: [f64; 3], na: [f32; 3], nb: [f32; 3]) -> [f64;
     };
     let (pa, pb) = (project(a, na), project(b, nb));
     std::array::from_fn(|k| (1.0 - ALPHA) * p[k] + ALPHA * (pa[k] + pb[k]) * 0.5)
-}
-
-fn lerp_f32(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    std::array::from_fn(|k| (a[k] + b[k]) * 0.5)
-}
-
-fn normalize_f32(v: [f32; 3]) -> [f32; 3] {
-    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    if l > 0.0 && l.is_finite() {
-        v.map(|x| x / l)
-    } else {
-        v
-    }
 }
 
 /// The budget for a display: a micropolygon no wider than what the display
@@ -319,8 +301,7 @@ pub fn with_flat_normals(o: &Object) -> Object {
     };
     for (t, tri) in o.triangles.iter().enumerate() {
         let f = super::shade::face_normal(o, t);
-        let l = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
-        let n = if l > 0.0 && l.is_finite() { f.map(|x| (x / l) as f32) } else { [0.0, 0.0, 1.0] };
+        let n = unit(f).map_or([0.0, 0.0, 1.0], narrow);
         let first = out.positions.len() as u32;
         for &i in tri {
             let i = i as usize;

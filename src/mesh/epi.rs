@@ -21,7 +21,7 @@
 
 use super::fastshade::{self, Attrs, Batch, Column, FastLights, FastMaterial, LightGroups, Run, SegmentTable};
 use super::render::{HololineRenderer, RenderStats, Shading};
-use super::shade::{cross, normalize_or, sub};
+use crate::math::{cross, narrow, normalize, sub};
 
 /// One triangle as the rasteriser sees it.
 struct Tri {
@@ -213,7 +213,7 @@ impl<'a> EpiRenderer<'a> {
                 }
             }
             let o = &self.s.scene.objects[t.object as usize];
-            let face = normalize_or(t.normal, [0.0, 0.0, 1.0]);
+            let face = normalize(t.normal);
             let attrs_a = Attrs::at(o, t.triangle as usize, wa, face);
             let attrs_b = Attrs::at(o, t.triangle as usize, wb, face);
             let attrs_delta = attrs_a.delta(&attrs_b);
@@ -227,7 +227,7 @@ impl<'a> EpiRenderer<'a> {
                 normals_nonzero: fastshade::normals_nonzero(&attrs_a, &attrs_delta),
                 attrs_delta,
                 attrs_a,
-                face: [face[0] as f32, face[1] as f32, face[2] as f32],
+                face: narrow(face),
                 nx,
                 c,
                 double_sided: t.double_sided,
@@ -436,7 +436,7 @@ impl EpiRenderer<'_> {
                     let span = Span { t_first, dt, z_a: seg.a[1], dz, owner: si as u32 };
                     span.draw(i0, &mut depth[i0..i1], &mut owner[i0..i1], &mut param[i0..i1], self.lights_avx2);
                 }
-                let view = fastshade::normalize([s as f32, k as f32, 1.0]);
+                let view = normalize([s as f32, k as f32, 1.0]);
                 for (column, l) in columns.iter_mut().zip(&lights) {
                     column.set(l, view);
                 }

@@ -8,6 +8,7 @@ use std::collections::HashMap;
 
 use super::shade::{bilerp, sample, Lighting, SpecularModel};
 use super::{Light, Material, Object, Scene, Texture, TextureRef};
+use crate::math::{add, cross, dot, mul, narrow, normalize, normalize_or, scale, sub};
 
 /// A material in the form the per-pixel loop wants.
 pub(crate) struct FastMaterial {
@@ -114,11 +115,11 @@ impl FastLights {
             }
             match light {
                 Light::Directional { direction, irradiance, .. } => {
-                    let to = [-direction[0] as f32, -direction[1] as f32, -direction[2] as f32];
+                    let to = narrow(*direction).map(|x| -x);
                     out.directional.push((normalize(to), *irradiance));
                 }
                 Light::Point { position, intensity, .. } => {
-                    out.point.push(([position[0] as f32, position[1] as f32, position[2] as f32], *intensity));
+                    out.point.push((narrow(*position), *intensity));
                 }
                 Light::Ambient { radiance } => {
                     for (a, r) in out.ambient.iter_mut().zip(radiance) {
@@ -221,9 +222,9 @@ impl Attrs {
                 }
             }
         }
-        a.pos = [pos[0] as f32, pos[1] as f32, pos[2] as f32];
+        a.pos = narrow(pos);
         if o.normals.is_empty() {
-            a.normal = [unit_face[0] as f32, unit_face[1] as f32, unit_face[2] as f32];
+            a.normal = narrow(unit_face);
         }
         if o.colours.is_empty() {
             a.colour = [1.0; 3];
@@ -356,15 +357,15 @@ pub(crate) fn shade_run(
             }
         }
         let colour = lerp3(a.colour, d.colour, t);
-        let mut base = [m.base[0] * colour[0], m.base[1] * colour[1], m.base[2] * colour[2]];
+        let mut base = mul(m.base, colour);
         if let Some(r) = &m.base_texture {
             let texel = sample_fast(&scene.textures[r.texture], uv(r));
-            base = [base[0] * texel[0], base[1] * texel[1], base[2] * texel[2]];
+            base = mul(base, [texel[0], texel[1], texel[2]]);
         }
         let mut emitted = m.emissive;
         if let Some(r) = &m.emissive_texture {
             let texel = sample_fast(&scene.textures[r.texture], uv(r));
-            emitted = [emitted[0] * texel[0], emitted[1] * texel[1], emitted[2] * texel[2]];
+            emitted = mul(emitted, [texel[0], texel[1], texel[2]]);
         }
         if m.prelit {
             emitted = add(emitted, base);
@@ -944,40 +945,6 @@ fn shade_kernel(b: &mut Batch, lights: &FastLights, column: &Column, len: usize)
         for i in 0..len {
             d[i] = al[i] * d[i] * pi + k[i] * s[i];
         }
-    }
-}
-
-#[inline]
-fn add(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-#[inline]
-fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-#[inline]
-fn scale(a: [f32; 3], s: f32) -> [f32; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-#[inline]
-fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-#[inline]
-fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-#[inline]
-pub(crate) fn normalize(a: [f32; 3]) -> [f32; 3] {
-    normalize_or(a, [0.0, 0.0, 1.0])
-}
-#[inline]
-fn normalize_or(a: [f32; 3], fallback: [f32; 3]) -> [f32; 3] {
-    let l2 = dot(a, a);
-    if l2 > 0.0 && l2.is_finite() {
-        scale(a, 1.0 / l2.sqrt())
-    } else {
-        fallback
     }
 }
 

@@ -35,7 +35,9 @@ pub struct Scene {
     pub objects: Vec<Object>,
     /// Decoded textures, indexed by [`TextureRef::texture`].
     pub textures: Vec<Texture>,
-    /// Lights the file defines (glTF `KHR_lights_punctual`); the user may add more.
+    /// Lights the file defines (glTF `KHR_lights_punctual`). A render uses
+    /// them, then any the user adds, unless its options say otherwise
+    /// ([`render::RenderOptions::lighting_for`]).
     pub lights: Vec<Light>,
     /// Things the user should know that did not stop the load (a primitive
     /// that is not triangles, a texture that could not be decoded, ...),
@@ -97,8 +99,8 @@ pub struct Material {
     /// ([`shade::Lighting::model`]).
     pub specular_model: Option<shade::SpecularModel>,
     /// The lights this material receives, as indices into the render's
-    /// [`shade::Lighting::lights`] (a set: order and repeats do not
-    /// matter); `None`: all of them. Ambient lights are chosen like the
+    /// lights ([`render::RenderOptions::lighting_for`]: the scene's own
+    /// first, then the options'; a set: order and repeats do not matter); `None`: all of them. Ambient lights are chosen like the
     /// others: with a selection, only the ambient lights it lists apply (a
     /// pre-lit material takes no ambient light either way). An index past
     /// the render's lights makes the render an error

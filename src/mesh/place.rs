@@ -10,9 +10,12 @@
 //! pitch over view spacing) the blur exceeds one emitter. The depth is also
 //! kept in front of the viewer line. An explicit 4×4 matrix replaces all this.
 
-use super::shade::{cross, dot, normalize_or};
 use super::{Light, Scene};
 use crate::geometry::Geometry;
+use crate::math::{
+    cofactor3, det3, linear, mat3_apply, narrow, normalize_or, rotation_xyz, transform_point, transpose, widen, Mat3,
+    Mat4,
+};
 use crate::{Error, Result};
 
 /// Fraction of the display volume a fitted scene fills.
@@ -27,16 +30,16 @@ pub struct Placement {
     pub scale: Option<f64>,
     /// Offset in display metres added after centring.
     pub translate_m: [f64; 3],
-    /// A row-major 4×4 matrix from scene to display metres; when given, the
-    /// fields above are not used.
-    pub matrix: Option<[[f64; 4]; 4]>,
+    /// A 4×4 affine matrix from scene to display metres, row-major
+    /// ([`Mat4`]); when given, the fields above are not used.
+    pub matrix: Option<Mat4>,
 }
 
 /// What [`place`] did, for the user.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Placed {
-    /// The row-major matrix applied.
-    pub matrix: [[f64; 4]; 4],
+    /// The matrix applied (row-major, [`Mat4`]).
+    pub matrix: Mat4,
     /// Display metres per scene unit (the cube root of the determinant).
     pub scale: f64,
     /// The scene's box in display metres after placement.
@@ -133,62 +136,48 @@ pub fn place(scene: &mut Scene, g: &Geometry, placement: &Placement) -> Result<P
     };
     check_matrix(&matrix)?;
     apply(scene, &matrix);
-    let det = det3(&matrix);
+    let det = linear_det(&matrix);
     let placed_bounds = scene.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
     Ok(Placed { matrix, scale: det.abs().cbrt(), bounds_m: placed_bounds, volume_m: volume })
 }
 
-fn check_matrix(m: &[[f64; 4]; 4]) -> Result<()> {
+fn check_matrix(m: &Mat4) -> Result<()> {
     if m.iter().flatten().any(|v| !v.is_finite()) {
         return Err(Error::Usage("the placement matrix has a NaN or infinite entry".into()));
     }
     if m[3] != [0.0, 0.0, 0.0, 1.0] {
         return Err(Error::Usage("the placement matrix must be affine: its last row must be 0 0 0 1".into()));
     }
-    if det3(m) == 0.0 {
+    if linear_det(m) == 0.0 {
         return Err(Error::Usage("the placement matrix is singular (it flattens the scene)".into()));
     }
     Ok(())
 }
 
-/// Apply an affine row-major matrix to positions, normals (inverse
-/// transpose), tangents and lights; a mirroring matrix reverses the winding
-/// so front faces stay counter-clockwise.
-pub fn apply(scene: &mut Scene, m: &[[f64; 4]; 4]) {
-    let lin = [[m[0][0], m[0][1], m[0][2]], [m[1][0], m[1][1], m[1][2]], [m[2][0], m[2][1], m[2][2]]];
-    let det = det3(m);
-    // Inverse transpose of the linear part = cofactor matrix / det.
-    let cof = [
-        cross(lin_col(&lin, 1), lin_col(&lin, 2)),
-        cross(lin_col(&lin, 2), lin_col(&lin, 0)),
-        cross(lin_col(&lin, 0), lin_col(&lin, 1)),
-    ];
-    // cof[i] is column i of the cofactor matrix: n' = Σ_i n_i · cof[i] (up to 1/det, then normalised).
+/// Apply an affine matrix (row-major, [`Mat4`]) to positions, normals
+/// (inverse transpose), tangents and lights; a mirroring matrix reverses the
+/// winding so front faces stay counter-clockwise.
+pub fn apply(scene: &mut Scene, m: &Mat4) {
+    let lin = linear(m);
+    let det = linear_det(m);
+    // The cofactor matrix is the inverse transpose times det; with det's sign
+    // turned it maps normals to the right side, and normalising removes |det|.
     let sign = if det < 0.0 { -1.0 } else { 1.0 };
+    let normal_map = cofactor3(&lin).map(|row| row.map(|c| c * sign));
     let xform_normal = |n: [f64; 3]| -> [f64; 3] {
-        let mut out = [0.0; 3];
-        for i in 0..3 {
-            for k in 0..3 {
-                out[k] += n[i] * cof[i][k] * sign;
-            }
-        }
-        normalize_or(out, [0.0, 0.0, 1.0])
-    };
-    let translate = [m[0][3], m[1][3], m[2][3]];
-    let point = |p: [f64; 3]| {
-        let q = mat3_apply(&lin, p);
-        [q[0] + translate[0], q[1] + translate[1], q[2] + translate[2]]
+        // `+ 0.0` turns −0 components into +0, as placement always has: the
+        // signs of zero components reach the `.cg` normal codes.
+        normalize_or(mat3_apply(&normal_map, n).map(|x| x + 0.0), [0.0, 0.0, 1.0])
     };
     for o in &mut scene.objects {
         for p in &mut o.positions {
-            *p = point(*p);
+            *p = transform_point(m, *p);
         }
         for n in &mut o.normals {
-            let t = xform_normal([n[0] as f64, n[1] as f64, n[2] as f64]);
-            *n = [t[0] as f32, t[1] as f32, t[2] as f32];
+            *n = narrow(xform_normal(widen(*n)));
         }
         for t in &mut o.tangents {
-            let v = normalize_or(mat3_apply(&lin, [t[0] as f64, t[1] as f64, t[2] as f64]), [1.0, 0.0, 0.0]);
+            let v = normalize_or(mat3_apply(&lin, widen([t[0], t[1], t[2]])), [1.0, 0.0, 0.0]);
             *t = [v[0] as f32, v[1] as f32, v[2] as f32, if det < 0.0 { -t[3] } else { t[3] }];
         }
         if det < 0.0 {
@@ -201,7 +190,7 @@ pub fn apply(scene: &mut Scene, m: &[[f64; 4]; 4]) {
     for l in &mut scene.lights {
         match l {
             Light::Point { position, intensity, .. } => {
-                *position = point(*position);
+                *position = transform_point(m, *position);
                 for c in intensity.iter_mut() {
                     *c = (*c as f64 * area_scale) as f32;
                 }
@@ -214,38 +203,14 @@ pub fn apply(scene: &mut Scene, m: &[[f64; 4]; 4]) {
     }
 }
 
-fn lin_col(l: &[[f64; 3]; 3], c: usize) -> [f64; 3] {
-    [l[0][c], l[1][c], l[2][c]]
-}
-
-fn det3(m: &[[f64; 4]; 4]) -> f64 {
-    let a = [m[0][0], m[1][0], m[2][0]];
-    let b = [m[0][1], m[1][1], m[2][1]];
-    let c = [m[0][2], m[1][2], m[2][2]];
-    dot(a, cross(b, c))
-}
-
-fn mat3_apply(m: &[[f64; 3]; 3], p: [f64; 3]) -> [f64; 3] {
-    [dot(m[0], p), dot(m[1], p), dot(m[2], p)]
+/// The determinant of the linear part, expanded along its first column (the
+/// first row of the transpose), as placement has always computed it: the
+/// point lights' intensity scale depends on its last bit.
+fn linear_det(m: &Mat4) -> f64 {
+    det3(&transpose(&linear(m)))
 }
 
 /// Rotation about x, then y, then z (degrees), row-major.
-pub fn rotation(deg: [f64; 3]) -> [[f64; 3]; 3] {
-    let (sx, cx) = deg[0].to_radians().sin_cos();
-    let (sy, cy) = deg[1].to_radians().sin_cos();
-    let (sz, cz) = deg[2].to_radians().sin_cos();
-    let rx = [[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]];
-    let ry = [[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]];
-    let rz = [[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]];
-    matmul(&rz, &matmul(&ry, &rx))
-}
-
-fn matmul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let mut out = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            out[i][j] = (0..3).map(|k| a[i][k] * b[k][j]).sum();
-        }
-    }
-    out
+pub fn rotation(deg: [f64; 3]) -> Mat3 {
+    rotation_xyz(deg.map(f64::to_radians))
 }

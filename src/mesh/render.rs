@@ -1,9 +1,10 @@
 //! Rendering a placed scene into modulation: the rays of a geometry (with
 //! supersampling), and the driver that runs an engine over every hololine.
 //!
-//! Ray `(j, e, v)` (spec/holo-format.md §2) passes through `(x_e, y_j, z_e)`
-//! with direction `d = (tan θ_v, k_j, 1)`, where `k_j = (y_v − y_j)/(D − z_e)`
-//! takes it through the viewer line (`y = y_v, z = D`). Its visible point is
+//! Ray `(j, e, v)` ([`Geometry::ray`], spec/holo-format.md §2) passes
+//! through `(x_e, y_j, z_e)` with direction `d = (tan θ_v, k_j, 1)`, where
+//! `k_j = (y_v − y_j)/(D − z_e)` takes it through the viewer line
+//! (`y = y_v, z = D`). Its visible point is
 //! the first surface met walking back from the viewer line along `−d`
 //! (nearest the viewer, in front of or behind the emitter plane, never behind
 //! the viewer). The radiance stored is what that point sends along `d`.
@@ -11,13 +12,17 @@
 //! Supersampling averages `S_e × S_v` rays per sample: emitters at
 //! `x_e + pitch·((i + ½)/S_e − ½)` across the emitter's aperture, and views
 //! at fractional view indices `v + (i + ½)/S_v − ½` mapped through the
-//! file's spacing rule, so the sub-rays tile each view's angular interval.
+//! file's spacing rule ([`Geometry::ray_at`]), so the sub-rays tile each
+//! view's angular interval.
+//!
+//! The lights are the scene's own unless the options say otherwise
+//! ([`RenderOptions::lighting_for`]).
 
 use rayon::prelude::*;
 
 use super::shade::{channel_weights, Lighting};
 use super::Scene;
-use crate::geometry::{Geometry, ViewSpacing, Views};
+use crate::geometry::Geometry;
 use crate::{Error, Modulation, Result};
 
 /// Sub-rays per sample: across each emitter's aperture and each view's
@@ -49,12 +54,23 @@ pub enum Engine {
 }
 
 /// Everything a render needs besides the scene and geometry.
+///
+/// The lights a render uses are decided in one place,
+/// [`RenderOptions::lighting_for`]: by default the scene's own lights, or
+/// [`Lighting::default_lights`] when the scene has none.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderOptions {
     /// Sub-rays per sample.
     pub supersample: Supersample,
-    /// Lights and specular lobe.
+    /// The specular lobe, and lights added after the scene's own.
     pub lighting: Lighting,
+    /// Light with the scene's own lights ([`Scene::lights`]), before
+    /// `lighting.lights`.
+    pub scene_lights: bool,
+    /// When the scene's lights (if used) and `lighting.lights` are none at
+    /// all, light with [`Lighting::default_lights`]; when false, such a
+    /// render shows emission and pre-lit colours only.
+    pub default_lights: bool,
     /// Which renderer.
     pub engine: Engine,
 }
@@ -63,9 +79,33 @@ impl Default for RenderOptions {
     fn default() -> Self {
         RenderOptions {
             supersample: Supersample::default(),
-            lighting: Lighting { lights: Lighting::default_lights(), model: Default::default() },
+            lighting: Lighting { lights: Vec::new(), model: Default::default() },
+            scene_lights: true,
+            default_lights: true,
             engine: Engine::Fast,
         }
+    }
+}
+
+impl RenderOptions {
+    /// Options that light every scene with exactly `lighting`: not the
+    /// scene's own lights, and no default lights when it has none.
+    pub fn lit_exactly(lighting: Lighting) -> RenderOptions {
+        RenderOptions { lighting, scene_lights: false, default_lights: false, ..RenderOptions::default() }
+    }
+
+    /// The lights (and lobe) a render of `scene` with these options uses:
+    /// the scene's own lights when `scene_lights`, then `lighting.lights`,
+    /// and the default lights when that makes none and `default_lights`.
+    /// A material's light indices ([`super::Material::lights`]) count in
+    /// this list.
+    pub fn lighting_for(&self, scene: &Scene) -> Lighting {
+        let mut lights = if self.scene_lights { scene.lights.clone() } else { Vec::new() };
+        lights.extend(self.lighting.lights.iter().cloned());
+        if lights.is_empty() && self.default_lights {
+            lights = Lighting::default_lights();
+        }
+        Lighting { lights, model: self.lighting.model }
     }
 }
 
@@ -136,12 +176,11 @@ impl Rays {
         let sub_view_slope = (0..g.views.count * s.view)
             .map(|i| {
                 let (v, k) = (i / s.view, i % s.view);
-                let f = v as f64 + (k as f64 + 0.5) / s.view as f64 - 0.5;
-                view_theta_at(&g.views, f).tan()
+                g.ray_slope_x(v as f64 + (k as f64 + 0.5) / s.view as f64 - 0.5)
             })
             .collect();
         let hololine_y_m: Vec<f64> = (0..g.hololines).map(|j| g.hololine_y_m(j)).collect();
-        let hololine_slope = hololine_y_m.iter().map(|y| (g.viewer_height_m - y) / span).collect();
+        let hololine_slope = hololine_y_m.iter().map(|&y| g.ray_slope_y(y)).collect();
         Ok(Rays {
             sub_emitter_x_m,
             sub_view_slope,
@@ -152,32 +191,6 @@ impl Rays {
             viewer_height_m: g.viewer_height_m,
             supersample: s,
         })
-    }
-}
-
-/// The direction of a fractional view index `f` (view `v` at `f = v`),
-/// following the spacing rule; explicit lists are interpolated linearly
-/// and extended by their end intervals.
-pub fn view_theta_at(views: &Views, f: f64) -> f64 {
-    let n = views.count;
-    if let ViewSpacing::Explicit(list) = &views.spacing {
-        if n == 1 {
-            return list[0];
-        }
-        let i = (f.floor().max(0.0) as usize).min(n - 2);
-        let t = f - i as f64;
-        return list[i] + (list[i + 1] - list[i]) * t;
-    }
-    if n <= 1 {
-        return views.first_theta_rad;
-    }
-    let t = f / (n - 1) as f64;
-    let lerp = |a: f64, b: f64| a + (b - a) * t;
-    match views.spacing {
-        ViewSpacing::Tan => lerp(views.first_theta_rad.tan(), views.last_theta_rad.tan()).atan(),
-        ViewSpacing::Sin => lerp(views.first_theta_rad.sin(), views.last_theta_rad.sin()).clamp(-1.0, 1.0).asin(),
-        ViewSpacing::Angle => lerp(views.first_theta_rad, views.last_theta_rad),
-        ViewSpacing::Explicit(_) => unreachable!("handled above"),
     }
 }
 
@@ -213,15 +226,16 @@ pub fn render_into(
     if let Some(problem) = scene.problem() {
         return Err(Error::Usage(format!("{}: {problem}", scene.source)));
     }
-    if let Some(bad) = options.lighting.lights.iter().find(|l| !light_is_finite(l)) {
+    let lighting = options.lighting_for(scene);
+    if let Some(bad) = lighting.lights.iter().find(|l| !light_is_finite(l)) {
         return Err(Error::Usage(format!("a light is not finite or has a negative brightness: {bad:?}")));
     }
-    if let Some(problem) = options.lighting.problem_with(scene) {
+    if let Some(problem) = lighting.problem_with(scene) {
         return Err(Error::Usage(format!("{}: {problem}", scene.source)));
     }
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);
-    let shading = Shading { scene, lighting: &options.lighting, weights: &weights, rays: &rays, geometry };
+    let shading = Shading { scene, lighting: &lighting, weights: &weights, rays: &rays, geometry };
     Ok(match options.engine {
         Engine::Fast => run(&super::epi::EpiRenderer::new(shading), frame, progress),
         Engine::Reference => run(&super::trace::TraceRenderer::new(shading), frame, progress),

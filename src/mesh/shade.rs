@@ -27,6 +27,7 @@
 //! visibility, and the tests below test the formulas.
 
 use super::{Light, Object, Scene, Texture, TextureRef, Wrap};
+use crate::math::{add, cross, dot, mul, narrow, normalize, normalize_or, scale, sub, widen};
 
 /// Which specular lobe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -76,7 +77,8 @@ impl Lighting {
         })
     }
 
-    /// The lights used when neither the scene nor the user gives any: one
+    /// The lights used when neither the scene nor the user gives any
+    /// ([`super::render::RenderOptions::default_lights`]): one
     /// white directional key light from the upper left, in front (so a white
     /// surface facing it has radiance 1), and a dim ambient of 0.08.
     pub fn default_lights() -> Vec<Light> {
@@ -129,14 +131,13 @@ pub fn parse_light(spec: &str, centre_m: [f64; 3]) -> Result<Light, String> {
         }
         None => [std::f64::consts::PI; 3],
     };
-    let c32 = |c: [f64; 3]| [c[0] as f32, c[1] as f32, c[2] as f32];
     match kind {
         "dir" | "directional" => {
             let d = numbers(first)?;
             if dot(d, d) == 0.0 {
                 return Err(bad("zero direction"));
             }
-            Ok(Light::Directional { direction: normalize(d), irradiance: c32(colour), name: spec.to_string() })
+            Ok(Light::Directional { direction: normalize(d), irradiance: narrow(colour), name: spec.to_string() })
         }
         "point" => {
             let p = scale(numbers(first)?, 1e-3);
@@ -145,14 +146,14 @@ pub fn parse_light(spec: &str, centre_m: [f64; 3]) -> Result<Light, String> {
             if d2 == 0.0 {
                 return Err(bad("the light is at the centre of the display volume"));
             }
-            Ok(Light::Point { position: p, intensity: c32(scale(colour, d2)), name: spec.to_string() })
+            Ok(Light::Point { position: p, intensity: narrow(scale(colour, d2)), name: spec.to_string() })
         }
         "ambient" => {
             let c = numbers(first)?;
             if c.iter().any(|&x| x < 0.0) {
                 return Err(bad("negative brightness"));
             }
-            Ok(Light::Ambient { radiance: c32(c) })
+            Ok(Light::Ambient { radiance: narrow(c) })
         }
         _ => Err(bad("unknown kind")),
     }
@@ -216,7 +217,7 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
     } else {
         let mut n = [0.0; 3];
         for (k, &i) in tri.iter().enumerate() {
-            n = add(n, scale(f3(o.normals[i as usize]), w[k]));
+            n = add(n, scale(widen(o.normals[i as usize]), w[k]));
         }
         let n = normalize_or(n, face);
         if flip {
@@ -246,7 +247,7 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
             let mut sign = 0.0;
             for (k, &i) in tri.iter().enumerate() {
                 let tg = o.tangents[i as usize];
-                tangent = add(tangent, scale([tg[0] as f64, tg[1] as f64, tg[2] as f64], w[k]));
+                tangent = add(tangent, scale(widen([tg[0], tg[1], tg[2]]), w[k]));
                 sign += tg[3] as f64 * w[k];
             }
             // Gram-Schmidt against the (unflipped) normal; the bitangent's sign from w.
@@ -263,29 +264,38 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
         }
     }
 
-    let mut base = [m.base_colour[0] as f64, m.base_colour[1] as f64, m.base_colour[2] as f64];
+    let mut base = widen([m.base_colour[0], m.base_colour[1], m.base_colour[2]]);
     if !o.colours.is_empty() {
         let mut c = [0.0; 3];
         for (k, &i) in tri.iter().enumerate() {
-            c = add(c, scale(f3c(o.colours[i as usize]), w[k]));
+            c = add(
+                c,
+                scale(
+                    {
+                        let c = o.colours[i as usize];
+                        widen([c[0], c[1], c[2]])
+                    },
+                    w[k],
+                ),
+            );
         }
         base = mul(base, c);
     }
     if let Some(r) = &m.base_colour_texture {
         let texel = sample(&scene.textures[r.texture], uv(r));
-        base = mul(base, [texel[0] as f64, texel[1] as f64, texel[2] as f64]);
+        base = mul(base, widen([texel[0], texel[1], texel[2]]));
     }
-    let mut out = [m.emissive[0] as f64, m.emissive[1] as f64, m.emissive[2] as f64];
+    let mut out = widen(m.emissive);
     if let Some(r) = &m.emissive_texture {
         let texel = sample(&scene.textures[r.texture], uv(r));
-        out = mul(out, [texel[0] as f64, texel[1] as f64, texel[2] as f64]);
+        out = mul(out, widen([texel[0], texel[1], texel[2]]));
     }
     if m.prelit {
         // Already lit: sent as it is; lights add their specular term only.
         out = add(out, base);
         base = [0.0; 3];
     }
-    let ks = [m.specular[0] as f64, m.specular[1] as f64, m.specular[2] as f64];
+    let ks = widen(m.specular);
     let n_exp = m.shininess.max(0.0) as f64;
     let diffuse = scale(base, std::f64::consts::FRAC_1_PI);
     let model = m.specular_model.unwrap_or(lighting.model);
@@ -295,17 +305,19 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
         }
         let (to_light, e) = match light {
             Light::Ambient { radiance } => {
-                out = add(out, mul(base, f3(*radiance)));
+                out = add(out, mul(base, widen(*radiance)));
                 continue;
             }
-            Light::Directional { direction, irradiance, .. } => (normalize(scale(*direction, -1.0)), f3(*irradiance)),
+            Light::Directional { direction, irradiance, .. } => {
+                (normalize(scale(*direction, -1.0)), widen(*irradiance))
+            }
             Light::Point { position: p, intensity, .. } => {
                 let d = sub(*p, position);
                 let d2 = dot(d, d);
                 if d2 <= 0.0 {
                     continue;
                 }
-                (scale(d, 1.0 / d2.sqrt()), scale(f3(*intensity), 1.0 / d2))
+                (scale(d, 1.0 / d2.sqrt()), scale(widen(*intensity), 1.0 / d2))
             }
         };
         let cos_i = dot(normal, to_light);
@@ -394,52 +406,6 @@ pub fn channel_weights(names: &[&str]) -> Vec<[f64; 3]> {
             _ => [0.2126, 0.7152, 0.0722],
         })
         .collect()
-}
-
-#[inline]
-pub(crate) fn f3(v: [f32; 3]) -> [f64; 3] {
-    [v[0] as f64, v[1] as f64, v[2] as f64]
-}
-#[inline]
-fn f3c(v: [f32; 4]) -> [f64; 3] {
-    [v[0] as f64, v[1] as f64, v[2] as f64]
-}
-#[inline]
-pub(crate) fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-#[inline]
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-#[inline]
-pub(crate) fn mul(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] * b[0], a[1] * b[1], a[2] * b[2]]
-}
-#[inline]
-pub(crate) fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-#[inline]
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-#[inline]
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-#[inline]
-pub(crate) fn normalize(a: [f64; 3]) -> [f64; 3] {
-    normalize_or(a, [0.0, 0.0, 1.0])
-}
-#[inline]
-pub(crate) fn normalize_or(a: [f64; 3], fallback: [f64; 3]) -> [f64; 3] {
-    let l = dot(a, a).sqrt();
-    if l > 0.0 && l.is_finite() {
-        scale(a, 1.0 / l)
-    } else {
-        fallback
-    }
 }
 
 #[cfg(test)]

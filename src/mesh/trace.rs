@@ -5,7 +5,9 @@
 
 use super::bvh::Bvh;
 use super::render::{HololineRenderer, RenderStats, Shading};
-use super::shade::{dot, normalize, radiance, scale, Hit};
+use super::shade::{radiance, Hit};
+use crate::geometry::Ray;
+use crate::math::{dot, normalize, scale};
 
 pub(crate) struct TraceRenderer<'a> {
     s: Shading<'a>,
@@ -22,9 +24,8 @@ impl<'a> TraceRenderer<'a> {
     /// direction `(slope, k, 1)`, or `None` when it meets nothing.
     pub(crate) fn trace(&self, x: f64, y: f64, slope: f64, k: f64) -> Option<[f64; 3]> {
         let r = self.s.rays;
-        let d = [slope, k, 1.0];
-        let span = r.viewer_distance_m - r.emitter_z_m;
-        let origin = [x + slope * span, y + k * span, r.viewer_distance_m];
+        let ray = Ray { origin_m: [x, y, r.emitter_z_m], slope_x: slope, slope_y: k };
+        let (d, origin) = (ray.direction(), ray.at_z(r.viewer_distance_m));
         let back = scale(d, -1.0);
         let scene = self.s.scene;
         // Front faces face the viewer: their normal has a positive component along d.
@@ -76,7 +77,9 @@ impl HololineRenderer for TraceRenderer<'_> {
 /// `pupil_samples` eye positions across a pupil `pupil_m` wide. Returned as
 /// `(hololine, emitter, channel)` with the geometry's channels, the layout
 /// of [`crate::reconstruct::picture::Picture::data`]. This is what a perfect display
-/// would show that eye; the tests compare `holo view` with it.
+/// would show that eye; the tests compare `holo view` with it. The scene is
+/// lit by exactly `lighting` ([`super::render::RenderOptions::lighting_for`]
+/// gives the lights a render of the scene uses).
 pub fn eye_picture(
     scene: &super::Scene,
     lighting: &super::shade::Lighting,
@@ -91,7 +94,6 @@ pub fn eye_picture(
     let weights = super::shade::channel_weights(&names);
     let s = Shading { scene, lighting, weights: &weights, rays: &rays, geometry };
     let tracer = TraceRenderer::new(s);
-    let span = geometry.viewer_distance_m - geometry.emitter_z_m;
     let n = pupil_samples.max(1);
     let rows: Vec<Vec<f32>> = (0..geometry.hololines)
         .into_par_iter()
@@ -102,7 +104,12 @@ pub fn eye_picture(
                 let mut sum = [0.0; 3];
                 for p in 0..n {
                     let eye = eye_x_m + pupil_m * ((p as f64 + 0.5) / n as f64 - 0.5);
-                    if let Some(rgb) = tracer.trace(x, rays.hololine_y_m[j], (eye - x) / span, rays.hololine_slope[j]) {
+                    if let Some(rgb) = tracer.trace(
+                        x,
+                        rays.hololine_y_m[j],
+                        geometry.ray_slope_x_toward(x, eye),
+                        rays.hololine_slope[j],
+                    ) {
                         for c in 0..3 {
                             sum[c] += rgb[c] / n as f64;
                         }

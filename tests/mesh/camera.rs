@@ -53,8 +53,8 @@ fn quilt_tiles_agree_with_camera_pictures_of_the_scene() {
     let lighting = Lighting { lights: vec![], model: SpecularModel::Blinn };
     let options = RenderOptions {
         supersample: Supersample { emitter: 1, view: 1 },
-        lighting: lighting.clone(),
         engine: Engine::Reference,
+        ..RenderOptions::lit_exactly(lighting.clone())
     };
     let (m, _) = render(&scene, &g, &options, &|_, _| {}).unwrap();
     // 20 mm × 15 mm at aspect 4/3: the tiles frame exactly the emitters and

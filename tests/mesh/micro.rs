@@ -49,8 +49,8 @@ fn lights() -> Vec<Light> {
 fn options(lights: Vec<Light>) -> RenderOptions {
     RenderOptions {
         supersample: Supersample { emitter: 2, view: 2 },
-        lighting: Lighting { lights, model: SpecularModel::Blinn },
         engine: Engine::Fast,
+        ..RenderOptions::lit_exactly(Lighting { lights, model: SpecularModel::Blinn })
     }
 }
 

@@ -126,7 +126,8 @@ fn fast_equals_reference_on_random_scenes() {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let scene = random_scene(&mut rng, 60);
         let g = small_geometry(z_e);
-        let options = RenderOptions { supersample: ss, lighting: lighting(model), engine: Engine::Fast };
+        let options =
+            RenderOptions { supersample: ss, engine: Engine::Fast, ..RenderOptions::lit_exactly(lighting(model)) };
         let (_, off, mean) = fast_against_reference(seed, &scene, &g, &options);
         assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
     }
@@ -165,8 +166,8 @@ fn occlusion_has_the_known_answer_in_every_view() {
     );
     let options = RenderOptions {
         supersample: Supersample { emitter: 1, view: 1 },
-        lighting: Lighting { lights: vec![], model: SpecularModel::Blinn },
         engine: Engine::Fast,
+        ..RenderOptions::lit_exactly(Lighting { lights: vec![], model: SpecularModel::Blinn })
     };
     for engine in [Engine::Fast, Engine::Reference] {
         let (m, _) = render(&scene, &g, &RenderOptions { engine, ..options.clone() }, &|_, _| {}).unwrap();
@@ -231,11 +232,11 @@ fn highlights_move_across_views_as_the_formulas_say() {
     for model in [SpecularModel::Phong, SpecularModel::Blinn] {
         let options = RenderOptions {
             supersample: Supersample { emitter: 1, view: 1 },
-            lighting: Lighting {
+            engine: Engine::Fast,
+            ..RenderOptions::lit_exactly(Lighting {
                 lights: vec![Light::Point { position: [light_x, 0.0, light_z], intensity: [1.0; 3], name: "p".into() }],
                 model,
-            },
-            engine: Engine::Fast,
+            })
         };
         let (m, _) = render(&scene, &g, &options, &|_, _| {}).unwrap();
         let mut moved = Vec::new();
@@ -356,8 +357,8 @@ fn fast_equals_reference_on_real_models_at_several_layouts() {
             place(&mut scene, &layout.geometry, &placement).unwrap();
             let options = RenderOptions {
                 supersample: Supersample { emitter: 1, view: 1 },
-                lighting: lighting(SpecularModel::Blinn),
                 engine: Engine::Fast,
+                ..RenderOptions::lit_exactly(lighting(SpecularModel::Blinn))
             };
             let (fast, reference, stats) = both(&scene, &g, &options);
             let (off, mean) = compare(&fast, &reference);
@@ -414,7 +415,7 @@ fn fast_equals_reference_with_directional_lights_and_vertex_normals() {
             ],
             model,
         };
-        let options = RenderOptions { supersample: ss, lighting: lights, engine: Engine::Fast };
+        let options = RenderOptions { supersample: ss, engine: Engine::Fast, ..RenderOptions::lit_exactly(lights) };
         let (_, off, mean) = fast_against_reference(seed, &scene, &g, &options);
         assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
     }
@@ -468,7 +469,7 @@ fn fast_equals_reference_with_textures_in_and_out_of_the_batch() {
             ],
             model,
         };
-        let options = RenderOptions { supersample: ss, lighting: lights, engine: Engine::Fast };
+        let options = RenderOptions { supersample: ss, engine: Engine::Fast, ..RenderOptions::lit_exactly(lights) };
         let (_, off, mean) = fast_against_reference(seed, &scene, &g, &options);
         assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
     }
@@ -540,7 +541,11 @@ fn fast_equals_reference_with_per_material_lobes_and_lights() {
             o.material.specular_model = lobe;
         }
         let g = small_geometry(0.005);
-        let options = RenderOptions { supersample: ss, lighting: Lighting { lights, model }, engine: Engine::Fast };
+        let options = RenderOptions {
+            supersample: ss,
+            engine: Engine::Fast,
+            ..RenderOptions::lit_exactly(Lighting { lights, model })
+        };
         let (reference, off, mean) = fast_against_reference(seed, &scene, &g, &options);
         // Tighter than the tests above: no texture or normal map here, only f32 against f64 rounding.
         assert!(off < 0.001 && mean < 1e-4, "seed {seed}: fast path differs from the reference");
@@ -572,4 +577,32 @@ fn choosing_a_missing_light_is_an_error() {
         let e = render(&scene, &g, &options, &|_, _| {}).unwrap_err().to_string();
         assert!(e.contains("random 1") && e.contains("light 3"), "{e}");
     }
+}
+
+/// A library render honours the scene's own lights, as `convert_mesh` does:
+/// the same samples, and not those of the default lights.
+#[test]
+fn a_library_render_uses_the_scenes_lights_as_convert_mesh_does() {
+    use holo::mesh::convert::{convert_mesh, ConvertOptions};
+    use holo::mesh::load::SceneSource;
+    use holo::mesh::place::{place, Placement};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/modes_lights.gltf");
+    let g = band(&holo::layout::mark3(), 8);
+    let mut scene = SceneSource::open(&path).unwrap().scene_at(0.0).unwrap();
+    assert!(!scene.lights.is_empty(), "the fixture defines lights");
+    place(&mut scene, &g, &Placement::default()).unwrap();
+    let options = RenderOptions { supersample: Supersample { emitter: 1, view: 1 }, ..RenderOptions::default() };
+    let (library, _) = render(&scene, &g, &options, &|_, _| {}).unwrap();
+    assert!(library.samples().iter().any(|&v| v > 0.0), "the band sees the scene");
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("lights.holo");
+    let write = holo::WriteOptions { sample_type: holo::format::SampleType::F32, ..Default::default() };
+    let convert = ConvertOptions { render: options.clone(), write, ..ConvertOptions::default() };
+    let report = convert_mesh(&path, &g, &out, &convert, &|_, _, _| {}).unwrap();
+    assert_eq!(report.lights, scene.lights);
+    assert!(holo::read(&out).unwrap() == library, "convert_mesh and a library render differ");
+
+    let (default_lit, _) = render(&scene, &g, &RenderOptions { scene_lights: false, ..options }, &|_, _| {}).unwrap();
+    assert!(default_lit.samples() != library.samples(), "the scene's lights are not the default lights");
 }

@@ -25,9 +25,10 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::super::array::ArrayFrame;
-use super::super::{vec3, DepthKind, DepthSource, ImageSource, Rig};
+use super::super::{DepthKind, DepthSource, ImageSource, Rig};
 use super::{bare, finish, list_files};
 use crate::cameras::image::image_size;
+use crate::math;
 use crate::{Error, Result};
 
 /// Read an HCI benchmark folder: a camera for each `input_CamNNN.png`
@@ -103,9 +104,9 @@ pub fn read_hci(folder: &Path) -> Result<Rig> {
             ));
         }
         let (row, col) = (index / nx, index % nx);
-        let offset = vec3::add(
-            vec3::scale(frame.right(), (col as f64 - (nx as f64 - 1.0) / 2.0) * baseline),
-            vec3::scale(frame.down(), (row as f64 - (ny as f64 - 1.0) / 2.0) * baseline),
+        let offset = math::add(
+            math::scale(frame.right(), (col as f64 - (nx as f64 - 1.0) / 2.0) * baseline),
+            math::scale(frame.down(), (row as f64 - (ny as f64 - 1.0) / 2.0) * baseline),
         );
         let mut camera = frame
             .camera(name.clone(), ImageSource::File(path), size, (f, f), offset, Some(focus))
@@ -158,23 +159,8 @@ fn ground_truth(folder: &Path, index: usize, centre: bool, bf: f64, focus: f64) 
 /// World-to-camera rotation (OpenCV axes) of a Blender camera with Euler
 /// XYZ angles: the object matrix is `Rz·Ry·Rx`; the camera's right, up and
 /// backward are its columns, so the rows are right, −up, −backward.
-pub(crate) fn blender_camera_rotation([rx, ry, rz]: [f64; 3]) -> [[f64; 3]; 3] {
-    let (sx, cx) = rx.sin_cos();
-    let (sy, cy) = ry.sin_cos();
-    let (sz, cz) = rz.sin_cos();
-    let rx = [[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]];
-    let ry = [[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]];
-    let rz = [[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]];
-    let mul = |a: [[f64; 3]; 3], b: [[f64; 3]; 3]| {
-        let mut m = [[0.0; 3]; 3];
-        for (i, row) in m.iter_mut().enumerate() {
-            for (j, x) in row.iter_mut().enumerate() {
-                *x = (0..3).map(|k| a[i][k] * b[k][j]).sum();
-            }
-        }
-        m
-    };
-    let m = mul(rz, mul(ry, rx));
+pub(crate) fn blender_camera_rotation(euler_xyz_rad: [f64; 3]) -> math::Mat3 {
+    let m = math::rotation_xyz(euler_xyz_rad);
     let column = |j: usize, sign: f64| [m[0][j] * sign, m[1][j] * sign, m[2][j] * sign];
     [column(0, 1.0), column(1, -1.0), column(2, -1.0)]
 }

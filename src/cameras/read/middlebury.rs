@@ -8,9 +8,10 @@
 
 use std::path::Path;
 
-use super::super::{vec3, Camera, ImageSource, Intrinsics, Pose, Rig};
+use super::super::{Camera, ImageSource, Intrinsics, Pose, Rig};
 use super::{bare, finish};
 use crate::cameras::image::image_size;
+use crate::math;
 use crate::{Error, Result};
 
 /// Read a Middlebury `*_par.txt`; images are found next to it.
@@ -57,7 +58,7 @@ pub fn read_middlebury(par: &Path) -> Result<Rig> {
             width,
             height,
             intrinsics,
-            pose: Pose { rotation: r, centre: vec3::scale(vec3::transpose_times(&r, t), -1.0) },
+            pose: Pose { rotation: r, centre: math::scale(math::mat3_transpose_apply(&r, t), -1.0) },
             depth: None,
         };
         if let Some(p) = camera.problem_detail() {

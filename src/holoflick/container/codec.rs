@@ -479,7 +479,7 @@ pub(crate) fn check_frame(number: u32, frame: &Frame) -> Result<(), Problem> {
     for (i, light) in frame.lights.iter().enumerate() {
         let (vector, colour) = match light {
             SpecularLight::Directional { direction, irradiance } => {
-                let len = direction.iter().map(|x| x * x).sum::<f64>().sqrt();
+                let len = crate::math::length(*direction);
                 if (len - 1.0).abs().is_nan() || (len - 1.0).abs() > UNIT_TOLERANCE {
                     return Err(invalid(format!("light {i}: direction {direction:?} is not of unit length")));
                 }

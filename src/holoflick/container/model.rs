@@ -7,11 +7,12 @@ use std::sync::Arc;
 
 use super::{MAX_BLOCK_STREAM_BYTES, TEXT_KEY_MAX};
 
-/// A 4×4 matrix, rows first: `p_world = M · (x, y, z, 1)ᵀ`.
-pub type Matrix4 = [[f64; 4]; 4];
+/// A 4×4 matrix, rows first: `p_world = M · (x, y, z, 1)ᵀ` (the crate's
+/// one convention, [`crate::math::Mat4`]).
+pub type Matrix4 = crate::math::Mat4;
 
 /// The identity transform.
-pub const IDENTITY: Matrix4 = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
+pub const IDENTITY: Matrix4 = crate::math::IDENTITY4;
 
 /// Kind of primitive a compressed-geometry stream holds (the `.cg` block
 /// descriptor's bits 0–1).

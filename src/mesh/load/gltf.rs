@@ -20,13 +20,12 @@ use gltf::mesh::{Mode, Semantic};
 
 use super::texture::{decode, generate_tangents};
 use super::{file_name, finish_scene, LoadLimits};
+use crate::math::{
+    cofactor3, det3, linear, mat3_apply, mat_mul, transform_direction, transform_point, translation, transpose, unit,
+    Mat3, Mat4, IDENTITY4,
+};
 use crate::mesh::{Light, Material, Object, Scene, Texture, TextureRef, UvTransform, Wrap};
 use crate::{Error, Result};
-
-/// Column-major 4×4 matrix, `m[column][row]` (glTF's layout).
-type Mat4 = [[f64; 4]; 4];
-
-const IDENTITY: Mat4 = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
 
 /// An opened glTF file, ready to be posed.
 #[derive(Debug)]
@@ -76,6 +75,7 @@ struct MorphTarget {
 #[derive(Debug)]
 struct NodeData {
     name: Option<String>,
+    /// Row-major, transposed from the file's column-major list.
     matrix: Option<Mat4>,
     translation: [f64; 3],
     rotation: [f64; 4],
@@ -355,16 +355,6 @@ fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
     std::fs::read(&p).map_err(|e| format!("cannot be read from \"{}\": {e}", p.display()))
 }
 
-fn mat_mul(a: &Mat4, b: &Mat4) -> Mat4 {
-    let mut r = [[0.0; 4]; 4];
-    for c in 0..4 {
-        for row in 0..4 {
-            r[c][row] = (0..4).map(|k| a[k][row] * b[c][k]).sum();
-        }
-    }
-    r
-}
-
 fn trs(t: [f64; 3], q: [f64; 4], s: [f64; 3]) -> Mat4 {
     let [x, y, z, w] = q;
     let n = (x * x + y * y + z * z + w * w).sqrt();
@@ -374,42 +364,24 @@ fn trs(t: [f64; 3], q: [f64; 4], s: [f64; 3]) -> Mat4 {
         [2.0 * (x * y - z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z + x * w)],
         [2.0 * (x * z + y * w), 2.0 * (y * z - x * w), 1.0 - 2.0 * (x * x + y * y)],
     ];
-    let mut m = IDENTITY;
+    // `r[c]` is column c of the rotation.
+    let mut m = IDENTITY4;
     for c in 0..3 {
         for row in 0..3 {
-            m[c][row] = r[c][row] * s[c];
+            m[row][c] = r[c][row] * s[c];
         }
+        m[c][3] = t[c];
     }
-    m[3] = [t[0], t[1], t[2], 1.0];
     m
 }
 
-fn det3(m: &Mat4) -> f64 {
-    m[0][0] * (m[1][1] * m[2][2] - m[2][1] * m[1][2]) - m[1][0] * (m[0][1] * m[2][2] - m[2][1] * m[0][2])
-        + m[2][0] * (m[0][1] * m[1][2] - m[1][1] * m[0][2])
-}
-
-/// Cofactor matrix of the upper 3×3 (`det · M⁻ᵀ`), as rows: it maps normals
-/// like the inverse transpose up to a positive factor (after the sign of
-/// the determinant is applied), and exists even for singular matrices.
-fn normal_matrix(m: &Mat4) -> [[f64; 3]; 3] {
-    // a(row, col) = m[col][row]
-    let a = |r: usize, c: usize| m[c][r];
-    let mut cof = [[0.0; 3]; 3];
-    for (r, row) in cof.iter_mut().enumerate() {
-        for (c, v) in row.iter_mut().enumerate() {
-            let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
-            let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
-            *v = a(r1, c1) * a(r2, c2) - a(r1, c2) * a(r2, c1);
-        }
-    }
-    let s = if det3(m) < 0.0 { -1.0 } else { 1.0 };
-    cof.map(|row| row.map(|v| v * s))
-}
-
-fn normalize3(v: [f64; 3]) -> Option<[f64; 3]> {
-    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    (l > 0.0 && l.is_finite()).then(|| [v[0] / l, v[1] / l, v[2] / l])
+/// Cofactor matrix of the linear part (`det · M⁻ᵀ`) with the sign of the
+/// determinant: it maps normals like the inverse transpose up to a positive
+/// factor, and exists even for singular matrices.
+fn normal_matrix(m: &Mat4) -> Mat3 {
+    let lin = linear(m);
+    let s = if det3(&lin) < 0.0 { -1.0 } else { 1.0 };
+    cofactor3(&lin).map(|row| row.map(|v| v * s))
 }
 
 fn mode_name(m: Mode) -> &'static str {
@@ -764,7 +736,8 @@ impl GltfSource {
         let mut nodes = Vec::new();
         for n in doc.nodes() {
             let matrix = match n.transform() {
-                gltf::scene::Transform::Matrix { matrix } => Some(matrix.map(|c| c.map(|x| x as f64))),
+                // glTF lists a matrix column by column.
+                gltf::scene::Transform::Matrix { matrix } => Some(transpose(&matrix.map(|c| c.map(|x| x as f64)))),
                 _ => None,
             };
             let (t, r, s) = n.transform().decomposed();
@@ -932,7 +905,7 @@ impl GltfSource {
                 Property::MorphTargetWeights => weights[ch.node] = Some(v),
             }
         }
-        let mut world = vec![IDENTITY; n];
+        let mut world = vec![IDENTITY4; n];
         for &(i, parent) in &self.order {
             let nd = &self.nodes[i];
             let local = match (&nd.matrix, nd.animated) {
@@ -955,10 +928,10 @@ impl GltfSource {
             let nd = &self.nodes[i];
             let m = &world[i];
             if let Some(l) = nd.light.and_then(|l| self.lights.get(l)) {
-                let pos = [m[3][0], m[3][1], m[3][2]];
+                let pos = translation(m);
                 match l.kind {
                     LightType::Directional => {
-                        let d = normalize3([-m[2][0], -m[2][1], -m[2][2]]).unwrap_or([0.0, 0.0, -1.0]);
+                        let d = unit([-m[0][2], -m[1][2], -m[2][2]]).unwrap_or([0.0, 0.0, -1.0]);
                         scene.lights.push(Light::Directional { direction: d, irradiance: l.rgb, name: l.name.clone() });
                     }
                     LightType::Point => {
@@ -1195,7 +1168,7 @@ fn pose(
     file: &str,
     warnings: &mut Vec<String>,
 ) -> Object {
-    let flip = det3(m) < 0.0;
+    let flip = det3(&linear(m)) < 0.0;
     let nm = normal_matrix(m);
     let active: Vec<(f32, &MorphTarget)> = prim
         .targets
@@ -1217,7 +1190,7 @@ fn pose(
                     }
                 }
             }
-            [0, 1, 2].map(|r| m[0][r] * q[0] + m[1][r] * q[1] + m[2][r] * q[2] + m[3][r])
+            transform_point(m, q)
         })
         .collect();
     let mut ok = true;
@@ -1234,8 +1207,7 @@ fn pose(
                     }
                 }
             }
-            let v = [0, 1, 2].map(|r| nm[r][0] * q[0] + nm[r][1] * q[1] + nm[r][2] * q[2]);
-            match normalize3(v) {
+            match unit(mat3_apply(&nm, q)) {
                 Some(u) => u.map(|x| x as f32),
                 None => {
                     ok = false;
@@ -1264,10 +1236,9 @@ fn pose(
                     }
                 }
             }
-            let v = [0, 1, 2].map(|r| m[0][r] * q[0] + m[1][r] * q[1] + m[2][r] * q[2]);
             let s = if flip { -1.0 } else { 1.0 };
             let wsign = if t4[3] < 0.0 { -s } else { s };
-            match normalize3(v) {
+            match unit(transform_direction(m, q)) {
                 Some(u) => [u[0] as f32, u[1] as f32, u[2] as f32, wsign],
                 None => {
                     tok = false;
@@ -1428,7 +1399,7 @@ mod tests {
     #[test]
     fn mirrored_matrix_normals() {
         let m = trs([0.0; 3], [0.0, 0.0, 0.0, 1.0], [-1.0, 2.0, 1.0]);
-        assert!(det3(&m) < 0.0);
+        assert!(det3(&linear(&m)) < 0.0);
         let n = normal_matrix(&m);
         // Inverse transpose of diag(−1, 2, 1) is diag(−1, 0.5, 1), up to a positive factor.
         assert!(n[0][0] < 0.0 && n[1][1] > 0.0 && n[2][2] > 0.0);

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use super::texture::{decode, generate_tangents};
 use super::{fan, file_name, finish_scene, resolve_file, LoadLimits};
+use crate::math::unit;
 use crate::mesh::{Material, Object, Scene, Texture, TextureRef, UvTransform, Wrap};
 use crate::{Error, Result};
 
@@ -280,14 +281,7 @@ pub(crate) fn load(path: &Path, limits: &LoadLimits) -> Result<Scene> {
                 .push(c.iter().map(|&(_, vt, _)| if vt == NONE { [0.0, 0.0] } else { uvs[vt as usize] }).collect());
         }
         if c.iter().any(|&(_, _, vn)| vn != NONE) {
-            let ns: Option<Vec<[f32; 3]>> = c
-                .iter()
-                .map(|&(_, _, vn)| {
-                    let n = *normals.get(vn as usize)?;
-                    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                    (l > 0.0 && l.is_finite()).then(|| [n[0] / l, n[1] / l, n[2] / l])
-                })
-                .collect();
+            let ns: Option<Vec<[f32; 3]>> = c.iter().map(|&(_, _, vn)| unit(*normals.get(vn as usize)?)).collect();
             match ns {
                 Some(ns) => o.normals = ns,
                 None => warnings.push(format!(

@@ -13,6 +13,7 @@ use std::path::Path;
 
 use super::texture::{decode, srgb_to_linear};
 use super::{fan, file_name, finish_scene, resolve_file, LoadLimits};
+use crate::math::unit;
 use crate::mesh::{Material, Object, Scene, TextureRef, UvTransform, Wrap};
 use crate::{Error, Result};
 
@@ -377,21 +378,14 @@ pub(crate) fn load(path: &Path, limits: &LoadLimits) -> Result<Scene> {
             ));
         }
     }
-    let normals = if normals.iter().all(|n| {
-        let l = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-        l > 0.0 && l.is_finite()
-    }) {
-        normals
-            .into_iter()
-            .map(|n| {
-                let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                [n[0] / l, n[1] / l, n[2] / l]
-            })
-            .collect()
-    } else {
-        warnings
-            .push(format!("{file}: object \"{stem}\": some normals are zero or not finite; the object is shaded flat"));
-        Vec::new()
+    let normals = match normals.iter().map(|&n| unit(n)).collect::<Option<Vec<_>>>() {
+        Some(unit_normals) => unit_normals,
+        None => {
+            warnings.push(format!(
+                "{file}: object \"{stem}\": some normals are zero or not finite; the object is shaded flat"
+            ));
+            Vec::new()
+        }
     };
     scene.objects.push(Object {
         name: stem,

@@ -4,6 +4,7 @@
 use std::io::Cursor;
 
 use super::LoadLimits;
+use crate::math::{cross, dot, length, scale, sub, widen};
 use crate::mesh::{Texture, Wrap};
 
 /// sRGB-encoded value in `[0, 1]` to linear (IEC 61966-2-1).
@@ -81,18 +82,6 @@ pub(crate) fn decode(
     Ok(Texture { name: name.to_string(), width: w as usize, height: h as usize, texels, wrap })
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
 /// Per-vertex tangents for a normal map, from the texture coordinates.
 ///
 /// Each triangle contributes `dP/du` and `dP/dv` (unnormalised, so larger
@@ -142,14 +131,14 @@ pub(crate) fn generate_tangents(
     (0..n)
         .map(|i| {
             let nr = normals.get(i).copied().unwrap_or([0.0, 0.0, 1.0]);
-            let nv = [nr[0] as f64, nr[1] as f64, nr[2] as f64];
+            let nv = widen(nr);
             let mut t = sub(tan[i], scale(nv, dot(nv, tan[i])));
-            let mut len = dot(t, t).sqrt();
+            let mut len = length(t);
             if len.is_nan() || len <= 1e-20 || !len.is_finite() {
                 // No usable UV gradient: any unit vector orthogonal to N.
                 let axis = if nv[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
                 t = sub(axis, scale(nv, dot(nv, axis)));
-                len = dot(t, t).sqrt();
+                len = length(t);
                 if len.is_nan() || len <= 0.0 {
                     t = [1.0, 0.0, 0.0];
                     len = 1.0;
@@ -161,10 +150,6 @@ pub(crate) fn generate_tangents(
             [t[0] as f32, t[1] as f32, t[2] as f32, w]
         })
         .collect()
-}
-
-fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
 }
 
 #[cfg(test)]
