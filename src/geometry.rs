@@ -1,6 +1,6 @@
 //! The physical geometry of a modulation texture: where hololines and emitters
 //! are, where the viewer is, which directions the views point in, and which
-//! wavelength each colour channel carries. Coordinates follow DESIGN.md §2:
+//! wavelength each colour channel carries. Coordinates follow docs/optics.md §1.2:
 //! metres, `x` right along a hololine, `y` up, `z` toward the viewer, the
 //! hologram plane at `z = 0`.
 
@@ -168,7 +168,7 @@ impl ColourChannel {
 pub const CHANNEL_NAMES: [&str; 4] = ["R", "G", "B", "Y"];
 
 /// Red, green and blue at the HeNe, frequency-doubled Nd:YAG and 445 nm diode
-/// lines used by the MIT displays (Mark IV source, DESIGN.md §4).
+/// lines used by the MIT displays (the public MIT Mark IV code, spec/layouts.md §7.5).
 pub fn rgb_channels() -> Vec<ColourChannel> {
     vec![ColourChannel::new("R", 633e-9), ColourChannel::new("G", 532e-9), ColourChannel::new("B", 445e-9)]
 }

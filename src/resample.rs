@@ -1,6 +1,6 @@
 //! Resampling a modulation onto another geometry, by rays: every target
-//! sample (hololine, emitter, view) is the radiance along a ray (DESIGN.md
-//! §2), and it takes the source's radiance along the same ray, interpolated
+//! sample (hololine, emitter, view) is the radiance along a ray (docs/optics.md
+//! §1.3), and it takes the source's radiance along the same ray, interpolated
 //! linearly between the source's hololines, emitters and views. Only on
 //! request (`holo assemble --resample`): a file made for one display is never
 //! silently bent to another.

@@ -48,7 +48,7 @@ pub enum HoloflickCommand {
         force: bool,
     },
     /// Make a HoloFlick for a display from a glTF, OBJ or PLY scene (the
-    /// geometry shader of seed 001): place it, dice it into micropolygons
+    /// geometry shader of Deering's HoloFlicks): place it, dice it into micropolygons
     /// sized for the display, bake ambient and diffuse light (and shadows)
     /// into vertex colours, keep specular as materials; animated glTF gives
     /// one frame per 1/fps.

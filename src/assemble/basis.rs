@@ -9,7 +9,7 @@
 //! normalisation ([`ColourBasis::normalisation`]); I/Q signals carry the real
 //! and imaginary parts, real signals the real part. Weights are `sqrt(m)`: the
 //! modulator's diffracted field scales with drive amplitude and a viewer sees
-//! intensity (PHYSICS.md §4).
+//! intensity (docs/optics.md §4.3).
 
 use rustfft::num_complex::Complex64;
 
@@ -275,7 +275,7 @@ impl ColourBasis {
     }
 
     /// The divisor of every signal. Chirps: the number of overlapping chirps,
-    /// so the sum never exceeds one chirp's amplitude for `m ≤ 1` (seed 004
+    /// so the sum never exceeds one chirp's amplitude for `m ≤ 1` (Smithwick et al. 2009
     /// §3.4). Hogels: `3 · sqrt(views)`, which puts a fully lit hogel's real
     /// signal at an RMS of 0.24, three standard deviations of headroom below
     /// full scale for a sum of gratings with random phases.

@@ -1,4 +1,4 @@
-//! Focusing chirps cut into view zones (seed 004 §3, §5.1; PHYSICS.md §2–3).
+//! Focusing chirps cut into view zones (Smithwick et al. 2009 §3, §5.1; docs/optics.md §4).
 //!
 //! An emitter at `(x_e, z_e)` is made by a chirp whose phase at hologram
 //! point `x` is `φ(x) = ∓(2π/λ)·sqrt((x − x_e)² + z_e²)` (− for `z_e > 0`,
@@ -18,7 +18,7 @@
 //! Phases are computed in f64 in coordinates local to the chirp, with the
 //! difference of square roots taken in its cancellation-free form and the
 //! carrier's cycles reduced before they are scaled, so a chirp's phase error
-//! does not grow with the hololine's length (DESIGN.md §5).
+//! does not grow with the hololine's length (docs/optics.md §9).
 
 use std::f64::consts::PI;
 

@@ -1,4 +1,4 @@
-//! Hogels of gratings (Lucente 1994; PHYSICS.md §1, §5): abutting pieces of
+//! Hogels of gratings (Lucente 1994; docs/optics.md §3, §6): abutting pieces of
 //! the hologram, each an emitter on the hologram plane, in which every view is
 //! a sum of gratings.
 //!

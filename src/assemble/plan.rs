@@ -10,7 +10,7 @@
 //! position within the emitter step ("phase"), so one short list of
 //! (emitter offset, view, table offset) terms per phase describes the whole
 //! hololine. A block is then `Σ_terms w · table[at .. at + B]`: an axpy into
-//! a register-sized accumulator, which vectorises (seed 004 §3.4's dot
+//! a register-sized accumulator, which vectorises (Smithwick et al. 2009 §3.4's dot
 //! product, turned around so the weight is reused across the block).
 //!
 //! Blocks of one phase in consecutive emitter steps have the same terms and

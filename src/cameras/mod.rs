@@ -1,4 +1,4 @@
-//! Camera arrays to modulation (issue 5): rigs of calibrated pinhole
+//! Camera arrays to modulation: rigs of calibrated pinhole
 //! cameras, the readers for the conventions captures come in, and the
 //! resampling of every modulation ray from the cameras' pictures.
 //!

@@ -1,6 +1,6 @@
 //! Looking Glass quilts: a frame of modulation as the pictures of a row of
 //! cameras, tiled into one image, so a `.holo` file can be looked at on the
-//! most common light-field display (issue 5, item 4); and the same cameras
+//! most common light-field display; and the same cameras
 //! as a [`Rig`], so a quilt can be read back as a capture.
 //!
 //! **The quilt.** `columns × rows` tiles of `tile_width × tile_height`

@@ -1,6 +1,6 @@
-//! Every modulation ray from the cameras' pictures (issue 5).
+//! Every modulation ray from the cameras' pictures.
 //!
-//! A ray `(j, e, v)` of the display (DESIGN.md §2) is carried into the
+//! A ray `(j, e, v)` of the display (docs/optics.md §1.3) is carried into the
 //! capture's space by the [`Placement`]. There it is located among the
 //! cameras on the rig's *camera surface*: for a rail or a planar grid whose
 //! cameras look across their plane, the point where the ray crosses that
@@ -329,7 +329,7 @@ impl RigGeometry {
         // Placement: the focus point at the middle of the emitter plane, and
         // by default the cameras as far from it as the viewer line is from
         // the emitter plane. Then a rail's vertical centre of projection is
-        // the display's (HPO images are astigmatic, DESIGN.md §2), so content
+        // the display's (HPO images are astigmatic, docs/optics.md §1.3), so content
         // off the focus plane keeps its vertical perspective. `fill_width`
         // instead fills the display's width with the middle camera's view.
         let middle = (0..n)

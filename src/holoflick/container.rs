@@ -1,7 +1,7 @@
 //! The HoloFlick container, `.hflk` (spec/holoflick.md): a holographic movie
 //! as frames of compressed geometry objects with their specular lights,
 //! materials, bindings and viewer's couch, a frame index for random access,
-//! and key frames whose objects later frames reuse (seed 001 §10, §12, §13).
+//! and key frames whose objects later frames reuse (Deering, *HoloFlicks* §10, §12, §13).
 //!
 //! Start at [`Frame`] (the data), then [`HoloFlickWriter`] (frames added one
 //! at a time, written beside the destination and renamed into place) and

@@ -1,4 +1,4 @@
-//! `holo convert holoflick`: a HoloFlick's frames to `.holo` frames (seed 001
+//! `holo convert holoflick`: a HoloFlick's frames to `.holo` frames (Deering, *HoloFlicks*
 //! §7: lit micropolygons drawn from every view, specular added per view).
 //!
 //! Per frame: each object's geometry is decoded (objects kept in key frames

@@ -1,9 +1,9 @@
-//! `holo holoflick encode`: the geometry shader of seed 001 §8 over a glTF
+//! `holo holoflick encode`: the geometry shader of Deering, *HoloFlicks* §8 over a glTF
 //! (or OBJ, PLY) scene, for one display. Every frame (an animated glTF: one
 //! per `1/fps`) is placed in display metres as `holo convert mesh` places it
 //! (fitted on the first frame, kept after), diced into micropolygons sized
 //! for what the display resolves at their depth ([`crate::mesh::dice`],
-//! far from the emitter plane they are larger, seed 001 §12), lit once
+//! far from the emitter plane they are larger, Deering, *HoloFlicks* §12), lit once
 //! (ambient, diffuse and optionally shadows baked into vertex colours,
 //! [`crate::mesh::bake`]), and compressed; specular reflectance and
 //! exponent stay as materials, the scene's lights as specular lights. The

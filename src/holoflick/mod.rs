@@ -1,4 +1,4 @@
-//! HoloFlicks (seed 001, DESIGN.md §6): holographic movies stored as frames
+//! HoloFlicks (Deering, *HoloFlicks*; spec/holoflick.md): holographic movies stored as frames
 //! of lit micropolygons in world space.
 //!
 //! - [`cg`]: Michael Deering's compressed geometry exactly as Java 3D 1.5.2

@@ -8,7 +8,7 @@
 //! specular reflectance and exponent a material, the scene's lights the
 //! specular lights. Lighting and dicing are the converter's business
 //! (`holo holoflick encode`). An object whose block comes out identical to
-//! the last key frame's is stored as a reference to it (seed 001 §13).
+//! the last key frame's is stored as a reference to it (Deering, *HoloFlicks* §13).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -181,7 +181,7 @@ pub fn pack(
     Ok(report)
 }
 
-/// Key frames (seed 001 §13): an object whose block (and colour scale) is
+/// Key frames (Deering, *HoloFlicks* §13): an object whose block (and colour scale) is
 /// the last key frame's is stored as a reference to it.
 #[derive(Default)]
 pub(crate) struct KeyFrames {

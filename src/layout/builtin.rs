@@ -29,7 +29,7 @@ pub fn segment_centre_views(count: usize, half_fan_rad: f64) -> Views {
     Views::tan_spaced(count, (-t + step / 2.0).atan(), (t - step / 2.0).atan())
 }
 
-/// MIT Mark III (Smithwick et al. 2009, seed 004 §5.1).
+/// MIT Mark III (Smithwick et al. 2009 §5.1).
 ///
 /// Stated: 336 emitters × 440 hololines × 96 views, 80 mm × 60 mm, 24° field
 /// of view in three 8° zones; 24576 samples per hololine, a chirp slot every
@@ -39,7 +39,7 @@ pub fn segment_centre_views(count: usize, half_fan_rad: f64) -> Views {
 /// three zone chirps (3 × 1024 samples) span the 24° fan:
 /// z = 3072 · 3.72 µm / (2 tan 12°) = 26.9 mm.
 /// Assumptions: emitters in front of the hologram (+z); viewer at 600 mm (the
-/// Mark I figure, seed 000); one channel at 633 nm (a HeNe red; the paper
+/// Mark I figure, Nelson 1993); one channel at 633 nm (a HeNe red; the paper
 /// gives no wavelength, and its six video channels are zones and I/Q, not
 /// colours).
 pub fn mark3() -> Layout {
@@ -100,7 +100,7 @@ pub fn mark3() -> Layout {
     }
 }
 
-/// Mark I: samples per hololine (seed 000 §1.1.2: "32 kilopixels").
+/// Mark I: samples per hololine (Nelson 1993 §1.1.2: "32 kilopixels").
 const MARK1_SAMPLES: usize = 32768;
 /// Mark I: sample pitch, metres (*assumption*, see [`mark1`]).
 const MARK1_PITCH_M: f64 = 0.6e-6;
@@ -123,13 +123,13 @@ fn mark1_frame_buffer() -> FrameBuffer {
     }
 }
 
-/// MIT Mark I in colour (Nelson 1993, seed 000 §1.1.2), with the focusing-chirp
+/// MIT Mark I in colour (Nelson 1993 §1.1.2), with the focusing-chirp
 /// basis the seed's renderer uses (each point's elemental fringe carries a
 /// separate amplitude per view zone).
 ///
 /// Stated: 64 RGB hololines of 32K samples, three colour layers of 2
 /// megasamples, one view zone of about 16°, viewed at about 600 mm, five view
-/// directions for occlusion and specular (seed 000 ch. 2, 4), 8-bit samples.
+/// directions for occlusion and specular (Nelson 1993 ch. 2, 4), 8-bit samples.
 /// Assumptions: sample pitch 0.6 µm, so that blue (445 nm) keeps the 16° band
 /// inside a real signal's 0 to 0.5 cycles per sample around a carrier of 0.25
 /// (0.062 to 0.438); a hololine is then 19.7 mm long; wavelengths 633 / 532 /

@@ -39,7 +39,7 @@ pub struct Fringe {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Basis {
-    /// Overlapping focusing chirps (seed 004 §3; seed 000's elemental
+    /// Overlapping focusing chirps (Smithwick et al. 2009 §3; Nelson 1993's elemental
     /// fringes), each cut into `zones` pieces of `chirp_samples` samples
     /// carried by separate signals, each piece into `views_per_zone` equal
     /// view segments. Emitter `e`'s piece of zone `k` starts at sample
@@ -70,7 +70,7 @@ pub enum Basis {
 pub enum SignalKind {
     /// Complex baseband: a cosine (I) and a sine (Q) signal per zone, which
     /// the display's single-sideband up-converter shifts to the zone's band
-    /// (Mark III's Weaver modulators, seed 004 §5.1).
+    /// (Mark III's Weaver modulators, Smithwick et al. 2009 §5.1).
     Iq,
     /// One real signal per zone, driven as it is: the fringe carries its own
     /// carrier and both sidebands (the first order is the one used).

@@ -1,4 +1,4 @@
-//! Baking the view-independent light into vertex colours (seed 001 §8: the
+//! Baking the view-independent light into vertex colours (Deering, *HoloFlicks* §8: the
 //! "geometry shader" lights micropolygons once; only specular is left for
 //! each view). Each vertex gets emission + ambient + Σ lights E·cos·ρ/π, with
 //! ρ the base colour (factor × vertex colour × texture at the vertex) and

@@ -1,5 +1,5 @@
 //! What a calibrated camera would have photographed of a mesh scene: the
-//! ground truth of issue 5, where pictures of a scene taken by a camera
+//! ground truth of camera-array conversion, where pictures of a scene taken by a camera
 //! array are converted to modulation and compared with converting the mesh
 //! directly.
 //!

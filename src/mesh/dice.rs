@@ -1,4 +1,4 @@
-//! Dicing surfaces into micropolygons (seed 001 §8): every triangle is split
+//! Dicing surfaces into micropolygons (Deering, *HoloFlicks* §8): every triangle is split
 //! until no edge is longer than the budget at its midpoint, optionally
 //! bending new vertices onto the smooth surface the vertex normals describe
 //! (Phong tessellation: Boubekeur and Alexa, "Phong Tessellation", SIGGRAPH

@@ -1,5 +1,4 @@
-//! The fast renderer: one epipolar-plane image per hololine (DESIGN.md §6;
-//! Halle, "Multiple Viewpoint Rendering", SIGGRAPH 1998).
+//! The fast renderer: one epipolar-plane image per hololine (Halle, "Multiple Viewpoint Rendering", SIGGRAPH 1998).
 //!
 //! Every ray of hololine `j` lies in one plane, the plane through the line
 //! `y = y_j, z = z_e` and the viewer line. A point `P` is on it when
@@ -13,7 +12,7 @@
 //! nearest the viewer, wins), exactly and with no perspective division: rays
 //! through the centre of projection are not special.
 //!
-//! Culls (seed 000 §2.1.1): a triangle takes part only in the hololines its
+//! Culls (Nelson 1993 §2.1.1): a triangle takes part only in the hololines its
 //! projected height covers; a one-sided triangle whose normal faces away from
 //! every ray direction of a hololine is dropped before any work (the
 //! "widened" back-face cull: one view seeing it keeps it), and inside the

@@ -1,4 +1,4 @@
-//! The "geometry shader" of seed 001 §8: a scene made into lit
+//! The "geometry shader" of Deering, *HoloFlicks* §8: a scene made into lit
 //! micropolygons. Every surface is diced ([`super::dice`]) to the budget
 //! given (for a display, [`super::dice::display_budget`]), the
 //! view-independent light is baked into the vertex colours

@@ -1,4 +1,4 @@
-//! Meshes to modulation (issue 4): scenes of triangles with materials and
+//! Meshes to modulation: scenes of triangles with materials and
 //! lights, loaded from glTF, OBJ and PLY ([`load`]), placed in the display's
 //! volume ([`place`]), shaded per view ([`shade`]) and rendered for every ray
 //! (hololine, emitter, view) by a reference ray caster ([`trace`]) and by the
@@ -7,7 +7,7 @@
 //!
 //! A [`Scene`] is plain data in one space: the loaders give it in the file's
 //! own units with every node transform applied ("world"); [`place`] maps
-//! world onto display metres (DESIGN.md §2: `x` right, `y` up, `z` toward the
+//! world onto display metres (docs/optics.md §1.2: `x` right, `y` up, `z` toward the
 //! viewer, hologram at `z = 0`). Colours are linear: loaders decode sRGB.
 
 pub mod bake;
@@ -90,7 +90,7 @@ pub struct Material {
     pub shininess: f32,
     /// Seen from both sides (glTF `doubleSided`); otherwise back faces are invisible.
     pub double_sided: bool,
-    /// Pre-lit (a HoloFlick's micropolygons, seed 001 §8): the base colour
+    /// Pre-lit (a HoloFlick's micropolygons, Deering, *HoloFlicks* §8): the base colour
     /// (factor × vertex colour × texture) is the radiance the surface sends
     /// whatever the view — emission, ambient and diffuse light already baked
     /// in — and lights add only their specular term.

@@ -1,5 +1,5 @@
 //! Shading: the linear radiance a surface point sends toward the viewer
-//! along one ray, from ambient, diffuse and specular terms (seed 000 ch. 4),
+//! along one ray, from ambient, diffuse and specular terms (Nelson 1993 ch. 4),
 //! with Phong `(R·V)^n` or Blinn `(N·H)^n` lobes.
 //!
 //! For a point with base colour `ρ`, emission `L_e`, specular reflectance

@@ -5,13 +5,13 @@
 //! Each zone's signal becomes its analytic form `a(n)`: `I + iQ` for an I/Q
 //! pair (the display's single-sideband modulator keeps one side), the
 //! positive-frequency half of a real signal (the first diffracted order; the
-//! other order and the undiffracted light leave elsewhere, PHYSICS.md §1).
+//! other order and the undiffracted light leave elsewhere, docs/optics.md §3, §8.1).
 //! `a(n)` is interpolated between samples by its band-limited (sinc)
 //! interpolation, the display's ideal DAC reconstruction, onto a grid `M`
 //! times finer, fine enough for the whole fan of directions; then it is
 //! shifted by the zone's signal carrier `c`: `E(x) = Σ_zones a(x) · exp(−i 2π c x / pitch)`.
 //! For Mark III that is the Weaver up-conversion that puts each zone back at
-//! its own angles (seed 004 §5.1).
+//! its own angles (Smithwick et al. 2009 §5.1).
 
 use std::f64::consts::PI;
 

@@ -1,5 +1,5 @@
 //! Reconstruction: what the light leaving a fringe does, and what a viewer sees
-//! (PHYSICS.md §6).
+//! (docs/optics.md §8).
 //!
 //! This layer sits after fringe assembly. Start at [`propagate`]: the 1-D
 //! field on one hololine, its free-space propagation by the band-limited

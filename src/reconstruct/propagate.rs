@@ -1,6 +1,6 @@
 //! The optics core of the reconstruction: a 1-D complex field on one hololine
 //! (horizontal parallax only), its free-space propagation, and its angular
-//! spectrum (PHYSICS.md §6).
+//! spectrum (docs/optics.md §8.2).
 //!
 //! Start at [`Field1d`], then [`propagate`] / [`propagate_to`] (band-limited
 //! angular spectrum method of Matsushima & Shimobaba 2009) and

@@ -1,6 +1,6 @@
 //! Exact recovery of a hololine's modulation from its signals: the signals
 //! are linear in the weights `w = sqrt(m)`, so least squares against the
-//! basis gives them back (PHYSICS.md §6, last point). What it cannot give
+//! basis gives them back (docs/optics.md §8.4). What it cannot give
 //! back is what the frame buffer lost: samples in the horizontal blanking
 //! (left out of the fit) and the 8-bit rounding (which becomes the error).
 //!

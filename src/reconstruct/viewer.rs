@@ -1,4 +1,4 @@
-//! What the display shows, emitter by emitter (PHYSICS.md §6): the
+//! What the display shows, emitter by emitter (docs/optics.md §8.3): the
 //! hologram-plane field of a hololine ([`super::field`]) is propagated to the
 //! emitter plane; the field in a window one emitter pitch wide around each
 //! emitter is the light that emitter sends, and its angular spectrum says

@@ -42,7 +42,7 @@ pub struct Descriptor {
 
 impl Descriptor {
     /// Triangles with per-vertex normals and colours: what a geometry shader
-    /// emits (seed 001 §9).
+    /// emits (Deering, *HoloFlicks* §9).
     pub const LIT_TRIANGLES: Descriptor =
         Descriptor { primitive: Primitive::Triangle, normals: true, colours: true, alpha: false };
 
@@ -181,7 +181,7 @@ fn check_stream_len(len: u64) -> Result<(), String> {
     Ok(())
 }
 
-/// The viewer's couch (seed 001 §12): the box, in world metres, that every
+/// The viewer's couch (Deering, *HoloFlicks* §12): the box, in world metres, that every
 /// playback viewpoint of the frame lies in. Spec §6.1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ViewerCouch {
@@ -217,7 +217,7 @@ impl ViewerCouch {
     }
 }
 
-/// A specular light (seed 001 §10): it adds highlights at playback, after the
+/// A specular light (Deering, *HoloFlicks* §10): it adds highlights at playback, after the
 /// diffuse light baked into the vertex colours. Spec §6.2.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SpecularLight {
@@ -247,7 +247,7 @@ pub enum SpecularModel {
     Blinn,
 }
 
-/// A specular material (seed 001 §9–§10). Spec §6.3.
+/// A specular material (Deering, *HoloFlicks* §9–§10). Spec §6.3.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpecularMaterial {
     /// Specular reflectance `k_s`, linear RGB, ≥ 0.
@@ -282,7 +282,7 @@ pub struct GeometryObject {
     pub block: GeometryBlock,
 }
 
-/// An object whose geometry is stored in an earlier key frame (seed 001 §13).
+/// An object whose geometry is stored in an earlier key frame (Deering, *HoloFlicks* §13).
 /// Spec §6.6.
 #[derive(Clone, Debug, PartialEq)]
 pub struct KeyFrameReference {
