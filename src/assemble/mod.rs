@@ -284,22 +284,7 @@ impl Assembler {
         let samples = self.samples();
         let lines = fb.lines(hololines, signals);
         let row_len = fb.width * fb.components;
-
-        // Split every image into the disjoint row blocks of each line.
-        let mut blocks: Vec<Vec<&mut [T]>> = (0..lines).map(|_| Vec::new()).collect();
-        for image in out.images.iter_mut() {
-            let mut rest: &mut [T] = image;
-            let mut row = 0;
-            for (line, block) in blocks.iter_mut().enumerate() {
-                let first = fb.line_first_row(line);
-                let skipped = std::mem::take(&mut rest).split_at_mut((first - row) * row_len).1;
-                let (this, after) = skipped.split_at_mut(fb.rows_per_hololine * row_len);
-                block.push(this);
-                rest = after;
-                row = first + fb.rows_per_hololine;
-            }
-        }
-
+        let blocks = line_blocks(fb, lines, &mut out.images);
         // For each image and component, the channel that feeds it.
         let feeds: Vec<Vec<Option<usize>>> = (0..fb.image_names.len())
             .map(|image| {
@@ -469,6 +454,26 @@ impl Assembler {
         }
         Ok(out)
     }
+}
+
+/// Every image split into the disjoint row blocks of each frame-buffer line
+/// (`blocks[line][image]`), so that one task per line writes only its own rows.
+fn line_blocks<'a, T>(fb: &FrameBuffer, lines: usize, images: &'a mut [Vec<T>]) -> Vec<Vec<&'a mut [T]>> {
+    let row_len = fb.width * fb.components;
+    let mut blocks: Vec<Vec<&mut [T]>> = (0..lines).map(|_| Vec::new()).collect();
+    for image in images.iter_mut() {
+        let mut rest: &mut [T] = image;
+        let mut row = 0;
+        for (line, block) in blocks.iter_mut().enumerate() {
+            let first = fb.line_first_row(line);
+            let skipped = std::mem::take(&mut rest).split_at_mut((first - row) * row_len).1;
+            let (this, after) = skipped.split_at_mut(fb.rows_per_hololine * row_len);
+            block.push(this);
+            rest = after;
+            row = first + fb.rows_per_hololine;
+        }
+    }
+    blocks
 }
 
 #[cfg(test)]
