@@ -8,11 +8,11 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 mod holoflick;
+use holo::assemble::load_layout;
 use holo::assemble::output::{assemble_file, AssembleOptions, FringeFormat, FRINGE_SIDECAR};
 use holo::cameras::quilt::{QuiltOptions, QuiltSpec};
 use holo::format::{Compression, SampleType, WriteOptions};
 use holo::geometry::{mono_channel, rgb_channels, Geometry};
-use holo::layout::Layout;
 use holo::pattern::{Pattern, PatternKind};
 use holo::views::{ToneMapping, SIDECAR};
 
@@ -645,7 +645,7 @@ fn run(cli: Cli) -> Outcome {
             write_file(&m, &write, format!("holo import-views from {}", dir.display()))
         }
         Command::Assemble { file, layout, out, frames, format, resample, force } => {
-            let layout = Layout::load(&layout).map_err(|e| e.to_string())?;
+            let layout = load_layout(&layout).map_err(|e| e.to_string())?;
             let options = AssembleOptions { frames, format, overwrite: force, resample };
             let bar = progress_bar("frames", true);
             bar.set_message("assembling");
@@ -682,9 +682,9 @@ fn run(cli: Cli) -> Outcome {
         }
         Command::Check { file, layout, frame, fringes, hololines, json } => {
             let layout = match (&layout, &fringes) {
-                (Some(name), _) => Some(Layout::load(name).map_err(|e| e.to_string())?),
+                (Some(name), _) => Some(load_layout(name).map_err(|e| e.to_string())?),
                 (None, Some(_)) => None,
-                (None, None) => Some(Layout::load("mark3").map_err(|e| e.to_string())?),
+                (None, None) => Some(load_layout("mark3").map_err(|e| e.to_string())?),
             };
             let options = holo::reconstruct::files::CheckOptions { frame, fringes, hololines };
             let checked =
@@ -698,9 +698,9 @@ fn run(cli: Cli) -> Outcome {
         }
         Command::View { input, layout, eye, distance, pupil, frame, white, output, force } => {
             let layout = match layout {
-                Some(name) => Some(Layout::load(&name).map_err(|e| e.to_string())?),
+                Some(name) => Some(load_layout(&name).map_err(|e| e.to_string())?),
                 None if holo::reconstruct::files::is_fringe_dir(&input) => None,
-                None => Some(Layout::load("mark3").map_err(|e| e.to_string())?),
+                None => Some(load_layout("mark3").map_err(|e| e.to_string())?),
             };
             if !(pupil.is_finite() && pupil > 0.0) || distance.is_some_and(|d| !(d.is_finite() && d > 0.0)) {
                 return Err(format!("--pupil {pupil} and --distance must be positive millimetres"));
@@ -726,7 +726,7 @@ fn run(cli: Cli) -> Outcome {
         }
         Command::Holoflick(command) => holoflick::run(command),
         Command::Layout { name, json } => {
-            let layout = Layout::load(&name).map_err(|e| e.to_string())?;
+            let layout = load_layout(&name).map_err(|e| e.to_string())?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&layout).map_err(|e| e.to_string())?);
             } else {
@@ -950,7 +950,7 @@ fn layout_geometry(name: &str) -> Result<Geometry, String> {
             return Ok(g);
         }
     }
-    Layout::load(name).map(|l| l.geometry).map_err(|e| e.to_string())
+    load_layout(name).map(|l| l.geometry).map_err(|e| e.to_string())
 }
 
 impl WriteArgs {
