@@ -19,6 +19,7 @@ pub mod pattern;
 pub mod reconstruct;
 pub mod report;
 pub mod resample;
+mod sampling;
 pub mod views;
 
 pub use error::{Error, Result};

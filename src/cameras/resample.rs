@@ -29,8 +29,7 @@ use spade::{DelaunayTriangulation, Point2, PositionInTriangulation, Triangulatio
 
 use super::image::Picture;
 use super::{Camera, Rig};
-use crate::geometry::Geometry;
-use crate::mesh::shade::channel_weights;
+use crate::geometry::{channel_weights, Geometry};
 use crate::{Band, Error, Modulation, Result};
 
 /// How the cameras around a ray are weighted.

@@ -6,8 +6,9 @@
 
 use std::collections::HashMap;
 
-use super::shade::{bilerp, sample, Lighting, SpecularModel};
+use super::shade::{sample, Lighting, SpecularModel};
 use super::{Light, Material, Object, Scene, Texture, TextureRef};
+use crate::sampling::bilerp;
 
 /// A material in the form the per-pixel loop wants.
 pub(crate) struct FastMaterial {

@@ -15,9 +15,9 @@
 
 use rayon::prelude::*;
 
-use super::shade::{channel_weights, Lighting};
+use super::shade::Lighting;
 use super::Scene;
-use crate::geometry::{Geometry, ViewSpacing, Views};
+use crate::geometry::{channel_weights, Geometry, ViewSpacing, Views};
 use crate::{Error, Modulation, Result};
 
 /// Sub-rays per sample: across each emitter's aperture and each view's
