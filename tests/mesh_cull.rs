@@ -2,7 +2,7 @@
 //! ray meets) and saves work without changing a sample.
 
 use holo::geometry::{rgb_channels, Geometry, Views};
-use holo::mesh::cull::{cull_back_faces, display_sees_box, object_bounds};
+use holo::holoflick::shader::cull::{cull_back_faces, display_sees_box, object_bounds};
 use holo::mesh::render::{render, Engine, RenderOptions, Supersample};
 use holo::mesh::{Material, Object, Scene};
 use rand::{Rng, SeedableRng};

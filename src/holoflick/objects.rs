@@ -10,7 +10,7 @@
 
 use super::cg::{self, EncodeOptions, EncodeStats};
 use super::container::{Descriptor, GeometryBlock, GeometryObject, Matrix4, SpecularLight};
-use crate::mesh::dice::with_flat_normals;
+use super::shader::dice::with_flat_normals;
 use crate::mesh::{Light, Material, Object};
 use crate::{Error, Result};
 

@@ -19,7 +19,7 @@
 
 use std::collections::HashMap;
 
-use super::Object;
+use crate::mesh::Object;
 use crate::{Error, Result};
 
 /// How to dice.
@@ -318,7 +318,7 @@ pub fn with_flat_normals(o: &Object) -> Object {
         ..Object::default()
     };
     for (t, tri) in o.triangles.iter().enumerate() {
-        let f = super::shade::face_normal(o, t);
+        let f = crate::mesh::shade::face_normal(o, t);
         let l = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
         let n = if l > 0.0 && l.is_finite() { f.map(|x| (x / l) as f32) } else { [0.0, 0.0, 1.0] };
         let first = out.positions.len() as u32;

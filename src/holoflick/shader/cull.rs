@@ -5,8 +5,8 @@
 //! what is seen, so a frame converts to the same samples with them or
 //! without them (the renderers draw only what rays meet).
 
-use super::Object;
 use crate::geometry::Geometry;
+use crate::mesh::Object;
 
 /// Whether some ray of `g` (any hololine, emitter aperture, view, and the
 /// supersampling around them) may meet the axis-aligned box `[lo, hi]`
