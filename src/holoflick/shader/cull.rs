@@ -66,15 +66,6 @@ pub fn display_sees_box(g: &Geometry, lo: [f64; 3], hi: [f64; 3]) -> bool {
     hi[0] >= x_lo && lo[0] <= x_hi && hi[1] >= y_lo && lo[1] <= y_hi
 }
 
-/// The bounds of an object's positions (`None` without vertices).
-pub fn object_bounds(o: &Object) -> Option<([f64; 3], [f64; 3])> {
-    let mut it = o.positions.iter();
-    let first = *it.next()?;
-    Some(it.fold((first, first), |(lo, hi), p| {
-        (std::array::from_fn(|k| lo[k].min(p[k])), std::array::from_fn(|k| hi[k].max(p[k])))
-    }))
-}
-
 /// Drop the triangles of one-sided objects whose front faces away from every
 /// point of the convex set spanned by `viewpoints` (for a box, its eight
 /// corners: a plane splits space in two, so the front is seen from some
