@@ -178,6 +178,21 @@ pub fn mono_channel() -> Vec<ColourChannel> {
     vec![ColourChannel::new("Y", 633e-9)]
 }
 
+/// How linear RGB radiance (a shader's, a camera picture's) becomes each
+/// channel of a file: `R`, `G`, `B` take their component; `Y` (one
+/// wavelength) takes the Rec. 709 luminance `0.2126 R + 0.7152 G + 0.0722 B`.
+pub fn channel_weights(names: &[&str]) -> Vec<[f64; 3]> {
+    names
+        .iter()
+        .map(|n| match *n {
+            "R" => [1.0, 0.0, 0.0],
+            "G" => [0.0, 1.0, 0.0],
+            "B" => [0.0, 0.0, 1.0],
+            _ => [0.2126, 0.7152, 0.0722],
+        })
+        .collect()
+}
+
 /// Horizontal parallax only (the only kind version 1 readers must handle), or
 /// full parallax (reserved: layout specified, not yet produced).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

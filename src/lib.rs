@@ -22,6 +22,7 @@ pub mod pattern;
 pub mod reconstruct;
 pub mod report;
 pub mod resample;
+mod sampling;
 pub mod simd;
 pub mod views;
 

@@ -22,11 +22,11 @@ macro_rules! outln {
 }
 
 mod holoflick;
+use holo::assemble::load_layout;
 use holo::assemble::output::{assemble_file, AssembleOptions, FringeFormat, FRINGE_SIDECAR};
 use holo::cameras::quilt::{QuiltOptions, QuiltSpec};
 use holo::format::{Compression, SampleType, WriteOptions};
 use holo::geometry::{mono_channel, rgb_channels, Geometry};
-use holo::layout::Layout;
 use holo::pattern::{Pattern, PatternKind};
 use holo::views::{ToneMapping, SIDECAR};
 
@@ -723,7 +723,7 @@ fn run(cli: Cli) -> Outcome {
             write_file(&m, &write, format!("holo import-views from {}", dir.display()))
         }
         Command::Assemble { file, layout, out, frames, format, resample, force } => {
-            let layout = Layout::load(&layout).map_err(error_text)?;
+            let layout = load_layout(&layout).map_err(error_text)?;
             let options = AssembleOptions { frames, format, overwrite: force, resample };
             let bar = progress_bar("frames", true);
             bar.set_message("assembling");
@@ -762,9 +762,9 @@ fn run(cli: Cli) -> Outcome {
         }
         Command::Check { file, layout, frame, fringes, hololines, json } => {
             let layout = match (&layout, &fringes) {
-                (Some(name), _) => Some(Layout::load(name).map_err(error_text)?),
+                (Some(name), _) => Some(load_layout(name).map_err(error_text)?),
                 (None, Some(_)) => None,
-                (None, None) => Some(Layout::load("mark3").map_err(error_text)?),
+                (None, None) => Some(load_layout("mark3").map_err(error_text)?),
             };
             let options = holo::reconstruct::files::CheckOptions { frame, fringes, hololines };
             let checked = holo::reconstruct::files::check_file(&file, layout.as_ref(), &options).map_err(error_text)?;
@@ -777,9 +777,9 @@ fn run(cli: Cli) -> Outcome {
         }
         Command::View { input, layout, eye, distance, pupil, frame, white, output, force } => {
             let layout = match layout {
-                Some(name) => Some(Layout::load(&name).map_err(error_text)?),
+                Some(name) => Some(load_layout(&name).map_err(error_text)?),
                 None if holo::reconstruct::files::is_fringe_dir(&input) => None,
-                None => Some(Layout::load("mark3").map_err(error_text)?),
+                None => Some(load_layout("mark3").map_err(error_text)?),
             };
             if !(pupil.is_finite() && pupil > 0.0) || distance.is_some_and(|d| !(d.is_finite() && d > 0.0)) {
                 return Err(format!("--pupil {pupil} and --distance must be positive millimetres"));
@@ -806,7 +806,7 @@ fn run(cli: Cli) -> Outcome {
         }
         Command::Holoflick(command) => holoflick::run(command),
         Command::Layout { name, json } => {
-            let layout = Layout::load(&name).map_err(error_text)?;
+            let layout = load_layout(&name).map_err(error_text)?;
             if json {
                 outln!("{}", serde_json::to_string_pretty(&layout).map_err(|e| e.to_string())?);
             } else {
@@ -1038,7 +1038,7 @@ fn layout_geometry(name: &str) -> Result<Geometry, String> {
             return Ok(g);
         }
     }
-    Layout::load(name).map(|l| l.geometry).map_err(error_text)
+    load_layout(name).map(|l| l.geometry).map_err(error_text)
 }
 
 impl WriteArgs {

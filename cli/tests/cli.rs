@@ -209,6 +209,36 @@ fn assemble_writes_head_images_and_refuses_to_overwrite() {
 }
 
 #[test]
+fn a_profile_whose_basis_does_not_fit_is_refused_with_its_reasons_everywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = holo(&["layout", "mark3"], d);
+    let profile = String::from_utf8(o.stdout).unwrap();
+    std::fs::write(d.join("small.toml"), profile.replace("hololines = 440", "hololines = 2")).unwrap();
+    let o = holo(&["pattern", "--layout", "small.toml", "--kind", "single-emitter", "-o", "s.holo"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    // Two emitters more than Mark III's chirps reach: the layout's data is
+    // consistent, its fringe side cannot be assembled.
+    let wide = profile.replace("hololines = 440", "hololines = 2").replace("emitters = 336", "emitters = 338");
+    std::fs::write(d.join("wide.toml"), wide).unwrap();
+    for cmd in [
+        &["layout", "wide.toml"][..],
+        &["assemble", "s.holo", "--layout", "wide.toml", "-o", "fringes"],
+        &["check", "s.holo", "--layout", "wide.toml"],
+        &["view", "s.holo", "--layout", "wide.toml", "-o", "v.png"],
+    ] {
+        let o = holo(cmd, d);
+        assert_eq!(o.status.code(), Some(1), "{cmd:?}: {}", text(&o));
+        assert!(
+            text(&o).contains("wide.toml: inconsistent layout: ") && text(&o).contains("338 emitters do not fit"),
+            "{cmd:?}: {}",
+            text(&o)
+        );
+    }
+    assert!(!d.join("fringes").exists() && !d.join("v.png").exists());
+}
+
+#[test]
 fn check_and_view_recover_what_was_assembled() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -123,7 +123,8 @@ impl ZonedChirp {
     /// The emitter-global view shown by sample `u` of zone `zone`. Views
     /// ascend with `θ`; for an emitter in front of the hologram `θ` falls
     /// along the chirp (the last view is at its start), behind it `θ` rises.
-    pub fn view_of(&self, zone: usize, u: usize) -> usize {
+    #[cfg(test)]
+    fn view_of(&self, zone: usize, u: usize) -> usize {
         let along = zone * self.views_per_zone + u / self.samples_per_view();
         if self.emitter_z_m > 0.0 {
             self.views() - 1 - along

@@ -14,6 +14,7 @@ pub mod hogel;
 pub mod output;
 mod pack;
 pub mod plan;
+mod profile;
 
 use rayon::prelude::*;
 
@@ -25,6 +26,7 @@ pub use pack::FringeSample;
 use pack::{interleave, Adder, Encoder, LineScratch};
 use plan::PaddedWeights;
 pub use plan::Plan;
+pub use profile::{load_layout, problems};
 
 /// The float signals of every hololine of one colour channel, before they
 /// are dealt into the frame buffer: `data[(j · signals + s) · samples + n]`
@@ -99,11 +101,11 @@ pub struct Assembler {
 
 impl Assembler {
     /// An assembler for `layout`, which must have a fringe side that fits its
-    /// geometry.
+    /// geometry: otherwise an error with every reason of [`problems`].
     pub fn new(layout: &Layout) -> Result<Self> {
-        let problems = layout.problems();
-        if !problems.is_empty() {
-            return Err(Error::Usage(format!("layout {}: {}", layout.name, problems.join("; "))));
+        let reasons = problems(layout);
+        if !reasons.is_empty() {
+            return Err(Error::Usage(format!("layout {}: {}", layout.name, reasons.join("; "))));
         }
         let plans = (0..layout.geometry.channels.len())
             .map(|c| ColourBasis::new(layout, c).map(Plan::new))
@@ -679,17 +681,17 @@ mod tests {
     fn layouts_whose_basis_does_not_fit_are_refused_with_reasons() {
         let mut l = mark1();
         l.fringe.as_mut().unwrap().carrier_cycles_per_sample = vec![0.1];
-        let p = l.problems().join("; ");
+        let p = problems(&l).join("; ");
         assert!(p.contains("between 0 and 0.5") && p.contains("445 nm"), "{p}");
         let mut l = mark3();
         l.geometry.emitter_z_m *= 1.01;
-        let p = l.problems().join("; ");
+        let p = problems(&l).join("; ");
         assert!(p.contains("view 0 of the chirp points at"), "{p}");
         let mut l = mark1_hogel();
         l.geometry.emitter_z_m = 0.004;
-        assert!(l.problems().join("; ").contains("hologram plane"));
+        assert!(problems(&l).join("; ").contains("hologram plane"));
         let mut l = mark3();
         l.geometry.emitters = 338;
-        assert!(l.problems().join("; ").contains("338 emitters do not fit"), "{:?}", l.problems());
+        assert!(problems(&l).join("; ").contains("338 emitters do not fit"), "{:?}", problems(&l));
     }
 }

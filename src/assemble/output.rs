@@ -236,7 +236,7 @@ pub fn read_sidecar(dir: &Path) -> Result<FringeSidecar> {
     let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
     let sidecar: FringeSidecar =
         serde_json::from_str(&text).map_err(|e| Error::invalid(&path, format!("not a fringe sidecar: {e}")))?;
-    let problems = sidecar.layout.problems();
+    let problems = super::problems(&sidecar.layout);
     if !problems.is_empty() {
         return Err(Error::invalid(&path, format!("inconsistent layout: {}", problems.join("; "))));
     }

@@ -304,7 +304,8 @@ impl Plan {
         self.block
     }
     /// The most elements covering one block of one zone.
-    pub fn max_terms(&self) -> usize {
+    #[cfg(test)]
+    pub(crate) fn max_terms(&self) -> usize {
         self.terms.iter().flatten().map(|t| t.list.len()).max().unwrap_or(0)
     }
 

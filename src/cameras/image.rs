@@ -8,6 +8,7 @@ use std::path::Path;
 use ::image::{ColorType, ImageReader};
 
 use super::{Camera, ImageSource};
+use crate::sampling::bilerp;
 use crate::views::srgb_decode;
 use crate::{Error, Result};
 
@@ -48,7 +49,7 @@ impl Picture {
         let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
         let (fx, fy) = ((x - x0 as f64) as f32, (y - y0 as f64) as f32);
         let corners = [self.get(x0, y0), self.get(x1, y0), self.get(x0, y1), self.get(x1, y1)];
-        Some(crate::mesh::shade::bilerp(corners, fx, fy))
+        Some(bilerp(corners, fx, fy))
     }
 }
 

@@ -29,9 +29,8 @@ use spade::{DelaunayTriangulation, Point2, PositionInTriangulation, Triangulatio
 
 use super::image::Picture;
 use super::{Camera, Rig};
-use crate::geometry::Geometry;
+use crate::geometry::{channel_weights, Geometry};
 use crate::math::{add, cross, det3, dot, length, mat3_transpose_apply, normalize_or, scale, sub, Mat3};
-use crate::mesh::shade::channel_weights;
 use crate::{Band, Error, Modulation, Result};
 
 /// How the cameras around a ray are weighted.

@@ -26,9 +26,9 @@ use std::path::{Path, PathBuf};
 
 use super::container::{HoloFlickReader, ResolvedFrame, SpecularModel, ViewerCouch};
 use super::objects::{decode_block, mesh_light, to_world};
+use super::shader::cull::{cull_back_faces, display_sees_box};
 use crate::format::{write_frames, WriteOptions, WriteReport};
 use crate::geometry::Geometry;
-use crate::mesh::cull::{cull_back_faces, display_sees_box};
 use crate::mesh::place::{apply, place, Placed, Placement};
 use crate::mesh::render::{render, RenderOptions, RenderStats};
 use crate::mesh::shade::{Lighting, SpecularModel as Lobe};

@@ -2,10 +2,10 @@
 //! (or OBJ, PLY) scene, for one display. Every frame (an animated glTF: one
 //! per `1/fps`) is placed in display metres as `holo convert mesh` places it
 //! (fitted on the first frame, kept after), diced into micropolygons sized
-//! for what the display resolves at their depth ([`crate::mesh::dice`],
+//! for what the display resolves at their depth ([`super::shader::dice`],
 //! far from the emitter plane they are larger, Deering, *HoloFlicks* §12), lit once
 //! (ambient, diffuse and optionally shadows baked into vertex colours,
-//! [`crate::mesh::bake`]), and compressed; specular reflectance and
+//! [`super::shader::bake`]), and compressed; specular reflectance and
 //! exponent stay as materials, the scene's lights as specular lights. The
 //! viewer's couch is a box around the display's viewing zone, so
 //! `holo convert holoflick` draws the result as it is. Objects that do not
@@ -16,12 +16,12 @@ use std::path::Path;
 
 use super::cg::EncodeOptions;
 use super::container::{HoloFlickWriter, ViewerCouch};
+use super::shader::bake::BakeOptions;
+use super::shader::dice::{display_budget, DiceOptions};
+use super::shader::micro::micropolygons;
 use super::tools::{specular_light, writer_options, KeyFrames, PackReport};
 use crate::geometry::Geometry;
-use crate::mesh::bake::BakeOptions;
-use crate::mesh::dice::{display_budget, DiceOptions};
 use crate::mesh::load::SceneSource;
-use crate::mesh::micro::micropolygons;
 use crate::mesh::place::{apply, place, Placed, Placement};
 use crate::mesh::render::RenderOptions;
 use crate::{Error, Result};

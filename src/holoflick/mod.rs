@@ -8,10 +8,14 @@
 //! - [`container`]: the `.hflk` file (spec/holoflick.md): frames of geometry
 //!   blocks with their transforms, specular lights and materials, bindings,
 //!   the viewer's couch and key frames.
+//! - [`shader`]: the geometry shader: a scene diced into micropolygons for a
+//!   display, its view-independent light baked in, and what a frame does not
+//!   need culled.
 
 pub use holo_cg as cg;
 pub mod container;
 pub mod convert;
 pub mod encode;
 pub mod objects;
+pub mod shader;
 pub mod tools;

@@ -10,8 +10,8 @@
 
 use super::cg::{self, EncodeOptions, EncodeStats};
 use super::container::{Descriptor, GeometryBlock, GeometryObject, Matrix4, SpecularLight};
+use super::shader::dice::with_flat_normals;
 use crate::math::{det3, inverse_transpose3, linear, mat3_apply, narrow, transform_point, unit, widen};
-use crate::mesh::dice::with_flat_normals;
 use crate::mesh::{Light, Material, Object};
 use crate::{Error, Result};
 

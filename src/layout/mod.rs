@@ -38,8 +38,18 @@ pub struct Layout {
 }
 
 impl Layout {
-    /// A built-in layout's name, or a path to a `.toml` or `.json` profile.
+    /// A built-in layout's name, or a path to a `.toml` or `.json` profile,
+    /// checked for its own consistency ([`Layout::problems`]). To assemble
+    /// it, load it with [`crate::assemble::load_layout`], which also checks
+    /// that its fringe side fits its geometry.
     pub fn load(name_or_path: &str) -> Result<Layout> {
+        Layout::load_checked(name_or_path, Layout::problems)
+    }
+
+    /// [`Layout::load`] with the consistency check `problems`: a profile
+    /// file for which it names any problem is refused with all of them.
+    /// Built-in layouts are consistent and are not checked.
+    pub(crate) fn load_checked(name_or_path: &str, problems: impl Fn(&Layout) -> Vec<String>) -> Result<Layout> {
         if let Some(l) = builtin(name_or_path) {
             return Ok(l);
         }
@@ -56,7 +66,7 @@ impl Layout {
             Some("json") => serde_json::from_str(&text).map_err(|e| bad(format!("not a layout profile: {e}")))?,
             _ => toml::from_str(&text).map_err(|e| bad(format!("not a layout profile: {e}")))?,
         };
-        let problems = layout.problems();
+        let problems = problems(&layout);
         if !problems.is_empty() {
             return Err(bad(format!("inconsistent layout: {}", problems.join("; "))));
         }
@@ -76,53 +86,27 @@ impl Layout {
         })
     }
 
-    /// Everything that makes the layout inconsistent: its geometry's
-    /// problems, and a fringe side that does not fit the geometry (checked
-    /// against the physics of the basis at every colour's wavelength).
+    /// Everything that makes the layout inconsistent in itself: its
+    /// geometry's problems, or, when the geometry has none, a fringe side
+    /// whose frame buffer cannot hold its signals or whose quantization is
+    /// impossible ([`Layout::fringe_problems`]). Whether the fringe side's
+    /// basis fits the geometry is assembly's question:
+    /// [`crate::assemble::problems`] adds it.
     pub fn problems(&self) -> Vec<String> {
-        let g = &self.geometry;
-        let mut p = g.problems();
-        let Some(f) = &self.fringe else { return p };
+        let p = self.geometry.problems();
         if !p.is_empty() {
             return p;
         }
-        let mut bands = Vec::new();
-        for c in 0..g.channels.len() {
-            match crate::assemble::ColourBasis::new(self, c) {
-                Ok(basis) => bands.push((c, (0..basis.zones()).map(|z| basis.signal_band(z)).collect::<Vec<_>>())),
-                Err(problems) => {
-                    for problem in problems {
-                        if !p.contains(&problem) {
-                            p.push(problem);
-                        }
-                    }
-                }
-            }
-        }
-        if f.colours == ColourSignals::Summed {
-            // Each wavelength reads its own band: the bands must not overlap.
-            for (i, (a, za)) in bands.iter().enumerate() {
-                for (b, zb) in &bands[i + 1..] {
-                    for (zone, (x, y)) in za.iter().zip(zb).enumerate() {
-                        if x.0 < y.1 && y.0 < x.1 {
-                            p.push(format!(
-                                "colours {} and {} are summed into one signal but their bands overlap in zone {} \
-                                 ({:.4}..{:.4} and {:.4}..{:.4} cycles per sample)",
-                                g.channels[*a].name,
-                                g.channels[*b].name,
-                                zone + 1,
-                                x.0,
-                                x.1,
-                                y.0,
-                                y.1
-                            ));
-                        }
-                    }
-                }
-            }
-        }
-        let signals = self.signals_per_hololine();
-        p.extend(f.frame_buffer.problems(g.hololines, signals, f.samples_per_hololine));
+        self.fringe_problems()
+    }
+
+    /// The fringe side's problems in itself (none without a fringe side):
+    /// a frame buffer that does not hold the signals of every hololine, an
+    /// impossible quantization. Meaningful for a consistent geometry.
+    pub fn fringe_problems(&self) -> Vec<String> {
+        let Some(f) = &self.fringe else { return Vec::new() };
+        let mut p =
+            f.frame_buffer.problems(self.geometry.hololines, self.signals_per_hololine(), f.samples_per_hololine);
         p.extend(f.quantization.problems());
         p
     }

@@ -208,9 +208,9 @@ fn write_pfm_grey(path: &Path, width: usize, height: usize, values: &[f32]) -> R
 mod tests {
     use super::*;
     use crate::cameras::{look_rotation, ImageSource, Intrinsics, Pose};
-    use crate::geometry::{rgb_channels, Geometry, Views};
+    use crate::geometry::{channel_weights, rgb_channels, Geometry, Views};
     use crate::mesh::render::{Rays, Shading, Supersample};
-    use crate::mesh::shade::{channel_weights, SpecularModel};
+    use crate::mesh::shade::SpecularModel;
     use crate::mesh::trace::{eye_picture, TraceRenderer};
     use crate::mesh::{Light, Material, Object};
 

@@ -508,9 +508,9 @@ impl EpiRenderer<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{rgb_channels, Geometry, Views};
+    use crate::geometry::{channel_weights, rgb_channels, Geometry, Views};
     use crate::mesh::render::{Rays, Supersample};
-    use crate::mesh::shade::{channel_weights, Lighting, SpecularModel};
+    use crate::mesh::shade::{Lighting, SpecularModel};
     use crate::mesh::{Light, Material, Object, Scene, Texture, TextureRef, UvTransform, Wrap};
     use rand::{Rng, SeedableRng};
 

@@ -6,9 +6,10 @@
 
 use std::collections::HashMap;
 
-use super::shade::{bilerp, sample, Lighting, SpecularModel};
+use super::shade::{sample, Lighting, SpecularModel};
 use super::{Light, Material, Object, Scene, Texture, TextureRef};
 use crate::math::{add, cross, dot, mul, narrow, normalize, normalize_or, scale, sub};
+use crate::sampling::bilerp;
 
 /// A material in the form the per-pixel loop wants.
 pub(crate) struct FastMaterial {

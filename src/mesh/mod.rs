@@ -10,16 +10,12 @@
 //! world onto display metres (docs/optics.md §1.2: `x` right, `y` up, `z` toward the
 //! viewer, hologram at `z = 0`). Colours are linear: loaders decode sRGB.
 
-pub mod bake;
 pub mod bvh;
 pub mod camera;
 pub mod convert;
-pub mod cull;
-pub mod dice;
 pub mod epi;
 mod fastshade;
 pub mod load;
-pub mod micro;
 pub mod place;
 pub mod render;
 pub mod shade;

@@ -20,9 +20,9 @@
 
 use rayon::prelude::*;
 
-use super::shade::{channel_weights, Lighting};
+use super::shade::Lighting;
 use super::Scene;
-use crate::geometry::Geometry;
+use crate::geometry::{channel_weights, Geometry};
 use crate::{Error, Modulation, Result};
 
 /// Sub-rays per sample: across each emitter's aperture and each view's

@@ -28,6 +28,7 @@
 
 use super::{Light, Object, Scene, Texture, TextureRef, Wrap};
 use crate::math::{add, cross, dot, mul, narrow, normalize, normalize_or, scale, sub, widen};
+use crate::sampling::bilerp;
 
 /// Which specular lobe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -360,22 +361,6 @@ pub fn sample(tex: &Texture, uv: [f32; 2]) -> [f32; 4] {
     bilerp([at(x0, y0), at(x0 + 1.0, y0), at(x0, y0 + 1.0), at(x0 + 1.0, y0 + 1.0)], fx, fy)
 }
 
-/// Bilinear blend of the corners `[top left, top right, bottom left,
-/// bottom right]` at fractions `fx`, `fy`, in one fixed order of
-/// operations: every texture and picture lookup uses it, so the fast paths
-/// can match the reference bit for bit.
-#[inline(always)]
-pub fn bilerp<const N: usize>(corners: [[f32; N]; 4], fx: f32, fy: f32) -> [f32; N] {
-    let [a, b, c, d] = corners;
-    let mut out = [0.0; N];
-    for k in 0..N {
-        let top = a[k] + (b[k] - a[k]) * fx;
-        let bottom = c[k] + (d[k] - c[k]) * fx;
-        out[k] = top + (bottom - top) * fy;
-    }
-    out
-}
-
 fn wrap(i: i64, n: usize, mode: Wrap) -> usize {
     let n = n as i64;
     let r = match mode {
@@ -391,21 +376,6 @@ fn wrap(i: i64, n: usize, mode: Wrap) -> usize {
         }
     };
     r as usize
-}
-
-/// How the linear RGB radiance of the shader becomes each channel of a
-/// file: `R`, `G`, `B` take their component; `Y` (one wavelength) takes the
-/// Rec. 709 luminance `0.2126 R + 0.7152 G + 0.0722 B`.
-pub fn channel_weights(names: &[&str]) -> Vec<[f64; 3]> {
-    names
-        .iter()
-        .map(|n| match *n {
-            "R" => [1.0, 0.0, 0.0],
-            "G" => [0.0, 1.0, 0.0],
-            "B" => [0.0, 0.0, 1.0],
-            _ => [0.2126, 0.7152, 0.0722],
-        })
-        .collect()
 }
 
 #[cfg(test)]

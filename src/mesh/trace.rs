@@ -91,7 +91,7 @@ pub fn eye_picture(
     use rayon::prelude::*;
     let rays = super::render::Rays::new(geometry, super::render::Supersample { emitter: 1, view: 1 })?;
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
-    let weights = super::shade::channel_weights(&names);
+    let weights = crate::geometry::channel_weights(&names);
     let s = Shading { scene, lighting, weights: &weights, rays: &rays, geometry };
     let tracer = TraceRenderer::new(s);
     let n = pupil_samples.max(1);

@@ -115,7 +115,7 @@ fn long_hololine(samples: usize) -> Layout {
     f.frame_buffer.height = 3 * samples / 2048 + 204;
     l.geometry.emitters = f.max_emitters();
     l.geometry.emitter_left_x_m = f.emitter_x_m(0);
-    assert!(l.problems().is_empty(), "{:?}", l.problems());
+    assert!(holo::assemble::problems(&l).is_empty(), "{:?}", holo::assemble::problems(&l));
     l
 }
 

@@ -39,7 +39,7 @@ fn spot_in_display(g: &Geometry) -> Object {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/spot/spot.obj");
     let mut scene = holo::mesh::load::SceneSource::open(&path).unwrap().scene_at(0.0).unwrap();
     holo::mesh::place::place(&mut scene, g, &holo::mesh::place::Placement::default()).unwrap();
-    let mut o = holo::mesh::dice::with_flat_normals(&scene.objects[0]);
+    let mut o = holo::holoflick::shader::dice::with_flat_normals(&scene.objects[0]);
     // Pre-lit stand-in colours: the base colour at each vertex.
     o.colours = o
         .positions

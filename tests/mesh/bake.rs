@@ -3,7 +3,7 @@
 //! lights), and shadows where an occluder hides a light (a floor under a
 //! square, lit by a directional and by a point light).
 
-use holo::mesh::bake::{bake_diffuse, BakeOptions};
+use holo::holoflick::shader::bake::{bake_diffuse, BakeOptions};
 use holo::mesh::load::SceneSource;
 use holo::mesh::shade::{face_normal, radiance, Hit, Lighting};
 use holo::mesh::{Light, Material, Object, Scene};
@@ -14,7 +14,7 @@ fn baked_colours_are_the_reference_shaders_diffuse_terms() {
     let mut scene = SceneSource::open(&path).unwrap().scene_at(0.0).unwrap();
     // Spot is shaded flat: one vertex per corner, so a vertex has one normal.
     for o in &mut scene.objects {
-        *o = holo::mesh::dice::with_flat_normals(o);
+        *o = holo::holoflick::shader::dice::with_flat_normals(o);
         o.material.specular = [0.3, 0.3, 0.3];
     }
     let lights = Lighting::default_lights();

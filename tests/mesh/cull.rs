@@ -2,7 +2,7 @@
 //! ray meets) and saves work without changing a sample.
 
 use holo::geometry::{rgb_channels, Geometry, Views};
-use holo::mesh::cull::{cull_back_faces, display_sees_box, object_bounds};
+use holo::holoflick::shader::cull::{cull_back_faces, display_sees_box};
 use holo::mesh::render::{render, Engine, RenderOptions, Supersample};
 use holo::mesh::{Material, Object, Scene};
 use rand::{Rng, SeedableRng};
@@ -26,6 +26,15 @@ fn line_meets_box(o: [f64; 3], d: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> bool 
         }
     }
     t0 <= t1
+}
+
+/// The bounds of an object's positions (`None` without vertices).
+fn object_bounds(o: &Object) -> Option<([f64; 3], [f64; 3])> {
+    let mut it = o.positions.iter();
+    let first = *it.next()?;
+    Some(it.fold((first, first), |(lo, hi), p| {
+        (std::array::from_fn(|k| lo[k].min(p[k])), std::array::from_fn(|k| hi[k].max(p[k])))
+    }))
 }
 
 #[test]

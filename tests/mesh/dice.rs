@@ -8,7 +8,7 @@
 
 use std::collections::HashMap;
 
-use holo::mesh::dice::{dice, DiceOptions};
+use holo::holoflick::shader::dice::{dice, DiceOptions};
 use holo::mesh::Object;
 use rand::{Rng, SeedableRng};
 

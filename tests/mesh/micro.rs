@@ -5,9 +5,9 @@
 //! with the micropolygons; a highlight moves across views as directly.
 
 use holo::geometry::{rgb_channels, Geometry, Views};
-use holo::mesh::bake::BakeOptions;
-use holo::mesh::dice::{display_budget, DiceOptions};
-use holo::mesh::micro::micropolygons;
+use holo::holoflick::shader::bake::BakeOptions;
+use holo::holoflick::shader::dice::{display_budget, DiceOptions};
+use holo::holoflick::shader::micro::micropolygons;
 use holo::mesh::place::{place, Placement};
 use holo::mesh::render::{render, Engine, RenderOptions, Supersample};
 use holo::mesh::shade::{Lighting, SpecularModel};

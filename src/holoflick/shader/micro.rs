@@ -4,7 +4,7 @@
 //! view-independent light is baked into the vertex colours
 //! ([`super::bake`]), and each object keeps only what varies with the view:
 //! its specular reflectance and exponent, under a pre-lit material
-//! ([`super::Material::prelit`]). Rendered under the scene's lights without
+//! ([`crate::mesh::Material::prelit`]). Rendered under the scene's lights without
 //! the ambient ones, the micropolygons give what the scene gives, up to
 //! the micropolygons' linear interpolation of the baked light (which shrinks
 //! with them) and the shadows, which direct rendering does not compute.
@@ -14,7 +14,7 @@
 
 use super::bake::{bake_diffuse, BakeOptions, BakeReport};
 use super::dice::{dice, with_flat_normals, DiceOptions, DiceReport};
-use super::{Light, Material, Scene};
+use crate::mesh::{Light, Material, Scene};
 use crate::Result;
 
 /// What making micropolygons did.

@@ -6,16 +6,16 @@
 //! and, on request, each light's term only where the light reaches the
 //! vertex (shadows, by a ray through the scene).
 //!
-//! The terms are the reference shader's own ([`super::shade::radiance`] with
+//! The terms are the reference shader's own ([`crate::mesh::shade::radiance`] with
 //! the specular reflectance set to zero, one light at a time), so a baked
 //! vertex plus the deferred specular term is exactly what direct shading
 //! gives at that vertex.
 
 use rayon::prelude::*;
 
-use super::bvh::Bvh;
-use super::shade::{face_normal, radiance, Hit, Lighting};
-use super::{Light, Scene};
+use crate::mesh::bvh::Bvh;
+use crate::mesh::shade::{face_normal, radiance, Hit, Lighting};
+use crate::mesh::{Light, Scene};
 use crate::math::{add, dot, length, scale, sub, unit};
 
 /// How to bake.
@@ -36,7 +36,7 @@ pub struct BakeReport {
 
 /// Linear RGBA per vertex of every object of `scene` under `lights` (alpha:
 /// the material's base alpha times the vertex colour's). An object whose
-/// material chooses lights ([`super::Material::lights`], indices into
+/// material chooses lights ([`crate::mesh::Material::lights`], indices into
 /// `lights`) gets only those. Vertices no triangle uses get zero.
 pub fn bake_diffuse(scene: &Scene, lights: &[Light], options: &BakeOptions) -> (Vec<Vec<[f32; 4]>>, BakeReport) {
     // The reference shader with specular reflectance zero: view-independent.

@@ -5,8 +5,8 @@
 //! what is seen, so a frame converts to the same samples with them or
 //! without them (the renderers draw only what rays meet).
 
-use super::Object;
 use crate::geometry::Geometry;
+use crate::mesh::Object;
 
 /// Whether some ray of `g` (any hololine, emitter aperture, view, and the
 /// supersampling around them) may meet the axis-aligned box `[lo, hi]`
@@ -66,15 +66,6 @@ pub fn display_sees_box(g: &Geometry, lo: [f64; 3], hi: [f64; 3]) -> bool {
         return true;
     }
     hi[0] >= x_lo && lo[0] <= x_hi && hi[1] >= y_lo && lo[1] <= y_hi
-}
-
-/// The bounds of an object's positions (`None` without vertices).
-pub fn object_bounds(o: &Object) -> Option<([f64; 3], [f64; 3])> {
-    let mut it = o.positions.iter();
-    let first = *it.next()?;
-    Some(it.fold((first, first), |(lo, hi), p| {
-        (std::array::from_fn(|k| lo[k].min(p[k])), std::array::from_fn(|k| hi[k].max(p[k])))
-    }))
 }
 
 /// Drop the triangles of one-sided objects whose front faces away from every

@@ -19,8 +19,8 @@
 
 use std::collections::HashMap;
 
-use super::Object;
 use crate::math::{distance, midpoint, narrow, unit};
+use crate::mesh::Object;
 use crate::{Error, Result};
 
 /// How to dice.
@@ -300,7 +300,7 @@ pub fn with_flat_normals(o: &Object) -> Object {
         ..Object::default()
     };
     for (t, tri) in o.triangles.iter().enumerate() {
-        let f = super::shade::face_normal(o, t);
+        let f = crate::mesh::shade::face_normal(o, t);
         let n = unit(f).map_or([0.0, 0.0, 1.0], narrow);
         let first = out.positions.len() as u32;
         for &i in tri {
