@@ -13,10 +13,10 @@
 
 use rayon::prelude::*;
 
+use crate::math::{add, dot, length, scale, sub, unit};
 use crate::mesh::bvh::Bvh;
 use crate::mesh::shade::{face_normal, radiance, Hit, Lighting};
 use crate::mesh::{Light, Scene};
-use crate::math::{add, dot, length, scale, sub, unit};
 
 /// How to bake.
 #[derive(Clone, Copy, Debug, Default)]
