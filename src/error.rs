@@ -7,6 +7,10 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
+    /// The caller asked, through its [`crate::progress::Progress`], for the
+    /// work to stop; nothing was written.
+    #[error("cancelled; nothing was written")]
+    Cancelled,
     /// The operating system refused a read or write.
     #[error("{path}: {source}", path = .path.display())]
     Io {

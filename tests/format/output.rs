@@ -215,7 +215,7 @@ fn fringe_readers_refuse_a_mixed_or_unlisted_set() {
     write("b.holo", 0.6);
     let options = AssembleOptions { frames: None, format: FringeFormat::Png, overwrite: false, resample: false };
     for (input, out) in [("a.holo", "fa"), ("b.holo", "fb")] {
-        let report = assemble_file(&d.join(input), &layout, &d.join(out), &options, &mut |_, _| {}).unwrap();
+        let report = assemble_file(&d.join(input), &layout, &d.join(out), &options, &holo::progress::Silent).unwrap();
         assert!(report.files.last().unwrap().ends_with(FRINGE_SIDECAR));
     }
     let sidecar = read_sidecar(&d.join("fa")).unwrap();
@@ -236,11 +236,11 @@ fn fringe_readers_refuse_a_mixed_or_unlisted_set() {
     assert!(e.to_string().contains("assemble the fringes again"), "{e}");
     // Re-assembling with overwrite replaces it, old names and all.
     let again = AssembleOptions { overwrite: true, ..options.clone() };
-    assemble_file(&d.join("b.holo"), &layout, &d.join("fb"), &again, &mut |_, _| {}).unwrap();
+    assemble_file(&d.join("b.holo"), &layout, &d.join("fb"), &again, &holo::progress::Silent).unwrap();
     read_sidecar(&d.join("fb")).unwrap();
     // An unreadable input leaves no folder.
     std::fs::write(d.join("bad.holo"), b"not a file").unwrap();
-    assert!(assemble_file(&d.join("bad.holo"), &layout, &d.join("fc"), &options, &mut |_, _| {}).is_err());
+    assert!(assemble_file(&d.join("bad.holo"), &layout, &d.join("fc"), &options, &holo::progress::Silent).is_err());
     assert!(!d.join("fc").exists());
 }
 
