@@ -14,7 +14,7 @@ use image::{ImageBuffer, ImageFormat, Luma, Rgb};
 use serde::{Deserialize, Serialize};
 
 use crate::format::{view_digits, WriteOptions, WriteReport};
-use crate::output::{check_set_output, verify_set, FileSet, SetFile};
+use crate::output::{check_set_complete, check_set_output, verify_set, FileSet, SetFile};
 use crate::pipeline::{HoloSink, Run, Source, Warnings};
 use crate::progress::Progress;
 use crate::{Band, Error, Geometry, Modulation, Result};
@@ -175,6 +175,9 @@ pub fn read_geometry_json(path: &Path) -> Result<Geometry> {
 /// a sidecar holds pictures made elsewhere and is read as it is.
 pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Result<Modulation> {
     check_tone(tone)?;
+    // Even pictures read without their sidecar may not be of a set whose
+    // replacement was interrupted: they could be of two sets.
+    check_set_complete(dir, SIDECAR, "export the views again")?;
     let sidecar_path = dir.join(SIDECAR);
     if sidecar_path.exists() {
         let sidecar = read_sidecar(&sidecar_path)?;
