@@ -43,11 +43,13 @@ pub trait Source {
     /// or a HoloFlick frame.
     type Frame;
 
-    /// The input as a user names it, for messages (usually its path).
-    fn name(&self) -> String;
-
     /// The files the frames are read from: the output may be none of them.
     fn inputs(&self) -> Vec<PathBuf>;
+
+    /// The input as a user names it, for messages: its files by default.
+    fn name(&self) -> String {
+        self.inputs().iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(" ")
+    }
 
     /// How many frames there are: frame numbers run `0..frame_count()`.
     fn frame_count(&self) -> usize;
@@ -166,6 +168,27 @@ where
         Ok(())
     })?;
     Ok(Run { frames, warnings: warnings.lines(), written })
+}
+
+/// [`run`] for a source read from the file `input`: the output is refused
+/// (exists, folder missing, is the input) before `open` reads the input,
+/// which can take a while. Returns the source, with what it counted, and
+/// the run.
+pub fn open_and_run<S, K>(
+    input: &Path,
+    open: impl FnOnce(&Path) -> Result<S>,
+    sink: K,
+    frames: Option<Range<usize>>,
+    progress: &dyn Progress,
+) -> Result<(S, Run<K::Written>)>
+where
+    S: Source,
+    K: Sink<S::Frame>,
+{
+    crate::output::check_output(sink.path(), &[input], sink.overwrite())?;
+    let mut source = open(input)?;
+    let run = run(&mut source, sink, frames, progress)?;
+    Ok((source, run))
 }
 
 /// `asked` (all of `count` frames by default), checked against them.

@@ -105,10 +105,9 @@ pub fn convert_holoflick(
     options: &HoloFlickConvertOptions,
     progress: &dyn Progress,
 ) -> Result<HoloFlickConvertReport> {
-    crate::output::check_output(output, &[input], options.write.overwrite)?;
-    let mut source = HoloFlickSource::open(input, geometry, options)?;
     let sink = HoloSink::new(output, geometry, options.write.clone());
-    let mut run = pipeline::run(&mut source, sink, options.frames.clone(), progress)?;
+    let open = |input: &Path| HoloFlickSource::open(input, geometry, options);
+    let (source, mut run) = pipeline::open_and_run(input, open, sink, options.frames.clone(), progress)?;
     if !source.outside.is_empty() {
         let list: Vec<String> = source.outside.iter().map(|n| n.to_string()).collect();
         run.warnings.push(format!(
@@ -165,10 +164,6 @@ impl<'a> HoloFlickSource<'a> {
 
 impl Source for HoloFlickSource<'_> {
     type Frame = Band;
-
-    fn name(&self) -> String {
-        self.input.display().to_string()
-    }
 
     fn inputs(&self) -> Vec<PathBuf> {
         vec![self.input.clone()]

@@ -12,7 +12,7 @@
 //! change between frames are stored once per key frame.
 
 use std::ops::Range;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::cg::EncodeOptions;
 use super::container::{Frame, ViewerCouch};
@@ -22,11 +22,11 @@ use super::shader::micro::micropolygons;
 use super::sink::{frame_rate_fraction, HoloFlickSink};
 use super::tools::{specular_light, KeyFrames, PackReport};
 use crate::geometry::Geometry;
-use crate::mesh::convert::PlacedScenes;
+use crate::mesh::convert::{SceneFrames, SceneStage};
 use crate::mesh::place::{Placed, Placement};
 use crate::mesh::render::RenderOptions;
 use crate::mesh::Scene;
-use crate::pipeline::{self, Source, Warnings};
+use crate::pipeline;
 use crate::progress::Progress;
 use crate::{Error, Result};
 
@@ -96,10 +96,10 @@ pub fn display_couch(g: &Geometry) -> ViewerCouch {
     }
 }
 
-/// Encode `input` for `geometry` into the HoloFlick `output`: an
-/// [`EncodeSource`] through [`crate::pipeline::run`]. `progress` counts the
-/// frames of a movie; of a single frame, its stages (dicing and baking, then
-/// the objects compressed).
+/// Encode `input` for `geometry` into the HoloFlick `output`: scenes
+/// through [`Encode`] and [`crate::pipeline`]. `progress` counts the frames
+/// of a movie; of a single frame, its stages (dicing and baking, then the
+/// objects compressed).
 pub fn encode_holoflick(
     input: &Path,
     geometry: &Geometry,
@@ -113,76 +113,52 @@ pub fn encode_holoflick(
             options.micropolygon
         )));
     }
-    crate::output::check_output(output, &[input], options.overwrite)?;
-    let mut source = EncodeSource {
-        scenes: PlacedScenes::open(input, options.frames_per_second)?,
-        geometry,
+    let stage = Encode {
         options,
         budget: Box::new(display_budget(geometry, options.micropolygon)),
         couch: display_couch(geometry),
-        first: 0,
         keys: KeyFrames::default(),
         report: PackReport::default(),
         micropolygons: 0,
         shadowed: 0,
     };
+    let open = |input: &Path| SceneFrames::open(input, geometry, &options.placement, options.frames_per_second, stage);
     let sink = HoloFlickSink::new(output, options.overwrite);
-    let run = pipeline::run(&mut source, sink, options.frames.clone(), progress)?;
-    let mut pack = source.report;
-    (pack.path, pack.frames, pack.file_bytes) = (output.to_path_buf(), run.frames.len(), run.written.file_bytes);
-    pack.warnings = run.warnings;
-    let placed = source.scenes.placed.ok_or_else(|| Error::Usage("internal: the scene was never placed".into()))?;
-    Ok(HoloFlickEncodeReport { pack, placed, micropolygons: source.micropolygons, shadowed: source.shadowed })
+    let (source, run) = pipeline::open_and_run(input, open, sink, options.frames.clone(), progress)?;
+    let placed = source.placed().cloned().ok_or_else(|| Error::Usage("internal: the scene was never placed".into()))?;
+    let Encode { mut report, micropolygons, shadowed, .. } = source.stage;
+    (report.path, report.frames, report.file_bytes) = (output.to_path_buf(), run.frames.len(), run.written.file_bytes);
+    report.warnings = run.warnings;
+    Ok(HoloFlickEncodeReport { pack: report, placed, micropolygons, shadowed })
 }
 
-/// A scene file as a [`Source`] of HoloFlick frames for one display: each
-/// frame placed, diced, baked and compressed.
-pub struct EncodeSource<'a> {
-    scenes: PlacedScenes,
-    geometry: &'a Geometry,
+/// Scenes made into HoloFlick frames for one display: each placed scene
+/// diced, baked and compressed (the [`SceneStage`] of `holoflick encode`).
+pub struct Encode<'a> {
     options: &'a HoloFlickEncodeOptions,
     /// The largest micropolygon edge at a point, in metres.
-    budget: Box<dyn Fn([f64; 3]) -> f64 + Sync>,
+    budget: Box<dyn Fn([f64; 3]) -> f64 + Sync + 'a>,
     couch: ViewerCouch,
-    /// The first frame of the run: key frames count from it.
-    first: usize,
     keys: KeyFrames,
     report: PackReport,
     micropolygons: usize,
     shadowed: usize,
 }
 
-impl Source for EncodeSource<'_> {
+impl SceneStage for Encode<'_> {
     type Frame = Frame;
 
-    fn name(&self) -> String {
-        self.scenes.path().display().to_string()
+    fn frame_rate(&self, frames_per_second: f64) -> (u32, u32) {
+        frame_rate_fraction(frames_per_second)
     }
 
-    fn inputs(&self) -> Vec<PathBuf> {
-        vec![self.scenes.path().to_path_buf()]
-    }
+    fn placed(&mut self, _: &Scene, _: &Placed) {}
 
-    fn frame_count(&self) -> usize {
-        self.scenes.frame_count()
-    }
-
-    fn frames_per_second(&self) -> Option<(u32, u32)> {
-        Some(frame_rate_fraction(self.scenes.frames_per_second()))
-    }
-
-    fn place(&mut self, frames: &Range<usize>, warnings: &mut Warnings) -> Result<()> {
-        self.first = frames.start;
-        let scene = self.scenes.place(frames.start, self.geometry, &self.options.placement)?;
-        warnings.merge_frame(&scene.warnings);
-        Ok(())
-    }
-
-    fn provenance(&self) -> String {
+    fn provenance(&self, input: &Path) -> String {
         let o = self.options;
         format!(
             "holo holoflick encode {} (micropolygons {}× the display's resolution{}{}; {}/{}/{} bits)",
-            self.scenes.path().display(),
+            input.display(),
             o.micropolygon,
             if o.smooth { ", smooth" } else { "" },
             if o.shadows { ", shadows" } else { "" },
@@ -192,27 +168,7 @@ impl Source for EncodeSource<'_> {
         )
     }
 
-    fn render(
-        &mut self,
-        number: usize,
-        frame: &mut Frame,
-        stages: &dyn Progress,
-        warnings: &mut Warnings,
-    ) -> Result<()> {
-        if !self.scenes.is_kept(number) {
-            // Seen at placement otherwise.
-            let scene = self.scenes.scene(number)?;
-            warnings.merge_frame(&scene.warnings);
-            return self.encode(number, scene, frame, stages);
-        }
-        let scene = self.scenes.scene(number)?;
-        self.encode(number, scene, frame, stages)
-    }
-}
-
-impl EncodeSource<'_> {
-    /// Dice, bake and compress `scene` as frame `number`.
-    fn encode(&mut self, number: usize, scene: Scene, frame: &mut Frame, stages: &dyn Progress) -> Result<()> {
+    fn make(&mut self, _: usize, index: usize, scene: Scene, frame: &mut Frame, stages: &dyn Progress) -> Result<()> {
         let o = self.options;
         // Baked with the lights a render of the scene uses, as `convert mesh`
         // lights it.
@@ -224,7 +180,7 @@ impl EncodeSource<'_> {
         stages.advance(1);
         self.micropolygons += micro_report.dice.triangles_out;
         self.shadowed += micro_report.bake.shadowed;
-        let is_key = self.keys.start_frame(number - self.first, o.key_interval);
+        let is_key = self.keys.start_frame(index, o.key_interval);
         let lights = specular_lights.iter().filter_map(specular_light).collect();
         // Objects diced to nothing (wholly culled) are left out.
         let objects: Vec<_> = micro.objects.into_iter().filter(|o| !o.triangles.is_empty()).collect();

@@ -1,11 +1,9 @@
 //! HoloFlicks as the output of a [`crate::pipeline::run`]: a `.hflk` file
-//! ([`HoloFlickSink`]) or, for one frame, a Java 3D `.cg` file ([`CgSink`]).
+//! or, for one frame, a Java 3D `.cg` file ([`HoloFlickSink`]).
 
 use std::path::{Path, PathBuf};
 
-use super::container::{
-    write_cg_file, Frame, HoloFlickWriter, ObjectRecord, ViewerCouch, WriteOptions, WriteReport as ContainerReport,
-};
+use super::container::{write_cg_file, Frame, HoloFlickWriter, ObjectRecord, ViewerCouch, WriteOptions};
 use crate::pipeline::{Job, Sink};
 use crate::{Error, Result};
 
@@ -41,12 +39,34 @@ fn empty_frame() -> Frame {
     }
 }
 
-/// A HoloFlick file (`.hflk`, spec/holoflick.md) as the output of a run; its
-/// `source` text is the run's provenance.
+/// HoloFlick frames as the output of a run: a HoloFlick file (`.hflk`,
+/// spec/holoflick.md; its `source` text the run's provenance) or, when the
+/// name ends in `.cg`, a Java 3D `.cg` file of one frame's objects as they
+/// are stored (no transforms, no lights: the file cannot hold them).
 #[derive(Clone, Debug)]
 pub struct HoloFlickSink {
     path: PathBuf,
     overwrite: bool,
+}
+
+/// What a [`HoloFlickSink`] wrote.
+#[derive(Clone, Debug, Default)]
+pub struct HoloFlickWritten {
+    /// The file's size.
+    pub file_bytes: u64,
+    /// For a `.cg` file, each object's `model = normalised × (1/scale) +
+    /// centre` as (centre, 1/scale), and its colour scale (`1/s` was applied
+    /// to colours above 1): a `.cg` file cannot hold them.
+    pub cg: Option<CgObjects>,
+}
+
+/// What a `.cg` file could not hold of its objects.
+#[derive(Clone, Debug, Default)]
+pub struct CgObjects {
+    /// (centre, 1/scale) of each object.
+    pub transforms: Vec<([f64; 3], f64)>,
+    /// The colour scale of each object.
+    pub radiance_scales: Vec<f64>,
 }
 
 impl HoloFlickSink {
@@ -54,72 +74,14 @@ impl HoloFlickSink {
     pub fn new(path: &Path, overwrite: bool) -> Self {
         HoloFlickSink { path: path.to_path_buf(), overwrite }
     }
-}
 
-impl Sink<Frame> for HoloFlickSink {
-    type Written = ContainerReport;
-
-    fn path(&self) -> &Path {
-        &self.path
+    /// Whether the output is a Java 3D `.cg` file.
+    pub fn is_cg(&self) -> bool {
+        self.path.extension().is_some_and(|e| e.eq_ignore_ascii_case("cg"))
     }
 
-    fn overwrite(&self) -> bool {
-        self.overwrite
-    }
-
-    fn write(self, job: &Job, render: &mut dyn FnMut(usize, &mut Frame) -> Result<()>) -> Result<ContainerReport> {
-        let rate = job.frames_per_second.unwrap_or((30, 1));
-        let mut writer =
-            HoloFlickWriter::create(&self.path, &writer_options(rate, job.provenance.clone(), self.overwrite))?;
-        for number in job.frames.clone() {
-            let mut frame = empty_frame();
-            render(number, &mut frame)?;
-            writer.add_frame(&frame)?;
-        }
-        Ok(writer.finish()?)
-    }
-}
-
-/// A Java 3D `.cg` file as the output of a run of one frame: the frame's
-/// objects as they are stored (no transforms, no lights: the file cannot
-/// hold them).
-#[derive(Clone, Debug)]
-pub struct CgSink {
-    path: PathBuf,
-    overwrite: bool,
-}
-
-/// What a `.cg` file got.
-#[derive(Clone, Debug, Default)]
-pub struct CgWritten {
-    /// The file's size.
-    pub file_bytes: u64,
-    /// Each object's `model = normalised × (1/scale) + centre` as (centre,
-    /// 1/scale): a `.cg` file cannot hold it.
-    pub transforms: Vec<([f64; 3], f64)>,
-    /// Each object's colour scale (`1/s` was applied to colours above 1).
-    pub radiance_scales: Vec<f64>,
-}
-
-impl CgSink {
-    /// Write `path`, replacing an existing file only when `overwrite`.
-    pub fn new(path: &Path, overwrite: bool) -> Self {
-        CgSink { path: path.to_path_buf(), overwrite }
-    }
-}
-
-impl Sink<Frame> for CgSink {
-    type Written = CgWritten;
-
-    fn path(&self) -> &Path {
-        &self.path
-    }
-
-    fn overwrite(&self) -> bool {
-        self.overwrite
-    }
-
-    fn write(self, job: &Job, render: &mut dyn FnMut(usize, &mut Frame) -> Result<()>) -> Result<CgWritten> {
+    /// The one frame of a `.cg` file.
+    fn write_cg(self, job: &Job, render: &mut dyn FnMut(usize, &mut Frame) -> Result<()>) -> Result<HoloFlickWritten> {
         if job.frames.len() != 1 {
             return Err(Error::Usage(format!(
                 "{}: a .cg file holds one frame's objects; {} frames given (write a .hflk)",
@@ -129,7 +91,7 @@ impl Sink<Frame> for CgSink {
         }
         let mut frame = empty_frame();
         render(job.frames.start, &mut frame)?;
-        let mut written = CgWritten::default();
+        let mut cg = CgObjects::default();
         let mut blocks = Vec::new();
         for o in frame.objects {
             // The first frame of a run is a key frame: every object is stored.
@@ -137,11 +99,38 @@ impl Sink<Frame> for CgSink {
                 return Err(Error::Usage(format!("{}: internal: a reference in a .cg frame", self.path.display())));
             };
             let m = g.world_from_object;
-            written.transforms.push(([m[0][3], m[1][3], m[2][3]], m[0][0]));
-            written.radiance_scales.push(g.radiance_scale);
+            cg.transforms.push(([m[0][3], m[1][3], m[2][3]], m[0][0]));
+            cg.radiance_scales.push(g.radiance_scale);
             blocks.push(g.block);
         }
-        written.file_bytes = write_cg_file(&self.path, &blocks, self.overwrite)?;
-        Ok(written)
+        let file_bytes = write_cg_file(&self.path, &blocks, self.overwrite)?;
+        Ok(HoloFlickWritten { file_bytes, cg: Some(cg) })
+    }
+}
+
+impl Sink<Frame> for HoloFlickSink {
+    type Written = HoloFlickWritten;
+
+    fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn overwrite(&self) -> bool {
+        self.overwrite
+    }
+
+    fn write(self, job: &Job, render: &mut dyn FnMut(usize, &mut Frame) -> Result<()>) -> Result<HoloFlickWritten> {
+        if self.is_cg() {
+            return self.write_cg(job, render);
+        }
+        let rate = job.frames_per_second.unwrap_or((30, 1));
+        let mut writer =
+            HoloFlickWriter::create(&self.path, &writer_options(rate, job.provenance.clone(), self.overwrite))?;
+        for number in job.frames.clone() {
+            let mut frame = empty_frame();
+            render(number, &mut frame)?;
+            writer.add_frame(&frame)?;
+        }
+        Ok(HoloFlickWritten { file_bytes: writer.finish()?.file_bytes, cg: None })
     }
 }

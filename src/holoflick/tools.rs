@@ -19,7 +19,7 @@ use super::container::{
     SpecularModel, ViewerCouch, IDENTITY,
 };
 use super::objects::{decode_object, encode_object};
-use super::sink::{frame_rate_fraction, CgSink, HoloFlickSink};
+use super::sink::{frame_rate_fraction, HoloFlickSink};
 use crate::math::{unit, widen};
 use crate::mesh::load::SceneSource;
 use crate::mesh::shade::sample;
@@ -98,26 +98,20 @@ pub fn pack(inputs: &[PathBuf], output: &Path, options: &PackOptions, progress: 
     let read: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     crate::output::check_output(output, &read, options.overwrite)?;
     let mut source = PackSource::open(inputs, options)?;
-    let mut report = if output.extension().is_some_and(|e| e.eq_ignore_ascii_case("cg")) {
-        let run = pipeline::run(&mut source, CgSink::new(output, options.overwrite), options.frames.clone(), progress)?;
-        let mut report = PackReport { file_bytes: run.written.file_bytes, ..PackReport::default() };
-        for (name, scale) in source.names.iter().zip(&run.written.radiance_scales) {
+    let sink = HoloFlickSink::new(output, options.overwrite);
+    let run = pipeline::run(&mut source, sink, options.frames.clone(), progress)?;
+    let mut report = PackReport { file_bytes: run.written.file_bytes, frames: run.frames.len(), ..Default::default() };
+    if let Some(cg) = run.written.cg {
+        for (name, scale) in source.names.iter().zip(&cg.radiance_scales) {
             if *scale != 1.0 {
                 report.warnings.push(format!(
                     "object \"{name}\": colours above 1 were scaled by 1/{scale:.4} (a .cg file cannot hold the scale)"
                 ));
             }
         }
-        report.cg_transforms = run.written.transforms;
-        report.warnings.extend(run.warnings);
-        report.frames = run.frames.len();
-        report
-    } else {
-        let sink = HoloFlickSink::new(output, options.overwrite);
-        let run = pipeline::run(&mut source, sink, options.frames.clone(), progress)?;
-        let (file_bytes, frames, warnings) = (run.written.file_bytes, run.frames.len(), run.warnings);
-        PackReport { file_bytes, frames, warnings, ..PackReport::default() }
-    };
+        report.cg_transforms = cg.transforms;
+    }
+    report.warnings.extend(run.warnings);
     let counted = &source.report;
     report.path = output.to_path_buf();
     (report.stored, report.references) = (counted.stored, counted.references);
@@ -177,10 +171,6 @@ impl<'a> PackSource<'a> {
 
 impl Source for PackSource<'_> {
     type Frame = Frame;
-
-    fn name(&self) -> String {
-        self.inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(" ")
-    }
 
     fn inputs(&self) -> Vec<PathBuf> {
         self.inputs.to_vec()

@@ -2,7 +2,7 @@
 //!
 //! The scene is placed once (on the first frame converted) and that
 //! placement is kept for every frame, so an animation does not jitter as its
-//! bounding box changes ([`PlacedScenes`]). Frames are rendered one at a time
+//! bounding box changes ([`SceneFrames`]). Frames are rendered one at a time
 //! as the writer asks for them ([`MeshSource`] through [`crate::pipeline`]):
 //! memory is one frame whatever the frame count.
 
@@ -72,8 +72,8 @@ pub struct ConvertReport {
 }
 
 /// Convert `input` into `output` for `geometry`: a [`MeshSource`] through
-/// [`crate::pipeline::run`]. A movie reports its frames to `progress`, a
-/// single frame its hololines.
+/// [`crate::pipeline`]. A movie reports its frames to `progress`, a single
+/// frame its hololines.
 pub fn convert_mesh(
     input: &Path,
     geometry: &Geometry,
@@ -81,12 +81,12 @@ pub fn convert_mesh(
     options: &ConvertOptions,
     progress: &dyn Progress,
 ) -> Result<ConvertReport> {
-    // Refused before the scene is even read.
-    crate::output::check_output(output, &[input], options.write.overwrite)?;
-    let mut source = MeshSource::open(input, geometry, options)?;
     let sink = HoloSink::new(output, geometry, options.write.clone());
-    let run = pipeline::run(&mut source, sink, options.frames.clone(), progress)?;
-    let first = source.first.ok_or_else(|| Error::Usage("internal: the scene was never placed".into()))?;
+    let open =
+        |input: &Path| SceneFrames::open(input, geometry, &options.placement, options.fps, MeshRender::new(options));
+    let (source, run) = pipeline::open_and_run(input, open, sink, options.frames.clone(), progress)?;
+    let MeshRender { first, stats, .. } = source.stage;
+    let first = first.ok_or_else(|| Error::Usage("internal: the scene was never placed".into()))?;
     Ok(ConvertReport {
         path: output.to_path_buf(),
         frames: run.frames,
@@ -94,88 +94,143 @@ pub fn convert_mesh(
         objects: first.objects,
         placed: first.placed,
         lights: first.lights,
-        stats: source.stats,
+        stats,
         warnings: run.warnings,
         written: run.written,
     })
 }
 
-/// A scene file's frames in display metres: frame `i` is the scene at
-/// `i / fps` seconds, placed as the first frame made was (so an animation
-/// does not jitter as its bounding box changes). Mesh conversion and
-/// HoloFlick encoding both take their scenes from it.
-#[derive(Debug)]
-pub struct PlacedScenes {
-    source: SceneSource,
-    frames_per_second: f64,
-    /// The first frame made, kept from placement until it is asked for.
-    first: Option<(usize, Scene)>,
-    /// The placement, once decided.
-    pub placed: Option<Placed>,
+/// What is made of each scene of a [`SceneFrames`]: a rendered `.holo`
+/// frame ([`MeshRender`]) or a HoloFlick frame
+/// ([`crate::holoflick::encode::Encode`]).
+pub trait SceneStage {
+    /// The buffer a frame is made into.
+    type Frame;
+    /// The frame rate as written, for `frames_per_second`.
+    fn frame_rate(&self, frames_per_second: f64) -> (u32, u32);
+    /// The first scene, placed (`placed`), before any frame is made.
+    fn placed(&mut self, scene: &Scene, placed: &Placed);
+    /// What the frames are made from (`input`) and how.
+    fn provenance(&self, input: &Path) -> String;
+    /// Make frame `number` of `scene`; `index` is its place in the run.
+    fn make(
+        &mut self,
+        number: usize,
+        index: usize,
+        scene: Scene,
+        frame: &mut Self::Frame,
+        progress: &dyn Progress,
+    ) -> Result<()>;
 }
 
-impl PlacedScenes {
-    /// Open `input`, sampling an animation at `frames_per_second`.
-    pub fn open(input: &Path, frames_per_second: f64) -> Result<PlacedScenes> {
+/// A scene file's frames in display metres as a [`Source`]: frame `i` is
+/// the scene at `i / fps` seconds, placed as the first frame of the run was
+/// (so an animation does not jitter as its bounding box changes), and made
+/// into a frame by the stage `S`.
+#[derive(Debug)]
+pub struct SceneFrames<'a, S> {
+    source: SceneSource,
+    geometry: &'a Geometry,
+    placement: Placement,
+    frames_per_second: f64,
+    /// The first frame of the run, kept from placement until it is made.
+    first: Option<(usize, Scene)>,
+    first_number: usize,
+    placed: Option<Placed>,
+    /// What is made of each scene.
+    pub stage: S,
+}
+
+impl<'a, S: SceneStage> SceneFrames<'a, S> {
+    /// Open `input` for `geometry`, placed by `placement`, an animation
+    /// sampled at `frames_per_second`.
+    pub fn open(
+        input: &Path,
+        geometry: &'a Geometry,
+        placement: &Placement,
+        frames_per_second: f64,
+        stage: S,
+    ) -> Result<Self> {
         if !(frames_per_second.is_finite() && frames_per_second > 0.0) {
             return Err(Error::Usage(format!(
                 "{}: the frame rate must be a positive number of frames per second, not {frames_per_second}",
                 input.display()
             )));
         }
-        Ok(PlacedScenes { source: SceneSource::open(input)?, frames_per_second, first: None, placed: None })
+        Ok(SceneFrames {
+            source: SceneSource::open(input)?,
+            geometry,
+            placement: placement.clone(),
+            frames_per_second,
+            first: None,
+            first_number: 0,
+            placed: None,
+            stage,
+        })
     }
 
-    /// The file the scenes come from.
-    pub fn path(&self) -> &Path {
-        self.source.path()
+    /// The placement, once decided.
+    pub fn placed(&self) -> Option<&Placed> {
+        self.placed.as_ref()
+    }
+}
+
+impl<S: SceneStage> Source for SceneFrames<'_, S> {
+    type Frame = S::Frame;
+
+    fn inputs(&self) -> Vec<PathBuf> {
+        vec![self.source.path().to_path_buf()]
     }
 
-    /// The animation's frames at this rate (its first and last pose
+    /// The animation's frames at the frame rate (its first and last pose
     /// included), or one frame for a still scene.
-    pub fn frame_count(&self) -> usize {
+    fn frame_count(&self) -> usize {
         match self.source.animation_duration_s() {
             Some(d) => (d * self.frames_per_second).floor() as usize + 1,
             None => 1,
         }
     }
 
-    /// The frame rate in frames per second.
-    pub fn frames_per_second(&self) -> f64 {
-        self.frames_per_second
+    fn frames_per_second(&self) -> Option<(u32, u32)> {
+        Some(self.stage.frame_rate(self.frames_per_second))
     }
 
-    /// Place frame `first` in `geometry` and keep that placement for every
-    /// frame; the placed scene is kept for [`PlacedScenes::scene`].
-    pub fn place(&mut self, first: usize, geometry: &Geometry, placement: &Placement) -> Result<&Scene> {
-        let mut scene = self.source.scene_at(first as f64 / self.frames_per_second)?;
-        self.placed = Some(place(&mut scene, geometry, placement)?);
-        let (_, scene) = self.first.insert((first, scene));
-        Ok(scene)
+    fn place(&mut self, frames: &Range<usize>, warnings: &mut Warnings) -> Result<()> {
+        let mut scene = self.source.scene_at(frames.start as f64 / self.frames_per_second)?;
+        let placed = place(&mut scene, self.geometry, &self.placement)?;
+        warnings.merge_frame(&scene.warnings);
+        self.stage.placed(&scene, &placed);
+        (self.placed, self.first, self.first_number) = (Some(placed), Some((frames.start, scene)), frames.start);
+        Ok(())
     }
 
-    /// Whether frame `number` is the one placement kept (its warnings were
-    /// seen then).
-    pub fn is_kept(&self, number: usize) -> bool {
-        self.first.as_ref().is_some_and(|(n, _)| *n == number)
+    fn provenance(&self) -> String {
+        self.stage.provenance(self.source.path())
     }
 
-    /// Frame `number`, placed.
-    pub fn scene(&mut self, number: usize) -> Result<Scene> {
-        if let Some((n, scene)) = self.first.take() {
-            if n == number {
-                return Ok(scene);
+    fn render(
+        &mut self,
+        number: usize,
+        frame: &mut S::Frame,
+        progress: &dyn Progress,
+        warnings: &mut Warnings,
+    ) -> Result<()> {
+        let scene = match self.first.take() {
+            // Its warnings were taken at placement.
+            Some((n, scene)) if n == number => scene,
+            _ => {
+                let placed = self.placed.as_ref().ok_or_else(|| Error::Usage("internal: not placed".into()))?;
+                let mut scene = self.source.scene_at(number as f64 / self.frames_per_second)?;
+                apply(&mut scene, &placed.matrix);
+                warnings.merge_frame(&scene.warnings);
+                scene
             }
-        }
-        let placed =
-            self.placed.as_ref().ok_or_else(|| Error::Usage("internal: scenes asked for before placement".into()))?;
-        let mut scene = self.source.scene_at(number as f64 / self.frames_per_second)?;
-        apply(&mut scene, &placed.matrix);
-        Ok(scene)
+        };
+        self.stage.make(number, number - self.first_number, scene, frame, progress)
     }
 }
 
-/// What the first frame made of a mesh conversion was.
+/// What the first frame of a mesh conversion was.
 #[derive(Clone, Debug)]
 struct First {
     triangles: usize,
@@ -184,66 +239,40 @@ struct First {
     lights: Vec<Light>,
 }
 
-/// A scene file as a [`Source`] of `.holo` frames, each rendered by the
-/// mesh renderer ([`render_into`]).
+/// Scenes rendered into `.holo` frames by the mesh renderer ([`render_into`]).
 #[derive(Debug)]
-pub struct MeshSource<'a> {
-    scenes: PlacedScenes,
-    geometry: &'a Geometry,
-    placement: Placement,
+pub struct MeshRender {
     render: RenderOptions,
     first: Option<First>,
     /// Work counters summed over the frames rendered.
     pub stats: RenderStats,
 }
 
-impl<'a> MeshSource<'a> {
-    /// Open `input` to render for `geometry` with `options` (its placement,
-    /// render options and frame rate).
-    pub fn open(input: &Path, geometry: &'a Geometry, options: &ConvertOptions) -> Result<MeshSource<'a>> {
-        Ok(MeshSource {
-            scenes: PlacedScenes::open(input, options.fps)?,
-            geometry,
-            placement: options.placement.clone(),
-            render: options.render.clone(),
-            first: None,
-            stats: RenderStats::default(),
-        })
+impl MeshRender {
+    /// Rendering with `options`' render options.
+    pub fn new(options: &ConvertOptions) -> Self {
+        MeshRender { render: options.render.clone(), first: None, stats: RenderStats::default() }
     }
 }
 
-impl Source for MeshSource<'_> {
+/// A scene file as a [`Source`] of `.holo` frames.
+pub type MeshSource<'a> = SceneFrames<'a, MeshRender>;
+
+impl SceneStage for MeshRender {
     type Frame = Band;
 
-    fn name(&self) -> String {
-        self.scenes.path().display().to_string()
+    fn frame_rate(&self, frames_per_second: f64) -> (u32, u32) {
+        ((frames_per_second * 1000.0).round() as u32, 1000)
     }
 
-    fn inputs(&self) -> Vec<PathBuf> {
-        vec![self.scenes.path().to_path_buf()]
-    }
-
-    fn frame_count(&self) -> usize {
-        self.scenes.frame_count()
-    }
-
-    fn frames_per_second(&self) -> Option<(u32, u32)> {
-        Some(((self.scenes.frames_per_second() * 1000.0).round() as u32, 1000))
-    }
-
-    fn place(&mut self, frames: &Range<usize>, warnings: &mut Warnings) -> Result<()> {
-        let scene = self.scenes.place(frames.start, self.geometry, &self.placement)?;
-        warnings.merge_frame(&scene.warnings);
-        let (triangles, objects) = (scene.triangle_count(), scene.objects.len());
+    fn placed(&mut self, scene: &Scene, placed: &Placed) {
         let lights = self.render.lighting_for(scene).lights;
-        let placed = self.scenes.placed.clone().ok_or_else(|| Error::Usage("internal: no placement".into()))?;
-        self.first = Some(First { triangles, objects, placed, lights });
-        Ok(())
+        let (triangles, objects) = (scene.triangle_count(), scene.objects.len());
+        self.first = Some(First { triangles, objects, placed: placed.clone(), lights });
     }
 
-    fn provenance(&self) -> String {
-        let path = self.scenes.path();
-        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    fn provenance(&self, input: &Path) -> String {
+        let name = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         let (triangles, objects, placed) = match &self.first {
             Some(f) => (f.triangles, f.objects, f.placed.to_string()),
             None => (0, 0, String::new()),
@@ -256,18 +285,7 @@ impl Source for MeshSource<'_> {
         )
     }
 
-    fn render(
-        &mut self,
-        number: usize,
-        frame: &mut Band,
-        progress: &dyn Progress,
-        warnings: &mut Warnings,
-    ) -> Result<()> {
-        let seen = self.scenes.is_kept(number);
-        let scene = self.scenes.scene(number)?;
-        if !seen {
-            warnings.merge_frame(&scene.warnings);
-        }
+    fn make(&mut self, number: usize, _: usize, scene: Scene, frame: &mut Band, progress: &dyn Progress) -> Result<()> {
         let progress = Labelled::new(progress, format!("frame {number}"));
         let render = &self.render;
         self.stats += frame.as_frame(|m| render_into(&scene, render, &progress, m))??;
