@@ -106,12 +106,7 @@ pub fn convert_holoflick(
     let count = reader.frame_count() as usize;
     let frames = options.frames.clone().unwrap_or(0..count);
     if frames.start >= frames.end || frames.end > count {
-        return Err(Error::Usage(format!(
-            "{}: frames {}..{} asked for; the file has {count} (0..{count})",
-            input.display(),
-            frames.start,
-            frames.end
-        )));
+        return Err(Error::NoFrame { path: input.to_path_buf(), asked: frames, frames: count });
     }
     let (zone_lo, zone_hi) = viewing_zone(geometry);
     let mut warnings = Vec::new();
@@ -171,7 +166,9 @@ pub fn convert_holoflick(
     })
     .map_err(|e| match failure {
         Some(n) => match e {
-            Error::Usage(m) => Error::Usage(format!("{}: frame {n}: {m}", input.display())),
+            Error::Argument { what, problem } => {
+                Error::Argument { what, problem: format!("{}: frame {n}: {problem}", input.display()) }
+            }
             other => other,
         },
         None => e,

@@ -102,10 +102,16 @@ pub fn encode_holoflick(
     progress: &dyn Fn(usize, usize),
 ) -> Result<HoloFlickEncodeReport> {
     if !(options.frames_per_second.is_finite() && options.frames_per_second > 0.0) {
-        return Err(Error::Usage(format!("--fps must be positive (got {})", options.frames_per_second)));
+        return Err(Error::argument(
+            "frame rate",
+            format!("--fps must be positive (got {})", options.frames_per_second),
+        ));
     }
     if !(options.micropolygon.is_finite() && options.micropolygon > 0.0) {
-        return Err(Error::Usage(format!("--micropolygon must be positive (got {})", options.micropolygon)));
+        return Err(Error::argument(
+            "micropolygon",
+            format!("--micropolygon must be positive (got {})", options.micropolygon),
+        ));
     }
     crate::output::check_output(output, &[input], options.overwrite)?;
     let source = SceneSource::open(input)?;
@@ -113,18 +119,24 @@ pub fn encode_holoflick(
         (Some(r), Some(_)) => r.clone(),
         (Some(r), None) if *r == (0..1) => r.clone(),
         (Some(r), None) => {
-            return Err(Error::Usage(format!(
-                "{}: the scene is not animated, so it has one frame (0); --frames asked for {}..{}",
-                input.display(),
-                r.start,
-                r.end
-            )))
+            return Err(Error::argument(
+                "frame range",
+                format!(
+                    "{}: the scene is not animated, so it has one frame (0); --frames asked for {}..{}",
+                    input.display(),
+                    r.start,
+                    r.end
+                ),
+            ))
         }
         (None, Some(d)) => 0..((d * options.frames_per_second).floor() as usize + 1),
         (None, None) => 0..1,
     };
     if frames.is_empty() {
-        return Err(Error::Usage(format!("the frame range {}..{} is empty", frames.start, frames.end)));
+        return Err(Error::argument(
+            "frame range",
+            format!("the frame range {}..{} is empty", frames.start, frames.end),
+        ));
     }
     let mut first = source.scene_at(frames.start as f64 / options.frames_per_second)?;
     let placed = place(&mut first, geometry, &options.placement)?;

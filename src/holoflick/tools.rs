@@ -95,10 +95,13 @@ pub fn pack(
     progress: &dyn Fn(usize, usize),
 ) -> Result<PackReport> {
     if inputs.is_empty() {
-        return Err(Error::Usage("pack needs at least one mesh".into()));
+        return Err(Error::argument("meshes", "pack needs at least one mesh"));
     }
     if !(options.frames_per_second.is_finite() && options.frames_per_second > 0.0) {
-        return Err(Error::Usage(format!("--fps must be positive (got {})", options.frames_per_second)));
+        return Err(Error::argument(
+            "frame rate",
+            format!("--fps must be positive (got {})", options.frames_per_second),
+        ));
     }
     let read: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     crate::output::check_output(output, &read, options.overwrite)?;
@@ -110,12 +113,15 @@ pub fn pack(
                 let count = (d * options.frames_per_second).floor() as usize + 1;
                 let keep = options.frames.clone().unwrap_or(0..count);
                 if keep.start >= keep.end || keep.end > count {
-                    return Err(Error::Usage(format!(
-                        "{}: --frames {}..{} outside the animation's {count} frames",
-                        s.path().display(),
-                        keep.start,
-                        keep.end
-                    )));
+                    return Err(Error::argument(
+                        "frame range",
+                        format!(
+                            "{}: --frames {}..{} outside the animation's {count} frames",
+                            s.path().display(),
+                            keep.start,
+                            keep.end
+                        ),
+                    ));
                 }
                 frames.extend(keep.map(|k| FrameSource { input, time_s: k as f64 / options.frames_per_second }));
             }
@@ -124,11 +130,14 @@ pub fn pack(
     }
     let cg = output.extension().is_some_and(|e| e.eq_ignore_ascii_case("cg"));
     if cg && frames.len() != 1 {
-        return Err(Error::Usage(format!(
-            "{}: a .cg file holds one frame's objects; {} frames given (write a .hflk)",
-            output.display(),
-            frames.len()
-        )));
+        return Err(Error::argument(
+            "frames",
+            format!(
+                "{}: a .cg file holds one frame's objects; {} frames given (write a .hflk)",
+                output.display(),
+                frames.len()
+            ),
+        ));
     }
     let mut report = PackReport { path: output.to_path_buf(), ..PackReport::default() };
     if cg {
@@ -337,7 +346,7 @@ fn couch_in_front(scene: &Scene) -> ViewerCouch {
 pub fn frame_objects(input: &Path, frame: usize) -> Result<Vec<Object>> {
     if input.extension().is_some_and(|e| e.eq_ignore_ascii_case("cg")) {
         if frame != 0 {
-            return Err(Error::Usage(format!("{}: a .cg file has one frame, 0", input.display())));
+            return Err(Error::argument("frame", format!("{}: a .cg file has one frame, 0", input.display())));
         }
         let file = CgFile::read(input)?;
         return file
@@ -347,7 +356,7 @@ pub fn frame_objects(input: &Path, frame: usize) -> Result<Vec<Object>> {
             .map(|(i, o)| {
                 let descriptor = super::container::Descriptor::from_cg_header(&o.header);
                 let block = GeometryBlock::new(descriptor, &o.bytes)
-                    .map_err(|m| Error::invalid(input, format!("object {i}: {m}")))?;
+                    .map_err(|m| stored_object_error(input, format!("object {i}: {m}")))?;
                 decode_object(&format!("object {i}"), &block, &IDENTITY, 1.0).map(|(o, _)| o)
             })
             .collect::<Result<Vec<_>>>()
@@ -356,7 +365,7 @@ pub fn frame_objects(input: &Path, frame: usize) -> Result<Vec<Object>> {
     let mut reader = HoloFlickReader::open(input)?;
     let count = reader.frame_count() as usize;
     if frame >= count {
-        return Err(Error::Usage(format!("{}: has {count} frames; there is no frame {frame}", input.display())));
+        return Err(Error::no_frame(input, frame, count));
     }
     let resolved = reader.read_frame(frame as u32)?;
     resolved
@@ -369,11 +378,18 @@ pub fn frame_objects(input: &Path, frame: usize) -> Result<Vec<Object>> {
         .map_err(|e| named(input, e))
 }
 
+/// A stored object that cannot be decoded, as the error of the file that holds it.
 fn named(path: &Path, e: Error) -> Error {
     match e {
-        Error::Usage(m) => Error::invalid(path, m),
+        Error::Argument { problem, .. } => stored_object_error(path, problem),
         other => other,
     }
+}
+
+/// `problem` with a stored object of the HoloFlick or `.cg` file `path`.
+fn stored_object_error(path: &Path, problem: String) -> Error {
+    use super::container::{At, ContainerError};
+    Error::HoloFlick(ContainerError::Invalid { path: path.to_path_buf(), at: At(None), problem })
 }
 
 /// `holo holoflick unpack`: frame `frame` of `input` as a `.glb` or `.ply` mesh.

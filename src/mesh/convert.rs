@@ -78,7 +78,7 @@ pub fn convert_mesh(
     progress: &(dyn Fn(usize, usize, usize) + Sync),
 ) -> Result<ConvertReport> {
     if !(options.fps.is_finite() && options.fps > 0.0) {
-        return Err(Error::Usage(format!("--fps must be a positive number, not {}", options.fps)));
+        return Err(Error::argument("frame rate", format!("--fps must be a positive number, not {}", options.fps)));
     }
     crate::output::check_output(output, &[input], options.write.overwrite)?;
     let source = SceneSource::open(input)?;
@@ -88,15 +88,21 @@ pub fn convert_mesh(
         (None, None) => 0..1,
     };
     if frames.is_empty() {
-        return Err(Error::Usage(format!("the frame range {}..{} is empty", frames.start, frames.end)));
+        return Err(Error::argument(
+            "frame range",
+            format!("the frame range {}..{} is empty", frames.start, frames.end),
+        ));
     }
     if source.animation_duration_s().is_none() && frames != (0..1) {
-        return Err(Error::Usage(format!(
-            "{}: the scene is not animated, so it has one frame (0); --frames asked for {}..{}",
-            input.display(),
-            frames.start,
-            frames.end
-        )));
+        return Err(Error::argument(
+            "frame range",
+            format!(
+                "{}: the scene is not animated, so it has one frame (0); --frames asked for {}..{}",
+                input.display(),
+                frames.start,
+                frames.end
+            ),
+        ));
     }
     let mut first = source.scene_at(frames.start as f64 / options.fps)?;
     let placed = place(&mut first, geometry, &options.placement)?;

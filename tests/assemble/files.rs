@@ -97,7 +97,7 @@ fn bytes_are_reproducible_and_mismatches_are_named() {
     holo::write(&other, &Modulation::zeros(holo::layout::mark1().geometry).unwrap(), &WriteOptions::default()).unwrap();
     let err = assemble_file(&other, &layout, &dir.path().join("d"), &options, &mut |_, _| {}).unwrap_err().to_string();
     assert!(err.contains("mark1.holo") && err.contains("64 hololines (the layout has 4)"), "{err}");
-    assert!(err.contains("--resample"), "{err}");
+    assert!(err.contains("resampling"), "{err}");
     // Asked for explicitly, the frames are resampled onto the layout by rays.
     let resampling = AssembleOptions { resample: true, ..options.clone() };
     let r = assemble_file(&other, &layout, &dir.path().join("e"), &resampling, &mut |_, _| {}).unwrap();
