@@ -95,9 +95,68 @@ pub enum Error {
     /// (its message names the file when there is one).
     #[error(transparent)]
     CompressedGeometry(#[from] holo_cg::Error),
-    /// A request that does not fit the data (bad frame index, region, geometry mismatch, ...).
-    #[error("{0}")]
-    Usage(String),
+    /// A HoloFlick (`.hflk`) file that breaks a rule of its spec, or a
+    /// request it cannot answer (a frame past its end, an option the
+    /// format cannot store).
+    #[error(transparent)]
+    HoloFlick(crate::holoflick::container::ContainerError),
+    /// A scene that cannot be used: a mesh file (glTF, OBJ, PLY), its
+    /// materials, textures or lights file, or a scene built in memory
+    /// whose parts disagree (no triangles, a normal per vertex missing,
+    /// lights that do not fit it).
+    #[error("{path}: {problem}", path = .path.display())]
+    Scene {
+        /// The scene's file (or the name it was given when built in memory).
+        path: PathBuf,
+        /// What is wrong with it, as one sentence.
+        problem: String,
+    },
+    /// A camera capture that cannot be used: its rig file, image folder,
+    /// quilt, pictures or depth maps, or cameras placed so that they cannot
+    /// fill the display's views.
+    #[error("{path}: {problem}", path = .path.display())]
+    Rig {
+        /// The rig's file or folder (or the name it was given when built in memory).
+        path: PathBuf,
+        /// What is wrong with it, as one sentence.
+        problem: String,
+    },
+    /// A display layout that is unknown, unreadable as a profile, or
+    /// inconsistent (in itself or with the fringe side assembly needs).
+    #[error("layout {layout}: {problem}")]
+    Layout {
+        /// The layout's name, or the profile file it was read from.
+        layout: String,
+        /// What is wrong with it, as one sentence.
+        problem: String,
+    },
+    /// A layout name that is neither a built-in layout nor a profile file.
+    #[error("unknown layout {name:?}: the built-in layouts are {}, or give a .toml or .json profile", crate::layout::BUILTIN.join(", "))]
+    UnknownLayout {
+        /// The name asked for.
+        name: String,
+    },
+    /// Frames asked of a file (or a set of files) that does not hold them.
+    #[error("{path}: {}", no_frame_text(.asked, .frames), path = .path.display())]
+    NoFrame {
+        /// The file or folder asked.
+        path: PathBuf,
+        /// The frames asked for (one frame `n` is `n..n + 1`).
+        asked: std::ops::Range<usize>,
+        /// How many frames it holds.
+        frames: usize,
+    },
+    /// A value the caller passed that is out of range or does not fit the
+    /// data: a negative frame rate, a region outside the frame, a
+    /// modulation of another geometry, a window holding no sample...
+    #[error("{problem}")]
+    Argument {
+        /// The value concerned (`"frame rate"`, `"white level"`,
+        /// `"geometry"`, ...), for a caller that names its own options.
+        what: &'static str,
+        /// What is wrong with it, as one sentence that names the value.
+        problem: String,
+    },
     /// An output that cannot be written as asked, found before any work
     /// (it exists, its folder is missing, it is one of the inputs) or when
     /// a set of files is replaced.
@@ -161,6 +220,10 @@ pub enum SetProblem {
         /// What to do, e.g. "export the views again".
         remedy: &'static str,
     },
+    /// The manifest, or a file it lists, cannot be read as what the set
+    /// says it is (not JSON, an image of another size, a missing channel).
+    #[error("{0}")]
+    Malformed(String),
 }
 
 /// Why an output cannot be written: the problems of
@@ -189,6 +252,18 @@ pub enum OutputProblem {
     /// removed, and nothing more is put in place.
     #[error("not put in place: the process is being interrupted")]
     Interrupted,
+    /// The output's format cannot hold what is asked (a PNG of five
+    /// components, a `.glb` over 4 GiB, a name whose format is unknown).
+    #[error("{0}")]
+    Unsupported(String),
+    /// The encoder of the output's format refused the data.
+    #[error("cannot write {format}: {message}")]
+    Encode {
+        /// The format (`PNG`, `JSON`, ...).
+        format: &'static str,
+        /// What the encoder said.
+        message: String,
+    },
 }
 
 /// Result with the library's error.
@@ -200,6 +275,40 @@ impl Error {
     }
     pub(crate) fn invalid(path: impl Into<PathBuf>, problem: impl Into<String>) -> Self {
         Error::Invalid { path: path.into(), problem: problem.into() }
+    }
+    pub(crate) fn scene(path: impl Into<PathBuf>, problem: impl Into<String>) -> Self {
+        Error::Scene { path: path.into(), problem: problem.into() }
+    }
+    pub(crate) fn rig(path: impl Into<PathBuf>, problem: impl Into<String>) -> Self {
+        Error::Rig { path: path.into(), problem: problem.into() }
+    }
+    pub(crate) fn layout(layout: impl Into<String>, problem: impl Into<String>) -> Self {
+        Error::Layout { layout: layout.into(), problem: problem.into() }
+    }
+    pub(crate) fn argument(what: &'static str, problem: impl Into<String>) -> Self {
+        Error::Argument { what, problem: problem.into() }
+    }
+    /// An [`Error::Argument`] with the file it concerns put before its
+    /// sentence; any other error as it is (it names its file already).
+    pub(crate) fn naming(self, path: &std::path::Path) -> Self {
+        match self {
+            Error::Argument { what, problem } => {
+                Error::Argument { what, problem: format!("{}: {problem}", path.display()) }
+            }
+            other => other,
+        }
+    }
+    /// `frame` asked of `path`, which holds `frames`.
+    pub(crate) fn no_frame(path: impl Into<PathBuf>, frame: usize, frames: usize) -> Self {
+        Error::NoFrame { path: path.into(), asked: frame..frame + 1, frames }
+    }
+    /// An output whose format cannot hold what is asked.
+    pub(crate) fn unsupported(path: impl Into<PathBuf>, problem: impl Into<String>) -> Self {
+        Error::Output { path: path.into(), problem: OutputProblem::Unsupported(problem.into()) }
+    }
+    /// An encoder's refusal to write `path` in `format`.
+    pub(crate) fn encode(path: impl Into<PathBuf>, format: &'static str, message: impl std::fmt::Display) -> Self {
+        Error::Output { path: path.into(), problem: OutputProblem::Encode { format, message: message.to_string() } }
     }
     pub(crate) fn exr(path: impl Into<PathBuf>, error: exr::error::Error) -> Self {
         let path = path.into();
@@ -214,5 +323,14 @@ impl Error {
             }
             other => Error::Exr { path, message: other.to_string() },
         }
+    }
+}
+
+/// The problem of [`Error::NoFrame`]: one frame, or a range.
+fn no_frame_text(asked: &std::ops::Range<usize>, frames: &usize) -> String {
+    if asked.len() == 1 {
+        format!("has {frames} frame(s); there is no frame {}", asked.start)
+    } else {
+        format!("frames {}..{} asked for; it has frames 0..{frames}", asked.start, asked.end)
     }
 }

@@ -24,11 +24,10 @@ impl Modulation {
     pub fn from_samples(geometry: Geometry, samples: Vec<f32>) -> Result<Self> {
         check_geometry(&geometry)?;
         if samples.len() as u64 != geometry.samples_per_frame() {
-            return Err(Error::Usage(format!(
-                "{} samples given for a geometry of {} samples",
-                samples.len(),
-                geometry.samples_per_frame()
-            )));
+            return Err(Error::argument(
+                "samples",
+                format!("{} samples given for a geometry of {} samples", samples.len(), geometry.samples_per_frame()),
+            ));
         }
         Ok(Modulation { geometry, samples })
     }
@@ -127,10 +126,13 @@ impl Band {
     pub fn zeros(geometry: Geometry, hololines: std::ops::Range<usize>) -> Result<Self> {
         check_geometry(&geometry)?;
         if hololines.start >= hololines.end || hololines.end > geometry.hololines {
-            return Err(Error::Usage(format!(
-                "hololines {}..{} are not a band of a geometry of {} hololines",
-                hololines.start, hololines.end, geometry.hololines
-            )));
+            return Err(Error::argument(
+                "hololines",
+                format!(
+                    "hololines {}..{} are not a band of a geometry of {} hololines",
+                    hololines.start, hololines.end, geometry.hololines
+                ),
+            ));
         }
         let per_line = geometry.emitters as u64 * geometry.views.count as u64 * geometry.channels.len() as u64;
         let n = usize::try_from(per_line * hololines.len() as u64).map_err(|_| too_big(&geometry))?;
@@ -178,10 +180,13 @@ impl Band {
 
     fn check_whole(&self) -> Result<()> {
         if self.hololines != (0..self.geometry.hololines) {
-            return Err(Error::Usage(format!(
-                "a band of hololines {}..{} is not a whole frame of {}",
-                self.hololines.start, self.hololines.end, self.geometry.hololines
-            )));
+            return Err(Error::argument(
+                "band",
+                format!(
+                    "a band of hololines {}..{} is not a whole frame of {}",
+                    self.hololines.start, self.hololines.end, self.geometry.hololines
+                ),
+            ));
         }
         Ok(())
     }
@@ -228,7 +233,7 @@ fn first_bad(
 }
 
 fn too_big(g: &Geometry) -> Error {
-    Error::Usage(format!("a frame of {} samples does not fit in memory", g.samples_per_frame()))
+    Error::argument("geometry", format!("a frame of {} samples does not fit in memory", g.samples_per_frame()))
 }
 
 fn check_geometry(g: &Geometry) -> Result<()> {
@@ -236,6 +241,6 @@ fn check_geometry(g: &Geometry) -> Result<()> {
     if problems.is_empty() {
         Ok(())
     } else {
-        Err(Error::Usage(format!("invalid geometry: {}", problems.join("; "))))
+        Err(Error::argument("geometry", format!("invalid geometry: {}", problems.join("; "))))
     }
 }

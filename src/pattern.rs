@@ -89,20 +89,23 @@ impl Pattern {
         let g = geometry;
         let level = self.level;
         if !(level.is_finite() && level >= 0.0) {
-            return Err(Error::Usage(format!("pattern level {level} must be finite and not negative")));
+            return Err(Error::argument(
+                "pattern level",
+                format!("pattern level {level} must be finite and not negative"),
+            ));
         }
         let pick = |what: &str, i: Option<usize>, n: usize| -> Result<usize> {
             let i = i.unwrap_or(n / 2);
             if i < n {
                 Ok(i)
             } else {
-                Err(Error::Usage(format!("{what} {i} is out of range: the layout has {n}")))
+                Err(Error::argument("pattern", format!("{what} {i} is out of range: the layout has {n}")))
             }
         };
         let emitter = pick("emitter", self.emitter, g.emitters)?;
         let view = pick("view", self.view, g.views.count)?;
         if self.every == 0 || self.cell == 0 {
-            return Err(Error::Usage("the pattern's emitter spacing and checker cell must each be at least 1".into()));
+            return Err(Error::argument("pattern", "the emitter spacing and checker cell must each be at least 1"));
         }
         let views = g.views.count;
         let names: Vec<String> = g.channels.iter().map(|c| c.name.clone()).collect();

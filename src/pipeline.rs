@@ -195,11 +195,7 @@ where
 pub fn frame_range(name: &str, asked: Option<Range<usize>>, count: usize) -> Result<Range<usize>> {
     let frames = asked.unwrap_or(0..count);
     if frames.start >= frames.end || frames.end > count {
-        let has = match count {
-            1 => "it has one frame (0..1)".to_string(),
-            n => format!("it has {n} frames (0..{n})"),
-        };
-        return Err(Error::Usage(format!("{name}: frames {}..{} asked for; {has}", frames.start, frames.end)));
+        return Err(Error::NoFrame { path: name.into(), asked: frames, frames: count });
     }
     Ok(frames)
 }
@@ -307,7 +303,10 @@ impl Sink<Band> for HoloSink<'_> {
             options.frames_per_second = job.frames_per_second.and_then(|(n, d)| Some((i32::try_from(n).ok()?, d)));
         }
         options.first_frame_number = i32::try_from(job.frames.start).map_err(|_| {
-            Error::Usage(format!("{}: frame number {} is too large", self.path.display(), job.frames.start))
+            Error::argument(
+                "frame number",
+                format!("{}: frame number {} is too large", self.path.display(), job.frames.start),
+            )
         })?;
         let start = job.frames.start;
         match job.band_hololines {
@@ -388,7 +387,7 @@ mod tests {
         let g = small();
         let mut source = Count { frames: 1, rendered: Vec::new() };
         let e = run(&mut source, HoloSink::new(&path, &g, WriteOptions::default()), Some(0..3), &Silent).unwrap_err();
-        assert_eq!(e.to_string(), "count: frames 0..3 asked for; it has one frame (0..1)");
+        assert_eq!(e.to_string(), "count: frames 0..3 asked for; it has frames 0..1");
         assert!(source.rendered.is_empty() && !path.exists());
     }
 

@@ -61,10 +61,13 @@ pub fn resample(source: &Modulation, target: &Geometry) -> Result<(Modulation, R
                 let rgb = ["R", "G", "B"].map(|n| s.channel_index(n));
                 match rgb {
                     [Some(r), Some(g), Some(b)] => Ok(vec![(r, 0.2126), (g, 0.7152), (b, 0.0722)]),
-                    _ => Err(Error::Usage("a grey target needs an R, G, B or Y source".into())),
+                    _ => Err(Error::argument("channels", "a grey target needs an R, G, B or Y source")),
                 }
             }
-            _ => Err(Error::Usage(format!("the source has no colour {} (nor Y) to resample from", c.name))),
+            _ => Err(Error::argument(
+                "channels",
+                format!("the source has no colour {} (nor Y) to resample from", c.name),
+            )),
         })
         .collect::<Result<_>>()?;
     let mut stats = ResampleStats::default();

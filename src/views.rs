@@ -78,10 +78,10 @@ pub fn view_file_name(v: usize, view_count: usize) -> String {
 
 fn check_tone(tone: &ToneMapping) -> Result<()> {
     if !(tone.white.is_finite() && tone.white > 0.0) {
-        return Err(Error::Usage(format!("white level {} must be finite and positive", tone.white)));
+        return Err(Error::argument("white level", format!("white level {} must be finite and positive", tone.white)));
     }
     if tone.bits != 8 && tone.bits != 16 {
-        return Err(Error::Usage(format!("{} bits per component: choose 8 or 16", tone.bits)));
+        return Err(Error::argument("bits", format!("{} bits per component: choose 8 or 16", tone.bits)));
     }
     Ok(())
 }
@@ -110,9 +110,7 @@ pub fn export_views(m: &Modulation, dir: &Path, tone: &ToneMapping, overwrite: b
     for (v, name) in names.iter().enumerate() {
         let path = dir.join(name);
         set.add(name, |out| {
-            let save = |result: image::ImageResult<()>| {
-                result.map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
-            };
+            let save = |result: image::ImageResult<()>| result.map_err(|e| Error::encode(path, "PNG", e));
             match (mono, tone.bits) {
                 (Some(c), 8) => save(
                     ImageBuffer::from_fn(w, h, |x, y| Luma([quantise(m.get(c, y as usize, x as usize, v)) as u8]))
@@ -149,14 +147,16 @@ pub fn export_views(m: &Modulation, dir: &Path, tone: &ToneMapping, overwrite: b
     }
     set.commit(overwrite, |files| {
         let sidecar = Sidecar { geometry: g.clone(), tone: tone.clone(), files: files.to_vec() };
-        serde_json::to_string_pretty(&sidecar).map(String::into_bytes).map_err(|e| Error::Usage(e.to_string()))
+        serde_json::to_string_pretty(&sidecar)
+            .map(String::into_bytes)
+            .map_err(|e| Error::encode(dir.join(SIDECAR), "JSON", e))
     })
 }
 
 /// Read the sidecar of an exported directory.
 pub fn read_sidecar(path: &Path) -> Result<Sidecar> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    serde_json::from_str(&text).map_err(|e| Error::invalid(path, format!("not a holo-views sidecar: {e}")))
+    serde_json::from_str(&text).map_err(|e| malformed(path, format!("not a holo-views sidecar: {e}")))
 }
 
 /// Read a geometry from a JSON file: a bare [`Geometry`] or a sidecar.
@@ -165,7 +165,8 @@ pub fn read_geometry_json(path: &Path) -> Result<Geometry> {
     if let Ok(s) = serde_json::from_str::<Sidecar>(&text) {
         return Ok(s.geometry);
     }
-    serde_json::from_str(&text).map_err(|e| Error::invalid(path, format!("not a geometry JSON file: {e}")))
+    serde_json::from_str(&text)
+        .map_err(|e| Error::layout(path.display().to_string(), format!("not a geometry JSON file: {e}")))
 }
 
 /// Build a modulation from the PNGs in `dir` (the inverse of [`export_views`]).
@@ -189,10 +190,10 @@ pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Resu
         let path = dir.join(view_file_name(v, g.views.count));
         let img = image::open(&path).map_err(|e| match e {
             image::ImageError::IoError(io) => Error::io(&path, io),
-            other => Error::invalid(&path, format!("not a readable PNG: {other}")),
+            other => malformed(&path, format!("not a readable PNG: {other}")),
         })?;
         if (img.width() as usize, img.height() as usize) != (g.emitters, g.hololines) {
-            return Err(Error::invalid(
+            return Err(malformed(
                 &path,
                 format!(
                     "is {}×{} pixels; the geometry needs emitters × hololines = {}×{}",
@@ -281,6 +282,11 @@ pub fn import_views_file(
 ) -> Result<Run<WriteReport>> {
     let mut source = ViewsSource::new(dir, geometry, tone);
     crate::pipeline::run(&mut source, HoloSink::new(output, geometry, options), None, progress)
+}
+
+/// A file of a set of views that is not what it should be.
+fn malformed(path: &Path, problem: String) -> Error {
+    Error::Set { path: path.to_path_buf(), problem: crate::SetProblem::Malformed(problem) }
 }
 
 #[cfg(test)]

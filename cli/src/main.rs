@@ -886,7 +886,7 @@ fn run(cli: Cli) -> Outcome {
                 user_lights.extend(holo::mesh::shade::read_lights(path, centre).map_err(error_text)?);
             }
             for spec in &light {
-                user_lights.push(holo::mesh::shade::parse_light(spec, centre)?);
+                user_lights.push(holo::mesh::shade::parse_light(spec, centre).map_err(error_text)?);
             }
             if let Some(s) = scale {
                 if !(s.is_finite() && s > 0.0) {

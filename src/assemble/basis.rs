@@ -221,7 +221,7 @@ impl ColourBasis {
                 ) {
                     Ok(h) => Elements::Hogel(h),
                     Err(e) => {
-                        p.push(e);
+                        p.push(e.to_string());
                         return Err(p);
                     }
                 }

@@ -50,7 +50,7 @@ impl HogelGratings {
         carrier: f64,
         signal: SignalKind,
         view_sin_edges: &[(f64, f64)],
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         let w = hogel_samples as i64;
         let bins = match signal {
             SignalKind::Real => 1..(w + 1) / 2,
@@ -68,12 +68,15 @@ impl HogelGratings {
                 .collect();
             if in_view.is_empty() {
                 let f = |s: f64| s * pitch_m / wavelength_m + carrier;
-                return Err(format!(
-                    "view {v} (sin θ {lo:.4} to {hi:.4}, {:.4} to {:.4} cycles per sample at {:.0} nm) holds no \
+                return Err(crate::Error::argument(
+                    "hogel",
+                    format!(
+                        "view {v} (sin θ {lo:.4} to {hi:.4}, {:.4} to {:.4} cycles per sample at {:.0} nm) holds no \
                      grating of a {hogel_samples}-sample hogel inside the signal's band",
-                    f(lo),
-                    f(hi),
-                    wavelength_m * 1e9
+                        f(lo),
+                        f(hi),
+                        wavelength_m * 1e9
+                    ),
                 ));
             }
             gratings.push(in_view);
@@ -129,6 +132,9 @@ mod tests {
         }
         // A hogel too short to resolve the views is refused, naming the view.
         let err = HogelGratings::new(8, 0.6e-6, 633e-9, 0.25, SignalKind::Real, &edges).unwrap_err();
-        assert!(err.contains("view"), "{err}");
+        assert!(
+            matches!(&err, crate::Error::Argument { what: "hogel", .. }) && err.to_string().contains("view"),
+            "{err}"
+        );
     }
 }

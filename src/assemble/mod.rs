@@ -105,12 +105,12 @@ impl Assembler {
     pub fn new(layout: &Layout) -> Result<Self> {
         let reasons = problems(layout);
         if !reasons.is_empty() {
-            return Err(Error::Usage(format!("layout {}: {}", layout.name, reasons.join("; "))));
+            return Err(Error::layout(&layout.name, reasons.join("; ")));
         }
         let plans = (0..layout.geometry.channels.len())
             .map(|c| ColourBasis::new(layout, c).map(Plan::new))
             .collect::<Result<Vec<_>, _>>()
-            .map_err(|p| Error::Usage(format!("layout {}: {}", layout.name, p.join("; "))))?;
+            .map_err(|p| Error::layout(&layout.name, p.join("; ")))?;
         Ok(Assembler { layout: layout.clone(), plans, simd: Simd::Detect })
     }
 
@@ -189,13 +189,14 @@ impl Assembler {
         if differences.is_empty() {
             return Ok(());
         }
-        Err(Error::Usage(format!(
-            "the modulation does not fit layout {}: it has {}. Resample it to the layout first \
-             (for example export-views, then import-views --geometry {})",
-            self.layout.name,
-            differences.join(", "),
-            self.layout.name
-        )))
+        Err(Error::argument(
+            "modulation",
+            format!(
+                "the modulation does not fit layout {}: it has {}; resample it onto the layout first",
+                self.layout.name,
+                differences.join(", ")
+            ),
+        ))
     }
 
     fn check_samples(m: &Modulation) -> Result<()> {
@@ -425,18 +426,21 @@ impl Assembler {
         if (images.width, images.height, images.components, images.images.len())
             != (fb.width, fb.height, fb.components, fb.image_names.len())
         {
-            return Err(Error::Usage(format!(
-                "fringe images of {} × {} × {} ({} images) do not match layout {} ({} × {} × {}, {} images)",
-                images.width,
-                images.height,
-                images.components,
-                images.images.len(),
-                self.layout.name,
-                fb.width,
-                fb.height,
-                fb.components,
-                fb.image_names.len()
-            )));
+            return Err(Error::argument(
+                "fringe images",
+                format!(
+                    "fringe images of {} × {} × {} ({} images) do not match layout {} ({} × {} × {}, {} images)",
+                    images.width,
+                    images.height,
+                    images.components,
+                    images.images.len(),
+                    self.layout.name,
+                    fb.width,
+                    fb.height,
+                    fb.components,
+                    fb.image_names.len()
+                ),
+            ));
         }
         let q = self.quantization();
         let per_colour = self.signals_per_colour();

@@ -140,12 +140,7 @@ pub fn assemble_file(
     let frame_count = file.info().frames.len();
     let range = options.frames.clone().unwrap_or(0..frame_count);
     if range.is_empty() || range.end > frame_count {
-        return Err(Error::Usage(format!(
-            "{}: frames {}..{} asked for; the file has frames 0..{frame_count}",
-            input.display(),
-            range.start,
-            range.end
-        )));
+        return Err(Error::NoFrame { path: input.to_path_buf(), asked: range, frames: frame_count });
     }
     let fb = &layout.fringe.as_ref().expect("Assembler::new checked").frame_buffer;
     let names = |index: usize| -> Vec<String> {
@@ -161,7 +156,10 @@ pub fn assemble_file(
         (Ok(()), _) => None,
         (Err(_), true) => Some(crate::resample::ResampleStats::default()),
         (Err(e), false) => {
-            return Err(Error::Usage(format!("{}: {e}, or assemble with --resample", input.display())));
+            return Err(Error::argument(
+                "modulation",
+                format!("{}: {e}, or assemble with resampling on", input.display()),
+            ));
         }
     };
 
@@ -237,16 +235,16 @@ pub fn read_sidecar(dir: &Path) -> Result<FringeSidecar> {
     let path = crate::output::require_manifest(dir, FRINGE_SIDECAR)?;
     let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
     let sidecar: FringeSidecar =
-        serde_json::from_str(&text).map_err(|e| Error::invalid(&path, format!("not a fringe sidecar: {e}")))?;
+        serde_json::from_str(&text).map_err(|e| malformed(&path, format!("not a fringe sidecar: {e}")))?;
     let problems = super::problems(&sidecar.layout);
     if !problems.is_empty() {
-        return Err(Error::invalid(&path, format!("inconsistent layout: {}", problems.join("; "))));
+        return Err(malformed(&path, format!("inconsistent layout: {}", problems.join("; "))));
     }
     verify_set(dir, FRINGE_SIDECAR, &sidecar.files, "assemble the fringes again")?;
     if let Some(name) =
         sidecar.frames.iter().flat_map(|f| &f.files).find(|n| !sidecar.files.iter().any(|f| &f.name == *n))
     {
-        return Err(Error::invalid(&path, format!("frame image {name} is not among the files it lists")));
+        return Err(malformed(&path, format!("frame image {name} is not among the files it lists")));
     }
     Ok(sidecar)
 }
@@ -262,9 +260,7 @@ pub enum StoredImages {
 
 /// Read frame `frame` (position in the sidecar's list) of a fringe directory.
 pub fn read_frame_images(dir: &Path, sidecar: &FringeSidecar, frame: usize) -> Result<StoredImages> {
-    let entry = sidecar.frames.get(frame).ok_or_else(|| {
-        Error::Usage(format!("{}: has {} frame(s); frame {frame} asked for", dir.display(), sidecar.frames.len()))
-    })?;
+    let entry = sidecar.frames.get(frame).ok_or_else(|| Error::no_frame(dir, frame, sidecar.frames.len()))?;
     let (w, h, c) = (sidecar.width, sidecar.height, sidecar.components);
     let len = w * h * c;
     match sidecar.format {
@@ -284,7 +280,7 @@ pub fn read_frame_images(dir: &Path, sidecar: &FringeSidecar, frame: usize) -> R
                     data
                 };
                 if data.len() != len {
-                    return Err(Error::invalid(
+                    return Err(malformed(
                         &path,
                         format!("holds {} bytes; a {w} × {h} × {c} image has {len}", data.len()),
                     ));
@@ -311,7 +307,7 @@ fn colour_type(path: &Path, components: usize) -> Result<image::ExtendedColorTyp
         1 => Ok(image::ExtendedColorType::L8),
         3 => Ok(image::ExtendedColorType::Rgb8),
         4 => Ok(image::ExtendedColorType::Rgba8),
-        c => Err(Error::Usage(format!("{}: PNG cannot hold {c} components per pixel; use raw or exr", path.display()))),
+        c => Err(Error::unsupported(path, format!("PNG cannot hold {c} components per pixel; use raw or exr"))),
     }
 }
 
@@ -324,7 +320,7 @@ fn write_png(out: &mut AtomicFile, images: &FrameImages<u8>, image: usize) -> Re
     // runs, which it packs well; fringes themselves are noise-like.
     PngEncoder::new_with_quality(out, CompressionType::Fast, FilterType::Sub)
         .write_image(&images.images[image], images.width as u32, images.height as u32, colour)
-        .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+        .map_err(|e| Error::encode(&path, "PNG", e))
 }
 
 fn read_png(path: &Path, w: usize, h: usize, c: usize) -> Result<Vec<u8>> {
@@ -333,9 +329,9 @@ fn read_png(path: &Path, w: usize, h: usize, c: usize) -> Result<Vec<u8>> {
         .with_guessed_format()
         .map_err(|e| Error::io(path, e))?
         .decode()
-        .map_err(|e| Error::invalid(path, format!("not a readable PNG: {e}")))?;
+        .map_err(|e| malformed(path, format!("not a readable PNG: {e}")))?;
     if (img.width() as usize, img.height() as usize) != (w, h) {
-        return Err(Error::invalid(path, format!("is {} × {}; the sidecar says {w} × {h}", img.width(), img.height())));
+        return Err(malformed(path, format!("is {} × {}; the sidecar says {w} × {h}", img.width(), img.height())));
     }
     Ok(match c {
         1 => img.into_luma8().into_raw(),
@@ -351,10 +347,7 @@ fn write_exr(out: &mut AtomicFile, images: &FrameImages<f32>, image: usize) -> c
     let path = out.destination().to_path_buf();
     let (w, h, c) = (images.width, images.height, images.components);
     if c > COMPONENT_NAMES.len() {
-        return Err(crate::Error::Usage(format!(
-            "{}: {c} components per pixel; EXR output takes up to 4",
-            path.display()
-        )));
+        return Err(crate::Error::unsupported(&path, format!("{c} components per pixel; EXR output takes up to 4")));
     }
     let data = &images.images[image];
     let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = (0..c)
@@ -384,20 +377,22 @@ fn read_exr(path: &Path, w: usize, h: usize, c: usize) -> crate::Result<Vec<f32>
         .map_err(|e| crate::Error::exr(path, e))?;
     let size = image.layer_data.size;
     if (size.width(), size.height()) != (w, h) {
-        return Err(crate::Error::invalid(
-            path,
-            format!("is {} × {}; the sidecar says {w} × {h}", size.width(), size.height()),
-        ));
+        return Err(malformed(path, format!("is {} × {}; the sidecar says {w} × {h}", size.width(), size.height())));
     }
     let mut out = vec![0f32; w * h * c];
     for (k, name) in COMPONENT_NAMES.iter().take(c).enumerate() {
         let channel = image.layer_data.channel_data.list.iter().find(|ch| ch.name == **name);
         let Some(channel) = channel else {
-            return Err(crate::Error::invalid(path, format!("has no channel {name}")));
+            return Err(malformed(path, format!("has no channel {name}")));
         };
         for (i, v) in channel.sample_data.values_as_f32().enumerate() {
             out[i * c + k] = v;
         }
     }
     Ok(out)
+}
+
+/// A file of a fringe set that is not what its manifest says it is.
+fn malformed(path: &Path, problem: String) -> Error {
+    Error::Set { path: path.to_path_buf(), problem: crate::SetProblem::Malformed(problem) }
 }

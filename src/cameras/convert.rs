@@ -53,9 +53,7 @@ pub fn convert_cameras(
     options: &CameraConvertOptions,
     progress: &dyn Progress,
 ) -> Result<CameraConvertReport> {
-    if let Some(p) = rig.problem() {
-        return Err(Error::Usage(p));
-    }
+    rig.check()?;
     check_outputs(output, options, &[])?;
     let loaded = Steps::begin(progress, "pictures", rig.cameras.len());
     let views: Vec<CameraView> = rig
@@ -70,10 +68,10 @@ pub fn convert_cameras(
     for (cam, view) in rig.cameras.iter().zip(&views) {
         if view.picture.size() != (cam.width, cam.height) {
             let (w, h) = view.picture.size();
-            return Err(Error::Usage(format!(
-                "{}: camera {}: the picture is {w}×{h}, the rig says {}×{}",
-                rig.source, cam.name, cam.width, cam.height
-            )));
+            return Err(Error::rig(
+                &rig.source,
+                format!("camera {}: the picture is {w}×{h}, the rig says {}×{}", cam.name, cam.width, cam.height),
+            ));
         }
     }
     let mut resample_options = options.resample.clone();
@@ -181,12 +179,12 @@ fn unseen_fraction_grey<'m>(g: &Geometry, mask: &'m [bool]) -> impl Iterator<Ite
 fn write_unseen_png(path: &Path, g: &Geometry, grey: Vec<u8>, overwrite: bool) -> Result<()> {
     use image::ImageEncoder;
     if grey.len() != g.emitters * g.hololines {
-        return Err(Error::Usage(format!("{}: unseen mask: size mismatch", path.display())));
+        return Err(Error::argument("unseen mask", format!("{}: unseen mask: size mismatch", path.display())));
     }
     crate::output::write_atomically(path, overwrite, |out| {
         image::codecs::png::PngEncoder::new(out)
             .write_image(&grey, g.emitters as u32, g.hololines as u32, image::ExtendedColorType::L8)
-            .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+            .map_err(|e| Error::encode(path, "PNG", e))
     })?;
     Ok(())
 }

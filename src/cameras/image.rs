@@ -57,8 +57,8 @@ impl Picture {
 /// so readers can size cameras cheaply. The format is found from the bytes,
 /// not the extension.
 pub fn image_size(path: &Path) -> Result<(usize, usize)> {
-    let reader = open(path).map_err(|problem| Error::invalid(path, problem))?;
-    let (w, h) = reader.into_dimensions().map_err(|e| Error::invalid(path, format!("unreadable image header: {e}")))?;
+    let reader = open(path).map_err(|problem| Error::rig(path, problem))?;
+    let (w, h) = reader.into_dimensions().map_err(|e| Error::rig(path, format!("unreadable image header: {e}")))?;
     Ok((w as usize, h as usize))
 }
 
@@ -81,7 +81,7 @@ pub fn load_picture(camera: &Camera, linear: bool) -> Result<Picture> {
         ImageSource::File(file) => (file, None),
         ImageSource::Tile { file, x, y, width, height } => (file, Some((*x, *y, *width, *height))),
     };
-    let fail = |problem: String| Error::invalid(file, format!("camera {}: {problem}", camera.name));
+    let fail = |problem: String| Error::rig(file, format!("camera {}: {problem}", camera.name));
     let image = open(file).map_err(fail)?.decode().map_err(|e| fail(format!("cannot decode the image: {e}")))?;
     let (iw, ih) = (image.width() as usize, image.height() as usize);
     let (x0, y0, w, h) = match tile {

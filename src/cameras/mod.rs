@@ -248,26 +248,32 @@ impl Rig {
     /// The first thing wrong with the rig, naming the camera: no cameras,
     /// bad units or focus distance, bad calibration.
     pub fn problem(&self) -> Option<String> {
+        self.problem_detail().map(|p| format!("{}: {p}", self.source))
+    }
+
+    /// [`Rig::problem`] as the error a reader or converter refuses the rig
+    /// with: an [`Error::Rig`](crate::Error::Rig) naming its source.
+    pub fn check(&self) -> crate::Result<()> {
+        match self.problem_detail() {
+            Some(p) => Err(crate::Error::rig(&self.source, p)),
+            None => Ok(()),
+        }
+    }
+
+    /// What is wrong with the rig, without its source.
+    fn problem_detail(&self) -> Option<String> {
         if self.cameras.is_empty() {
-            return Some(format!("{}: the rig has no cameras", self.source));
+            return Some("the rig has no cameras".into());
         }
         if !(self.metres_per_unit > 0.0 && self.metres_per_unit.is_finite()) {
-            return Some(format!(
-                "{}: units must be a positive length (metres per unit {})",
-                self.source, self.metres_per_unit
-            ));
+            return Some(format!("units must be a positive length (metres per unit {})", self.metres_per_unit));
         }
         if let Some(f) = self.focus_distance {
             if !(f > 0.0 && f.is_finite()) {
-                return Some(format!("{}: the focus distance must be positive (got {f})", self.source));
+                return Some(format!("the focus distance must be positive (got {f})"));
             }
         }
-        for c in &self.cameras {
-            if let Some(p) = c.problem() {
-                return Some(format!("{}: {p}", self.source));
-            }
-        }
-        None
+        self.cameras.iter().find_map(Camera::problem)
     }
 
     /// The indices of two cameras at the same position (closer than 1e-9 of

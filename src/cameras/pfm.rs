@@ -20,7 +20,7 @@ const MAX_HEADER_BYTES: usize = 4096;
 /// first, interleaved per pixel when `channels` is 3. The header's size is
 /// checked against the file's before anything is allocated.
 pub fn read_pfm(path: &Path) -> Result<(usize, usize, usize, Vec<f32>)> {
-    let bad = |problem: String| Error::invalid(path, format!("not a readable PFM file: {problem}"));
+    let bad = |problem: String| Error::rig(path, format!("not a readable PFM file: {problem}"));
     let mut file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
     let mut head = Vec::with_capacity(MAX_HEADER_BYTES);
@@ -106,11 +106,10 @@ fn parse_header(head: &[u8]) -> Result<(usize, usize, usize, f32, usize), String
 /// first.
 pub fn write_pfm(path: &Path, width: usize, height: usize, samples: &[f32]) -> Result<()> {
     if width == 0 || height == 0 || width.checked_mul(height) != Some(samples.len()) {
-        return Err(Error::Usage(format!(
-            "{}: {} samples do not make a {width}×{height} grey map",
-            path.display(),
-            samples.len()
-        )));
+        return Err(Error::argument(
+            "samples",
+            format!("{}: {} samples do not make a {width}×{height} grey map", path.display(), samples.len()),
+        ));
     }
     let mut bytes = format!("Pf\n{width} {height}\n-1\n").into_bytes();
     bytes.reserve(samples.len() * 4);
@@ -130,7 +129,7 @@ pub fn load_depth(camera: &Camera) -> Result<Option<Vec<f32>>> {
     let Some(depth) = &camera.depth else { return Ok(None) };
     let (w, h, channels, samples) = read_pfm(&depth.file)?;
     if (w, h, channels) != (camera.width, camera.height, 1) {
-        return Err(Error::invalid(
+        return Err(Error::rig(
             &depth.file,
             format!(
                 "camera {}: the depth map is {w}×{h} with {channels} channel(s), the camera needs {}×{} grey",

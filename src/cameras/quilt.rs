@@ -282,7 +282,7 @@ impl Framing {
 /// as a rig whose pictures are the tiles of `file` (display metres, sRGB
 /// pictures, in focus at the emitter plane).
 pub fn quilt_rig(g: &Geometry, spec: &QuiltSpec, file: &Path) -> Result<Rig> {
-    check(g, spec).map_err(|p| Error::Usage(format!("{}: {p}", file.display())))?;
+    check(g, spec).map_err(|e| e.naming(file))?;
     let f = Framing::new(g, spec);
     Ok(Rig {
         source: file.display().to_string(),
@@ -293,13 +293,13 @@ pub fn quilt_rig(g: &Geometry, spec: &QuiltSpec, file: &Path) -> Result<Rig> {
     })
 }
 
-fn check(g: &Geometry, spec: &QuiltSpec) -> std::result::Result<(), String> {
+fn check(g: &Geometry, spec: &QuiltSpec) -> Result<()> {
     if let Some(p) = spec.problem() {
-        return Err(format!("cannot make a quilt: {p}"));
+        return Err(Error::argument("quilt", format!("cannot make a quilt: {p}")));
     }
     let problems = g.problems();
     if !problems.is_empty() {
-        return Err(format!("invalid geometry: {}", problems.join("; ")));
+        return Err(Error::argument("geometry", format!("invalid geometry: {}", problems.join("; "))));
     }
     Ok(())
 }
@@ -340,7 +340,7 @@ fn taps(f: f64, n: usize) -> Option<[(usize, f32); 2]> {
 /// the cameras and the interpolation).
 pub fn quilt_from_modulation(m: &Modulation, spec: &QuiltSpec) -> Result<Quilt> {
     let g = m.geometry();
-    check(g, spec).map_err(Error::Usage)?;
+    check(g, spec)?;
     let f = Framing::new(g, spec);
     let (width, height) = (spec.width(), spec.height());
     // Where each channel goes: R, G, B to their component, Y to all three.
@@ -437,7 +437,10 @@ impl Quilt {
         use image::codecs::png::PngEncoder;
         use image::{ExtendedColorType, ImageEncoder};
         if !(white.is_finite() && white > 0.0) {
-            return Err(Error::Usage(format!("{}: white {white} must be a positive brightness", path.display())));
+            return Err(Error::argument(
+                "white level",
+                format!("{}: the white level must be a positive brightness, not {white}", path.display()),
+            ));
         }
         let code = |x: f32| (crate::views::srgb_encode(f64::from(x / white)) * 255.0).round() as u8;
         let (bytes, colour): (Vec<u8>, _) = if self.grey {
@@ -448,7 +451,7 @@ impl Quilt {
         crate::output::write_atomically(path, overwrite, |w| {
             PngEncoder::new(w)
                 .write_image(&bytes, self.width as u32, self.height as u32, colour)
-                .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+                .map_err(|e| Error::encode(path, "PNG", e))
         })?;
         Ok(())
     }
@@ -498,11 +501,14 @@ pub fn export_quilt(
     options: &QuiltOptions,
 ) -> Result<QuiltReport> {
     if let Some(p) = spec.problem() {
-        return Err(Error::Usage(format!("{}: cannot make a quilt: {p}", out_path.display())));
+        return Err(Error::argument("quilt", format!("{}: cannot make a quilt: {p}", out_path.display())));
     }
     if let Some(w) = options.white {
         if !(w.is_finite() && w > 0.0) {
-            return Err(Error::Usage(format!("{}: white {w} must be a positive brightness", out_path.display())));
+            return Err(Error::argument(
+                "white level",
+                format!("{}: the white level must be a positive brightness, not {w}", out_path.display()),
+            ));
         }
     }
     crate::output::check_output(out_path, &[holo_path], options.overwrite)?;

@@ -61,7 +61,9 @@ impl Blend {
             "nearest" => Ok(Blend::Nearest),
             "linear" | "barycentric" => Ok(Blend::Linear),
             "natural" | "natural-neighbour" | "natural-neighbor" => Ok(Blend::NaturalNeighbour),
-            _ => Err(Error::Usage(format!("unknown blending {s:?}: expected nearest, linear or natural"))),
+            _ => {
+                Err(Error::argument("blending", format!("unknown blending {s:?}: expected nearest, linear or natural")))
+            }
         }
     }
 }
@@ -250,9 +252,7 @@ enum Interpolator {
 impl RigGeometry {
     /// Work out the placement and the camera surface for `rig` shown on `g`.
     pub fn new(rig: &Rig, g: &Geometry, request: &PlacementRequest) -> Result<RigGeometry> {
-        if let Some(p) = rig.problem() {
-            return Err(Error::Usage(p));
-        }
+        rig.check()?;
         let n = rig.cameras.len();
         let centres: Vec<[f64; 3]> = rig.cameras.iter().map(|c| c.pose.centre).collect();
         let mean_centre = mean(&centres);
@@ -273,18 +273,18 @@ impl RigGeometry {
         let focus_distance = request.focus.or(rig.focus_distance);
         let (focus_point, focus_words) = if axes_agree {
             let f = focus_distance.ok_or_else(|| {
-                Error::Usage(format!(
-                    "{}: the capture does not say where it is in focus; give --focus (distance from the cameras, in the rig's units)",
-                    rig.source
-                ))
+                Error::rig(
+                    &rig.source,
+                    "the capture does not say where it is in focus; give a focus distance (from the cameras, in the rig's units)",
+                )
             })?;
             if !(f > 0.0 && f.is_finite()) {
-                return Err(Error::Usage(format!("--focus must be a positive distance (got {f})")));
+                return Err(Error::argument("focus distance", format!("the focus distance must be positive, not {f}")));
             }
             (add(mean_centre, scale(normalized(mean_axis), f)), format!("focus {f:.4} units in front of the cameras"))
         } else {
             let p = axes_meet(&rig.cameras).ok_or_else(|| {
-                Error::Usage(format!("{}: the cameras look in different directions whose axes do not meet", rig.source))
+                Error::rig(&rig.source, "the cameras look in different directions whose axes do not meet")
             })?;
             (p, "focus where the camera axes meet".to_string())
         };
@@ -294,10 +294,10 @@ impl RigGeometry {
         let surface = if n == 1 {
             Surface::Plane { origin: mean_centre, u: x_d, v: y_d, normal: z_d }
         } else if extent == 0.0 {
-            return Err(Error::Usage(format!(
-                "{}: cameras {} and {} are at the same place",
-                rig.source, rig.cameras[0].name, rig.cameras[1].name
-            )));
+            return Err(Error::rig(
+                &rig.source,
+                format!("cameras {} and {} are at the same place", rig.cameras[0].name, rig.cameras[1].name),
+            ));
         } else if axes_agree && spread[1] <= 0.01 * spread[0] {
             // A rail: the plane through it, as square to the mean axis as it can be.
             let along = axes[0];
@@ -357,9 +357,8 @@ impl RigGeometry {
             .map(|c| c.name.as_str())
             .collect();
         if blind.len() == n {
-            return Err(Error::Usage(format!(
-                "{}: no camera sees the focus point ({:.4}, {:.4}, {:.4}) that the display would show (cameras {}); check the poses, --focus and --center",
-                rig.source,
+            return Err(Error::rig(&rig.source, format!(
+                "no camera sees the focus point ({:.4}, {:.4}, {:.4}) that the display would show (cameras {}); check the poses, the focus distance and the centre",
                 focus_point[0],
                 focus_point[1],
                 focus_point[2],
@@ -506,13 +505,15 @@ impl Interpolator {
             for b in a + 1..n {
                 let d = ((points[a][0] - points[b][0]).powi(2) + (points[a][1] - points[b][1]).powi(2)).sqrt();
                 if d <= 1e-9 * extent.max(1e-300) {
-                    return Err(Error::Usage(format!(
-                        "{}: cameras {} and {} are at the same place on the camera surface (the same position{})",
-                        rig.source,
-                        rig.cameras[a].name,
-                        rig.cameras[b].name,
-                        if extent > 0.0 { " or direction" } else { "" }
-                    )));
+                    return Err(Error::rig(
+                        &rig.source,
+                        format!(
+                            "cameras {} and {} are at the same place on the camera surface (the same position{})",
+                            rig.cameras[a].name,
+                            rig.cameras[b].name,
+                            if extent > 0.0 { " or direction" } else { "" }
+                        ),
+                    ));
                 }
             }
         }
@@ -551,14 +552,16 @@ impl Interpolator {
         for (i, p) in points.iter().enumerate() {
             let h: FixedVertexHandle = triangulation
                 .insert(Point2::new(p[0], p[1]))
-                .map_err(|e| Error::Usage(format!("{}: camera {}: {e:?}", rig.source, rig.cameras[i].name)))?;
+                .map_err(|e| Error::rig(&rig.source, format!("camera {}: {e:?}", rig.cameras[i].name)))?;
             if h.index() != cameras.len() {
-                return Err(Error::Usage(format!(
-                    "{}: cameras {} and {} are at the same place on the camera surface",
-                    rig.source,
-                    rig.cameras[cameras[h.index()]].name,
-                    rig.cameras[i].name
-                )));
+                return Err(Error::rig(
+                    &rig.source,
+                    format!(
+                        "cameras {} and {} are at the same place on the camera surface",
+                        rig.cameras[cameras[h.index()]].name,
+                        rig.cameras[i].name
+                    ),
+                ));
             }
             cameras.push(i);
         }
@@ -660,12 +663,7 @@ impl<'a> RigResampler<'a> {
     /// the rig's order) for `g`.
     pub fn new(rig: &'a Rig, views: &'a [CameraView], g: &Geometry, options: &CameraOptions) -> Result<Self> {
         if views.len() != rig.cameras.len() {
-            return Err(Error::Usage(format!(
-                "{}: {} pictures for {} cameras",
-                rig.source,
-                views.len(),
-                rig.cameras.len()
-            )));
+            return Err(Error::rig(&rig.source, format!("{} pictures for {} cameras", views.len(), rig.cameras.len())));
         }
         // A camera listed twice (same position and orientation: Middlebury's
         // temple ring has its first view again at 360°) is used once.
@@ -693,7 +691,7 @@ impl<'a> RigResampler<'a> {
         // the pictures: the display's own filter (the mesh renderer's emitter
         // supersampling), not a blur the display does not have.
         let taps = match options.emitter_taps {
-            Some(0) => return Err(Error::Usage("emitter taps must be at least 1".into())),
+            Some(0) => return Err(Error::argument("emitter taps", "the emitter taps must be at least 1, not 0")),
             Some(n) => n,
             None => ((g.emitter_pitch_m / geo.pixel_at_focus_m).ceil() as usize).clamp(1, 16),
         };
@@ -1013,16 +1011,22 @@ fn refuse_a_rail_off_the_horizontal(
         };
         if horizontal < std::f64::consts::FRAC_1_SQRT_2 || g.parallax == crate::geometry::Parallax::Full {
             let (first, last) = (sorted[0].1, sorted[sorted.len() - 1].1);
-            return Err(Error::Usage(format!(
-                "{}: cameras {} to {} are collinear, on a line {:.0}° from the display's horizontal{}: \
+            return Err(Error::rig(
+                &rig.source,
+                format!(
+                    "cameras {} to {} are collinear, on a line {:.0}° from the display's horizontal{}: \
                  a rail gives parallax only along its line, so these cameras cannot fill the display's views; \
                  add cameras off the line (a grid) or turn the rail across the horizontal parallax",
-                rig.source,
-                rig.cameras[first].name,
-                rig.cameras[last].name,
-                horizontal.clamp(0.0, 1.0).acos().to_degrees(),
-                if g.parallax == crate::geometry::Parallax::Full { " and the display has full parallax" } else { "" }
-            )));
+                    rig.cameras[first].name,
+                    rig.cameras[last].name,
+                    horizontal.clamp(0.0, 1.0).acos().to_degrees(),
+                    if g.parallax == crate::geometry::Parallax::Full {
+                        " and the display has full parallax"
+                    } else {
+                        ""
+                    }
+                ),
+            ));
         }
     }
     Ok(())
@@ -1046,7 +1050,7 @@ fn display_scale(
     let viewer_span = g.viewer_distance_m - g.emitter_z_m;
     let (scale_d, scale_words) = match request.scale {
         Some(s) if s > 0.0 && s.is_finite() => (s, format!("scale {s} m per unit (given)")),
-        Some(s) => return Err(Error::Usage(format!("--scale must be positive (got {s})"))),
+        Some(s) => return Err(Error::argument("scale", format!("the scale must be a positive number of display metres per capture unit, not {s}"))),
         None if request.fill_width || viewer_span.is_nan() || viewer_span <= 0.0 => (
             display_width / view_width,
             format!(

@@ -39,18 +39,16 @@ pub fn read_rig_file(path: &Path) -> Result<Rig> {
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let table: Table = match extension.as_deref() {
         Some("toml") => {
-            toml::from_str(&text).map_err(|e| Error::invalid(path, format!("not a valid TOML rig file: {e}")))?
+            toml::from_str(&text).map_err(|e| Error::rig(path, format!("not a valid TOML rig file: {e}")))?
         }
         Some("json") => serde_json::from_str(&text).map_err(|e| {
-            Error::invalid(path, format!("not a valid JSON rig file (an object of the keys in spec/rig.md): {e}"))
+            Error::rig(path, format!("not a valid JSON rig file (an object of the keys in spec/rig.md): {e}"))
         })?,
-        _ => return Err(Error::invalid(path, "a rig file's name must end in .toml or .json")),
+        _ => return Err(Error::rig(path, "a rig file's name must end in .toml or .json")),
     };
-    let rig = parse(path, table).map_err(|problem| Error::invalid(path, problem))?;
-    match rig.problem() {
-        Some(problem) => Err(Error::Usage(problem)),
-        None => Ok(rig),
-    }
+    let rig = parse(path, table).map_err(|problem| Error::rig(path, problem))?;
+    rig.check()?;
+    Ok(rig)
 }
 
 fn parse(path: &Path, table: Table) -> Result<Rig, String> {

@@ -94,26 +94,23 @@ impl HoloFile {
     pub fn read_region(&self, index: usize, region: &Region) -> Result<Modulation> {
         let path = &self.info.path;
         let g = &self.info.geometry;
-        let frame = self.info.frames.get(index).ok_or_else(|| {
-            Error::Usage(format!(
-                "{}: has {} frame(s); there is no frame {index}",
-                path.display(),
-                self.info.frames.len()
-            ))
-        })?;
+        let frame = self.info.frames.get(index).ok_or_else(|| Error::no_frame(path, index, self.info.frames.len()))?;
         let ok = |r: &Range<usize>, n: usize| r.start < r.end && r.end <= n;
         if !ok(&region.hololines, g.hololines) || !ok(&region.emitters, g.emitters) || !ok(&region.views, g.views.count)
         {
-            return Err(Error::Usage(format!(
-                "{}: region hololines {:?}, emitters {:?}, views {:?} is empty or outside {}×{}×{}",
-                path.display(),
-                region.hololines,
-                region.emitters,
-                region.views,
-                g.hololines,
-                g.emitters,
-                g.views.count
-            )));
+            return Err(Error::argument(
+                "region",
+                format!(
+                    "{}: region hololines {:?}, emitters {:?}, views {:?} is empty or outside {}×{}×{}",
+                    path.display(),
+                    region.hololines,
+                    region.emitters,
+                    region.views,
+                    g.hololines,
+                    g.emitters,
+                    g.views.count
+                ),
+            ));
         }
         let sub = sub_geometry(g, region);
         if sub.samples_per_frame() > MAX_SAMPLES_PER_FRAME {

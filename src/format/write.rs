@@ -122,7 +122,10 @@ pub fn write_frame_in_bands(
     let path = path.as_ref();
     check_writable(path, geometry, 1, options)?;
     if band_hololines == 0 {
-        return Err(Error::Usage(format!("{}: bands must hold at least one hololine", path.display())));
+        return Err(Error::argument(
+            "band height",
+            format!("{}: bands must hold at least one hololine", path.display()),
+        ));
     }
     let order = ChannelOrder::new(geometry);
     let row_len = row_bytes(geometry, options.sample_type);
@@ -137,10 +140,10 @@ pub fn write_frame_in_bands(
         let mut band = Band::zeros(geometry.clone(), lines.clone())?;
         fill(&mut band)?;
         if band.geometry() != geometry || band.hololines() != lines {
-            return Err(Error::Usage(format!(
-                "{}: band of hololines {lines:?} came back with a different shape",
-                path.display()
-            )));
+            return Err(Error::argument(
+                "band",
+                format!("{}: band of hololines {lines:?} came back with a different shape", path.display()),
+            ));
         }
         check_samples(path, geometry, options, 0, band.first_bad_sample(), || {
             first_f16_overflow(geometry, band.samples(), lines.clone())
@@ -162,7 +165,7 @@ pub fn write_frame_in_bands(
         file: std::sync::Mutex::new(spool.file().try_clone().map_err(|e| Error::io(spool.path(), e))?),
     };
     write_parts(path, geometry, options, vec![window], vec![digest.finish()], Some(rows), |_| {
-        Err(Error::Usage("internal: a one-frame write asked for a second frame".into()))
+        Err(Error::argument("frame count", "internal: a one-frame write asked for a second frame"))
     })
 }
 
@@ -310,20 +313,19 @@ fn write_parts<'a>(
 fn check_writable(path: &Path, g: &Geometry, frame_count: usize, options: &WriteOptions) -> Result<()> {
     let problems = g.problems();
     if !problems.is_empty() {
-        return Err(Error::Usage(format!(
-            "{}: cannot write an invalid geometry: {}",
-            path.display(),
-            problems.join("; ")
-        )));
+        return Err(Error::argument(
+            "geometry",
+            format!("{}: cannot write an invalid geometry: {}", path.display(), problems.join("; ")),
+        ));
     }
     if frame_count == 0 || frame_count as u64 > MAX_FRAMES {
-        return Err(Error::Usage(format!("{}: {frame_count} frames; a file holds 1 to {MAX_FRAMES}", path.display())));
+        return Err(Error::unsupported(path, format!("{frame_count} frames; a file holds 1 to {MAX_FRAMES}")));
     }
     if g.hololines as u64 > MAX_SIDE
         || g.emitters as u64 > MAX_SIDE
         || (g.views.count * g.channels.len()) as u64 > MAX_CHANNELS
     {
-        return Err(Error::Usage(format!("{}: geometry exceeds the format's limits", path.display())));
+        return Err(Error::unsupported(path, "geometry exceeds the format's limits"));
     }
     if !options.overwrite && path.exists() {
         return Err(Error::Output { path: path.to_path_buf(), problem: crate::OutputProblem::Exists });
@@ -333,7 +335,10 @@ fn check_writable(path: &Path, g: &Geometry, frame_count: usize, options: &Write
 
 fn check_frame(path: &Path, g: &Geometry, m: &Modulation, options: &WriteOptions, part: usize) -> Result<()> {
     if m.geometry() != g {
-        return Err(Error::Usage(format!("{}: frame {part} has a different geometry from the file", path.display())));
+        return Err(Error::argument(
+            "geometry",
+            format!("{}: frame {part} has a different geometry from the file", path.display()),
+        ));
     }
     check_samples(path, g, options, part, m.first_bad_sample(), || first_f16_overflow(g, m.samples(), 0..g.hololines))
 }

@@ -22,8 +22,9 @@ mod write;
 
 pub use error::{At, ContainerError};
 pub use model::{
-    Binding, Descriptor, Frame, GeometryBlock, GeometryObject, Info, KeyFrameReference, Matrix4, ObjectRecord,
-    Primitive, ResolvedFrame, ResolvedObject, SpecularLight, SpecularMaterial, SpecularModel, ViewerCouch, IDENTITY,
+    Binding, BlockError, Descriptor, Frame, GeometryBlock, GeometryObject, Info, KeyFrameReference, Matrix4,
+    ObjectRecord, Primitive, ResolvedFrame, ResolvedObject, SpecularLight, SpecularMaterial, SpecularModel,
+    ViewerCouch, IDENTITY,
 };
 pub use read::HoloFlickReader;
 pub use write::{write_cg_file, HoloFlickWriter, WriteOptions, WriteReport};

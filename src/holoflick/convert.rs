@@ -209,7 +209,9 @@ impl Source for HoloFlickSource<'_> {
         }
         let (scene, lighting) =
             self.state.frame_scene(&frame, self.geometry, self.made_for_display && holds).map_err(|e| match e {
-                Error::Usage(m) => Error::Usage(format!("{}: frame {number}: {m}", self.input.display())),
+                Error::Argument { what, problem } => {
+                    Error::Argument { what, problem: format!("{}: frame {number}: {problem}", self.input.display()) }
+                }
                 other => other,
             })?;
         // The frame's own lights, exactly: its colours are pre-lit, so a

@@ -108,10 +108,13 @@ pub fn encode_holoflick(
     progress: &dyn Progress,
 ) -> Result<HoloFlickEncodeReport> {
     if !(options.micropolygon.is_finite() && options.micropolygon > 0.0) {
-        return Err(Error::Usage(format!(
-            "the micropolygon size must be a positive multiple of what the display resolves, not {}",
-            options.micropolygon
-        )));
+        return Err(Error::argument(
+            "micropolygon size",
+            format!(
+                "the micropolygon size must be a positive multiple of what the display resolves, not {}",
+                options.micropolygon
+            ),
+        ));
     }
     let stage = Encode {
         options,
@@ -125,7 +128,8 @@ pub fn encode_holoflick(
     let open = |input: &Path| SceneFrames::open(input, geometry, &options.placement, options.frames_per_second, stage);
     let sink = HoloFlickSink::new(output, options.overwrite);
     let (source, run) = pipeline::open_and_run(input, open, sink, options.frames.clone(), progress)?;
-    let placed = source.placed().cloned().ok_or_else(|| Error::Usage("internal: the scene was never placed".into()))?;
+    let placed =
+        source.placed().cloned().ok_or_else(|| Error::argument("placement", "internal: the scene was never placed"))?;
     let Encode { mut report, micropolygons, shadowed, .. } = source.stage;
     (report.path, report.frames, report.file_bytes) = (output.to_path_buf(), run.frames.len(), run.written.file_bytes);
     report.warnings = run.warnings;

@@ -28,7 +28,7 @@ pub fn encode_object(id: u32, o: &Object, options: &EncodeOptions) -> Result<(Ge
     let top = 1.0 - 2f64.powi(1 - options.color_bits.clamp(2, 16) as i32);
     let brightest = o.colours.iter().flat_map(|c| c[..3].iter()).fold(0.0f32, |a, &b| a.max(b)) as f64;
     if !brightest.is_finite() {
-        return Err(Error::Usage(format!("object \"{}\": a vertex colour is not finite", o.name)));
+        return Err(Error::argument("object", format!("object \"{}\": a vertex colour is not finite", o.name)));
     }
     let radiance_scale = if brightest > 1.0 { brightest / top } else { 1.0 };
     let colours: Vec<[f32; 4]> = o
@@ -45,10 +45,11 @@ pub fn encode_object(id: u32, o: &Object, options: &EncodeOptions) -> Result<(Ge
         triangles: &o.triangles,
     };
     // The codec knows no object names: the message gains the object's here.
-    let encoded = cg::encode(&mesh, options).map_err(|e| Error::Usage(format!("object \"{}\": {e}", o.name)))?;
+    let encoded =
+        cg::encode(&mesh, options).map_err(|e| Error::argument("object", format!("object \"{}\": {e}", o.name)))?;
     let descriptor = Descriptor::from_cg_header(&encoded.header);
     let block = GeometryBlock::new(descriptor, &encoded.bytes)
-        .map_err(|m| Error::Usage(format!("object \"{}\": {m}", o.name)))?;
+        .map_err(|m| Error::argument("object", format!("object \"{}\": {m}", o.name)))?;
     let s = 1.0 / encoded.scale;
     let c = encoded.center;
     let world_from_object = [[s, 0.0, 0.0, c[0]], [0.0, s, 0.0, c[1]], [0.0, 0.0, s, c[2]], [0.0, 0.0, 0.0, 1.0]];
@@ -102,7 +103,7 @@ pub fn decode_block(name: &str, block: &GeometryBlock) -> Result<(Object, usize)
         }
         _ => skipped += 1,
     })
-    .map_err(|e| Error::Usage(format!("object {name}: {e}")))?;
+    .map_err(|e| Error::argument("compressed geometry", format!("object {name}: {e}")))?;
     // Vertices may lack normals or colours in part of a block (a list
     // without them): keep the lists whole or empty.
     if !with_normals || o.normals.len() != o.positions.len() {
@@ -120,8 +121,9 @@ pub fn decode_block(name: &str, block: &GeometryBlock) -> Result<(Object, usize)
 pub fn to_world(o: &Object, world_from_object: &Matrix4, radiance_scale: f64) -> Result<Object> {
     let m = world_from_object;
     let lin = linear(m);
-    let normal_matrix = inverse_transpose3(&lin)
-        .ok_or_else(|| Error::Usage(format!("object {}: its transform cannot be inverted", o.name)))?;
+    let normal_matrix = inverse_transpose3(&lin).ok_or_else(|| {
+        Error::argument("object transform", format!("object {}: its transform cannot be inverted", o.name))
+    })?;
     let mut out = o.clone();
     for p in &mut out.positions {
         *p = transform_point(m, *p);

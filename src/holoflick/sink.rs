@@ -83,11 +83,10 @@ impl HoloFlickSink {
     /// The one frame of a `.cg` file.
     fn write_cg(self, job: &Job, render: &mut dyn FnMut(usize, &mut Frame) -> Result<()>) -> Result<HoloFlickWritten> {
         if job.frames.len() != 1 {
-            return Err(Error::Usage(format!(
-                "{}: a .cg file holds one frame's objects; {} frames given (write a .hflk)",
-                self.path.display(),
-                job.frames.len()
-            )));
+            return Err(Error::unsupported(
+                &self.path,
+                format!("a .cg file holds one frame's objects; {} frames given (write a .hflk)", job.frames.len()),
+            ));
         }
         let mut frame = empty_frame();
         render(job.frames.start, &mut frame)?;
@@ -96,7 +95,7 @@ impl HoloFlickSink {
         for o in frame.objects {
             // The first frame of a run is a key frame: every object is stored.
             let ObjectRecord::Stored(g) = o else {
-                return Err(Error::Usage(format!("{}: internal: a reference in a .cg frame", self.path.display())));
+                return Err(Error::unsupported(&self.path, "internal: a reference in a .cg frame"));
             };
             let m = g.world_from_object;
             cg.transforms.push(([m[0][3], m[1][3], m[2][3]], m[0][0]));

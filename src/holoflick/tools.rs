@@ -93,7 +93,7 @@ struct FrameSource {
 /// `.cg`. `progress` counts the frames.
 pub fn pack(inputs: &[PathBuf], output: &Path, options: &PackOptions, progress: &dyn Progress) -> Result<PackReport> {
     if inputs.is_empty() {
-        return Err(Error::Usage("pack needs at least one mesh".into()));
+        return Err(Error::argument("meshes", "pack needs at least one mesh"));
     }
     let read: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     crate::output::check_output(output, &read, options.overwrite)?;
@@ -140,9 +140,10 @@ impl<'a> PackSource<'a> {
     fn open(inputs: &'a [PathBuf], options: &'a PackOptions) -> Result<Self> {
         let fps = options.frames_per_second;
         if !(fps.is_finite() && fps > 0.0) {
-            return Err(Error::Usage(format!(
-                "the frame rate must be a positive number of frames per second, not {fps}"
-            )));
+            return Err(Error::argument(
+                "frame rate",
+                format!("the frame rate must be a positive number of frames per second, not {fps}"),
+            ));
         }
         let scenes: Vec<SceneSource> = inputs.iter().map(|p| SceneSource::open(p)).collect::<Result<_>>()?;
         let mut frames = Vec::new();
@@ -343,7 +344,7 @@ fn couch_in_front(scene: &Scene) -> ViewerCouch {
 pub fn frame_objects(input: &Path, frame: usize) -> Result<Vec<Object>> {
     if input.extension().is_some_and(|e| e.eq_ignore_ascii_case("cg")) {
         if frame != 0 {
-            return Err(Error::Usage(format!("{}: a .cg file has one frame, 0", input.display())));
+            return Err(Error::argument("frame", format!("{}: a .cg file has one frame, 0", input.display())));
         }
         let file = CgFile::read(input)?;
         return file
@@ -353,7 +354,7 @@ pub fn frame_objects(input: &Path, frame: usize) -> Result<Vec<Object>> {
             .map(|(i, o)| {
                 let descriptor = super::container::Descriptor::from_cg_header(&o.header);
                 let block = GeometryBlock::new(descriptor, &o.bytes)
-                    .map_err(|m| Error::invalid(input, format!("object {i}: {m}")))?;
+                    .map_err(|m| stored_object_error(input, format!("object {i}: {m}")))?;
                 decode_object(&format!("object {i}"), &block, &IDENTITY, 1.0).map(|(o, _)| o)
             })
             .collect::<Result<Vec<_>>>()
@@ -362,7 +363,7 @@ pub fn frame_objects(input: &Path, frame: usize) -> Result<Vec<Object>> {
     let mut reader = HoloFlickReader::open(input)?;
     let count = reader.frame_count() as usize;
     if frame >= count {
-        return Err(Error::Usage(format!("{}: has {count} frames; there is no frame {frame}", input.display())));
+        return Err(Error::no_frame(input, frame, count));
     }
     let resolved = reader.read_frame(frame as u32)?;
     resolved
@@ -375,11 +376,18 @@ pub fn frame_objects(input: &Path, frame: usize) -> Result<Vec<Object>> {
         .map_err(|e| named(input, e))
 }
 
+/// A stored object that cannot be decoded, as the error of the file that holds it.
 fn named(path: &Path, e: Error) -> Error {
     match e {
-        Error::Usage(m) => Error::invalid(path, m),
+        Error::Argument { problem, .. } => stored_object_error(path, problem),
         other => other,
     }
+}
+
+/// `problem` with a stored object of the HoloFlick or `.cg` file `path`.
+fn stored_object_error(path: &Path, problem: String) -> Error {
+    use super::container::{At, ContainerError};
+    Error::HoloFlick(ContainerError::Invalid { path: path.to_path_buf(), at: At(None), problem })
 }
 
 /// `holo holoflick unpack`: frame `frame` of `input` as a `.glb` or `.ply` mesh.

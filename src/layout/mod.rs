@@ -54,14 +54,15 @@ impl Layout {
             return Ok(l);
         }
         let path = Path::new(name_or_path);
-        if !path.exists() {
-            return Err(Error::Usage(format!(
-                "unknown layout {name_or_path:?}: the built-in layouts are {}, or give a .toml or .json profile",
-                BUILTIN.join(", ")
-            )));
+        let profile = matches!(path.extension().and_then(|e| e.to_str()), Some("toml" | "json"));
+        // A name that is neither a built-in layout nor a profile's file name
+        // is most likely a misspelt built-in; a profile that does not exist
+        // is an I/O error naming it.
+        if !profile && !path.exists() {
+            return Err(Error::UnknownLayout { name: name_or_path.to_string() });
         }
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let bad = |why: String| Error::invalid(path, why);
+        let bad = |why: String| Error::layout(path.display().to_string(), why);
         let layout: Layout = match path.extension().and_then(|e| e.to_str()) {
             Some("json") => serde_json::from_str(&text).map_err(|e| bad(format!("not a layout profile: {e}")))?,
             _ => toml::from_str(&text).map_err(|e| bad(format!("not a layout profile: {e}")))?,

@@ -56,27 +56,33 @@ pub fn camera_picture(
 ) -> Result<CameraPicture> {
     let n = samples_per_pixel_axis;
     if n == 0 || n > MAX_SAMPLES_PER_AXIS {
-        return Err(Error::Usage(format!(
-            "camera {}: {n} samples per pixel axis is out of range: choose 1 to {MAX_SAMPLES_PER_AXIS}",
-            camera.name
-        )));
+        return Err(Error::argument(
+            "samples per pixel",
+            format!(
+                "camera {}: {n} samples per pixel axis is out of range: choose 1 to {MAX_SAMPLES_PER_AXIS}",
+                camera.name
+            ),
+        ));
     }
     if let Some(problem) = camera.problem() {
-        return Err(Error::Usage(problem));
+        return Err(Error::argument("camera", problem));
     }
     if let Some(problem) = scene.problem() {
-        return Err(Error::Usage(format!("{}: {problem}", scene.source)));
+        return Err(Error::scene(&scene.source, problem));
     }
     if let Some(bad) = lighting.lights.iter().find(|l| !super::render::light_is_finite(l)) {
-        return Err(Error::Usage(format!("a light is not finite or has a negative brightness: {bad:?}")));
+        return Err(Error::argument("lights", format!("a light is not finite or has a negative brightness: {bad:?}")));
     }
     if let Some(problem) = lighting.problem_with(scene) {
-        return Err(Error::Usage(format!("{}: {problem}", scene.source)));
+        return Err(Error::scene(&scene.source, problem));
     }
     let (width, height) = (camera.width, camera.height);
     // Each pixel holds 16 bytes (colour and depth).
     if width.checked_mul(height).map_or(true, |n| n > isize::MAX as usize / 16) {
-        return Err(Error::Usage(format!("camera {}: {width}×{height} pixels do not fit in memory", camera.name)));
+        return Err(Error::argument(
+            "picture size",
+            format!("camera {}: {width}×{height} pixels do not fit in memory", camera.name),
+        ));
     }
     let tracer = CameraTracer { scene, lighting, bvh: Bvh::new(scene), camera };
     let norm = 1.0 / (n * n) as f64;
@@ -151,23 +157,21 @@ pub fn write_camera_picture(pic: &CameraPicture, png_path: &Path, pfm_depth_path
     use image::{ExtendedColorType, ImageEncoder};
     let n = pic.width * pic.height;
     if pic.rgb.len() != n || pic.depth_z.len() != n || n == 0 {
-        return Err(Error::Usage(format!(
-            "{}: the picture is inconsistent: {}×{} pixels, {} colours, {} depths",
-            png_path.display(),
-            pic.width,
-            pic.height,
-            pic.rgb.len(),
-            pic.depth_z.len()
-        )));
+        return Err(Error::argument(
+            "picture",
+            format!(
+                "{}: the picture is inconsistent: {}×{} pixels, {} colours, {} depths",
+                png_path.display(),
+                pic.width,
+                pic.height,
+                pic.rgb.len(),
+                pic.depth_z.len()
+            ),
+        ));
     }
     let (w, h) = (u32::try_from(pic.width), u32::try_from(pic.height));
     let (Ok(w), Ok(h)) = (w, h) else {
-        return Err(Error::Usage(format!(
-            "{}: {}×{} is too large for a PNG",
-            png_path.display(),
-            pic.width,
-            pic.height
-        )));
+        return Err(Error::unsupported(png_path, format!("{}×{} is too large for a PNG", pic.width, pic.height)));
     };
     let mut bytes = Vec::with_capacity(n * 6);
     for px in &pic.rgb {
@@ -179,7 +183,7 @@ pub fn write_camera_picture(pic: &CameraPicture, png_path: &Path, pfm_depth_path
     crate::output::write_atomically(png_path, true, |out| {
         PngEncoder::new(out)
             .write_image(&bytes, w, h, ExtendedColorType::Rgb16)
-            .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", png_path.display())))
+            .map_err(|e| Error::encode(png_path, "PNG", e))
     })?;
     if let Some(path) = pfm_depth_path {
         write_pfm_grey(path, pic.width, pic.height, &pic.depth_z)?;

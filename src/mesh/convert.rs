@@ -86,7 +86,7 @@ pub fn convert_mesh(
         |input: &Path| SceneFrames::open(input, geometry, &options.placement, options.fps, MeshRender::new(options));
     let (source, run) = pipeline::open_and_run(input, open, sink, options.frames.clone(), progress)?;
     let MeshRender { first, stats, .. } = source.stage;
-    let first = first.ok_or_else(|| Error::Usage("internal: the scene was never placed".into()))?;
+    let first = first.ok_or_else(|| Error::argument("placement", "internal: the scene was never placed"))?;
     Ok(ConvertReport {
         path: output.to_path_buf(),
         frames: run.frames,
@@ -152,10 +152,10 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
         stage: S,
     ) -> Result<Self> {
         if !(frames_per_second.is_finite() && frames_per_second > 0.0) {
-            return Err(Error::Usage(format!(
-                "{}: the frame rate must be a positive number of frames per second, not {frames_per_second}",
-                input.display()
-            )));
+            return Err(Error::argument(
+                "frame rate",
+                format!("the frame rate must be a positive number of frames per second, not {frames_per_second}"),
+            ));
         }
         Ok(SceneFrames {
             source: SceneSource::open(input)?,
@@ -219,7 +219,10 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
             // Its warnings were taken at placement.
             Some((n, scene)) if n == number => scene,
             _ => {
-                let placed = self.placed.as_ref().ok_or_else(|| Error::Usage("internal: not placed".into()))?;
+                let placed = self
+                    .placed
+                    .as_ref()
+                    .ok_or_else(|| Error::argument("placement", "internal: the scene was not placed"))?;
                 let mut scene = self.source.scene_at(number as f64 / self.frames_per_second)?;
                 apply(&mut scene, &placed.matrix);
                 warnings.merge_frame(&scene.warnings);

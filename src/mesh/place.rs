@@ -86,7 +86,7 @@ pub fn display_volume(g: &Geometry) -> ([f64; 3], [f64; 3]) {
 /// what it was in scene units).
 pub fn place(scene: &mut Scene, g: &Geometry, placement: &Placement) -> Result<Placed> {
     let volume = display_volume(g);
-    scene.bounds().ok_or_else(|| Error::Usage(format!("{}: no triangles in the scene", scene.source)))?;
+    scene.bounds().ok_or_else(|| Error::scene(&scene.source, "no triangles in the scene"))?;
     let matrix = match placement.matrix {
         Some(m) => m,
         None => {
@@ -143,13 +143,16 @@ pub fn place(scene: &mut Scene, g: &Geometry, placement: &Placement) -> Result<P
 
 fn check_matrix(m: &Mat4) -> Result<()> {
     if m.iter().flatten().any(|v| !v.is_finite()) {
-        return Err(Error::Usage("the placement matrix has a NaN or infinite entry".into()));
+        return Err(Error::argument("placement matrix", "the placement matrix has a NaN or infinite entry"));
     }
     if m[3] != [0.0, 0.0, 0.0, 1.0] {
-        return Err(Error::Usage("the placement matrix must be affine: its last row must be 0 0 0 1".into()));
+        return Err(Error::argument(
+            "placement matrix",
+            "the placement matrix must be affine: its last row must be 0 0 0 1",
+        ));
     }
     if linear_det(m) == 0.0 {
-        return Err(Error::Usage("the placement matrix is singular (it flattens the scene)".into()));
+        return Err(Error::argument("placement matrix", "the placement matrix is singular (it flattens the scene)"));
     }
     Ok(())
 }

@@ -155,18 +155,18 @@ impl Rays {
     /// The rays of `g` at factor `s`.
     pub fn new(g: &Geometry, s: Supersample) -> Result<Rays> {
         if s.emitter == 0 || s.view == 0 || s.emitter > 64 || s.view > 64 {
-            return Err(Error::Usage(format!(
-                "supersampling {}x{} is out of range: each factor must be 1 to 64",
-                s.emitter, s.view
-            )));
+            return Err(Error::argument(
+                "supersampling",
+                format!("supersampling {}x{} is out of range: each factor must be 1 to 64", s.emitter, s.view),
+            ));
         }
         let problems = g.problems();
         if !problems.is_empty() {
-            return Err(Error::Usage(format!("invalid geometry: {}", problems.join("; "))));
+            return Err(Error::argument("geometry", format!("invalid geometry: {}", problems.join("; "))));
         }
         let span = g.viewer_distance_m - g.emitter_z_m;
         if span.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return Err(Error::Usage("the viewer line must be in front of the emitter plane".into()));
+            return Err(Error::argument("geometry", "the viewer line must be in front of the emitter plane"));
         }
         let sub_emitter_x_m = (0..g.emitters * s.emitter)
             .map(|i| {
@@ -225,14 +225,14 @@ pub fn render_into(
     let geometry = &frame.geometry().clone();
     let rays = Rays::new(geometry, options.supersample)?;
     if let Some(problem) = scene.problem() {
-        return Err(Error::Usage(format!("{}: {problem}", scene.source)));
+        return Err(Error::scene(&scene.source, problem));
     }
     let lighting = options.lighting_for(scene);
     if let Some(bad) = lighting.lights.iter().find(|l| !light_is_finite(l)) {
-        return Err(Error::Usage(format!("a light is not finite or has a negative brightness: {bad:?}")));
+        return Err(Error::argument("lights", format!("a light is not finite or has a negative brightness: {bad:?}")));
     }
     if let Some(problem) = lighting.problem_with(scene) {
-        return Err(Error::Usage(format!("{}: {problem}", scene.source)));
+        return Err(Error::scene(&scene.source, problem));
     }
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);

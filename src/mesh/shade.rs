@@ -104,7 +104,15 @@ impl Lighting {
 ///   irradiance `R,G,B` (default π) at `centre_m`, the middle of the display
 ///   volume (so its intensity is `E·d²`);
 /// - `ambient:R,G,B`: ambient radiance.
-pub fn parse_light(spec: &str, centre_m: [f64; 3]) -> Result<Light, String> {
+///
+/// A malformed spec is an [`Error::Argument`](crate::Error::Argument) whose
+/// sentence quotes it.
+pub fn parse_light(spec: &str, centre_m: [f64; 3]) -> crate::Result<Light> {
+    light_from_spec(spec, centre_m).map_err(|problem| crate::Error::argument("light", problem))
+}
+
+/// [`parse_light`], its error the phrase that quotes the spec.
+fn light_from_spec(spec: &str, centre_m: [f64; 3]) -> Result<Light, String> {
     let bad = |why: &str| {
         format!("light {spec:?}: {why}; expected dir:DX,DY,DZ[:R,G,B], point:X,Y,Z[:R,G,B] or ambient:R,G,B")
     };
@@ -169,7 +177,9 @@ pub fn read_lights(path: &std::path::Path, centre_m: [f64; 3]) -> crate::Result<
         if line.is_empty() {
             continue;
         }
-        out.push(parse_light(line, centre_m).map_err(|e| crate::Error::invalid(path, format!("line {}: {e}", n + 1)))?);
+        out.push(
+            light_from_spec(line, centre_m).map_err(|e| crate::Error::scene(path, format!("line {}: {e}", n + 1)))?,
+        );
     }
     Ok(out)
 }

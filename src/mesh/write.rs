@@ -23,12 +23,7 @@ pub fn write_mesh(path: &Path, objects: &[Object], overwrite: bool) -> Result<()
     let bytes = match ext.as_str() {
         "glb" => glb_bytes(path, objects)?,
         "ply" => ply_bytes(path, objects)?,
-        _ => {
-            return Err(Error::Usage(format!(
-                "{}: cannot tell the mesh format; the name must end in .glb or .ply",
-                path.display()
-            )))
-        }
+        _ => return Err(Error::unsupported(path, "cannot tell the mesh format; the name must end in .glb or .ply")),
     };
     crate::format::write_bytes_beside(path, &bytes, overwrite)
 }
@@ -39,7 +34,7 @@ fn check(path: &Path, objects: &[Object]) -> Result<()> {
     let mut total = 0u64;
     for o in objects {
         let n = o.positions.len();
-        let bad = |what: &str| Error::Usage(format!("{}: object \"{}\": {what}", path.display(), o.name));
+        let bad = |what: &str| Error::scene(path, format!("object \"{}\": {what}", o.name));
         if !o.normals.is_empty() && o.normals.len() != n {
             return Err(bad(&format!("{} normals for {n} vertices", o.normals.len())));
         }
@@ -55,7 +50,7 @@ fn check(path: &Path, objects: &[Object]) -> Result<()> {
         total += n as u64;
     }
     if total > u32::MAX as u64 {
-        return Err(Error::Usage(format!("{}: {total} vertices; at most 2³² − 1 fit", path.display())));
+        return Err(Error::unsupported(path, format!("{total} vertices; at most 2³² − 1 fit")));
     }
     Ok(())
 }
@@ -126,7 +121,7 @@ fn glb_bytes(path: &Path, objects: &[Object]) -> Result<Vec<u8>> {
         "bufferViews": views,
         "buffers": [{"byteLength": bin.len()}],
     });
-    let mut json = serde_json::to_vec(&json).map_err(|e| Error::Usage(format!("{}: {e}", path.display())))?;
+    let mut json = serde_json::to_vec(&json).map_err(|e| Error::encode(path, "JSON", e))?;
     // Chunks are 4-byte aligned: JSON padded with spaces, BIN with zeros.
     while json.len() % 4 != 0 {
         json.push(b' ');
@@ -136,7 +131,7 @@ fn glb_bytes(path: &Path, objects: &[Object]) -> Result<Vec<u8>> {
     }
     let total = 12 + 8 + json.len() + 8 + bin.len();
     let total = u32::try_from(total)
-        .map_err(|_| Error::Usage(format!("{}: {total} bytes; a .glb holds at most 4 GiB", path.display())))?;
+        .map_err(|_| Error::unsupported(path, format!("{total} bytes; a .glb holds at most 4 GiB")))?;
     let mut out = Vec::with_capacity(total as usize);
     out.extend_from_slice(b"glTF");
     out.extend_from_slice(&2u32.to_le_bytes());

@@ -65,10 +65,13 @@ impl FileSet {
     /// Write file `name` of the set with `fill`, as a temporary until the commit.
     pub fn add(&mut self, name: &str, fill: impl FnOnce(&mut AtomicFile) -> Result<()>) -> Result<&SetFile> {
         if !plain_name(name) || name == self.manifest || self.pending.iter().any(|(f, _)| f.name == name) {
-            return Err(Error::Usage(format!(
-                "{}: {name:?} cannot be a file of this set (a plain, unique name is needed)",
-                self.folder.display()
-            )));
+            return Err(Error::argument(
+                "file name",
+                format!(
+                    "{}: {name:?} cannot be a file of this set (a plain, unique name is needed)",
+                    self.folder.display()
+                ),
+            ));
         }
         let mut file = AtomicFile::create(self.folder.join(name))?;
         fill(&mut file)?;

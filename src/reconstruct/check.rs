@@ -120,10 +120,10 @@ pub fn check(
     a.check_geometry(m)?;
     let g = m.geometry();
     if hololines.is_empty() || hololines.end > g.hololines {
-        return Err(Error::Usage(format!(
-            "hololines {}..{} asked for; the frame has {}",
-            hololines.start, hololines.end, g.hololines
-        )));
+        return Err(Error::argument(
+            "hololines",
+            format!("hololines {}..{} asked for; the frame has {}", hololines.start, hololines.end, g.hololines),
+        ));
     }
     let unpacked = images.unpack(a, g.hololines)?;
     let colours = g.channels.len();
@@ -229,14 +229,17 @@ pub fn view(a: &Assembler, images: FrameRef<'_>, eyes: &[Eye], progress: &dyn Pr
         let sensible =
             eye.z_m.is_finite() && eye.z_m > g.emitter_z_m.max(0.0) && eye.pupil_m > 0.0 && eye.x_m.is_finite();
         if !sensible {
-            return Err(Error::Usage(format!(
-                "an eye at x = {} m, z = {} m with a {} m pupil: it must be in front of the emitters (z > {} m) \
+            return Err(Error::argument(
+                "eye",
+                format!(
+                    "an eye at x = {} m, z = {} m with a {} m pupil: it must be in front of the emitters (z > {} m) \
                  with a positive pupil",
-                eye.x_m,
-                eye.z_m,
-                eye.pupil_m,
-                g.emitter_z_m.max(0.0)
-            )));
+                    eye.x_m,
+                    eye.z_m,
+                    eye.pupil_m,
+                    g.emitter_z_m.max(0.0)
+                ),
+            ));
         }
     }
     let unpacked = images.unpack(a, g.hololines)?;

@@ -46,22 +46,28 @@ fn read_fringes(dir: &Path, layout: Option<&Layout>, frame: usize) -> Result<Fri
     let sidecar = read_sidecar(dir)?;
     if let Some(l) = layout {
         if *l != sidecar.layout {
-            return Err(Error::Usage(format!(
-                "{}: the fringes were assembled for layout {}, not {}",
-                dir.display(),
-                sidecar.layout.name,
-                l.name
-            )));
+            return Err(Error::argument(
+                "layout",
+                format!(
+                    "{}: the fringes were assembled for layout {}, not {}",
+                    dir.display(),
+                    sidecar.layout.name,
+                    l.name
+                ),
+            ));
         }
     }
     let Some(position) = sidecar.frames.iter().position(|f| f.index == frame) else {
         let have: Vec<String> = sidecar.frames.iter().map(|f| f.index.to_string()).collect();
-        return Err(Error::Usage(format!(
-            "{}: holds frame(s) {} of {}; frame {frame} asked for",
-            dir.display(),
-            have.join(", "),
-            sidecar.source
-        )));
+        return Err(Error::argument(
+            "frame",
+            format!(
+                "{}: holds frame(s) {} of {}; frame {frame} asked for",
+                dir.display(),
+                have.join(", "),
+                sidecar.source
+            ),
+        ));
     };
     let images = read_frame_images(dir, &sidecar, position)?;
     Ok(Fringes {
@@ -75,7 +81,7 @@ fn read_fringes(dir: &Path, layout: Option<&Layout>, frame: usize) -> Result<Fri
 fn assemble_frame(file: &HoloFile, path: &Path, layout: &Layout, frame: usize) -> Result<(Fringes, crate::Modulation)> {
     let frames = file.info().frames.len();
     if frame >= frames {
-        return Err(Error::Usage(format!("{}: has {frames} frame(s); frame {frame} asked for", path.display())));
+        return Err(Error::no_frame(path, frame, frames));
     }
     let m = file.read_frame(frame)?;
     let assembler = Assembler::new(layout)?;
@@ -89,7 +95,7 @@ fn with_path(e: Error, path: &Path, frame: usize) -> Error {
         Error::BadSample { hololine, emitter, view, channel, value, why, .. } => {
             Error::BadSample { path: path.to_path_buf(), frame, hololine, emitter, view, channel, value, why }
         }
-        Error::Usage(message) => Error::Usage(format!("{}: {message}", path.display())),
+        e @ Error::Argument { .. } => e.naming(path),
         other => other,
     }
 }
@@ -135,27 +141,26 @@ pub fn check_file(
             let fringes = read_fringes(dir, layout, options.frame)?;
             let frames = file.info().frames.len();
             if options.frame >= frames {
-                return Err(Error::Usage(format!(
-                    "{}: has {frames} frame(s); frame {} asked for",
-                    holo_path.display(),
-                    options.frame
-                )));
+                return Err(Error::no_frame(holo_path, options.frame, frames));
             }
             let m = file.read_frame(options.frame)?;
             if let (Some(a), Some(b)) = (&fringes.digest, &file.info().frames[options.frame].digest) {
                 if a != b {
-                    return Err(Error::Usage(format!(
-                        "{}: its frame {} is not the one the fringes in {} were assembled from ({a}, not {b})",
-                        holo_path.display(),
-                        options.frame,
-                        dir.display()
-                    )));
+                    return Err(Error::argument(
+                        "fringes",
+                        format!(
+                            "{}: its frame {} is not the one the fringes in {} were assembled from ({a}, not {b})",
+                            holo_path.display(),
+                            options.frame,
+                            dir.display()
+                        ),
+                    ));
                 }
             }
             (fringes, m, dir.display().to_string())
         }
         None => {
-            let layout = layout.ok_or_else(|| Error::Usage("checking a .holo file needs a layout".into()))?;
+            let layout = layout.ok_or_else(|| Error::argument("layout", "checking a .holo file needs a layout"))?;
             let (fringes, m) = assemble_frame(&file, holo_path, layout, options.frame)?;
             (fringes, m, "assembled in memory (8-bit)".into())
         }
@@ -193,12 +198,15 @@ pub fn view_file(
     let fringes = if is_fringe_dir(input) {
         read_fringes(input, layout, frame)?
     } else if input.is_dir() {
-        return Err(Error::Usage(format!(
-            "{}: a directory without {FRINGE_SIDECAR}: give a .holo file or a directory `holo assemble` wrote",
-            input.display()
-        )));
+        return Err(Error::argument(
+            "input",
+            format!(
+                "{}: a directory without {FRINGE_SIDECAR}: give a .holo file or a directory `holo assemble` wrote",
+                input.display()
+            ),
+        ));
     } else {
-        let layout = layout.ok_or_else(|| Error::Usage("viewing a .holo file needs a layout".into()))?;
+        let layout = layout.ok_or_else(|| Error::argument("layout", "viewing a .holo file needs a layout"))?;
         assemble_frame(&HoloFile::open(input)?, input, layout, frame)?.0
     };
     let g = &fringes.assembler.layout().geometry;

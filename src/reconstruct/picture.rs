@@ -45,7 +45,7 @@ impl Picture {
         use image::codecs::png::PngEncoder;
         use image::{ExtendedColorType, ImageEncoder};
         if !(white.is_finite() && white > 0.0) {
-            return Err(Error::Usage(format!("white {white} must be a positive brightness")));
+            return Err(Error::argument("white level", format!("white {white} must be a positive brightness")));
         }
         let (px_e, px_j) = if self.column_aspect >= 1.0 {
             (self.column_aspect.round().max(1.0) as usize, 1)
@@ -74,7 +74,7 @@ impl Picture {
         write_atomically(path, overwrite, |w| {
             PngEncoder::new(w)
                 .write_image(&pixels, width as u32, height as u32, colour)
-                .map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+                .map_err(|e| Error::encode(path, "PNG", e))
         })?;
         Ok(())
     }

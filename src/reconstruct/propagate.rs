@@ -50,10 +50,10 @@ impl Field1d {
         check_positive("field pitch_m", self.pitch_m)?;
         check_finite("field x0_m", self.x0_m)?;
         if self.samples.is_empty() {
-            return Err(Error::Usage("the field has no samples".into()));
+            return Err(Error::argument("field", "the field has no samples"));
         }
         match self.samples.iter().position(|s| !(s.re.is_finite() && s.im.is_finite())) {
-            Some(k) => Err(Error::Usage(format!("field sample {k} is not finite"))),
+            Some(k) => Err(Error::argument("field", format!("field sample {k} is not finite"))),
             None => Ok(()),
         }
     }
@@ -92,7 +92,7 @@ pub fn propagate_to(
     check_finite("output x0_m", x0_m)?;
     check_positive("output pitch_m", pitch_m)?;
     if count == 0 {
-        return Err(Error::Usage("the output window has no samples".into()));
+        return Err(Error::argument("output window", "the output window has no samples"));
     }
     let p = field.pitch_m;
     // Output pitch = p · down / up with one of them 1: compute on a grid `up`
@@ -100,9 +100,10 @@ pub fn propagate_to(
     let ratio = pitch_m / p;
     let (up, down) = if ratio >= 1.0 { (1.0, ratio.round()) } else { ((1.0 / ratio).round(), 1.0) };
     if (down / up - ratio).abs() > 1e-9 * ratio {
-        return Err(Error::Usage(format!(
-            "output pitch {pitch_m} m is not a whole multiple or fraction of the field's pitch {p} m"
-        )));
+        return Err(Error::argument(
+            "output pitch",
+            format!("output pitch {pitch_m} m is not a whole multiple or fraction of the field's pitch {p} m"),
+        ));
     }
     // The padded grid starts a whole number of input samples before the input
     // and covers both windows, with a sample to spare against rounding.
@@ -112,10 +113,10 @@ pub fn propagate_to(
     let grid_x0_m = field.x0_m - before * p;
     let union_samples = ((hi - grid_x0_m) / p).ceil() + 1.0;
     if 2.0 * union_samples * up > MAX_FFT_SAMPLES as f64 {
-        return Err(Error::Usage(format!(
-            "propagating over {:.3e} m at pitch {p} m needs more than {MAX_FFT_SAMPLES} samples",
-            hi - lo
-        )));
+        return Err(Error::argument(
+            "distance",
+            format!("propagating over {:.3e} m at pitch {p} m needs more than {MAX_FFT_SAMPLES} samples", hi - lo),
+        ));
     }
     let (up, down, before) = (up as usize, down as usize, before as usize);
     let len = fast_len(2 * union_samples as usize);
@@ -171,7 +172,7 @@ impl Propagator {
         check_positive("wavelength_m", wavelength_m)?;
         check_finite("distance_m", distance_m)?;
         if count == 0 || 2 * (count + 1) > MAX_FFT_SAMPLES {
-            return Err(Error::Usage(format!("cannot propagate a field of {count} samples")));
+            return Err(Error::argument("field", format!("cannot propagate a field of {count} samples")));
         }
         // As in `propagate_to` with the output window the input's (the same
         // rounding, so the same padding).
@@ -197,7 +198,10 @@ impl Propagator {
     /// `field` (sampled like the one this was planned for) propagated.
     pub fn apply(&self, field: &Field1d) -> Result<Field1d> {
         if field.samples.len() != self.count || field.pitch_m != self.pitch_m || field.x0_m != self.x0_m {
-            return Err(Error::Usage("the field is not sampled like the one the propagation was planned for".into()));
+            return Err(Error::argument(
+                "field",
+                "the field is not sampled like the one the propagation was planned for",
+            ));
         }
         let len = self.transfer.len();
         let mut buf = vec![Complex64::new(0.0, 0.0); len];
@@ -296,7 +300,7 @@ pub fn angular_spectrum(field: &Field1d, window: Window, wavelength_m: f64) -> R
     let width_m = window.x_hi_m - window.x_lo_m;
     // Both limits are finite, so the width is not NaN.
     if width_m <= 0.0 || window.zero_pad == 0 {
-        return Err(Error::Usage("a window needs x_lo_m < x_hi_m and a zero_pad of at least 1".into()));
+        return Err(Error::argument("window", "a window needs x_lo_m < x_hi_m and a zero_pad of at least 1"));
     }
     // Samples with x_lo ≤ x < x_hi; the tolerance keeps a limit placed on a
     // sample from losing it to rounding.
@@ -304,14 +308,16 @@ pub fn angular_spectrum(field: &Field1d, window: Window, wavelength_m: f64) -> R
     let index = |x: f64| ((x - field.x0_m) / field.pitch_m - 1e-9).ceil().clamp(0.0, n as f64) as usize;
     let (k_lo, k_hi) = (index(window.x_lo_m), index(window.x_hi_m));
     if k_lo >= k_hi {
-        return Err(Error::Usage(format!(
-            "window [{}, {}) m holds no sample of the field",
-            window.x_lo_m, window.x_hi_m
-        )));
+        return Err(Error::argument(
+            "window",
+            format!("window [{}, {}) m holds no sample of the field", window.x_lo_m, window.x_hi_m),
+        ));
     }
     let len = match (k_hi - k_lo).checked_mul(window.zero_pad) {
         Some(m) if m <= MAX_FFT_SAMPLES => fast_len(m),
-        _ => return Err(Error::Usage(format!("window spectrum needs more than {MAX_FFT_SAMPLES} samples"))),
+        _ => {
+            return Err(Error::argument("window", format!("window spectrum needs more than {MAX_FFT_SAMPLES} samples")))
+        }
     };
     let mut buf = vec![Complex64::new(0.0, 0.0); len];
     for (b, k) in buf.iter_mut().zip(k_lo..k_hi) {
@@ -344,7 +350,7 @@ pub fn intensity_peak(field: &Field1d) -> Result<(f64, f64)> {
     let intensity: Vec<f64> = field.samples.iter().map(|s| s.norm_sqr()).collect();
     let Some((k, &i_max)) = intensity.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).filter(|m| *m.1 > 0.0)
     else {
-        return Err(Error::Usage("the field is zero: it has no intensity peak".into()));
+        return Err(Error::argument("field", "the field is zero: it has no intensity peak"));
     };
     let (offset, peak) = match (k.checked_sub(1).map(|j| intensity[j]), intensity.get(k + 1)) {
         (Some(a), Some(&c)) if a - 2.0 * i_max + c < 0.0 => {
@@ -359,7 +365,7 @@ pub fn intensity_peak(field: &Field1d) -> Result<(f64, f64)> {
     let left = (0..k).rev().find(|&j| intensity[j] < half);
     let right = (k + 1..intensity.len()).find(|&j| intensity[j] < half);
     let (Some(l), Some(r)) = (left, right) else {
-        return Err(Error::Usage("the intensity peak does not fall to half within the field".into()));
+        return Err(Error::argument("field", "the intensity peak does not fall to half within the field"));
     };
     let x_left = l as f64 + (half - intensity[l]) / (intensity[l + 1] - intensity[l]);
     let x_right = r as f64 - (half - intensity[r]) / (intensity[r - 1] - intensity[r]);
@@ -377,19 +383,19 @@ fn fast_len(n: usize) -> usize {
     best
 }
 
-fn check_finite(what: &str, value: f64) -> Result<()> {
+fn check_finite(what: &'static str, value: f64) -> Result<()> {
     if value.is_finite() {
         Ok(())
     } else {
-        Err(Error::Usage(format!("{what} is {value}; it must be finite")))
+        Err(Error::argument(what, format!("{what} is {value}; it must be finite")))
     }
 }
 
-fn check_positive(what: &str, value: f64) -> Result<()> {
+fn check_positive(what: &'static str, value: f64) -> Result<()> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(Error::Usage(format!("{what} is {value}; it must be finite and positive")))
+        Err(Error::argument(what, format!("{what} is {value}; it must be finite and positive")))
     }
 }
 
@@ -557,14 +563,14 @@ mod tests {
         let empty = Field1d { samples: vec![], ..good.clone() };
         let nan = Field1d { samples: vec![Complex64::new(f64::NAN, 0.0)], ..good.clone() };
         for field in [&zero_pitch, &empty, &nan] {
-            assert!(matches!(propagate(field, WAVELENGTH_M, 1e-3), Err(Error::Usage(_))));
+            assert!(matches!(propagate(field, WAVELENGTH_M, 1e-3), Err(Error::Argument { .. })));
         }
-        let usage = |r: Result<Field1d>| matches!(r, Err(Error::Usage(_)));
+        let usage = |r: Result<Field1d>| matches!(r, Err(Error::Argument { .. }));
         assert!(usage(propagate(&good, f64::NAN, 1e-3)) && usage(propagate(&good, WAVELENGTH_M, f64::INFINITY)));
         assert!(usage(propagate_to(&good, WAVELENGTH_M, 1e-3, 0.0, 0.7e-6, 10)));
         assert!(usage(propagate_to(&good, WAVELENGTH_M, 1e-3, 1e3, 1e-6, 10)));
         let outside = Window::new(1.0, 2.0, Taper::Rect);
-        assert!(matches!(angular_spectrum(&good, outside, WAVELENGTH_M), Err(Error::Usage(_))));
+        assert!(matches!(angular_spectrum(&good, outside, WAVELENGTH_M), Err(Error::Argument { .. })));
         assert!(intensity_peak(&Field1d { samples: vec![Complex64::new(1.0, 0.0); 8], ..good }).is_err());
     }
 }

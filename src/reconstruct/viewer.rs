@@ -150,7 +150,7 @@ impl ColourOptics {
             .collect();
         if let Some(v) = optics.view_gain.iter().position(|g| g.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater))
         {
-            return Err(Error::Usage(format!("view {v} of the calibration emitter carries no light")));
+            return Err(Error::argument("modulation", format!("view {v} of the calibration emitter carries no light")));
         }
         Ok(optics)
     }

@@ -101,7 +101,7 @@ fn bytes_are_reproducible_and_mismatches_are_named() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("mark1.holo") && err.contains("64 hololines (the layout has 4)"), "{err}");
-    assert!(err.contains("--resample"), "{err}");
+    assert!(err.contains("resampling"), "{err}");
     // Asked for explicitly, the frames are resampled onto the layout by rays.
     let resampling = AssembleOptions { resample: true, ..options.clone() };
     let r = assemble_file(&other, &layout, &dir.path().join("e"), &resampling, &holo::progress::Silent).unwrap();

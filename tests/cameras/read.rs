@@ -705,3 +705,40 @@ fn bad_input_names_the_file_and_camera() {
     let e = error_of(read_rig_file(&d.join("broken.json")));
     assert!(e.contains("broken.json") && e.contains("not a valid JSON rig file"), "{e}");
 }
+
+/// A caller tells the kinds of failure apart by the error's variant: a file
+/// the system cannot read, a capture that cannot be used (naming its file or
+/// folder), a value passed that is out of range.
+#[test]
+fn rig_errors_keep_their_meaning() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let missing = d.join("missing.toml");
+    match open_rig(&missing) {
+        Err(holo::Error::Io { path, .. }) => assert_eq!(path, missing),
+        other => panic!("a missing rig file is an I/O error: {other:?}"),
+    }
+    std::fs::write(d.join("broken.toml"), "cameras = [").unwrap();
+    match open_rig(&d.join("broken.toml")) {
+        Err(holo::Error::Rig { path, problem }) => {
+            assert!(path == d.join("broken.toml") && problem.contains("TOML"), "{problem}")
+        }
+        other => panic!("a broken rig file: {other:?}"),
+    }
+    // A folder of pictures that does not say how far apart they are.
+    png(&d.join("views/a.png"), 8, 6);
+    png(&d.join("views/b.png"), 8, 6);
+    match open_rig(&d.join("views")) {
+        Err(holo::Error::Rig { path, problem }) => {
+            assert!(path == d.join("views") && problem.contains("baseline"), "{problem}")
+        }
+        other => panic!("a rail without a baseline: {other:?}"),
+    }
+    // A quilt's name that counts no views is the caller's value.
+    match holo::cameras::read::quilt_layout("a_qs0x8a1.6.png") {
+        Some(Err(holo::Error::Argument { what: "quilt name", problem })) => {
+            assert!(problem.contains("no views"), "{problem}")
+        }
+        other => panic!("a quilt name without views: {other:?}"),
+    }
+}

@@ -206,7 +206,7 @@ fn coincident_cameras_and_missing_focus_are_errors_naming_them() {
     let mut rig = rail(4);
     rig.focus_distance = None;
     let e = error_of(&rig, &views, &g);
-    assert!(e.contains("--focus"), "{e}");
+    assert!(e.contains("focus distance") && !e.contains("--"), "{e}");
     // Cameras whose pictures hold nothing of what the display would show.
     let mut rig = rail(4);
     for c in &mut rig.cameras {

@@ -209,6 +209,23 @@ fn attributes_of_the_wrong_type() {
     assert_mentions(&o, &["holo.viewSpacing", "log"]);
 }
 
+/// A spec violation is [`Error::Invalid`]; a frame the file does not hold is
+/// [`Error::NoFrame`], with the numbers a caller needs; neither names an option.
+#[test]
+fn spec_violations_and_requests_are_told_apart() {
+    let o = reject("hololines-string-kind", &with_attribute("holo.hololines", Some(("string", b"4".to_vec()))));
+    assert!(matches!(o.error, Some(Error::Invalid { .. })), "{}", o.message);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("ok.holo");
+    std::fs::write(&path, valid_bytes()).unwrap();
+    match HoloFile::open(&path).unwrap().read_frame(3) {
+        Err(Error::NoFrame { path: p, asked, frames: 1 }) => assert!(p == path && asked == (3..4)),
+        other => panic!("frame 3 of a one-frame file: {other:?}"),
+    }
+    let e = HoloFile::open(&path).unwrap().read_frame(3).unwrap_err().to_string();
+    assert!(e.contains("ok.holo") && e.contains("no frame 3") && !e.contains("--"), "{e}");
+}
+
 #[test]
 fn inconsistent_counts() {
     let o = reject("emitters", &with_attribute("holo.emitters", Some(("int", int(4)))));

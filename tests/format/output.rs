@@ -408,7 +408,7 @@ fn a_banded_write_leaves_no_spool_and_keeps_an_existing_file() {
     let options = holo::WriteOptions { overwrite: true, ..Default::default() };
     let failed = holo::format::write_frame_in_bands(&path, &g, 4, &options, |band| {
         if band.hololines().start >= 8 {
-            return Err(Error::Usage("the source failed".into()));
+            return Err(Error::Argument { what: "source", problem: "the source failed".into() });
         }
         Ok(())
     });

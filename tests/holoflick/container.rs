@@ -254,7 +254,7 @@ fn random_access_in_any_order() {
         assert_eq!(fresh.read_frame(n).unwrap(), in_order[n as usize], "frame {n}");
     }
     let e = fresh.read_frame(4).unwrap_err();
-    assert!(matches!(e, ContainerError::Usage { .. }), "{e}");
+    assert!(matches!(e, ContainerError::NoFrame { frame: 4, frames: 4, .. }), "{e}");
     assert!(e.to_string().contains("frame 4 asked for; the file has 4 frames"), "{e}");
 }
 
@@ -595,10 +595,11 @@ fn an_empty_movie_reads() {
     assert_eq!(bytes % 8, 0);
     let mut r = HoloFlickReader::open(&path).unwrap();
     assert_eq!(r.frame_count(), 0);
-    assert!(matches!(r.read_frame(0).unwrap_err(), ContainerError::Usage { .. }));
+    assert!(matches!(r.read_frame(0).unwrap_err(), ContainerError::NoFrame { frame: 0, frames: 0, .. }));
     // Converted to the crate's error, the message keeps the file and the problem.
     let e: holo::Error = r.read_frame(0).unwrap_err().into();
     assert!(e.to_string().contains("empty.hflk: frame 0 asked for"), "{e}");
+    assert!(matches!(e, holo::Error::HoloFlick(ContainerError::NoFrame { .. })), "{e:?}");
 }
 
 /// A random valid movie: key frames at random, references to objects that

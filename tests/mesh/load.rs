@@ -856,3 +856,56 @@ fn gltf_materials_textures_and_sparse_accessor() {
         assert!((t[0] - 1.0).abs() < 1e-6 && t[1].abs() < 1e-6 && t[2].abs() < 1e-6, "{t:?}");
     }
 }
+
+/// A caller tells the kinds of failure apart by the error's variant: a file
+/// the system cannot read, a scene file that cannot be used (naming it), a
+/// value passed that is out of range.
+#[test]
+fn errors_keep_their_meaning() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.obj");
+    match load(&missing) {
+        Err(holo::Error::Io { path, source }) => {
+            assert_eq!(path, missing);
+            assert_eq!(source.kind(), std::io::ErrorKind::NotFound);
+        }
+        other => panic!("a missing file is an I/O error: {other:?}"),
+    }
+    let d = dir.path();
+    for (name, text) in [
+        ("broken.gltf", r#"{"asset": {"version": "2.0"}, "nodes": [ "#),
+        ("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"),
+        ("empty.obj", "# nothing\n"),
+        ("bad.ply", "ply\nformat ascii 1.0\nend_header\n"),
+        ("scene.fbx", "whatever"),
+    ] {
+        let p = write(d, name, text);
+        match load(&p) {
+            Err(holo::Error::Scene { path, problem }) => {
+                assert_eq!(path, p);
+                assert!(!problem.is_empty() && !problem.contains(name), "{name}: the path is a field: {problem}");
+            }
+            other => panic!("{name}: a scene problem: {other:?}"),
+        }
+    }
+    // A lights file's bad line is a scene problem; a light given as a value is an argument.
+    let lights = write(d, "lights.txt", "dir:0,0,-1\npoint:1,2\n");
+    match holo::mesh::shade::read_lights(&lights, [0.0; 3]) {
+        Err(holo::Error::Scene { path, problem }) => assert!(path == lights && problem.contains("line 2"), "{problem}"),
+        other => panic!("a bad lights file: {other:?}"),
+    }
+    match holo::mesh::shade::parse_light("spot:1,2,3", [0.0; 3]) {
+        Err(holo::Error::Argument { what: "light", problem }) => assert!(problem.contains("spot:1,2,3"), "{problem}"),
+        other => panic!("a bad light: {other:?}"),
+    }
+    // A placement matrix that flattens the scene is the caller's value, not the scene's fault.
+    let mut scene = load_ok(&write(d, "ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+    let placement = holo::mesh::place::Placement { matrix: Some([[0.0; 4]; 4]), ..Default::default() };
+    match holo::mesh::place::place(&mut scene, &holo::layout::mark3().geometry, &placement) {
+        Err(holo::Error::Argument { what: "placement matrix", .. }) => {}
+        other => panic!("a bad placement matrix: {other:?}"),
+    }
+    // Messages never name command-line options.
+    let e = load(&write(d, "nan.obj", "v nan 0 0\n")).unwrap_err().to_string();
+    assert!(!e.contains("--"), "{e}");
+}

@@ -14,11 +14,11 @@ use crate::{Error, Result};
 /// Read a folder of PNG/JPEG images as a rail; the options give what the
 /// files cannot (baseline, focal length).
 pub fn read_folder(folder: &Path, options: &FolderOptions) -> Result<Rig> {
-    let usage = |problem: String| Error::Usage(format!("{}: {problem}", folder.display()));
+    let usage = |problem: String| Error::rig(folder, problem);
     let images: Vec<(String, PathBuf)> =
         list_files(folder)?.into_iter().filter(|n| is_image(n)).map(|n| (n.clone(), folder.join(n))).collect();
     if images.is_empty() {
-        return Err(Error::invalid(folder, "holds no PNG or JPEG images"));
+        return Err(Error::rig(folder, "holds no PNG or JPEG images"));
     }
     let baseline = match options.baseline {
         Some(b) if b > 0.0 && b.is_finite() => b,

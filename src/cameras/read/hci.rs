@@ -37,7 +37,7 @@ pub fn read_hci(folder: &Path) -> Result<Rig> {
     let cfg_path = folder.join("parameters.cfg");
     let text = std::fs::read_to_string(&cfg_path).map_err(|e| Error::io(&cfg_path, e))?;
     let ini = parse_ini(&text);
-    let bad = |problem: String| Error::invalid(&cfg_path, problem);
+    let bad = |problem: String| Error::rig(&cfg_path, problem);
     let value = |section: &str, key: &str| -> Result<f64> {
         let Some(text) = ini.get(&(section.to_string(), key.to_string())) else {
             return Err(bad(format!("[{section}] {key} is missing")));
@@ -90,15 +90,11 @@ pub fn read_hci(folder: &Path) -> Result<Rig> {
         let Some(index) = camera_index(name) else { continue };
         let path = folder.join(name);
         if index >= nx * ny {
-            return Err(Error::invalid(
-                &path,
-                format!("camera {index} is outside the {nx}×{ny} grid of parameters.cfg"),
-            ));
+            return Err(Error::rig(&path, format!("camera {index} is outside the {nx}×{ny} grid of parameters.cfg")));
         }
-        let size =
-            image_size(&path).map_err(|e| Error::invalid(&path, format!("camera {name}: {}", bare(&e, &path))))?;
+        let size = image_size(&path).map_err(|e| Error::rig(&path, format!("camera {name}: {}", bare(&e, &path))))?;
         if size != (width, height) {
-            return Err(Error::invalid(
+            return Err(Error::rig(
                 &path,
                 format!("camera {name}: the image is {}×{}, parameters.cfg says {width}×{height}", size.0, size.1),
             ));
@@ -110,12 +106,12 @@ pub fn read_hci(folder: &Path) -> Result<Rig> {
         );
         let mut camera = frame
             .camera(name.clone(), ImageSource::File(path), size, (f, f), offset, Some(focus))
-            .map_err(|e| Error::invalid(folder, e))?;
+            .map_err(|e| Error::rig(folder, e))?;
         camera.depth = ground_truth(folder, index, index == centre_index, baseline * f, focus);
         cameras.push((index, camera));
     }
     if cameras.is_empty() {
-        return Err(Error::invalid(folder, "holds parameters.cfg but no input_CamNNN.png images"));
+        return Err(Error::rig(folder, "holds parameters.cfg but no input_CamNNN.png images"));
     }
     cameras.sort_by_key(|c| c.0);
     finish(Rig {

@@ -18,7 +18,7 @@ use crate::{Error, Result};
 pub fn read_middlebury(par: &Path) -> Result<Rig> {
     let text = std::fs::read_to_string(par).map_err(|e| Error::io(par, e))?;
     let dir = par.parent().unwrap_or(Path::new("."));
-    let bad = |problem: String| Error::invalid(par, problem);
+    let bad = |problem: String| Error::rig(par, problem);
     let mut lines = text.lines().enumerate().map(|(n, l)| (n + 1, l.trim())).filter(|(_, l)| !l.is_empty());
     let Some((_, first)) = lines.next() else { return Err(bad("the file is empty".into())) };
     let count: usize = first

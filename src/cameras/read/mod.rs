@@ -140,7 +140,7 @@ pub fn open_rig_with(path: &Path, options: &OpenOptions) -> Result<Rig> {
             [] => {}
             several => {
                 let list: Vec<&str> = several.iter().map(|s| s.as_str()).collect();
-                return Err(Error::invalid(
+                return Err(Error::rig(
                     path,
                     format!("holds several Middlebury camera files ({}): open one of them", list.join(", ")),
                 ));
@@ -152,7 +152,7 @@ pub fn open_rig_with(path: &Path, options: &OpenOptions) -> Result<Rig> {
         if names.iter().any(|n| is_image(n)) {
             return read_folder(path, &options.folder);
         }
-        return Err(Error::invalid(
+        return Err(Error::rig(
             path,
             "no capture found: expected a rig file (rig.toml, rig.json), parameters.cfg (HCI), a *_par.txt \
              (Middlebury), out_RR_CC_Y_X.png images (Stanford) or a folder of PNG/JPEG images",
@@ -169,7 +169,7 @@ pub fn open_rig_with(path: &Path, options: &OpenOptions) -> Result<Rig> {
     } else if quilt_layout(&name).is_some() {
         read_quilt(path, &options.quilt)
     } else {
-        Err(Error::invalid(
+        Err(Error::rig(
             path,
             "not a capture this reader knows: expected a .toml or .json rig file, a Middlebury *_par.txt, \
              a quilt named *_qs{columns}x{rows}a{aspect}.png, or a folder",
@@ -179,10 +179,8 @@ pub fn open_rig_with(path: &Path, options: &OpenOptions) -> Result<Rig> {
 
 /// The rig, or its first problem as an error.
 fn finish(rig: Rig) -> Result<Rig> {
-    match rig.problem() {
-        Some(problem) => Err(Error::Usage(problem)),
-        None => Ok(rig),
-    }
+    rig.check()?;
+    Ok(rig)
 }
 
 /// The names of the files in `dir`, in natural order.
@@ -246,11 +244,11 @@ pub(crate) fn natural_order(a: &str, b: &str) -> Ordering {
 fn common_size(images: &[(String, PathBuf)]) -> Result<(usize, usize)> {
     let mut first: Option<(&str, (usize, usize))> = None;
     for (name, path) in images {
-        let size = image_size(path).map_err(|e| Error::invalid(path, format!("camera {name}: {}", bare(&e, path))))?;
+        let size = image_size(path).map_err(|e| Error::rig(path, format!("camera {name}: {}", bare(&e, path))))?;
         match first {
             None => first = Some((name, size)),
             Some((other, s)) if s != size => {
-                return Err(Error::invalid(
+                return Err(Error::rig(
                     path,
                     format!(
                         "camera {name}: the image is {}×{}, camera {other}'s is {}×{}; all views must be one size",
@@ -261,7 +259,7 @@ fn common_size(images: &[(String, PathBuf)]) -> Result<(usize, usize)> {
             Some(_) => {}
         }
     }
-    first.map(|f| f.1).ok_or_else(|| Error::Usage("no images".into()))
+    first.map(|f| f.1).ok_or_else(|| Error::argument("images", "no images to size"))
 }
 
 /// An error's message without the leading path it names (so it can be

@@ -31,7 +31,14 @@ pub struct QuiltLayout {
 /// A quilt's layout from its file name, `None` when the name is not a
 /// quilt's (no `_qs` suffix, not PNG/JPEG), an error when the suffix is
 /// malformed or counts zero tiles (the caller names the file).
-pub fn quilt_layout(file_name: &str) -> Option<Result<QuiltLayout, String>> {
+///
+/// A malformed suffix is an [`Error::Argument`] quoting the name.
+pub fn quilt_layout(file_name: &str) -> Option<Result<QuiltLayout>> {
+    layout_from_name(file_name).map(|r| r.map_err(|problem| Error::argument("quilt name", problem)))
+}
+
+/// [`quilt_layout`], its error a phrase for the caller to put after the file's name.
+fn layout_from_name(file_name: &str) -> Option<std::result::Result<QuiltLayout, String>> {
     let (stem, extension) = file_name.rsplit_once('.')?;
     if !["png", "jpg", "jpeg"].contains(&extension.to_ascii_lowercase().as_str()) {
         return None;
@@ -59,29 +66,29 @@ pub fn quilt_layout(file_name: &str) -> Option<Result<QuiltLayout, String>> {
 /// Read a quilt: one camera per tile, in view order.
 pub fn read_quilt(path: &Path, options: &QuiltOptions) -> Result<Rig> {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let QuiltLayout { columns, rows, aspect } = quilt_layout(&name)
+    let QuiltLayout { columns, rows, aspect } = layout_from_name(&name)
         .unwrap_or_else(|| {
             Err(format!("\"{name}\" is not named like a quilt (*_qs{{columns}}x{{rows}}a{{aspect}}.png)"))
         })
-        .map_err(|e| Error::invalid(path, e))?;
+        .map_err(|e| Error::rig(path, e))?;
     let (cone, fov) = (options.view_cone_deg, options.vertical_fov_deg);
     if !((0.0..180.0).contains(&cone) && fov > 0.0 && fov < 180.0) {
-        return Err(Error::Usage(format!(
+        return Err(Error::argument("quilt options", format!(
             "{}: the quilt options need a view cone in [0°, 180°) and a field of view in (0°, 180°) (got {cone}°, {fov}°)",
             path.display()
         )));
     }
-    let (width, height) = image_size(path).map_err(|e| Error::invalid(path, bare(&e, path)))?;
+    let (width, height) = image_size(path).map_err(|e| Error::rig(path, bare(&e, path)))?;
     // Leftover pixels (sizes not divisible) are at the right and top, as
     // HoloPlay lays tiles from the bottom-left corner.
     let (w, h) = (width / columns, height / rows);
     if w == 0 || h == 0 {
-        return Err(Error::invalid(path, format!("a {width}×{height} image cannot hold {columns}×{rows} tiles")));
+        return Err(Error::rig(path, format!("a {width}×{height} image cannot hold {columns}×{rows} tiles")));
     }
     let aspect = aspect.unwrap_or(w as f64 / h as f64);
     let half_height = (fov.to_radians() / 2.0).tan();
     let (fx, fy) = (w as f64 / 2.0 / (aspect * half_height), h as f64 / 2.0 / half_height);
-    let frame = ArrayFrame::new([0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]).map_err(Error::Usage)?;
+    let frame = ArrayFrame::new([0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]).map_err(|e| Error::rig(path, e))?;
     let views = columns * rows;
     let mut cameras = Vec::with_capacity(views);
     for v in 0..views {
@@ -95,8 +102,9 @@ pub fn read_quilt(path: &Path, options: &QuiltOptions) -> Result<Rig> {
             height: h,
         };
         let offset = [angle.to_radians().tan(), 0.0, 0.0];
-        let camera =
-            frame.camera(format!("view {v}"), tile, (w, h), (fx, fy), offset, Some(1.0)).map_err(Error::Usage)?;
+        let camera = frame
+            .camera(format!("view {v}"), tile, (w, h), (fx, fy), offset, Some(1.0))
+            .map_err(|e| Error::rig(path, e))?;
         cameras.push(camera);
     }
     finish(Rig {
@@ -115,13 +123,14 @@ mod tests {
     #[test]
     fn names() {
         let layout = |columns, rows, aspect| Some(Ok(QuiltLayout { columns, rows, aspect }));
-        assert_eq!(quilt_layout("a_qs4x8a1.6.png"), layout(4, 8, Some(1.6)));
-        assert_eq!(quilt_layout("photo_qs8x6a0.75.JPG"), layout(8, 6, Some(0.75)));
-        assert_eq!(quilt_layout("b_qs5x9.png"), layout(5, 9, None));
-        assert_eq!(quilt_layout("view_01.png"), None);
-        assert_eq!(quilt_layout("a_qs4x8a1.6.txt"), None);
-        assert!(quilt_layout("a_qs0x8a1.6.png").unwrap().unwrap_err().contains("no views"));
-        assert!(quilt_layout("a_qs4by8.png").unwrap().unwrap_err().contains("_qs{columns}x{rows}"));
-        assert!(quilt_layout("a_qs4x8a-1.png").unwrap().unwrap_err().contains("aspect"));
+        assert_eq!(layout_from_name("a_qs4x8a1.6.png"), layout(4, 8, Some(1.6)));
+        assert_eq!(layout_from_name("photo_qs8x6a0.75.JPG"), layout(8, 6, Some(0.75)));
+        assert_eq!(layout_from_name("b_qs5x9.png"), layout(5, 9, None));
+        assert_eq!(layout_from_name("view_01.png"), None);
+        assert_eq!(layout_from_name("a_qs4x8a1.6.txt"), None);
+        assert!(layout_from_name("a_qs0x8a1.6.png").unwrap().unwrap_err().contains("no views"));
+        assert!(layout_from_name("a_qs4by8.png").unwrap().unwrap_err().contains("_qs{columns}x{rows}"));
+        let e = quilt_layout("a_qs4x8a-1.png").unwrap().unwrap_err();
+        assert!(matches!(&e, Error::Argument { what: "quilt name", .. }) && e.to_string().contains("aspect"), "{e}");
     }
 }

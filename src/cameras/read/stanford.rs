@@ -43,31 +43,32 @@ pub fn read_stanford(folder: &Path, options: &StanfordOptions) -> Result<Rig> {
         .filter_map(|n| stanford_position(&n).map(|p| (p, n.clone(), folder.join(n))))
         .collect();
     if views.is_empty() {
-        return Err(Error::invalid(folder, "holds no out_RR_CC_Y_X.png images"));
+        return Err(Error::rig(folder, "holds no out_RR_CC_Y_X.png images"));
     }
     views.sort_by_key(|v| (v.0 .0, v.0 .1));
     let named: Vec<(String, PathBuf)> = views.iter().map(|v| (v.1.clone(), v.2.clone())).collect();
     let size = common_size(&named)?;
     let f = focal_px(options.focal_length_px, options.horizontal_fov_deg, size.0, "StanfordOptions")
-        .map_err(|e| Error::Usage(format!("{}: {e}", folder.display())))?;
+        .map_err(|e| Error::rig(folder, e))?;
     let Some(focus) = options.focus_distance else {
-        return Err(Error::Usage(format!(
-            "{}: the Stanford archive does not record how far its reference plane (zero parallax) is from the \
+        return Err(Error::rig(
+            folder,
+            "the Stanford archive does not record how far its reference plane (zero parallax) is from the \
              cameras: set StanfordOptions focus_distance (in the file names' units)",
-            folder.display()
-        )));
+        ));
     };
     let n = views.len() as f64;
     let mean = |pick: fn(&(usize, usize, f64, f64)) -> f64| views.iter().map(|v| pick(&v.0)).sum::<f64>() / n;
     let (my, mx) = (mean(|p| p.2), mean(|p| p.3));
-    let frame = ArrayFrame::new([0.0, 0.0, focus], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]).map_err(Error::Usage)?;
+    let frame =
+        ArrayFrame::new([0.0, 0.0, focus], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]).map_err(|e| Error::rig(folder, e))?;
     let mut cameras = Vec::with_capacity(views.len());
     for ((_, _, y, x), name, path) in views {
         // World x right, y up: the file's Y grows downward.
         let offset = [x - mx, -(y - my), 0.0];
         let camera = frame
             .camera(name, ImageSource::File(path), size, (f, f), offset, Some(focus))
-            .map_err(|e| Error::invalid(folder, e))?;
+            .map_err(|e| Error::rig(folder, e))?;
         cameras.push(camera);
     }
     finish(Rig {

@@ -99,13 +99,23 @@ pub enum ContainerError {
         /// Why it does not resolve.
         problem: String,
     },
-    /// A request that does not fit (a frame number past the end, a file
-    /// that exists, a frame the writer refuses to store, ...).
-    #[error("{}: {problem}", .path.display())]
-    Usage {
+    /// A frame asked for past the file's end.
+    #[error("{}: frame {frame} asked for; the file has {frames} frames", .path.display())]
+    NoFrame {
         /// The file concerned.
         path: PathBuf,
-        /// What is wrong with the request.
+        /// The frame asked for.
+        frame: u32,
+        /// How many frames the file holds.
+        frames: usize,
+    },
+    /// A write option the format cannot store (a zero frame rate, too
+    /// many or too long text entries, a key given twice).
+    #[error("{}: {problem}", .path.display())]
+    Unstorable {
+        /// The file being written.
+        path: PathBuf,
+        /// Which option, and why it cannot be stored.
         problem: String,
     },
     /// The output cannot be written as asked (it exists, its folder is
@@ -120,37 +130,27 @@ pub enum ContainerError {
 }
 
 impl ContainerError {
-    /// An error of the atomic writer ([`crate::output`]) in the container's terms.
-    pub(crate) fn from_output(e: crate::Error) -> ContainerError {
+    /// An error of the atomic writer ([`crate::output`]) writing `path`, in
+    /// the container's terms.
+    pub(crate) fn from_output(path: &std::path::Path, e: crate::Error) -> ContainerError {
         match e {
             crate::Error::Io { path, source } => ContainerError::Io { path, source },
             crate::Error::Output { path, problem } => ContainerError::Output { path, problem },
-            other => ContainerError::Usage { path: PathBuf::new(), problem: other.to_string() },
+            // The atomic writer reports nothing else; an error it may one
+            // day add keeps its sentence.
+            other => ContainerError::Io { path: path.to_path_buf(), source: std::io::Error::other(other.to_string()) },
         }
     }
 }
 
+/// The container's error as the crate's: an operating-system or output
+/// error as such, every other one as [`crate::Error::HoloFlick`].
 impl From<ContainerError> for crate::Error {
     fn from(e: ContainerError) -> Self {
         match e {
             ContainerError::Io { path, source } => crate::Error::Io { path, source },
             ContainerError::Output { path, problem } => crate::Error::Output { path, problem },
-            ContainerError::Usage { .. } => crate::Error::Usage(e.to_string()),
-            other => {
-                let path = match &other {
-                    ContainerError::Truncated { path, .. }
-                    | ContainerError::Invalid { path, .. }
-                    | ContainerError::TooLarge { path, .. }
-                    | ContainerError::UnsupportedVersion { path, .. }
-                    | ContainerError::UnknownChunk { path, .. }
-                    | ContainerError::BadReference { path, .. } => path.clone(),
-                    _ => PathBuf::new(),
-                };
-                let text = other.to_string();
-                let prefix = format!("{}: ", path.display());
-                let problem = text.strip_prefix(&prefix).unwrap_or(&text).to_string();
-                crate::Error::Invalid { path, problem }
-            }
+            other => crate::Error::HoloFlick(other),
         }
     }
 }

@@ -111,7 +111,7 @@ impl GeometryBlock {
     /// A block from a descriptor and a command stream. The stream's length
     /// must be a multiple of 4 (the Java decoder reads 32-bit words) and at
     /// most [`MAX_BLOCK_STREAM_BYTES`].
-    pub fn new(descriptor: Descriptor, stream: &[u8]) -> Result<GeometryBlock, String> {
+    pub fn new(descriptor: Descriptor, stream: &[u8]) -> Result<GeometryBlock, BlockError> {
         check_stream_len(stream.len() as u64)?;
         let mut record = Vec::with_capacity(8 + stream.len());
         record.extend_from_slice(&(stream.len() as u32).to_be_bytes());
@@ -122,21 +122,18 @@ impl GeometryBlock {
 
     /// A block from a whole `.cg` object record (header and stream), as found
     /// in a Java 3D `.cg` file; checks the header against the length.
-    pub fn from_cg_record(record: &[u8]) -> Result<GeometryBlock, String> {
+    pub fn from_cg_record(record: &[u8]) -> Result<GeometryBlock, BlockError> {
         let (size, bits) = match record {
             [a, b, c, d, e, f, g, h, ..] => {
                 (u32::from_be_bytes([*a, *b, *c, *d]), u32::from_be_bytes([*e, *f, *g, *h]))
             }
-            _ => return Err(format!("a geometry block needs its 8-byte header; {} bytes given", record.len())),
+            _ => return Err(BlockError::NoHeader { bytes: record.len() }),
         };
         if Descriptor::from_bits(bits).is_none() {
-            return Err(format!("geometry descriptor {bits:#010x} is not valid (type 1–3, bits above 0x10 clear)"));
+            return Err(BlockError::BadDescriptor(bits));
         }
         if size as u64 != record.len() as u64 - 8 {
-            return Err(format!(
-                "geometry block header says {size} stream bytes, but {} follow it",
-                record.len() as u64 - 8
-            ));
+            return Err(BlockError::SizeDisagrees { header: size, found: record.len() as u64 - 8 });
         }
         check_stream_len(size as u64)?;
         Ok(GeometryBlock { record: record.into() })
@@ -169,16 +166,52 @@ impl fmt::Debug for GeometryBlock {
     }
 }
 
-fn check_stream_len(len: u64) -> Result<(), String> {
+fn check_stream_len(len: u64) -> Result<(), BlockError> {
     if len % 4 != 0 {
-        return Err(format!("a compressed-geometry stream is whole 32-bit words; {len} bytes is not a multiple of 4"));
+        return Err(BlockError::NotWholeWords { bytes: len });
     }
     if len > MAX_BLOCK_STREAM_BYTES {
-        return Err(format!(
-            "a compressed-geometry stream of {len} bytes exceeds the limit of {MAX_BLOCK_STREAM_BYTES}"
-        ));
+        return Err(BlockError::TooLong { bytes: len, limit: MAX_BLOCK_STREAM_BYTES });
     }
     Ok(())
+}
+
+/// Why bytes cannot make a [`GeometryBlock`]: a phrase for the caller to put
+/// after the file and object it names.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum BlockError {
+    /// The stream is not whole 32-bit words.
+    #[error("a compressed-geometry stream is whole 32-bit words; {bytes} bytes is not a multiple of 4")]
+    NotWholeWords {
+        /// The stream's length.
+        bytes: u64,
+    },
+    /// The stream is longer than [`MAX_BLOCK_STREAM_BYTES`].
+    #[error("a compressed-geometry stream of {bytes} bytes exceeds the limit of {limit}")]
+    TooLong {
+        /// The stream's length.
+        bytes: u64,
+        /// The limit.
+        limit: u64,
+    },
+    /// A record shorter than its 8-byte header.
+    #[error("a geometry block needs its 8-byte header; {bytes} bytes given")]
+    NoHeader {
+        /// The record's length.
+        bytes: usize,
+    },
+    /// The header's descriptor is not one of the defined ones.
+    #[error("geometry descriptor {0:#010x} is not valid (type 1–3, bits above 0x10 clear)")]
+    BadDescriptor(u32),
+    /// The header's stream size disagrees with the bytes that follow it.
+    #[error("geometry block header says {header} stream bytes, but {found} follow it")]
+    SizeDisagrees {
+        /// The size in the header.
+        header: u32,
+        /// The bytes that follow the header.
+        found: u64,
+    },
 }
 
 /// The viewer's couch (Deering, *HoloFlicks* §12): the box, in world metres, that every

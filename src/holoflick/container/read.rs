@@ -270,9 +270,10 @@ impl HoloFlickReader {
     /// Frame `n` exactly as stored: references are left unresolved. Checks
     /// every rule a frame alone can break (spec §6.7).
     pub fn read_stored_frame(&mut self, n: u32) -> Result<Frame> {
-        let entry = *self.index.get(n as usize).ok_or_else(|| ContainerError::Usage {
+        let entry = *self.index.get(n as usize).ok_or_else(|| ContainerError::NoFrame {
             path: self.path.clone(),
-            problem: format!("frame {n} asked for; the file has {} frames", self.index.len()),
+            frame: n,
+            frames: self.index.len(),
         })?;
         let bytes = self.read_at(entry.offset, entry.length as usize, Some(n))?;
         let fail = |p: Problem| p.at(&self.path, Some(n));

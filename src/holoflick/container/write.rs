@@ -65,7 +65,7 @@ impl HoloFlickWriter {
     /// `options.overwrite`, and bad options.
     pub fn create(path: impl AsRef<Path>, options: &WriteOptions) -> Result<HoloFlickWriter> {
         let path = path.as_ref();
-        let usage = |problem: String| ContainerError::Usage { path: path.to_path_buf(), problem };
+        let usage = |problem: String| ContainerError::Unstorable { path: path.to_path_buf(), problem };
         let (num, den) = options.frames_per_second;
         if num == 0 || den == 0 {
             return Err(usage(format!("frame rate {num}/{den}: numerator and denominator must be non-zero")));
@@ -87,7 +87,7 @@ impl HoloFlickWriter {
         if !options.overwrite && path.exists() {
             return Err(ContainerError::Output { path: path.to_path_buf(), problem: crate::OutputProblem::Exists });
         }
-        let out = AtomicFile::create(path).map_err(ContainerError::from_output)?;
+        let out = AtomicFile::create(path).map_err(|e| ContainerError::from_output(path, e))?;
 
         let mut head = Vec::with_capacity(256);
         head.extend_from_slice(&MAGIC);
@@ -208,7 +208,8 @@ impl HoloFlickWriter {
         self.out.write_all(&index_offset.to_le_bytes()).map_err(io)?;
         self.out.write_all(&count.to_le_bytes()).map_err(io)?;
         let file_bytes = self.position;
-        self.out.commit(self.overwrite).map_err(ContainerError::from_output)?;
+        let path = self.path.clone();
+        self.out.commit(self.overwrite).map_err(|e| ContainerError::from_output(&path, e))?;
         Ok(WriteReport { path: self.path, frames: count, file_bytes })
     }
 
@@ -239,6 +240,6 @@ pub fn write_cg_file(path: impl AsRef<Path>, blocks: &[GeometryBlock], overwrite
             .collect(),
     };
     let out = file.to_bytes();
-    crate::output::write_bytes_beside(path, &out, overwrite).map_err(ContainerError::from_output)?;
+    crate::output::write_bytes_beside(path, &out, overwrite).map_err(|e| ContainerError::from_output(path, e))?;
     Ok(out.len() as u64)
 }

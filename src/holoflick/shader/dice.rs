@@ -88,7 +88,10 @@ pub fn dice(
             for k in 0..3 {
                 let (i, j) = (t[k] as usize, t[(k + 1) % 3] as usize);
                 let (Some(&a), Some(&b)) = (o.positions.get(i), o.positions.get(j)) else {
-                    return Err(Error::Usage(format!("object \"{}\": triangle {t:?} names a missing vertex", o.name)));
+                    return Err(Error::argument(
+                        "object",
+                        format!("object \"{}\": triangle {t:?} names a missing vertex", o.name),
+                    ));
                 };
                 let (na, nb) = (o.normals.get(i).copied(), o.normals.get(j).copied());
                 let ends = if key(a) <= key(b) { (na, nb) } else { (nb, na) };
@@ -114,10 +117,13 @@ pub fn dice(
         let mut work: Vec<[u32; 3]> = o.triangles.clone();
         while let Some(t) = work.pop() {
             if d.o.triangles.len() + work.len() > options.max_triangles {
-                return Err(Error::Usage(format!(
-                    "object \"{}\": dicing makes more than {} micropolygons; coarsen the budget",
-                    o.name, options.max_triangles
-                )));
+                return Err(Error::argument(
+                    "micropolygon budget",
+                    format!(
+                        "object \"{}\": dicing makes more than {} micropolygons; coarsen the budget",
+                        o.name, options.max_triangles
+                    ),
+                ));
             }
             let p = t.map(|i| d.o.positions[i as usize]);
             let split: [bool; 3] = std::array::from_fn(|k| {
@@ -230,8 +236,9 @@ impl Dicer<'_> {
             self.flat.insert(edge_key(a, p));
             self.flat.insert(edge_key(p, b));
         }
-        let m = u32::try_from(o.positions.len())
-            .map_err(|_| Error::Usage(format!("object \"{}\": more than 2³² vertices after dicing", o.name)))?;
+        let m = u32::try_from(o.positions.len()).map_err(|_| {
+            Error::argument("object", format!("object \"{}\": more than 2³² vertices after dicing", o.name))
+        })?;
         o.positions.push(p);
         if o.normals.len() + 1 == o.positions.len() {
             let n = midpoint(o.normals[i], o.normals[j]);

@@ -417,7 +417,7 @@ struct Reader<'a> {
 
 impl Reader<'_> {
     fn err(&self, problem: String) -> Error {
-        Error::invalid(self.path, problem)
+        Error::scene(self.path, problem)
     }
 
     /// Read an accessor that must have `comps` components per element, as
@@ -444,6 +444,207 @@ impl Reader<'_> {
             out.push(e);
         }
         Ok(out)
+    }
+
+    /// Every material, its metallic-roughness terms turned into the
+    /// shader's Phong terms, with the textures it uses.
+    fn materials(&mut self, doc: &gltf::Document, warnings: &mut Vec<String>) -> Result<Vec<Material>> {
+        doc.materials().map(|m| self.material(doc, &m, warnings)).collect()
+    }
+
+    fn material(&mut self, doc: &gltf::Document, m: &gltf::Material, warnings: &mut Vec<String>) -> Result<Material> {
+        let name = m.name().map(str::to_string).unwrap_or_else(|| format!("#{}", m.index().unwrap_or(0)));
+        let pbr = m.pbr_metallic_roughness();
+        let base = pbr.base_color_factor();
+        let metallic = pbr.metallic_factor().clamp(0.0, 1.0);
+        let roughness = pbr.roughness_factor().clamp(0.0, 1.0);
+        // Metallic-roughness to the shader's Phong terms. A metal
+        // reflects its base colour specularly and has no diffuse part; a
+        // dielectric reflects 4 % specularly (F0 = 0.04):
+        //   specular = lerp(0.04, base.rgb, metallic)
+        //   diffuse  = base.rgb · (1 − metallic)
+        // The GGX lobe of width α = roughness² matches a Blinn-Phong
+        // lobe (N·H)^n with n = 2/α² − 2 (Walter et al. 2007, the
+        // Beckmann/Phong equivalence); α is clamped to ≥ 0.01 so a
+        // mirror-smooth material gets a finite exponent (19 998).
+        let alpha = (roughness * roughness).max(0.01);
+        let specular = [0, 1, 2].map(|k| 0.04 + (base[k] - 0.04) * metallic);
+        let mut mat = Material {
+            name: name.clone(),
+            base_colour: [base[0] * (1.0 - metallic), base[1] * (1.0 - metallic), base[2] * (1.0 - metallic), base[3]],
+            specular,
+            shininess: 2.0 / (alpha * alpha) - 2.0,
+            emissive: m.emissive_factor(),
+            double_sided: m.double_sided(),
+            ..Material::default()
+        };
+        if let Some(s) = m.emissive_strength() {
+            mat.emissive = mat.emissive.map(|e| e * s);
+        }
+        if let Some(info) = pbr.base_color_texture() {
+            let t = self.texture(doc, info.texture(), true, &name, "base colour")?;
+            mat.base_colour_texture = Some(texture_ref(&info, t));
+        }
+        if let Some(info) = m.emissive_texture() {
+            let t = self.texture(doc, info.texture(), true, &name, "emissive")?;
+            mat.emissive_texture = Some(texture_ref(&info, t));
+        }
+        if let Some(nt) = m.normal_texture() {
+            let t = self.texture(doc, nt.texture(), false, &name, "normal")?;
+            let (transform, tc) = uv_transform_json(nt.extension_value("KHR_texture_transform"));
+            mat.normal_texture =
+                Some(TextureRef { texture: t, uv_set: tc.unwrap_or(nt.tex_coord()) as usize, transform });
+            mat.normal_scale = nt.scale();
+        }
+        if pbr.metallic_roughness_texture().is_some() {
+            warnings.push(format!(
+                "{}: material \"{name}\": the metallic-roughness texture is not used (its factors are)",
+                file_name(self.path)
+            ));
+        }
+        Ok(mat)
+    }
+
+    /// Every mesh's primitives, in the mesh's own space.
+    fn meshes(
+        &mut self,
+        doc: &gltf::Document,
+        materials: &[Material],
+        warnings: &mut Vec<String>,
+    ) -> Result<Vec<MeshData>> {
+        let max_vertices = self.limits.max_triangles.saturating_mul(3).max(3);
+        let mut meshes = Vec::new();
+        for m in doc.meshes() {
+            let label = mesh_label(&m);
+            let mut prims = Vec::new();
+            for p in m.primitives() {
+                let ctx = format!("mesh {label} primitive {}:", p.index());
+                let prim = read_primitive(self, &p, &ctx, max_vertices, materials, warnings)?;
+                prims.push(prim);
+            }
+            meshes.push(MeshData {
+                label,
+                name: m.name().map(str::to_string),
+                weights: m.weights().map(<[f32]>::to_vec).unwrap_or_default(),
+                prims,
+            });
+        }
+        Ok(meshes)
+    }
+
+    /// Every animation channel's curve, checked, and the time of the last
+    /// key of any of them; the nodes they move are marked animated.
+    fn animations(&self, doc: &gltf::Document, nodes: &mut [NodeData]) -> Result<(Vec<Channel>, Option<f64>)> {
+        let mut channels = Vec::new();
+        let mut duration: Option<f64> = None;
+        for a in doc.animations() {
+            let aname = a.name().map(|s| format!("\"{s}\"")).unwrap_or_else(|| format!("#{}", a.index()));
+            for ch in a.channels() {
+                let ctx = format!("animation {aname} channel {}:", ch.index());
+                // The target is read from the JSON: the `gltf` crate does
+                // not validate it and would panic on a bad node index.
+                let target = doc
+                    .as_json()
+                    .animations
+                    .get(a.index())
+                    .and_then(|aj| aj.channels.get(ch.index()))
+                    .map(|c| &c.target);
+                let Some(target) = target else { continue };
+                let channel = self.channel(&ch, target, &ctx, nodes.len())?;
+                if let Some(nd) = nodes.get_mut(channel.node) {
+                    if channel.property != Property::MorphTargetWeights {
+                        nd.animated = true;
+                    }
+                }
+                let last = *channel.times.last().unwrap_or(&0.0) as f64;
+                duration = Some(duration.map_or(last, |d| d.max(last)));
+                channels.push(channel);
+            }
+        }
+        Ok((channels, duration))
+    }
+
+    /// One channel: its target node and property, key times that do not go
+    /// backwards, and finite values, as many as its keys need.
+    fn channel(
+        &self,
+        ch: &gltf::animation::Channel,
+        target: &gltf::json::animation::Target,
+        ctx: &str,
+        n_nodes: usize,
+    ) -> Result<Channel> {
+        let path = self.path;
+        let node = target.node.value();
+        if node >= n_nodes {
+            return Err(Error::scene(path, format!("{ctx} targets node {node}, but the file has {n_nodes} nodes")));
+        }
+        let property = match target.path {
+            gltf::json::validation::Checked::Valid(p) => p,
+            gltf::json::validation::Checked::Invalid => {
+                return Err(Error::scene(path, format!("{ctx} targets an unknown property")))
+            }
+        };
+        let sampler = ch.sampler();
+        let interpolation = sampler.interpolation();
+        let times: Vec<f32> = self
+            .floats::<1>(&sampler.input(), &format!("{ctx} input"), usize::MAX)?
+            .into_iter()
+            .map(|x| x[0])
+            .collect();
+        if times.is_empty() {
+            return Err(Error::scene(
+                path,
+                format!("{ctx} input accessor {} has no key times", sampler.input().index()),
+            ));
+        }
+        if let Some(k) = times.windows(2).position(|w| w[1] < w[0]) {
+            return Err(Error::scene(
+                path,
+                format!("{ctx} input accessor {}: key times go backwards at key {}", sampler.input().index(), k + 1),
+            ));
+        }
+        let out = sampler.output();
+        let (vals, comps) = self
+            .buffers
+            .read(&out, usize::MAX)
+            .map_err(|e| Error::scene(path, format!("{ctx} output accessor {} {e}", out.index())))?;
+        if let Some(i) = vals.iter().position(|v| !v.is_finite()) {
+            return Err(Error::scene(
+                path,
+                format!("{ctx} output accessor {} holds {} at value {i}", out.index(), vals[i]),
+            ));
+        }
+        let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 } * times.len();
+        let width = match property {
+            Property::Translation | Property::Scale => 3,
+            Property::Rotation => 4,
+            Property::MorphTargetWeights => {
+                if comps != 1 {
+                    0
+                } else {
+                    vals.len() / per_key
+                }
+            }
+        };
+        if width == 0 || vals.len() != per_key * width || (property != Property::MorphTargetWeights && comps != width) {
+            return Err(Error::scene(
+                path,
+                format!(
+                    "{ctx} output accessor {} holds {} numbers, which does not fit {} keys of this property",
+                    out.index(),
+                    vals.len(),
+                    times.len()
+                ),
+            ));
+        }
+        Ok(Channel {
+            node,
+            property,
+            interpolation,
+            times,
+            values: vals.into_iter().map(|v| v as f32).collect(),
+            width,
+        })
     }
 
     /// The texture for a texture info, decoded once per (image, colour space, wrap).
@@ -498,6 +699,153 @@ impl Reader<'_> {
     }
 }
 
+/// Refuse a file that requires an extension this loader does not read.
+fn check_extensions(path: &Path, doc: &gltf::Document) -> Result<()> {
+    for ext in doc.extensions_required() {
+        if !matches!(ext, "KHR_texture_transform" | "KHR_lights_punctual" | "KHR_materials_emissive_strength") {
+            return Err(Error::scene(
+                path,
+                format!("requires the glTF extension {ext}, which this loader does not support"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The bytes of every buffer (the GLB binary chunk, a data URI or a file
+/// beside `path`), each at least as long as it declares.
+fn read_buffers(path: &Path, dir: &Path, g: &gltf::Gltf) -> Result<Vec<Vec<u8>>> {
+    let mut data = Vec::new();
+    for b in g.document.buffers() {
+        let d = match b.source() {
+            gltf::buffer::Source::Bin => g.blob.clone().ok_or_else(|| {
+                Error::scene(
+                    path,
+                    format!("buffer {} refers to the GLB binary chunk, but the file has none", b.index()),
+                )
+            })?,
+            gltf::buffer::Source::Uri(uri) => {
+                read_uri(dir, uri).map_err(|e| Error::scene(path, format!("buffer {} {e}", b.index())))?
+            }
+        };
+        if d.len() < b.length() {
+            return Err(Error::scene(
+                path,
+                format!("buffer {} declares {} bytes but holds only {}", b.index(), b.length(), d.len()),
+            ));
+        }
+        data.push(d);
+    }
+    Ok(data)
+}
+
+/// The scene's node hierarchy, parent before child, with each node's
+/// parent; a node reached twice (a cycle or a shared child) is refused.
+fn node_order(path: &Path, doc: &gltf::Document) -> Result<Vec<(usize, Option<usize>)>> {
+    let scene = doc.default_scene().or_else(|| doc.scenes().next());
+    let all_nodes: Vec<gltf::Node> = doc.nodes().collect();
+    let mut order = Vec::new();
+    let mut seen = vec![false; all_nodes.len()];
+    if let Some(scene) = &scene {
+        let mut stack: Vec<(usize, Option<usize>)> = scene.nodes().map(|n| (n.index(), None)).collect();
+        stack.reverse();
+        while let Some((n, parent)) = stack.pop() {
+            if std::mem::replace(&mut seen[n], true) {
+                return Err(Error::scene(
+                    path,
+                    format!("node {n} is reached twice in scene {}: the node hierarchy must be a tree", scene.index()),
+                ));
+            }
+            order.push((n, parent));
+            if let Some(node) = all_nodes.get(n) {
+                let mut kids: Vec<_> = node.children().map(|c| (c.index(), Some(n))).collect();
+                kids.reverse();
+                stack.extend(kids);
+            }
+        }
+    }
+    Ok(order)
+}
+
+/// Refuse, before any geometry is read, a scene whose drawn triangles
+/// (each mesh's times the nodes that draw it) exceed the limit.
+fn check_triangle_budget(
+    path: &Path,
+    doc: &gltf::Document,
+    order: &[(usize, Option<usize>)],
+    limits: &LoadLimits,
+) -> Result<()> {
+    let all_nodes: Vec<gltf::Node> = doc.nodes().collect();
+    let mut instances = vec![0usize; doc.meshes().len()];
+    for &(n, _) in order {
+        if let Some(m) = all_nodes.get(n).and_then(|n| n.mesh()) {
+            instances[m.index()] += 1;
+        }
+    }
+    let mut total: u128 = 0;
+    for m in doc.meshes() {
+        for p in m.primitives() {
+            let n =
+                p.indices().map(|a| a.count()).or_else(|| p.get(&Semantic::Positions).map(|a| a.count())).unwrap_or(0);
+            let tris = match p.mode() {
+                Mode::Triangles => n / 3,
+                Mode::TriangleStrip | Mode::TriangleFan => n.saturating_sub(2),
+                _ => 0,
+            };
+            total += tris as u128 * instances[m.index()] as u128;
+            if total > limits.max_triangles as u128 {
+                return Err(Error::scene(
+                    path,
+                    format!(
+                        "mesh {} primitive {}: the scene reaches {total} triangles here, more than the limit of {}",
+                        mesh_label(&m),
+                        p.index(),
+                        limits.max_triangles
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A node's local transform (a matrix, or translation, rotation and
+/// scale), mesh, morph weights and light, not yet animated.
+fn node_data(n: &gltf::Node) -> NodeData {
+    let matrix = match n.transform() {
+        // glTF lists a matrix column by column.
+        gltf::scene::Transform::Matrix { matrix } => Some(transpose(&matrix.map(|c| c.map(|x| x as f64)))),
+        _ => None,
+    };
+    let (t, r, s) = n.transform().decomposed();
+    NodeData {
+        name: n.name().map(str::to_string),
+        matrix,
+        translation: t.map(|x| x as f64),
+        rotation: r.map(|x| x as f64),
+        scale: s.map(|x| x as f64),
+        mesh: n.mesh().map(|m| m.index()),
+        weights: n.weights().map(<[f32]>::to_vec),
+        light: n.light().map(|l| l.index()),
+        animated: false,
+    }
+}
+
+/// A `KHR_lights_punctual` light: its kind and its colour times intensity.
+fn light_def(l: &gltf::khr_lights_punctual::Light) -> LightDef {
+    let c = l.color();
+    let i = l.intensity();
+    LightDef {
+        name: l.name().map(str::to_string).unwrap_or_else(|| format!("light {}", l.index())),
+        kind: match l.kind() {
+            LightKind::Directional => LightType::Directional,
+            LightKind::Point => LightType::Point,
+            LightKind::Spot { .. } => LightType::Spot,
+        },
+        rgb: [c[0] * i, c[1] * i, c[2] * i],
+    }
+}
+
 fn uv_transform_json(v: Option<&serde_json::Value>) -> (UvTransform, Option<u32>) {
     let mut t = UvTransform::default();
     let Some(v) = v else { return (t, None) };
@@ -534,7 +882,7 @@ impl GltfSource {
         // checked.
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| Self::open_checked(path, limits))).unwrap_or_else(
             |_| {
-                Err(Error::invalid(
+                Err(Error::scene(
                     path,
                     "the glTF reader failed on this file (it is malformed in a way not diagnosed more precisely)",
                 ))
@@ -542,45 +890,18 @@ impl GltfSource {
         )
     }
 
+    /// Read the file in the order its parts depend on: the JSON and its
+    /// required extensions, the buffers, the node tree (and the triangle
+    /// budget it implies), materials with their textures, meshes, nodes,
+    /// lights and animation curves.
     fn open_checked(path: &Path, limits: &LoadLimits) -> Result<GltfSource> {
         let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        let g = parse(&bytes).map_err(|e| Error::invalid(path, format!("not a valid glTF 2.0 file: {e}")))?;
+        let g = parse(&bytes).map_err(|e| Error::scene(path, format!("not a valid glTF 2.0 file: {e}")))?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let doc = &g.document;
         let mut warnings = Vec::new();
-        let file = file_name(path);
-
-        for ext in doc.extensions_required() {
-            if !matches!(ext, "KHR_texture_transform" | "KHR_lights_punctual" | "KHR_materials_emissive_strength") {
-                return Err(Error::invalid(
-                    path,
-                    format!("requires the glTF extension {ext}, which this loader does not support"),
-                ));
-            }
-        }
-
-        // Buffers.
-        let mut data = Vec::new();
-        for b in doc.buffers() {
-            let d = match b.source() {
-                gltf::buffer::Source::Bin => g.blob.clone().ok_or_else(|| {
-                    Error::invalid(
-                        path,
-                        format!("buffer {} refers to the GLB binary chunk, but the file has none", b.index()),
-                    )
-                })?,
-                gltf::buffer::Source::Uri(uri) => {
-                    read_uri(&dir, uri).map_err(|e| Error::invalid(path, format!("buffer {} {e}", b.index())))?
-                }
-            };
-            if d.len() < b.length() {
-                return Err(Error::invalid(
-                    path,
-                    format!("buffer {} declares {} bytes but holds only {}", b.index(), b.length(), d.len()),
-                ));
-            }
-            data.push(d);
-        }
+        check_extensions(path, doc)?;
+        let data = read_buffers(path, &dir, &g)?;
         let mut rd = Reader {
             path,
             dir,
@@ -589,296 +910,13 @@ impl GltfSource {
             textures: Vec::new(),
             texture_cache: HashMap::new(),
         };
-
-        // The scene's node hierarchy, parent before child, refusing cycles.
-        let scene = doc.default_scene().or_else(|| doc.scenes().next());
-        let all_nodes: Vec<gltf::Node> = doc.nodes().collect();
-        let n_nodes = all_nodes.len();
-        let mut order = Vec::new();
-        let mut seen = vec![false; n_nodes];
-        if let Some(scene) = &scene {
-            let mut stack: Vec<(usize, Option<usize>)> = scene.nodes().map(|n| (n.index(), None)).collect();
-            stack.reverse();
-            while let Some((n, parent)) = stack.pop() {
-                if std::mem::replace(&mut seen[n], true) {
-                    return Err(Error::invalid(
-                        path,
-                        format!(
-                            "node {n} is reached twice in scene {}: the node hierarchy must be a tree",
-                            scene.index()
-                        ),
-                    ));
-                }
-                order.push((n, parent));
-                if let Some(node) = all_nodes.get(n) {
-                    let mut kids: Vec<_> = node.children().map(|c| (c.index(), Some(n))).collect();
-                    kids.reverse();
-                    stack.extend(kids);
-                }
-            }
-        }
-
-        // How many times each mesh is drawn, to refuse oversized scenes
-        // before reading them.
-        let mut instances = vec![0usize; doc.meshes().len()];
-        for &(n, _) in &order {
-            if let Some(m) = all_nodes.get(n).and_then(|n| n.mesh()) {
-                instances[m.index()] += 1;
-            }
-        }
-        let mut total: u128 = 0;
-        for m in doc.meshes() {
-            for p in m.primitives() {
-                let n = p
-                    .indices()
-                    .map(|a| a.count())
-                    .or_else(|| p.get(&Semantic::Positions).map(|a| a.count()))
-                    .unwrap_or(0);
-                let tris = match p.mode() {
-                    Mode::Triangles => n / 3,
-                    Mode::TriangleStrip | Mode::TriangleFan => n.saturating_sub(2),
-                    _ => 0,
-                };
-                total += tris as u128 * instances[m.index()] as u128;
-                if total > limits.max_triangles as u128 {
-                    return Err(Error::invalid(
-                        path,
-                        format!(
-                            "mesh {} primitive {}: the scene reaches {total} triangles here, more than the limit of {}",
-                            mesh_label(&m),
-                            p.index(),
-                            limits.max_triangles
-                        ),
-                    ));
-                }
-            }
-        }
-
-        // Materials (and the textures they use).
-        let mut materials = Vec::new();
-        for m in doc.materials() {
-            let name = m.name().map(str::to_string).unwrap_or_else(|| format!("#{}", m.index().unwrap_or(0)));
-            let pbr = m.pbr_metallic_roughness();
-            let base = pbr.base_color_factor();
-            let metallic = pbr.metallic_factor().clamp(0.0, 1.0);
-            let roughness = pbr.roughness_factor().clamp(0.0, 1.0);
-            // Metallic-roughness to the shader's Phong terms. A metal
-            // reflects its base colour specularly and has no diffuse part; a
-            // dielectric reflects 4 % specularly (F0 = 0.04):
-            //   specular = lerp(0.04, base.rgb, metallic)
-            //   diffuse  = base.rgb · (1 − metallic)
-            // The GGX lobe of width α = roughness² matches a Blinn-Phong
-            // lobe (N·H)^n with n = 2/α² − 2 (Walter et al. 2007, the
-            // Beckmann/Phong equivalence); α is clamped to ≥ 0.01 so a
-            // mirror-smooth material gets a finite exponent (19 998).
-            let alpha = (roughness * roughness).max(0.01);
-            let specular = [0, 1, 2].map(|k| 0.04 + (base[k] - 0.04) * metallic);
-            let mut mat = Material {
-                name: name.clone(),
-                base_colour: [
-                    base[0] * (1.0 - metallic),
-                    base[1] * (1.0 - metallic),
-                    base[2] * (1.0 - metallic),
-                    base[3],
-                ],
-                specular,
-                shininess: 2.0 / (alpha * alpha) - 2.0,
-                emissive: m.emissive_factor(),
-                double_sided: m.double_sided(),
-                ..Material::default()
-            };
-            if let Some(s) = m.emissive_strength() {
-                mat.emissive = mat.emissive.map(|e| e * s);
-            }
-            if let Some(info) = pbr.base_color_texture() {
-                let t = rd.texture(doc, info.texture(), true, &name, "base colour")?;
-                mat.base_colour_texture = Some(texture_ref(&info, t));
-            }
-            if let Some(info) = m.emissive_texture() {
-                let t = rd.texture(doc, info.texture(), true, &name, "emissive")?;
-                mat.emissive_texture = Some(texture_ref(&info, t));
-            }
-            if let Some(nt) = m.normal_texture() {
-                let t = rd.texture(doc, nt.texture(), false, &name, "normal")?;
-                let (transform, tc) = uv_transform_json(nt.extension_value("KHR_texture_transform"));
-                mat.normal_texture =
-                    Some(TextureRef { texture: t, uv_set: tc.unwrap_or(nt.tex_coord()) as usize, transform });
-                mat.normal_scale = nt.scale();
-            }
-            if pbr.metallic_roughness_texture().is_some() {
-                warnings.push(format!(
-                    "{file}: material \"{name}\": the metallic-roughness texture is not used (its factors are)"
-                ));
-            }
-            materials.push(mat);
-        }
-
-        // Geometry, in each mesh's own space.
-        let max_vertices = limits.max_triangles.saturating_mul(3).max(3);
-        let mut meshes = Vec::new();
-        for m in doc.meshes() {
-            let label = mesh_label(&m);
-            let mut prims = Vec::new();
-            for p in m.primitives() {
-                let ctx = format!("mesh {label} primitive {}:", p.index());
-                let prim = read_primitive(&mut rd, &p, &ctx, max_vertices, &materials, &mut warnings)?;
-                prims.push(prim);
-            }
-            meshes.push(MeshData {
-                label,
-                name: m.name().map(str::to_string),
-                weights: m.weights().map(<[f32]>::to_vec).unwrap_or_default(),
-                prims,
-            });
-        }
-
-        // Nodes.
-        let mut nodes = Vec::new();
-        for n in doc.nodes() {
-            let matrix = match n.transform() {
-                // glTF lists a matrix column by column.
-                gltf::scene::Transform::Matrix { matrix } => Some(transpose(&matrix.map(|c| c.map(|x| x as f64)))),
-                _ => None,
-            };
-            let (t, r, s) = n.transform().decomposed();
-            nodes.push(NodeData {
-                name: n.name().map(str::to_string),
-                matrix,
-                translation: t.map(|x| x as f64),
-                rotation: r.map(|x| x as f64),
-                scale: s.map(|x| x as f64),
-                mesh: n.mesh().map(|m| m.index()),
-                weights: n.weights().map(<[f32]>::to_vec),
-                light: n.light().map(|l| l.index()),
-                animated: false,
-            });
-        }
-
-        // Lights.
-        let mut lights = Vec::new();
-        if let Some(ls) = doc.lights() {
-            for l in ls {
-                let c = l.color();
-                let i = l.intensity();
-                lights.push(LightDef {
-                    name: l.name().map(str::to_string).unwrap_or_else(|| format!("light {}", l.index())),
-                    kind: match l.kind() {
-                        LightKind::Directional => LightType::Directional,
-                        LightKind::Point => LightType::Point,
-                        LightKind::Spot { .. } => LightType::Spot,
-                    },
-                    rgb: [c[0] * i, c[1] * i, c[2] * i],
-                });
-            }
-        }
-
-        // Animations.
-        let mut channels = Vec::new();
-        let mut duration: Option<f64> = None;
-        for a in doc.animations() {
-            let aname = a.name().map(|s| format!("\"{s}\"")).unwrap_or_else(|| format!("#{}", a.index()));
-            for ch in a.channels() {
-                let ctx = format!("animation {aname} channel {}:", ch.index());
-                // The target is read from the JSON: the `gltf` crate does
-                // not validate it and would panic on a bad node index.
-                let target = doc
-                    .as_json()
-                    .animations
-                    .get(a.index())
-                    .and_then(|aj| aj.channels.get(ch.index()))
-                    .map(|c| &c.target);
-                let Some(target) = target else { continue };
-                let node = target.node.value();
-                if node >= n_nodes {
-                    return Err(Error::invalid(
-                        path,
-                        format!("{ctx} targets node {node}, but the file has {n_nodes} nodes"),
-                    ));
-                }
-                let property = match target.path {
-                    gltf::json::validation::Checked::Valid(p) => p,
-                    gltf::json::validation::Checked::Invalid => {
-                        return Err(Error::invalid(path, format!("{ctx} targets an unknown property")))
-                    }
-                };
-                let sampler = ch.sampler();
-                let interpolation = sampler.interpolation();
-                let times: Vec<f32> = rd
-                    .floats::<1>(&sampler.input(), &format!("{ctx} input"), usize::MAX)?
-                    .into_iter()
-                    .map(|x| x[0])
-                    .collect();
-                if times.is_empty() {
-                    return Err(Error::invalid(
-                        path,
-                        format!("{ctx} input accessor {} has no key times", sampler.input().index()),
-                    ));
-                }
-                if let Some(k) = times.windows(2).position(|w| w[1] < w[0]) {
-                    return Err(Error::invalid(
-                        path,
-                        format!(
-                            "{ctx} input accessor {}: key times go backwards at key {}",
-                            sampler.input().index(),
-                            k + 1
-                        ),
-                    ));
-                }
-                let out = sampler.output();
-                let (vals, comps) = rd
-                    .buffers
-                    .read(&out, usize::MAX)
-                    .map_err(|e| Error::invalid(path, format!("{ctx} output accessor {} {e}", out.index())))?;
-                if let Some(i) = vals.iter().position(|v| !v.is_finite()) {
-                    return Err(Error::invalid(
-                        path,
-                        format!("{ctx} output accessor {} holds {} at value {i}", out.index(), vals[i]),
-                    ));
-                }
-                let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 } * times.len();
-                let width = match property {
-                    Property::Translation | Property::Scale => 3,
-                    Property::Rotation => 4,
-                    Property::MorphTargetWeights => {
-                        if comps != 1 {
-                            0
-                        } else {
-                            vals.len() / per_key
-                        }
-                    }
-                };
-                if width == 0
-                    || vals.len() != per_key * width
-                    || (property != Property::MorphTargetWeights && comps != width)
-                {
-                    return Err(Error::invalid(
-                        path,
-                        format!(
-                            "{ctx} output accessor {} holds {} numbers, which does not fit {} keys of this property",
-                            out.index(),
-                            vals.len(),
-                            times.len()
-                        ),
-                    ));
-                }
-                if let Some(nd) = nodes.get_mut(node) {
-                    if property != Property::MorphTargetWeights {
-                        nd.animated = true;
-                    }
-                }
-                let last = *times.last().unwrap_or(&0.0) as f64;
-                duration = Some(duration.map_or(last, |d| d.max(last)));
-                channels.push(Channel {
-                    node,
-                    property,
-                    interpolation,
-                    times,
-                    values: vals.into_iter().map(|v| v as f32).collect(),
-                    width,
-                });
-            }
-        }
-
+        let order = node_order(path, doc)?;
+        check_triangle_budget(path, doc, &order, limits)?;
+        let materials = rd.materials(doc, &mut warnings)?;
+        let meshes = rd.meshes(doc, &materials, &mut warnings)?;
+        let mut nodes: Vec<NodeData> = doc.nodes().map(|n| node_data(&n)).collect();
+        let lights = doc.lights().map(|ls| ls.map(|l| light_def(&l)).collect()).unwrap_or_default();
+        let (channels, duration) = rd.animations(doc, &mut nodes)?;
         Ok(GltfSource { textures: rd.textures, materials, meshes, nodes, order, channels, lights, duration, warnings })
     }
 
@@ -1158,6 +1196,24 @@ fn read_primitive(
     Ok(prim)
 }
 
+/// A vertex's `base` value plus each active target's displacement of it
+/// (`displacement` picks it from a target), weighted, in `f64`.
+fn morphed(
+    base: [f32; 3],
+    active: &[(f32, &MorphTarget)],
+    displacement: impl Fn(&MorphTarget) -> Option<[f32; 3]>,
+) -> [f64; 3] {
+    let mut q = base.map(|x| x as f64);
+    for (wt, t) in active {
+        if let Some(d) = displacement(t) {
+            for k in 0..3 {
+                q[k] += *wt as f64 * d[k] as f64;
+            }
+        }
+    }
+    q
+}
+
 /// A primitive morphed by `w` and moved to world space by `m`.
 fn pose(
     prim: &Prim,
@@ -1182,14 +1238,7 @@ fn pose(
         .iter()
         .enumerate()
         .map(|(i, p)| {
-            let mut q = p.map(|x| x as f64);
-            for (wt, t) in &active {
-                if let Some(d) = t.positions.get(i) {
-                    for k in 0..3 {
-                        q[k] += *wt as f64 * d[k] as f64;
-                    }
-                }
-            }
+            let q = morphed(*p, &active, |t| t.positions.get(i).copied());
             transform_point(m, q)
         })
         .collect();
@@ -1199,14 +1248,7 @@ fn pose(
         .iter()
         .enumerate()
         .map(|(i, nrm)| {
-            let mut q = nrm.map(|x| x as f64);
-            for (wt, t) in &active {
-                if let Some(d) = t.normals.get(i) {
-                    for k in 0..3 {
-                        q[k] += *wt as f64 * d[k] as f64;
-                    }
-                }
-            }
+            let q = morphed(*nrm, &active, |t| t.normals.get(i).copied());
             match unit(mat3_apply(&nm, q)) {
                 Some(u) => u.map(|x| x as f32),
                 None => {
@@ -1228,14 +1270,7 @@ fn pose(
         .iter()
         .enumerate()
         .map(|(i, t4)| {
-            let mut q = [t4[0], t4[1], t4[2]].map(|x| x as f64);
-            for (wt, t) in &active {
-                if let Some(d) = t.tangents.get(i) {
-                    for k in 0..3 {
-                        q[k] += *wt as f64 * d[k] as f64;
-                    }
-                }
-            }
+            let q = morphed([t4[0], t4[1], t4[2]], &active, |t| t.tangents.get(i).copied());
             let s = if flip { -1.0 } else { 1.0 };
             let wsign = if t4[3] < 0.0 { -s } else { s };
             match unit(transform_direction(m, q)) {

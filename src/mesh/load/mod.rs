@@ -70,7 +70,7 @@ impl SceneSource {
             "obj" => Inner::Static(obj::load(path, &limits)?),
             "ply" => Inner::Static(ply::load(path, &limits)?),
             _ => {
-                return Err(Error::invalid(
+                return Err(Error::scene(
                     path,
                     format!(
                         "not a scene file this loader reads: the extension must be one of {}",
@@ -102,10 +102,10 @@ impl SceneSource {
     /// formats give the same scene at every time.
     pub fn scene_at(&self, time_s: f64) -> Result<Scene> {
         if !time_s.is_finite() {
-            return Err(Error::Usage(format!(
-                "{}: the animation time {time_s} s is not a finite number",
-                self.path.display()
-            )));
+            return Err(Error::argument(
+                "animation time",
+                format!("{}: the animation time {time_s} s is not a finite number", self.path.display()),
+            ));
         }
         match &self.inner {
             Inner::Static(scene) => Ok(scene.clone()),
@@ -127,7 +127,7 @@ pub(crate) fn finish_object(path: &Path, obj: &mut Object, warnings: &mut Vec<St
     let name = &obj.name;
     for (i, p) in obj.positions.iter().enumerate() {
         if let Some(k) = p.iter().position(|c| !c.is_finite()) {
-            return Err(Error::invalid(
+            return Err(Error::scene(
                 path,
                 format!("object \"{name}\": vertex {i} has a {} coordinate {}", ["x", "y", "z"][k], p[k]),
             ));
@@ -137,7 +137,7 @@ pub(crate) fn finish_object(path: &Path, obj: &mut Object, warnings: &mut Vec<St
     let lengths = [("normals", obj.normals.len()), ("tangents", obj.tangents.len()), ("colours", obj.colours.len())];
     for (what, len) in lengths.into_iter().chain(obj.uv_sets.iter().map(|s| ("texture coordinates", s.len()))) {
         if len != 0 && len != n {
-            return Err(Error::invalid(
+            return Err(Error::scene(
                 path,
                 format!("object \"{name}\": {len} {what} for {n} vertices (there must be one per vertex)"),
             ));
@@ -145,7 +145,7 @@ pub(crate) fn finish_object(path: &Path, obj: &mut Object, warnings: &mut Vec<St
     }
     for (t, tri) in obj.triangles.iter().enumerate() {
         if let Some(&bad) = tri.iter().find(|&&i| i as usize >= n) {
-            return Err(Error::invalid(
+            return Err(Error::scene(
                 path,
                 format!("object \"{name}\": triangle {t} uses vertex {bad}, but the object has {n} vertices"),
             ));
@@ -212,7 +212,7 @@ pub(crate) fn finish_scene(path: &Path, scene: &mut Scene) -> Result<()> {
     }
     scene.objects = kept;
     if scene.triangle_count() == 0 {
-        return Err(Error::invalid(path, "no triangles in the scene"));
+        return Err(Error::scene(path, "no triangles in the scene"));
     }
     Ok(())
 }

@@ -58,242 +58,325 @@ fn logical_lines(text: &str) -> Vec<(usize, String)> {
 fn numbers(path: &Path, line: usize, what: &str, toks: &[&str]) -> Result<Vec<f64>> {
     toks.iter()
         .map(|t| {
-            t.parse::<f64>().map_err(|_| Error::invalid(path, format!("line {line}: {what}: \"{t}\" is not a number")))
+            t.parse::<f64>().map_err(|_| Error::scene(path, format!("line {line}: {what}: \"{t}\" is not a number")))
         })
         .collect()
+}
+
+/// At least three numbers for `what` ("vertex 4"), whose numbers are `parts`.
+fn three_numbers(path: &Path, line: usize, what: &str, parts: &str, toks: &[&str]) -> Result<Vec<f64>> {
+    if toks.len() < 3 {
+        return Err(Error::scene(path, format!("line {line}: {what} has fewer than 3 {parts}")));
+    }
+    numbers(path, line, what, toks)
 }
 
 pub(crate) fn load(path: &Path, limits: &LoadLimits) -> Result<Scene> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let text = String::from_utf8_lossy(&bytes);
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let file = file_name(path);
-    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| file.clone());
-
-    let mut warnings = Vec::new();
-    let mut positions: Vec<[f64; 3]> = Vec::new();
-    let mut vcolours: Vec<Option<[f32; 3]>> = Vec::new();
-    let mut uvs: Vec<[f32; 2]> = Vec::new();
-    let mut normals: Vec<[f32; 3]> = Vec::new();
-    let mut builders: Vec<Builder> = Vec::new();
-    let mut index: HashMap<(String, String), usize> = HashMap::new();
-    let mut group = stem.clone();
-    let mut material = String::new();
-    let mut current: Option<usize> = None;
-    let mut mtl = MtlLibrary::default();
-    let mut unknown_materials: Vec<String> = Vec::new();
-    let mut total_triangles = 0usize;
-    let (mut short_faces, mut ignored_elements) = (0usize, 0usize);
-    let mut poly: Vec<u32> = Vec::new();
-
+    let mut parser = Parser::new(path, limits);
     for (ln, line) in logical_lines(&text) {
         let toks: Vec<&str> = line.split_ascii_whitespace().collect();
         let Some((&kw, args)) = toks.split_first() else { continue };
+        parser.statement(ln, kw, args)?;
+    }
+    parser.finish()
+}
+
+/// The state of reading one OBJ file: the vertex data seen so far, the
+/// objects being collected, the current group and material, the material
+/// libraries read and what was skipped.
+struct Parser<'a> {
+    path: &'a Path,
+    dir: PathBuf,
+    file: String,
+    stem: String,
+    limits: &'a LoadLimits,
+    warnings: Vec<String>,
+    positions: Vec<[f64; 3]>,
+    vcolours: Vec<Option<[f32; 3]>>,
+    uvs: Vec<[f32; 2]>,
+    normals: Vec<[f32; 3]>,
+    builders: Vec<Builder>,
+    index: HashMap<(String, String), usize>,
+    group: String,
+    material: String,
+    current: Option<usize>,
+    mtl: MtlLibrary,
+    total_triangles: usize,
+    short_faces: usize,
+    ignored_elements: usize,
+    poly: Vec<u32>,
+}
+
+impl<'a> Parser<'a> {
+    fn new(path: &'a Path, limits: &'a LoadLimits) -> Parser<'a> {
+        let file = file_name(path);
+        let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| file.clone());
+        Parser {
+            path,
+            dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
+            file,
+            group: stem.clone(),
+            stem,
+            limits,
+            warnings: Vec::new(),
+            positions: Vec::new(),
+            vcolours: Vec::new(),
+            uvs: Vec::new(),
+            normals: Vec::new(),
+            builders: Vec::new(),
+            index: HashMap::new(),
+            material: String::new(),
+            current: None,
+            mtl: MtlLibrary::default(),
+            total_triangles: 0,
+            short_faces: 0,
+            ignored_elements: 0,
+            poly: Vec::new(),
+        }
+    }
+
+    /// One statement `kw args` of logical line `ln`.
+    fn statement(&mut self, ln: usize, kw: &str, args: &[&str]) -> Result<()> {
+        let path = self.path;
         match kw {
             "v" => {
-                if args.len() < 3 {
-                    return Err(Error::invalid(
-                        path,
-                        format!("line {ln}: vertex {} has fewer than 3 coordinates", positions.len() + 1),
-                    ));
-                }
-                let v = numbers(path, ln, &format!("vertex {}", positions.len() + 1), args)?;
+                let what = format!("vertex {}", self.positions.len() + 1);
+                let v = three_numbers(path, ln, &what, "coordinates", args)?;
                 if let Some(x) = v[..3].iter().find(|x| !x.is_finite()) {
-                    return Err(Error::invalid(
+                    return Err(Error::scene(
                         path,
-                        format!("line {ln}: object \"{group}\": vertex {} has the coordinate {x}", positions.len() + 1),
+                        format!("line {ln}: object \"{}\": {what} has the coordinate {x}", self.group),
                     ));
                 }
-                positions.push([v[0], v[1], v[2]]);
+                self.positions.push([v[0], v[1], v[2]]);
                 // `v x y z r g b`: colours as the common writers (MeshLab,
                 // assimp) store them, which is without any transfer
                 // function applied; they are taken as linear.
-                vcolours.push((v.len() >= 6).then(|| [v[3] as f32, v[4] as f32, v[5] as f32]));
+                self.vcolours.push((v.len() >= 6).then(|| [v[3] as f32, v[4] as f32, v[5] as f32]));
             }
             "vt" => {
-                let v = numbers(path, ln, &format!("texture coordinate {}", uvs.len() + 1), args)?;
+                let v = numbers(path, ln, &format!("texture coordinate {}", self.uvs.len() + 1), args)?;
                 let u = v.first().copied().unwrap_or(0.0);
                 let w = v.get(1).copied().unwrap_or(0.0);
                 // OBJ's v points up; ours (glTF's) points down from row 0.
-                uvs.push([u as f32, (1.0 - w) as f32]);
+                self.uvs.push([u as f32, (1.0 - w) as f32]);
             }
             "vn" => {
-                if args.len() < 3 {
-                    return Err(Error::invalid(
-                        path,
-                        format!("line {ln}: normal {} has fewer than 3 components", normals.len() + 1),
-                    ));
-                }
-                let v = numbers(path, ln, &format!("normal {}", normals.len() + 1), args)?;
-                normals.push([v[0] as f32, v[1] as f32, v[2] as f32]);
+                let v = three_numbers(path, ln, &format!("normal {}", self.normals.len() + 1), "components", args)?;
+                self.normals.push([v[0] as f32, v[1] as f32, v[2] as f32]);
             }
-            "f" | "fo" => {
-                let key = (group.clone(), material.clone());
-                let b = match current {
-                    Some(b) => b,
-                    None => {
-                        let b = *index.entry(key).or_insert_with(|| {
-                            builders.push(Builder {
-                                group: group.clone(),
-                                material: material.clone(),
-                                corners: Vec::new(),
-                                map: HashMap::new(),
-                                triangles: Vec::new(),
-                            });
-                            builders.len() - 1
-                        });
-                        current = Some(b);
-                        b
-                    }
-                };
-                let bl = &mut builders[b];
-                poly.clear();
-                for tok in args {
-                    let mut parts = tok.split('/');
-                    let resolve = |s: Option<&str>, len: usize, what: &str| -> Result<u32> {
-                        let Some(s) = s.filter(|s| !s.is_empty()) else { return Ok(NONE) };
-                        let i: i64 = s.parse().map_err(|_| {
-                            Error::invalid(
-                                path,
-                                format!(
-                                    "line {ln}: object \"{}\": face corner \"{tok}\" is not made of integers",
-                                    bl.group
-                                ),
-                            )
-                        })?;
-                        let r = if i > 0 { i - 1 } else { len as i64 + i };
-                        if i == 0 || r < 0 || r >= len as i64 {
-                            return Err(Error::invalid(
-                                path,
-                                format!(
-                                    "line {ln}: object \"{}\": face corner \"{tok}\" refers to {what} {i}, but only {len} are defined before it",
-                                    bl.group
-                                ),
-                            ));
-                        }
-                        Ok(r as u32)
-                    };
-                    let v = resolve(parts.next(), positions.len(), "vertex")?;
-                    let vt = resolve(parts.next(), uvs.len(), "texture coordinate")?;
-                    let vn = resolve(parts.next(), normals.len(), "normal")?;
-                    if v == NONE {
-                        return Err(Error::invalid(
-                            path,
-                            format!("line {ln}: object \"{}\": face corner \"{tok}\" has no vertex", bl.group),
-                        ));
-                    }
-                    let next = bl.corners.len() as u32;
-                    let id = *bl.map.entry((v, vt, vn)).or_insert(next);
-                    if id == next {
-                        bl.corners.push((v, vt, vn));
-                    }
-                    poly.push(id);
-                }
-                if poly.len() < 3 {
-                    short_faces += 1;
-                    continue;
-                }
-                total_triangles += poly.len() - 2;
-                if total_triangles > limits.max_triangles {
-                    return Err(Error::invalid(
+            "f" | "fo" => self.face(ln, args)?,
+            "o" | "g" => {
+                self.group = if args.is_empty() { self.stem.clone() } else { args.join(" ") };
+                self.current = None;
+            }
+            "usemtl" => {
+                self.material = args.join(" ");
+                self.current = None;
+            }
+            "mtllib" => self.material_libraries(ln, args)?,
+            "l" | "p" | "curv" | "curv2" | "surf" => self.ignored_elements += 1,
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// The object faces now go to: the current (group, material) pair's.
+    fn builder(&mut self) -> usize {
+        if let Some(b) = self.current {
+            return b;
+        }
+        let key = (self.group.clone(), self.material.clone());
+        let builders = &mut self.builders;
+        let (group, material) = (&self.group, &self.material);
+        let b = *self.index.entry(key).or_insert_with(|| {
+            builders.push(Builder {
+                group: group.clone(),
+                material: material.clone(),
+                corners: Vec::new(),
+                map: HashMap::new(),
+                triangles: Vec::new(),
+            });
+            builders.len() - 1
+        });
+        self.current = Some(b);
+        b
+    }
+
+    /// A face: its corners resolved to (v, vt, vn) triples, deduplicated in
+    /// their object, fan-triangulated within the triangle limit.
+    fn face(&mut self, ln: usize, args: &[&str]) -> Result<()> {
+        let b = self.builder();
+        let path = self.path;
+        let lens = (self.positions.len(), self.uvs.len(), self.normals.len());
+        let bl = &mut self.builders[b];
+        let poly = &mut self.poly;
+        poly.clear();
+        for tok in args {
+            let mut parts = tok.split('/');
+            let resolve = |s: Option<&str>, len: usize, what: &str| -> Result<u32> {
+                let Some(s) = s.filter(|s| !s.is_empty()) else { return Ok(NONE) };
+                let i: i64 = s.parse().map_err(|_| {
+                    Error::scene(
+                        path,
+                        format!("line {ln}: object \"{}\": face corner \"{tok}\" is not made of integers", bl.group),
+                    )
+                })?;
+                let r = if i > 0 { i - 1 } else { len as i64 + i };
+                if i == 0 || r < 0 || r >= len as i64 {
+                    return Err(Error::scene(
                         path,
                         format!(
-                            "line {ln}: object \"{}\": the scene reaches more than the limit of {} triangles",
-                            bl.group, limits.max_triangles
+                            "line {ln}: object \"{}\": face corner \"{tok}\" refers to {what} {i}, but only {len} are defined before it",
+                            bl.group
                         ),
                     ));
                 }
-                fan(&poly, &mut bl.triangles);
+                Ok(r as u32)
+            };
+            let v = resolve(parts.next(), lens.0, "vertex")?;
+            let vt = resolve(parts.next(), lens.1, "texture coordinate")?;
+            let vn = resolve(parts.next(), lens.2, "normal")?;
+            if v == NONE {
+                return Err(Error::scene(
+                    path,
+                    format!("line {ln}: object \"{}\": face corner \"{tok}\" has no vertex", bl.group),
+                ));
             }
-            "o" | "g" => {
-                group = if args.is_empty() { stem.clone() } else { args.join(" ") };
-                current = None;
+            let next = bl.corners.len() as u32;
+            let id = *bl.map.entry((v, vt, vn)).or_insert(next);
+            if id == next {
+                bl.corners.push((v, vt, vn));
             }
-            "usemtl" => {
-                material = args.join(" ");
-                current = None;
-            }
-            "mtllib" => {
-                let whole = args.join(" ");
-                let names: Vec<String> = if resolve_file(&dir, &whole).is_some() || args.len() <= 1 {
-                    vec![whole]
-                } else {
-                    args.iter().map(|s| s.to_string()).collect()
-                };
-                for name in names {
-                    let Some(p) = resolve_file(&dir, &name) else {
-                        return Err(Error::invalid(
-                            path,
-                            format!("line {ln}: material library \"{name}\" (mtllib) not found in {}", dir.display()),
-                        ));
-                    };
-                    mtl.read(&p, limits, &mut warnings)?;
-                }
-            }
-            "l" | "p" | "curv" | "curv2" | "surf" => ignored_elements += 1,
-            _ => {}
+            poly.push(id);
         }
-    }
-    if short_faces > 0 {
-        warnings.push(format!("{file}: {short_faces} faces with fewer than 3 corners were skipped"));
-    }
-    if ignored_elements > 0 {
-        warnings.push(format!(
-            "{file}: {ignored_elements} points, lines, curves or surfaces were ignored (only faces are drawn)"
-        ));
+        if poly.len() < 3 {
+            self.short_faces += 1;
+            return Ok(());
+        }
+        self.total_triangles += poly.len() - 2;
+        if self.total_triangles > self.limits.max_triangles {
+            return Err(Error::scene(
+                path,
+                format!(
+                    "line {ln}: object \"{}\": the scene reaches more than the limit of {} triangles",
+                    bl.group, self.limits.max_triangles
+                ),
+            ));
+        }
+        fan(poly, &mut bl.triangles);
+        Ok(())
     }
 
-    let mut scene = Scene { source: file.clone(), ..Scene::default() };
-    let mut per_group: HashMap<&str, usize> = HashMap::new();
-    for b in &builders {
-        *per_group.entry(b.group.as_str()).or_default() += 1;
-    }
-    for b in &builders {
-        let name = if per_group.get(b.group.as_str()).copied().unwrap_or(0) > 1 && !b.material.is_empty() {
-            format!("{} ({})", b.group, b.material)
+    /// `mtllib`: one library whose name may hold spaces, or several.
+    fn material_libraries(&mut self, ln: usize, args: &[&str]) -> Result<()> {
+        let dir = &self.dir;
+        let whole = args.join(" ");
+        let names: Vec<String> = if resolve_file(dir, &whole).is_some() || args.len() <= 1 {
+            vec![whole]
         } else {
-            b.group.clone()
+            args.iter().map(|s| s.to_string()).collect()
         };
-        let mat = if b.material.is_empty() {
+        for name in names {
+            let Some(p) = resolve_file(dir, &name) else {
+                return Err(Error::scene(
+                    self.path,
+                    format!("line {ln}: material library \"{name}\" (mtllib) not found in {}", dir.display()),
+                ));
+            };
+            self.mtl.read(&p, self.limits, &mut self.warnings)?;
+        }
+        Ok(())
+    }
+
+    /// The scene: one object per (group, material) pair with faces, and
+    /// the warnings for what was skipped.
+    fn finish(mut self) -> Result<Scene> {
+        let file = self.file.clone();
+        if self.short_faces > 0 {
+            self.warnings.push(format!("{file}: {} faces with fewer than 3 corners were skipped", self.short_faces));
+        }
+        if self.ignored_elements > 0 {
+            self.warnings.push(format!(
+                "{file}: {} points, lines, curves or surfaces were ignored (only faces are drawn)",
+                self.ignored_elements
+            ));
+        }
+        let mut scene = Scene { source: file, ..Scene::default() };
+        let builders = std::mem::take(&mut self.builders);
+        let mut per_group: HashMap<&str, usize> = HashMap::new();
+        for b in &builders {
+            *per_group.entry(b.group.as_str()).or_default() += 1;
+        }
+        let mut unknown_materials: Vec<String> = Vec::new();
+        for b in &builders {
+            let name = if per_group.get(b.group.as_str()).copied().unwrap_or(0) > 1 && !b.material.is_empty() {
+                format!("{} ({})", b.group, b.material)
+            } else {
+                b.group.clone()
+            };
+            let material = self.material_of(b, &name, &mut unknown_materials);
+            let o = self.object(b, name, material);
+            scene.objects.push(o);
+        }
+        scene.textures = self.mtl.textures;
+        scene.warnings = self.warnings;
+        finish_scene(self.path, &mut scene)?;
+        Ok(scene)
+    }
+
+    /// The material `b` uses: the default without `usemtl`, else the
+    /// library's, else (with one warning per name) the default renamed.
+    fn material_of(&mut self, b: &Builder, name: &str, unknown_materials: &mut Vec<String>) -> Material {
+        if b.material.is_empty() {
             Material::default()
-        } else if let Some(m) = mtl.materials.get(&b.material) {
+        } else if let Some(m) = self.mtl.materials.get(&b.material) {
             m.clone()
         } else {
             if !unknown_materials.contains(&b.material) {
                 unknown_materials.push(b.material.clone());
-                warnings.push(format!(
-                    "{file}: object \"{name}\": material \"{}\" (usemtl) is not in any material library; the default material is used",
-                    b.material
+                self.warnings.push(format!(
+                    "{}: object \"{name}\": material \"{}\" (usemtl) is not in any material library; the default material is used",
+                    self.file, b.material
                 ));
             }
             Material { name: b.material.clone(), ..Material::default() }
-        };
+        }
+    }
+
+    /// The object of `b`'s faces: its corners' positions, texture
+    /// coordinates, normals and colours, and tangents for a normal map.
+    fn object(&mut self, b: &Builder, name: String, material: Material) -> Object {
+        let file = &self.file;
         let c = &b.corners;
         let mut o = Object {
             name: name.clone(),
-            positions: c.iter().map(|&(v, _, _)| positions[v as usize]).collect(),
+            positions: c.iter().map(|&(v, _, _)| self.positions[v as usize]).collect(),
             triangles: b.triangles.clone(),
-            material: mat,
+            material,
             ..Object::default()
         };
         if c.iter().any(|&(_, vt, _)| vt != NONE) {
-            o.uv_sets
-                .push(c.iter().map(|&(_, vt, _)| if vt == NONE { [0.0, 0.0] } else { uvs[vt as usize] }).collect());
+            o.uv_sets.push(
+                c.iter().map(|&(_, vt, _)| if vt == NONE { [0.0, 0.0] } else { self.uvs[vt as usize] }).collect(),
+            );
         }
         if c.iter().any(|&(_, _, vn)| vn != NONE) {
-            let ns: Option<Vec<[f32; 3]>> = c.iter().map(|&(_, _, vn)| unit(*normals.get(vn as usize)?)).collect();
+            let ns: Option<Vec<[f32; 3]>> = c.iter().map(|&(_, _, vn)| unit(*self.normals.get(vn as usize)?)).collect();
             match ns {
                 Some(ns) => o.normals = ns,
-                None => warnings.push(format!(
+                None => self.warnings.push(format!(
                     "{file}: object \"{name}\": some corners have no normal (or a zero one); the object is shaded flat"
                 )),
             }
         }
-        if c.iter().any(|&(v, _, _)| vcolours[v as usize].is_some()) {
+        if c.iter().any(|&(v, _, _)| self.vcolours[v as usize].is_some()) {
             o.colours = c
                 .iter()
                 .map(|&(v, _, _)| {
-                    let k = vcolours[v as usize].unwrap_or([1.0; 3]);
+                    let k = self.vcolours[v as usize].unwrap_or([1.0; 3]);
                     [k[0], k[1], k[2], 1.0]
                 })
                 .collect();
@@ -305,17 +388,13 @@ pub(crate) fn load(path: &Path, limits: &LoadLimits) -> Result<Scene> {
                         o.tangents = generate_tangents(&o.positions, &o.normals, uv, &o.triangles);
                     }
                 }
-                _ => warnings.push(format!(
+                _ => self.warnings.push(format!(
                     "{file}: object \"{name}\": the normal map needs normals and texture coordinates, which the object lacks; it is not used"
                 )),
             }
         }
-        scene.objects.push(o);
+        o
     }
-    scene.textures = mtl.textures;
-    scene.warnings = warnings;
-    finish_scene(path, &mut scene)?;
-    Ok(scene)
 }
 
 /// Materials and the textures they use, from one or more `.mtl` files.
@@ -504,7 +583,7 @@ impl MtlLibrary {
             Some(p)
         });
         let Some(p) = found else {
-            return Err(Error::invalid(
+            return Err(Error::scene(
                 mtl,
                 format!("material \"{material}\": {kw} texture \"{name}\" not found (looked in {})", dir.display()),
             ));
@@ -515,10 +594,10 @@ impl MtlLibrary {
             return Ok(i);
         }
         let bytes = std::fs::read(&p).map_err(|e| {
-            Error::invalid(mtl, format!("material \"{material}\": {kw} texture \"{name}\" cannot be read: {e}"))
+            Error::scene(mtl, format!("material \"{material}\": {kw} texture \"{name}\" cannot be read: {e}"))
         })?;
         let t = decode(&bytes, &file_name(&p), srgb, wrap, limits)
-            .map_err(|e| Error::invalid(mtl, format!("material \"{material}\": {kw} texture \"{name}\" {e}")))?;
+            .map_err(|e| Error::scene(mtl, format!("material \"{material}\": {kw} texture \"{name}\" {e}")))?;
         self.textures.push(t);
         self.cache.insert(key, self.textures.len() - 1);
         Ok(self.textures.len() - 1)

@@ -172,234 +172,317 @@ pub(crate) fn load(path: &Path, limits: &LoadLimits) -> Result<Scene> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let file = file_name(path);
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| file.clone());
-    let bad = |problem: String| Error::invalid(path, problem);
+    let bad = |problem: String| Error::scene(path, problem);
     if !bytes.starts_with(b"ply") {
         return Err(bad("not a PLY file (it does not start with \"ply\")".into()));
     }
     let (header, body_at) = split_header(&bytes).ok_or_else(|| bad("the PLY header has no end_header line".into()))?;
-
-    let mut format = None;
-    let mut elements: Vec<Element> = Vec::new();
-    let mut texture_file: Option<String> = None;
-    for (i, raw) in header.lines().enumerate().skip(1) {
-        let ln = i + 1;
-        let line = raw.trim();
-        let toks: Vec<&str> = line.split_ascii_whitespace().collect();
-        match toks.as_slice() {
-            [] => {}
-            ["format", f, ..] => {
-                format = Some(match *f {
-                    "ascii" => Format::Ascii,
-                    "binary_little_endian" => Format::Little,
-                    "binary_big_endian" => Format::Big,
-                    other => return Err(bad(format!("header line {ln}: unknown format \"{other}\""))),
-                })
-            }
-            ["comment", rest @ ..] => {
-                if rest.first().is_some_and(|k| k.eq_ignore_ascii_case("texturefile")) && rest.len() > 1 {
-                    let pos = line.find(rest[0]).map(|p| p + rest[0].len()).unwrap_or(line.len());
-                    texture_file = Some(line[pos..].trim().to_string());
-                }
-            }
-            ["obj_info", ..] => {}
-            ["element", name, count] => {
-                let count: u64 = count.parse().map_err(|_| {
-                    bad(format!("header line {ln}: element \"{name}\" has the count \"{count}\", not a whole number"))
-                })?;
-                elements.push(Element { name: name.to_string(), count, props: Vec::new() });
-            }
-            ["property", "list", ct, it, name] => {
-                let (Some(c), Some(t)) = (Ty::parse(ct), Ty::parse(it)) else {
-                    return Err(bad(format!("header line {ln}: property \"{name}\" has an unknown type")));
-                };
-                if c.is_float() {
-                    return Err(bad(format!(
-                        "header line {ln}: list property \"{name}\" has a floating-point count type"
-                    )));
-                }
-                let e =
-                    elements.last_mut().ok_or_else(|| bad(format!("header line {ln}: property before any element")))?;
-                e.props.push(Prop { name: name.to_string(), ty: t, list_count: Some(c) });
-            }
-            ["property", ty, name] => {
-                let t = Ty::parse(ty).ok_or_else(|| {
-                    bad(format!("header line {ln}: property \"{name}\" has the unknown type \"{ty}\""))
-                })?;
-                let e =
-                    elements.last_mut().ok_or_else(|| bad(format!("header line {ln}: property before any element")))?;
-                e.props.push(Prop { name: name.to_string(), ty: t, list_count: None });
-            }
-            _ => return Err(bad(format!("header line {ln}: cannot understand \"{line}\""))),
-        }
+    let header = Header::read(path, &header)?;
+    let mut reader = BodyReader {
+        path,
+        stem,
+        file,
+        limits,
+        body: Body { bytes: &bytes, pos: body_at, format: header.format },
+        data: Vertices::default(),
+        warnings: Vec::new(),
+        seen_vertex: false,
+    };
+    for el in &header.elements {
+        reader.element(el)?;
     }
-    let format = format.ok_or_else(|| bad("the PLY header has no format line".into()))?;
+    if !reader.seen_vertex {
+        return Err(bad("the file has no vertex element".into()));
+    }
+    reader.into_scene(header.texture_file)
+}
 
-    let mut body = Body { bytes: &bytes, pos: body_at, format };
-    let mut positions: Vec<[f64; 3]> = Vec::new();
-    let mut normals: Vec<[f32; 3]> = Vec::new();
-    let mut colours: Vec<[f32; 4]> = Vec::new();
-    let mut uvs: Vec<[f32; 2]> = Vec::new();
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    let mut warnings = Vec::new();
-    let mut poly: Vec<u32> = Vec::new();
-    let mut seen_vertex = false;
+/// What the header declares: the body's format, its elements in order,
+/// and the texture a `comment TextureFile` names.
+struct Header {
+    format: Format,
+    elements: Vec<Element>,
+    texture_file: Option<String>,
+}
 
-    for el in &elements {
+impl Header {
+    /// The header's lines after the first (`ply`), each checked.
+    fn read(path: &Path, header: &str) -> Result<Header> {
+        let bad = |problem: String| Error::scene(path, problem);
+        let mut format = None;
+        let mut elements: Vec<Element> = Vec::new();
+        let mut texture_file: Option<String> = None;
+        for (i, raw) in header.lines().enumerate().skip(1) {
+            let ln = i + 1;
+            let line = raw.trim();
+            let toks: Vec<&str> = line.split_ascii_whitespace().collect();
+            match toks.as_slice() {
+                [] => {}
+                ["format", f, ..] => {
+                    format = Some(match *f {
+                        "ascii" => Format::Ascii,
+                        "binary_little_endian" => Format::Little,
+                        "binary_big_endian" => Format::Big,
+                        other => return Err(bad(format!("header line {ln}: unknown format \"{other}\""))),
+                    })
+                }
+                ["comment", rest @ ..] => {
+                    if rest.first().is_some_and(|k| k.eq_ignore_ascii_case("texturefile")) && rest.len() > 1 {
+                        let pos = line.find(rest[0]).map(|p| p + rest[0].len()).unwrap_or(line.len());
+                        texture_file = Some(line[pos..].trim().to_string());
+                    }
+                }
+                ["obj_info", ..] => {}
+                ["element", name, count] => {
+                    let count: u64 = count.parse().map_err(|_| {
+                        bad(format!(
+                            "header line {ln}: element \"{name}\" has the count \"{count}\", not a whole number"
+                        ))
+                    })?;
+                    elements.push(Element { name: name.to_string(), count, props: Vec::new() });
+                }
+                ["property", "list", ct, it, name] => {
+                    let (Some(c), Some(t)) = (Ty::parse(ct), Ty::parse(it)) else {
+                        return Err(bad(format!("header line {ln}: property \"{name}\" has an unknown type")));
+                    };
+                    if c.is_float() {
+                        return Err(bad(format!(
+                            "header line {ln}: list property \"{name}\" has a floating-point count type"
+                        )));
+                    }
+                    let e = elements
+                        .last_mut()
+                        .ok_or_else(|| bad(format!("header line {ln}: property before any element")))?;
+                    e.props.push(Prop { name: name.to_string(), ty: t, list_count: Some(c) });
+                }
+                ["property", ty, name] => {
+                    let t = Ty::parse(ty).ok_or_else(|| {
+                        bad(format!("header line {ln}: property \"{name}\" has the unknown type \"{ty}\""))
+                    })?;
+                    let e = elements
+                        .last_mut()
+                        .ok_or_else(|| bad(format!("header line {ln}: property before any element")))?;
+                    e.props.push(Prop { name: name.to_string(), ty: t, list_count: None });
+                }
+                _ => return Err(bad(format!("header line {ln}: cannot understand \"{line}\""))),
+            }
+        }
+        let format = format.ok_or_else(|| bad("the PLY header has no format line".into()))?;
+        Ok(Header { format, elements, texture_file })
+    }
+}
+
+/// The vertex data and faces read from the body.
+#[derive(Default)]
+struct Vertices {
+    positions: Vec<[f64; 3]>,
+    normals: Vec<[f32; 3]>,
+    colours: Vec<[f32; 4]>,
+    uvs: Vec<[f32; 2]>,
+    triangles: Vec<[u32; 3]>,
+}
+
+/// Reads the body's elements in the header's order: the first `vertex`
+/// element and the `face` element into [`Vertices`], others read past.
+struct BodyReader<'a> {
+    path: &'a Path,
+    stem: String,
+    file: String,
+    limits: &'a LoadLimits,
+    body: Body<'a>,
+    data: Vertices,
+    warnings: Vec<String>,
+    seen_vertex: bool,
+}
+
+impl BodyReader<'_> {
+    fn bad(&self, problem: String) -> Error {
+        Error::scene(self.path, problem)
+    }
+
+    /// The error for entry `k` of `el` that the body cannot hold.
+    fn truncated(&self, el: &Element, k: usize) -> Error {
+        self.bad(format!(
+            "element \"{}\" entry {k}: the file ends early or holds something that is not a number",
+            el.name
+        ))
+    }
+
+    fn element(&mut self, el: &Element) -> Result<()> {
         // Every element takes at least this many bytes: refuse counts the
         // file cannot hold before allocating anything for them.
+        let body = &self.body;
         let min: usize = el.props.iter().map(|p| body.min_size(p.list_count.unwrap_or(p.ty))).sum::<usize>().max(1);
         let remaining = body.remaining();
         if el.count.saturating_mul(min as u64) > remaining as u64 {
-            return Err(bad(format!(
+            return Err(self.bad(format!(
                 "element \"{}\" declares {} entries of at least {min} bytes, but only {remaining} bytes follow the header",
                 el.name, el.count
             )));
         }
-        let count = el.count as usize;
-        let find =
-            |names: &[&str]| el.props.iter().position(|p| p.list_count.is_none() && names.contains(&p.name.as_str()));
-        let truncated = |k: usize| {
-            bad(format!(
-                "element \"{}\" entry {k}: the file ends early or holds something that is not a number",
-                el.name
-            ))
-        };
         match el.name.as_str() {
-            "vertex" if !seen_vertex => {
-                seen_vertex = true;
-                let (Some(x), Some(y), Some(z)) = (find(&["x"]), find(&["y"]), find(&["z"])) else {
-                    return Err(bad("element \"vertex\" lacks one of the properties x, y, z".into()));
-                };
-                let nrm = (find(&["nx"]), find(&["ny"]), find(&["nz"]));
-                let col = (
-                    find(&["red", "diffuse_red", "r"]),
-                    find(&["green", "diffuse_green", "g"]),
-                    find(&["blue", "diffuse_blue", "b"]),
-                );
-                let alpha = find(&["alpha", "diffuse_alpha", "a"]);
-                let uv =
-                    match (find(&["u", "s", "texture_u", "texture_s"]), find(&["v", "t", "texture_v", "texture_t"])) {
-                        (Some(u), Some(v)) => Some((u, v)),
-                        _ => None,
-                    };
-                positions.reserve_exact(count);
-                let mut vals = vec![0.0f64; el.props.len()];
-                for k in 0..count {
-                    read_entry(&mut body, el, &mut vals, None).map_err(|_| truncated(k))?;
-                    let p = [vals[x], vals[y], vals[z]];
-                    if let Some(c) = p.iter().find(|c| !c.is_finite()) {
-                        return Err(bad(format!("object \"{stem}\": vertex {k} has the coordinate {c}")));
-                    }
-                    positions.push(p);
-                    if let (Some(a), Some(b), Some(c)) = nrm {
-                        normals.push([vals[a] as f32, vals[b] as f32, vals[c] as f32]);
-                    }
-                    if let (Some(r), Some(g), Some(b)) = col {
-                        let ch = |i: usize| {
-                            let t = el.props[i].ty;
-                            if t.is_float() {
-                                vals[i] as f32
-                            } else {
-                                srgb_to_linear((vals[i] / t.max()).clamp(0.0, 1.0) as f32)
-                            }
-                        };
-                        let a = alpha.map_or(1.0, |i| (vals[i] / el.props[i].ty.max()) as f32);
-                        colours.push([ch(r), ch(g), ch(b), a]);
-                    }
-                    if let Some((u, v)) = uv {
-                        // PLY writers (MeshLab) put v up, as OBJ does; ours points down.
-                        uvs.push([vals[u] as f32, (1.0 - vals[v]) as f32]);
-                    }
-                }
+            "vertex" if !self.seen_vertex => {
+                self.seen_vertex = true;
+                self.vertices(el)
             }
-            "face" => {
-                let Some(li) = el
-                    .props
-                    .iter()
-                    .position(|p| p.list_count.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"))
-                else {
-                    return Err(bad("element \"face\" has no vertex_indices list".into()));
-                };
-                if el.props.iter().any(|p| p.list_count.is_some() && p.name == "texcoord") {
-                    warnings
-                        .push(format!("{file}: object \"{stem}\": per-face texcoord lists are not supported; ignored"));
-                }
-                if el.count > limits.max_triangles as u64 {
-                    return Err(bad(format!(
-                        "object \"{stem}\": {} faces, more than the limit of {} triangles",
-                        el.count, limits.max_triangles
-                    )));
-                }
-                triangles.reserve(count);
-                let mut vals = vec![0.0f64; el.props.len()];
-                for k in 0..count {
-                    poly.clear();
-                    read_entry(&mut body, el, &mut vals, Some((li, &mut poly))).map_err(|e| match e {
-                        Some(msg) => bad(format!("object \"{stem}\": face {k}: {msg}")),
-                        None => truncated(k),
-                    })?;
-                    fan(&poly, &mut triangles);
-                    if triangles.len() > limits.max_triangles {
-                        return Err(bad(format!(
-                            "object \"{stem}\": face {k}: more than the limit of {} triangles",
-                            limits.max_triangles
-                        )));
-                    }
-                }
-            }
+            "face" => self.faces(el),
             _ => {
                 let mut vals = vec![0.0f64; el.props.len()];
-                for k in 0..count {
-                    read_entry(&mut body, el, &mut vals, None).map_err(|_| truncated(k))?;
+                for k in 0..el.count as usize {
+                    read_entry(&mut self.body, el, &mut vals, None).map_err(|_| self.truncated(el, k))?;
                 }
+                Ok(())
             }
         }
     }
-    if !seen_vertex {
-        return Err(bad("the file has no vertex element".into()));
+
+    /// The vertex element: positions (finite), and normals, colours and
+    /// texture coordinates when it has their properties.
+    fn vertices(&mut self, el: &Element) -> Result<()> {
+        let find =
+            |names: &[&str]| el.props.iter().position(|p| p.list_count.is_none() && names.contains(&p.name.as_str()));
+        let (Some(x), Some(y), Some(z)) = (find(&["x"]), find(&["y"]), find(&["z"])) else {
+            return Err(self.bad("element \"vertex\" lacks one of the properties x, y, z".into()));
+        };
+        let nrm = (find(&["nx"]), find(&["ny"]), find(&["nz"]));
+        let col = (
+            find(&["red", "diffuse_red", "r"]),
+            find(&["green", "diffuse_green", "g"]),
+            find(&["blue", "diffuse_blue", "b"]),
+        );
+        let alpha = find(&["alpha", "diffuse_alpha", "a"]);
+        let uv = match (find(&["u", "s", "texture_u", "texture_s"]), find(&["v", "t", "texture_v", "texture_t"])) {
+            (Some(u), Some(v)) => Some((u, v)),
+            _ => None,
+        };
+        let count = el.count as usize;
+        self.data.positions.reserve_exact(count);
+        let mut vals = vec![0.0f64; el.props.len()];
+        for k in 0..count {
+            read_entry(&mut self.body, el, &mut vals, None).map_err(|_| self.truncated(el, k))?;
+            let p = [vals[x], vals[y], vals[z]];
+            if let Some(c) = p.iter().find(|c| !c.is_finite()) {
+                return Err(self.bad(format!("object \"{}\": vertex {k} has the coordinate {c}", self.stem)));
+            }
+            let d = &mut self.data;
+            d.positions.push(p);
+            if let (Some(a), Some(b), Some(c)) = nrm {
+                d.normals.push([vals[a] as f32, vals[b] as f32, vals[c] as f32]);
+            }
+            if let (Some(r), Some(g), Some(b)) = col {
+                let ch = |i: usize| {
+                    let t = el.props[i].ty;
+                    if t.is_float() {
+                        vals[i] as f32
+                    } else {
+                        srgb_to_linear((vals[i] / t.max()).clamp(0.0, 1.0) as f32)
+                    }
+                };
+                let a = alpha.map_or(1.0, |i| (vals[i] / el.props[i].ty.max()) as f32);
+                d.colours.push([ch(r), ch(g), ch(b), a]);
+            }
+            if let Some((u, v)) = uv {
+                // PLY writers (MeshLab) put v up, as OBJ does; ours points down.
+                d.uvs.push([vals[u] as f32, (1.0 - vals[v]) as f32]);
+            }
+        }
+        Ok(())
     }
 
-    let mut scene = Scene { source: file.clone(), ..Scene::default() };
-    let mut material = Material { name: stem.clone(), ..Material::default() };
-    if let Some(name) = texture_file {
-        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        let p = resolve_file(&dir, &name).ok_or_else(|| {
-            bad(format!("object \"{stem}\": texture \"{name}\" (comment TextureFile) not found in {}", dir.display()))
-        })?;
-        let tb =
-            std::fs::read(&p).map_err(|e| bad(format!("object \"{stem}\": texture \"{name}\" cannot be read: {e}")))?;
-        let t = decode(&tb, &name, true, [Wrap::Repeat; 2], limits)
-            .map_err(|e| bad(format!("object \"{stem}\": texture \"{name}\" {e}")))?;
-        scene.textures.push(t);
-        material.base_colour_texture = Some(TextureRef { texture: 0, uv_set: 0, transform: UvTransform::default() });
-        if uvs.is_empty() {
-            warnings.push(format!(
-                "{file}: object \"{stem}\": a texture is named but the vertices have no texture coordinates"
-            ));
+    /// The face element: each `vertex_indices` list fan-triangulated,
+    /// within the triangle limit.
+    fn faces(&mut self, el: &Element) -> Result<()> {
+        let stem = &self.stem;
+        let Some(li) = el
+            .props
+            .iter()
+            .position(|p| p.list_count.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"))
+        else {
+            return Err(self.bad("element \"face\" has no vertex_indices list".into()));
+        };
+        if el.props.iter().any(|p| p.list_count.is_some() && p.name == "texcoord") {
+            self.warnings
+                .push(format!("{}: object \"{stem}\": per-face texcoord lists are not supported; ignored", self.file));
         }
+        let max_triangles = self.limits.max_triangles;
+        if el.count > max_triangles as u64 {
+            return Err(self.bad(format!(
+                "object \"{stem}\": {} faces, more than the limit of {max_triangles} triangles",
+                el.count
+            )));
+        }
+        let count = el.count as usize;
+        self.data.triangles.reserve(count);
+        let mut vals = vec![0.0f64; el.props.len()];
+        let mut poly: Vec<u32> = Vec::new();
+        for k in 0..count {
+            poly.clear();
+            read_entry(&mut self.body, el, &mut vals, Some((li, &mut poly))).map_err(|e| match e {
+                Some(msg) => self.bad(format!("object \"{stem}\": face {k}: {msg}")),
+                None => self.truncated(el, k),
+            })?;
+            fan(&poly, &mut self.data.triangles);
+            if self.data.triangles.len() > max_triangles {
+                return Err(
+                    self.bad(format!("object \"{stem}\": face {k}: more than the limit of {max_triangles} triangles"))
+                );
+            }
+        }
+        Ok(())
     }
-    let normals = match normals.iter().map(|&n| unit(n)).collect::<Option<Vec<_>>>() {
-        Some(unit_normals) => unit_normals,
-        None => {
-            warnings.push(format!(
-                "{file}: object \"{stem}\": some normals are zero or not finite; the object is shaded flat"
-            ));
-            Vec::new()
+
+    /// The scene of one object named after the file, with the texture the
+    /// header names (if any) as its base colour.
+    fn into_scene(mut self, texture_file: Option<String>) -> Result<Scene> {
+        let (path, file, stem) = (self.path, self.file.clone(), self.stem.clone());
+        let bad = |problem: String| Error::scene(path, problem);
+        let mut scene = Scene { source: file.clone(), ..Scene::default() };
+        let mut material = Material { name: stem.clone(), ..Material::default() };
+        let d = self.data;
+        if let Some(name) = texture_file {
+            let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+            let p = resolve_file(&dir, &name).ok_or_else(|| {
+                bad(format!(
+                    "object \"{stem}\": texture \"{name}\" (comment TextureFile) not found in {}",
+                    dir.display()
+                ))
+            })?;
+            let tb = std::fs::read(&p)
+                .map_err(|e| bad(format!("object \"{stem}\": texture \"{name}\" cannot be read: {e}")))?;
+            let t = decode(&tb, &name, true, [Wrap::Repeat; 2], self.limits)
+                .map_err(|e| bad(format!("object \"{stem}\": texture \"{name}\" {e}")))?;
+            scene.textures.push(t);
+            material.base_colour_texture =
+                Some(TextureRef { texture: 0, uv_set: 0, transform: UvTransform::default() });
+            if d.uvs.is_empty() {
+                self.warnings.push(format!(
+                    "{file}: object \"{stem}\": a texture is named but the vertices have no texture coordinates"
+                ));
+            }
         }
-    };
-    scene.objects.push(Object {
-        name: stem,
-        positions,
-        normals,
-        tangents: Vec::new(),
-        uv_sets: if uvs.is_empty() { Vec::new() } else { vec![uvs] },
-        colours,
-        triangles,
-        material,
-    });
-    scene.warnings = warnings;
-    finish_scene(path, &mut scene)?;
-    Ok(scene)
+        let normals = match d.normals.iter().map(|&n| unit(n)).collect::<Option<Vec<_>>>() {
+            Some(unit_normals) => unit_normals,
+            None => {
+                self.warnings.push(format!(
+                    "{file}: object \"{stem}\": some normals are zero or not finite; the object is shaded flat"
+                ));
+                Vec::new()
+            }
+        };
+        scene.objects.push(Object {
+            name: stem,
+            positions: d.positions,
+            normals,
+            tangents: Vec::new(),
+            uv_sets: if d.uvs.is_empty() { Vec::new() } else { vec![d.uvs] },
+            colours: d.colours,
+            triangles: d.triangles,
+            material,
+        });
+        scene.warnings = self.warnings;
+        finish_scene(path, &mut scene)?;
+        Ok(scene)
+    }
 }
 
 /// Read one entry of an element: scalars into `vals`; lists are read past,
