@@ -107,7 +107,7 @@ pub fn convert_cameras(
         Ok(())
     })?;
     if let Some(path) = &options.unseen_png {
-        write_unseen_png(path, geometry, unseen_grey)?;
+        write_unseen_png(path, geometry, &unseen_grey, options.write.overwrite)?;
     }
     let report = resampler.report(unseen, options.resample.want_mask.then_some(mask));
     Ok(CameraConvertReport { path: output.to_path_buf(), cameras: rig.cameras.len(), resample: report, written })
@@ -121,11 +121,13 @@ fn unseen_fraction_grey<'m>(g: &Geometry, mask: &'m [bool]) -> impl Iterator<Ite
         .map(move |views| (255.0 * views.iter().filter(|&&u| u).count() as f64 / v as f64).round() as u8)
 }
 
-/// The unseen picture: one pixel per (emitter, hololine).
-fn write_unseen_png(path: &Path, g: &Geometry, grey: Vec<u8>) -> Result<()> {
-    let img = image::GrayImage::from_raw(g.emitters as u32, g.hololines as u32, grey)
-        .ok_or_else(|| Error::Usage("unseen mask: size mismatch".into()))?;
-    img.save(path).map_err(|e| Error::Usage(format!("{}: cannot write PNG: {e}", path.display())))
+/// The unseen picture: one pixel per (emitter, hololine), its grey linear
+/// in the fraction unseen (a mask, not a tone-mapped picture).
+fn write_unseen_png(path: &Path, g: &Geometry, grey: &[u8], overwrite: bool) -> Result<()> {
+    let samples = crate::picture::Samples::Eight(grey);
+    let png = crate::picture::encode_png_samples(g.emitters, g.hololines, crate::picture::Colour::Grey, samples)
+        .map_err(|e| crate::picture::with_file(path, e))?;
+    crate::format::write_bytes_beside(path, &png, overwrite)
 }
 
 /// A camera's picture (linear) and, when `use_depth` and the
