@@ -28,7 +28,20 @@ use holo::cameras::quilt::{QuiltOptions, QuiltSpec};
 use holo::format::{Compression, SampleType, WriteOptions};
 use holo::geometry::{mono_channel, rgb_channels, Geometry};
 use holo::pattern::{Pattern, PatternKind};
+use holo::picture::White;
 use holo::views::{ToneMapping, SIDECAR};
+
+/// The help of every `--white` that chooses a white level (one meaning of
+/// `auto` and `max` everywhere), then what the command's samples are.
+macro_rules! white_help {
+    ($samples:literal) => {
+        concat!(
+            "Sample value shown as full white: a positive number, `max` (the largest sample: nothing clips) or ",
+            "`auto` (the 99.9th percentile of the samples, so a few specular glints do not darken the rest); ",
+            $samples
+        )
+    };
+}
 
 #[derive(Parser)]
 #[command(name = "holo", version, about = "The .holo modulation-texture file for holographic stereogram displays", long_about = None)]
@@ -106,9 +119,9 @@ enum Command {
         /// Bits per component.
         #[arg(long, default_value_t = 16, value_parser = clap::builder::ValueParser::new(parse_bits))]
         bits: u8,
-        /// Sample value shown as full white, or `auto` for the frame's maximum.
-        #[arg(long, default_value = "1")]
-        white: String,
+        #[arg(long, default_value = "1", value_parser = parse_white, allow_negative_numbers = true,
+              help = white_help!("the samples are every view of the frame"))]
+        white: White,
         /// Replace existing PNGs.
         #[arg(long)]
         force: bool,
@@ -147,9 +160,9 @@ enum Command {
         /// Angle between the outermost views, degrees.
         #[arg(long, default_value_t = holo::cameras::quilt::DEFAULT_VIEW_CONE_DEG)]
         view_cone: f64,
-        /// Sample value shown as full white, or `auto` for the quilt's 99.9th percentile.
-        #[arg(long, default_value = "auto")]
-        white: String,
+        #[arg(long, default_value = "auto", value_parser = parse_white, allow_negative_numbers = true,
+              help = white_help!("the samples are the quilt's pixels"))]
+        white: White,
         /// Replace an existing file.
         #[arg(long)]
         force: bool,
@@ -161,8 +174,8 @@ enum Command {
         /// Geometry: a layout name or a JSON file (default: DIR/holo-views.json).
         #[arg(long)]
         geometry: Option<String>,
-        /// Sample value of full white (default: the sidecar's, else 1).
-        #[arg(long)]
+        /// Sample value of full white, a positive number (default: the sidecar's, else 1).
+        #[arg(long, value_parser = parse_white_number, allow_negative_numbers = true)]
         white: Option<f32>,
         #[command(flatten)]
         write: WriteArgs,
@@ -243,9 +256,9 @@ enum Command {
         /// Frame index (in the source .holo file).
         #[arg(long, default_value_t = 0)]
         frame: usize,
-        /// Brightness shown as full white (1 = a fully lit emitter).
-        #[arg(long, default_value_t = 1.0)]
-        white: f32,
+        #[arg(long, default_value = "1", value_parser = parse_white, allow_negative_numbers = true,
+              help = white_help!("the samples are the picture's brightness, 1 for a fully lit emitter"))]
+        white: White,
         /// Output PNG.
         #[arg(long, short)]
         output: PathBuf,
@@ -446,6 +459,17 @@ fn parse_preset(s: &str) -> Result<QuiltSpec, String> {
     })
 }
 
+fn parse_white(s: &str) -> Result<White, String> {
+    s.parse::<White>().map_err(|e| e.to_string())
+}
+
+fn parse_white_number(s: &str) -> Result<f32, String> {
+    match parse_white(s)? {
+        White::Value(white) => Ok(white),
+        other => Err(format!("{other} is not a number: give the white level the views were exported with")),
+    }
+}
+
 fn parse_tile(s: &str) -> Result<(usize, usize), String> {
     let n = |t: &str| t.trim().parse::<usize>().ok();
     match s.split_once(['x', 'X']) {
@@ -615,19 +639,10 @@ fn run(cli: Cli) -> Outcome {
             let names: Vec<String> = (0..views).map(|v| holo::views::view_file_name(v, views)).collect();
             holo::output::check_set_output(&out, SIDECAR, &names, &[&file], force).map_err(error_text)?;
             let m = holo_file.read_frame(frame).map_err(error_text)?;
-            let white = if white == "auto" {
-                let max = m.value_range().1;
-                if max > 0.0 {
-                    max
-                } else {
-                    1.0
-                }
-            } else {
-                white.parse::<f32>().map_err(|_| format!("--white {white:?} is not a number or `auto`"))?
-            };
+            let white = white.level(m.samples().iter().copied());
             let written =
                 holo::views::export_views(&m, &out, &ToneMapping { white, bits }, force).map_err(error_text)?;
-            outln!("wrote {} view PNGs and {} to {}", written.len() - 1, SIDECAR, out.display());
+            outln!("wrote {} view PNGs and {} to {}, white = {white}", written.len() - 1, SIDECAR, out.display());
             Ok(ExitCode::SUCCESS)
         }
         Command::ExportQuilt {
@@ -652,10 +667,6 @@ fn run(cli: Cli) -> Outcome {
             }
             spec.aspect = aspect.unwrap_or(spec.aspect);
             spec.view_cone_deg = view_cone;
-            let white = match white.as_str() {
-                "auto" => None,
-                w => Some(w.parse::<f32>().map_err(|_| format!("--white {w:?} is not a number or `auto`"))?),
-            };
             let name = || {
                 let stem = file.file_stem().map_or("quilt".into(), |s| s.to_string_lossy().into_owned());
                 holo::cameras::quilt::quilt_file_name(&stem, &spec)
@@ -793,6 +804,7 @@ fn run(cli: Cli) -> Outcome {
             };
             let pictures =
                 holo::reconstruct::files::view_file(&input, layout.as_ref(), frame, &[at]).map_err(error_text)?;
+            let white = white.level(pictures[0].data.iter().copied());
             pictures[0].write_png(&output, white, force).map_err(error_text)?;
             outln!(
                 "wrote {}: what an eye at x = {} mm sees of {} ({} × {} emitters × hololines)",

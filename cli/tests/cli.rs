@@ -142,6 +142,67 @@ fn views_export_and_import_round_trip() {
 }
 
 #[test]
+fn white_is_auto_max_or_a_positive_number_with_one_meaning_everywhere() {
+    use holo::picture::White;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A view ramp with two specular glints.
+    let g = holo::layout::builtin("mark1").unwrap().geometry;
+    let m = holo::Modulation::from_fn(
+        g,
+        |c, j, e, v| {
+            if (c, j, e) == (0, 30, 100) && v < 2 {
+                25.0
+            } else {
+                0.1 + 0.15 * v as f32
+            }
+        },
+    )
+    .unwrap();
+    holo::write(d.join("glints.holo"), &m, &holo::WriteOptions::default()).unwrap();
+    let m = holo::read(d.join("glints.holo")).unwrap();
+    let auto = White::Auto.level(m.samples().iter().copied());
+    // The brightest view (0.7, as f16 stores it), not the glints.
+    assert!((auto - 0.7).abs() < 1e-3, "{auto}");
+    assert_eq!(White::Max.level(m.samples().iter().copied()), 25.0);
+    // export-views: the level chosen is printed and recorded in the sidecar.
+    for (word, want) in [("auto", auto), ("max", 25.0), ("0.5", 0.5)] {
+        let o = holo(&["export-views", "glints.holo", "--out", word, "--white", word, "--bits", "8"], d);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+        assert!(text(&o).contains(&format!("white = {want}")), "{word}: {}", text(&o));
+        let sidecar = holo::views::read_sidecar(&d.join(word).join(holo::views::SIDECAR)).unwrap();
+        assert_eq!(sidecar.tone.white, want, "{word}");
+    }
+    // export-quilt: auto is the same percentile, of the quilt's pixels.
+    let o = holo(&["export-quilt", "glints.holo", "-o", "q.png", "--tile", "40x30"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let spec = holo::cameras::quilt::QuiltSpec {
+        tile_width: 40,
+        tile_height: 30,
+        ..holo::cameras::quilt::QuiltSpec::portrait()
+    };
+    let quilt = holo::cameras::quilt::quilt_from_modulation(&m, &spec).unwrap();
+    let want = quilt.white_level(White::Auto);
+    assert!(text(&o).contains(&format!("white = {want}")), "{want}: {}", text(&o));
+    // Anything else is a usage error naming what is accepted.
+    for args in [
+        &["export-views", "glints.holo", "--out", "x", "--white", "0"][..],
+        &["export-views", "glints.holo", "--out", "x", "--white", "-1"],
+        &["export-quilt", "glints.holo", "-o", "x.png", "--white", "bright"],
+        &["export-quilt", "glints.holo", "-o", "x.png", "--white", "nan"],
+        &["view", "glints.holo", "--layout", "mark1", "-o", "x.png", "--white", "inf"],
+    ] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains("auto, max or a finite positive number"), "{args:?}: {}", text(&o));
+    }
+    let o = holo(&["import-views", "auto", "-o", "back.holo", "--white", "auto"], d);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("exported with"), "{}", text(&o));
+    assert!(!d.join("x").exists() && !d.join("x.png").exists() && !d.join("back.holo").exists());
+}
+
+#[test]
 fn info_tells_whether_two_files_hold_the_same_content() {
     let dir = tempfile::tempdir().unwrap();
     for (file, compression, kind) in
