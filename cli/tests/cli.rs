@@ -13,6 +13,12 @@ fn spot() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/mesh/spot/spot.obj").to_str().unwrap().to_string()
 }
 
+/// A Mark I view ramp written as `name` in `d`.
+fn mark1_ramp(d: &Path, name: &str) {
+    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", name], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+}
+
 fn text(o: &Output) -> String {
     format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
 }
@@ -364,8 +370,7 @@ fn check_and_view_recover_what_was_assembled() {
 fn export_quilt_names_its_file_and_overwrites_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    mark1_ramp(d, "ramp.holo");
     // The portrait preset, named as Looking Glass software expects, next to the input.
     let o = holo(&["export-quilt", "ramp.holo"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
@@ -420,8 +425,7 @@ fn export_quilt_names_its_file_and_overwrites_nothing() {
 fn convert_cameras_reads_a_quilt_and_names_what_is_wrong() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    mark1_ramp(d, "ramp.holo");
     let o =
         holo(&["export-quilt", "ramp.holo", "--tile", "64x32", "--columns", "4", "--rows", "2", "--aspect", "2"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
@@ -591,8 +595,7 @@ fn a_layout_file_that_is_not_there_is_named() {
 fn output_is_o_everywhere_and_out_still_works() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "r.holo"], d);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    mark1_ramp(d, "r.holo");
     for (flag, folder) in [("-o", "a"), ("--output", "b"), ("--out", "c")] {
         let o = holo(&["export-views", "r.holo", flag, &format!("views-{folder}")], d);
         assert_eq!(o.status.code(), Some(0), "{flag}: {}", text(&o));
