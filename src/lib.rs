@@ -21,6 +21,8 @@ mod modulation;
 pub mod output;
 pub mod pattern;
 pub mod picture;
+pub mod pipeline;
+pub mod progress;
 pub mod reconstruct;
 pub mod report;
 pub mod resample;

@@ -44,10 +44,7 @@ pub fn run(a: AssembleArgs) -> Outcome {
     let options =
         AssembleOptions { frames: a.frames, format: a.format.into(), overwrite: a.force, resample: a.resample };
     let started = Instant::now();
-    let progress = Reporter::on_stderr();
-    let report =
-        assemble_file(&a.file, &layout, &a.output, &options, &mut |done, total| progress.count("frames", done, total))?;
-    drop(progress);
+    let report = assemble_file(&a.file, &layout, &a.output, &options, &Reporter::on_stderr())?;
     say!(
         "assembled {} frame(s) of {} for {} in {:.2} s: {} files and {FRINGE_SIDECAR} in {}",
         report.frames.len(),

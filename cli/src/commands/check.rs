@@ -10,6 +10,7 @@ use holo::reconstruct::files::{check_file, CheckOptions};
 use super::Outcome;
 use crate::args::{self, layout_help, load_layout};
 use crate::out::{json, put};
+use crate::progress::Reporter;
 
 /// Recover a frame's modulation from its fringes (least squares, and
 /// through the optics by scalar diffraction) and print the error against
@@ -42,7 +43,7 @@ pub fn run(a: CheckArgs) -> Outcome {
         (None, None) => Some(load_layout("mark3")?),
     };
     let options = CheckOptions { frame: a.frame, fringes: a.fringes, hololines: a.hololines };
-    let checked = check_file(&a.file, layout.as_ref(), &options)?;
+    let checked = check_file(&a.file, layout.as_ref(), &options, &Reporter::on_stderr())?;
     if a.json {
         json(&checked)?;
     } else {

@@ -80,9 +80,7 @@ fn holoflick(a: HoloflickArgs) -> Outcome {
         fit: a.fit,
     };
     let started = Instant::now();
-    let progress = Reporter::on_stderr();
-    let report = convert_holoflick(&a.file, &g, &a.target.write.output, &options, &progress.counter("frames"))?;
-    drop(progress);
+    let report = convert_holoflick(&a.file, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
     report.warnings.iter().for_each(warn);
     let w = report.work;
     say!(
@@ -185,11 +183,7 @@ fn mesh(a: MeshArgs) -> Outcome {
         write: a.target.write.options(String::new()),
     };
     let started = Instant::now();
-    let progress = Reporter::on_stderr();
-    let report = convert_mesh(&a.scene, &g, &a.target.write.output, &options, &|frame, done, total| {
-        progress.count(&format!("frame {frame}: hololines"), done, total)
-    })?;
-    drop(progress);
+    let report = convert_mesh(&a.scene, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
     report.warnings.iter().for_each(warn);
     for w in &report.written.warnings {
         warn(format_args!("{}: {w}", report.path.display()));
@@ -297,9 +291,7 @@ fn cameras(a: CamerasArgs) -> Outcome {
         write: write.options(String::new()),
     };
     let started = Instant::now();
-    let progress = Reporter::on_stderr();
-    let report = convert_camera_files(&a.input, &open, &g, &write.output, &options, &progress.counter("hololines"))?;
-    drop(progress);
+    let report = convert_camera_files(&a.input, &open, &g, &write.output, &options, &Reporter::on_stderr())?;
     report.resample.warnings.iter().chain(&report.written.warnings).for_each(warn);
     let r = &report.resample;
     let (input, output, seconds) = (a.input.display(), report.path.display(), started.elapsed().as_secs_f64());

@@ -7,6 +7,7 @@ use clap::Args;
 
 use super::Outcome;
 use crate::out::put;
+use crate::progress::Reporter;
 
 /// Run the main job on built-in defaults and say where the results are.
 #[derive(Args)]
@@ -17,7 +18,7 @@ pub struct DemoArgs {
 }
 
 pub fn run(a: DemoArgs) -> Outcome {
-    let demo = holo::report::demo(&a.output)?;
+    let demo = holo::report::demo(&a.output, &Reporter::on_stderr())?;
     put!("{demo}");
     Ok(ExitCode::SUCCESS)
 }

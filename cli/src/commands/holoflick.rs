@@ -126,9 +126,7 @@ fn run_pack(a: PackArgs) -> Outcome {
         key_interval: m.key_interval,
         overwrite: m.force,
     };
-    let progress = Reporter::on_stderr();
-    let report = pack(&a.meshes, &a.output, &options, &progress.counter("frames"))?;
-    drop(progress);
+    let report = pack(&a.meshes, &a.output, &options, &Reporter::on_stderr())?;
     report.warnings.iter().for_each(warn);
     say_packed(&report, "triangle", report.triangles);
     for (i, (c, s)) in report.cg_transforms.iter().enumerate() {
@@ -179,9 +177,8 @@ fn run_encode(a: EncodeArgs) -> Outcome {
         overwrite: m.force,
         ..HoloFlickEncodeOptions::default()
     };
-    let progress = Reporter::on_stderr();
-    let report = encode_holoflick(&a.scene, &g, &a.output, &options, &progress.counter("frames"))?;
-    drop(progress);
+    let report = encode_holoflick(&a.scene, &g, &a.output, &options, &Reporter::on_stderr())?;
+    report.pack.warnings.iter().for_each(warn);
     say_packed(&report.pack, "micropolygon", report.micropolygons);
     say!("{}", report.placed);
     Ok(ExitCode::SUCCESS)

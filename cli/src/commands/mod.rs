@@ -61,10 +61,8 @@ fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<(), Fail
     Ok(holo::output::check_output(output, &read, force)?)
 }
 
-/// Write `m` as the `.holo` file `args` asks for, with provenance `source`,
-/// and say so.
-fn write_holo(m: &holo::Modulation, args: &WriteArgs, source: String) -> Outcome {
-    let report = holo::write(&args.output, m, &args.options(source))?;
+/// What writing a `.holo` file did, said as every command that writes one says it.
+fn wrote(report: &holo::format::WriteReport, args: &WriteArgs) -> Outcome {
     for w in &report.warnings {
         warn(format_args!("{}: {w}", args.output.display()));
     }

@@ -3,10 +3,11 @@
 use std::path::Path;
 
 use clap::Args;
-use holo::pattern::Pattern;
+use holo::pattern::{write_pattern, Pattern};
 
-use super::{check_output, write_holo, Outcome};
+use super::{check_output, wrote, Outcome};
 use crate::args::{self, layout_geometry, layout_help, ChannelsChoice, PatternChoice, WriteArgs};
+use crate::progress::Reporter;
 
 /// Write a display-engineering test pattern for a layout.
 #[derive(Args)]
@@ -46,6 +47,7 @@ pub fn run(a: PatternArgs) -> Outcome {
     }
     let pattern =
         Pattern { kind: a.kind.0, emitter: a.emitter, view: a.view, every: a.every, cell: a.cell, level: a.level };
-    let m = pattern.render(&geometry)?;
-    write_holo(&m, &a.write, format!("{} layout={}", pattern.describe(), a.layout))
+    let options = a.write.options(format!("{} layout={}", pattern.describe(), a.layout));
+    let run = write_pattern(&pattern, &geometry, &a.write.output, options, &Reporter::on_stderr())?;
+    wrote(&run.written, &a.write)
 }

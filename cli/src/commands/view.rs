@@ -11,6 +11,7 @@ use holo::picture::White;
 use super::{check_output, Outcome};
 use crate::args::{self, layout_help, load_layout, white_help};
 use crate::out::say;
+use crate::progress::Reporter;
 
 /// Simulate the display by scalar diffraction and write the picture a
 /// viewer at the given eye position sees (focused on the emitters).
@@ -53,7 +54,7 @@ pub fn run(a: ViewArgs) -> Outcome {
     check_output(&a.output, &[&a.input], a.force)?;
     let (x_m, y_m) = a.eye;
     let eye = EyeAt { x_m, y_m, distance_m: a.distance, pupil_m: a.pupil };
-    let picture = view_file(&a.input, layout.as_ref(), a.frame, &[eye])?.remove(0);
+    let picture = view_file(&a.input, layout.as_ref(), a.frame, &[eye], &Reporter::on_stderr())?.remove(0);
     let white = a.white.level(picture.data.iter().copied());
     picture.write_png(&a.output, white, a.force)?;
     say!(

@@ -1,16 +1,17 @@
 //! `holo export-views` and `holo import-views`: one PNG per view, and back.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use holo::views::{ToneMapping, SIDECAR};
+use holo::views::{import_views_file, ToneMapping, SIDECAR};
 
 use holo::picture::White;
 
-use super::{check_output, write_holo, Failure, Outcome};
+use super::{check_output, wrote, Failure, Outcome};
 use crate::args::{self, layout_geometry, white_help, PngBits, WriteArgs};
 use crate::out::say;
+use crate::progress::Reporter;
 
 /// Write each view of a frame as a PNG (view_000.png, …) plus holo-views.json.
 #[derive(Args)]
@@ -74,14 +75,13 @@ pub fn run_import(a: ImportViewsArgs) -> Outcome {
             )))
         }
     };
-    let views: Vec<PathBuf> =
-        (0..g.views.count).map(|v| a.dir.join(holo::views::view_file_name(v, g.views.count))).collect();
-    let read: Vec<&Path> = std::iter::once(a.dir.as_path()).chain(views.iter().map(PathBuf::as_path)).collect();
-    check_output(&a.write.output, &read, a.write.force)?;
+    // Every file of the folder counts as an input here, not only the pictures.
+    check_output(&a.write.output, &[a.dir.as_path()], a.write.force)?;
     let mut tone = sidecar.map(|s| s.tone).unwrap_or_default();
     if let Some(w) = a.white {
         tone.white = w;
     }
-    let m = holo::views::import_views(&a.dir, &g, &tone)?;
-    write_holo(&m, &a.write, format!("holo import-views from {}", a.dir.display()))
+    let options = a.write.options(String::new());
+    let run = import_views_file(&a.dir, &g, &tone, &a.write.output, options, &Reporter::on_stderr())?;
+    wrote(&run.written, &a.write)
 }
