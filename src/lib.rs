@@ -3,7 +3,8 @@
 //!
 //! Start at [`Geometry`] and [`Modulation`] (the data), then [`format`](mod@format) (the
 //! `.holo` file, spec/holo-format.md), [`layout`] (display profiles),
-//! [`pattern`] (test patterns) and [`views`] (PNG export and import).
+//! [`pattern`] (test patterns), [`views`] (PNG export and import) and
+//! [`picture`] (the tone mapping and PNG encoding of every picture written).
 #![deny(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
 
@@ -19,6 +20,7 @@ pub mod mesh;
 mod modulation;
 pub mod output;
 pub mod pattern;
+pub mod picture;
 pub mod pipeline;
 pub mod progress;
 pub mod reconstruct;

@@ -1,8 +1,9 @@
 //! Views as pictures: one PNG per view (`view_000.png`, …), `emitters` wide
-//! and `hololines` tall, and back. The tone mapping (README, "Views as
-//! PNG") is: `linear = sample / white`, clamped to [0, 1], encoded with the
-//! sRGB transfer function and quantised to 8 or 16 bits; import inverts it.
-//! A sidecar `holo-views.json` records the geometry and the tone mapping, so
+//! and `hololines` tall, and back. The tone mapping is [`crate::picture`]'s
+//! (README, "Views as PNG"): `linear = clamp(sample / white, 0, 1)`, encoded
+//! with the sRGB transfer function and quantised to 8 or 16 bits; import
+//! inverts it. A sidecar `holo-views.json` records the geometry and the tone
+//! mapping (the white level as the number used, however it was chosen), so
 //! `import-views` can rebuild the file without being told them again. The
 //! PNGs and the sidecar are one set ([`crate::output::FileSet`]): the sidecar
 //! is written last and lists every PNG with its size and SHA-256, and an
@@ -10,11 +11,11 @@
 
 use std::path::{Path, PathBuf};
 
-use image::{ImageBuffer, ImageFormat, Luma, Rgb};
 use serde::{Deserialize, Serialize};
 
 use crate::format::{view_digits, WriteOptions, WriteReport};
 use crate::output::{check_set_complete, check_set_output, verify_set, FileSet, SetFile};
+use crate::picture::{encode_png, Bits, Colour, Tone};
 use crate::pipeline::{HoloSink, Run, Source, Warnings};
 use crate::progress::Progress;
 use crate::{Band, Error, Geometry, Modulation, Result};
@@ -22,13 +23,22 @@ use crate::{Band, Error, Geometry, Modulation, Result};
 /// Name of the sidecar written next to the PNGs.
 pub const SIDECAR: &str = "holo-views.json";
 
-/// How samples become pixel values.
+/// How samples become pixel values, as the sidecar records it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ToneMapping {
-    /// The sample value shown as full white.
+    /// The sample value shown as full white (a [`crate::picture::White`]
+    /// resolved to its number for the frame exported).
     pub white: f32,
     /// 8 or 16 bits per component.
     pub bits: u8,
+}
+
+impl ToneMapping {
+    /// The tone of the PNGs; fails on a white level that is not finite and
+    /// positive or a depth other than 8 or 16 bits.
+    pub fn tone(&self) -> Result<Tone> {
+        Tone::new(self.white, Bits::from_count(self.bits)?)
+    }
 }
 
 impl Default for ToneMapping {
@@ -50,40 +60,10 @@ pub struct Sidecar {
     pub files: Vec<SetFile>,
 }
 
-/// sRGB encoding of a linear value in [0, 1] (IEC 61966-2-1).
-pub fn srgb_encode(linear: f64) -> f64 {
-    let x = linear.clamp(0.0, 1.0);
-    if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// sRGB decoding to a linear value in [0, 1].
-pub fn srgb_decode(encoded: f64) -> f64 {
-    let x = encoded.clamp(0.0, 1.0);
-    if x <= 0.040_45 {
-        x / 12.92
-    } else {
-        ((x + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 /// File name of view `v` for a geometry with `view_count` views.
 pub fn view_file_name(v: usize, view_count: usize) -> String {
     let digits = view_digits(view_count);
     format!("view_{v:0digits$}.png")
-}
-
-fn check_tone(tone: &ToneMapping) -> Result<()> {
-    if !(tone.white.is_finite() && tone.white > 0.0) {
-        return Err(Error::argument("white level", format!("white level {} must be finite and positive", tone.white)));
-    }
-    if tone.bits != 8 && tone.bits != 16 {
-        return Err(Error::argument("bits", format!("{} bits per component: choose 8 or 16", tone.bits)));
-    }
-    Ok(())
 }
 
 /// Write every view of `m` as a PNG into `dir` (created if needed), plus the
@@ -91,59 +71,37 @@ fn check_tone(tone: &ToneMapping) -> Result<()> {
 /// Refuses to replace an existing set or file unless `overwrite`; returns
 /// every file written, the sidecar last.
 pub fn export_views(m: &Modulation, dir: &Path, tone: &ToneMapping, overwrite: bool) -> Result<Vec<PathBuf>> {
-    check_tone(tone)?;
+    let png_tone = tone.tone().map_err(|e| e.naming(dir))?;
     let g = m.geometry();
     let names: Vec<String> = (0..g.views.count).map(|v| view_file_name(v, g.views.count)).collect();
     check_set_output(dir, SIDECAR, &names, &[], overwrite)?;
     let mut set = FileSet::create(dir, SIDECAR)?;
-    let colour_slot = |name: &str| match name {
-        "R" => 0,
-        "G" => 1,
-        _ => 2,
-    };
+    // Which RGB component each channel fills; a mono file is grey.
+    let slots: Vec<(usize, usize)> = g
+        .channels
+        .iter()
+        .enumerate()
+        .map(|(c, ch)| match ch.name.as_str() {
+            "R" => (c, 0),
+            "G" => (c, 1),
+            _ => (c, 2),
+        })
+        .collect();
     let mono = g.channel_index("Y");
-    let quantise = |x: f32| -> f64 {
-        let max = if tone.bits == 8 { 255.0 } else { 65535.0 };
-        (srgb_encode(f64::from(x) / f64::from(tone.white)) * max).round()
-    };
-    let (w, h) = (g.emitters as u32, g.hololines as u32);
+    let colour = if mono.is_some() { Colour::Grey } else { Colour::Rgb };
     for (v, name) in names.iter().enumerate() {
-        let path = dir.join(name);
-        set.add(name, |out| {
-            let save = |result: image::ImageResult<()>| result.map_err(|e| Error::encode(path, "PNG", e));
-            match (mono, tone.bits) {
-                (Some(c), 8) => save(
-                    ImageBuffer::from_fn(w, h, |x, y| Luma([quantise(m.get(c, y as usize, x as usize, v)) as u8]))
-                        .write_to(out, ImageFormat::Png),
-                ),
-                (Some(c), _) => save(
-                    ImageBuffer::from_fn(w, h, |x, y| Luma([quantise(m.get(c, y as usize, x as usize, v)) as u16]))
-                        .write_to(out, ImageFormat::Png),
-                ),
-                (None, bits) => {
-                    let mut rgb = vec![[0f64; 3]; (w * h) as usize];
-                    for (c, ch) in g.channels.iter().enumerate() {
-                        for j in 0..g.hololines {
-                            for e in 0..g.emitters {
-                                rgb[j * g.emitters + e][colour_slot(&ch.name)] = quantise(m.get(c, j, e, v));
-                            }
-                        }
-                    }
-                    let px = |x: u32, y: u32| rgb[(y * w + x) as usize];
-                    if bits == 8 {
-                        save(
-                            ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u8)))
-                                .write_to(out, ImageFormat::Png),
-                        )
-                    } else {
-                        save(
-                            ImageBuffer::from_fn(w, h, |x, y| Rgb(px(x, y).map(|c| c as u16)))
-                                .write_to(out, ImageFormat::Png),
-                        )
-                    }
+        let png = encode_png(g.emitters, g.hololines, colour, &png_tone, |e, j| match mono {
+            Some(c) => [m.get(c, j, e, v), 0.0, 0.0],
+            None => {
+                let mut rgb = [0.0; 3];
+                for &(c, slot) in &slots {
+                    rgb[slot] = m.get(c, j, e, v);
                 }
+                rgb
             }
-        })?;
+        })
+        .map_err(|e| e.naming(&dir.join(name)))?;
+        set.add_bytes(name, &png)?;
     }
     set.commit(overwrite, |files| {
         let sidecar = Sidecar { geometry: g.clone(), tone: tone.clone(), files: files.to_vec() };
@@ -175,7 +133,9 @@ pub fn read_geometry_json(path: &Path) -> Result<Geometry> {
 /// whose sidecar lists none) is refused, naming the file. A folder without
 /// a sidecar holds pictures made elsewhere and is read as it is.
 pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Result<Modulation> {
-    check_tone(tone)?;
+    // Every PNG is read at 16 bits (an 8-bit code q becomes 257·q, the same fraction of full white).
+    let png_tone = Tone::new(tone.white, Bits::Sixteen).map_err(|e| e.naming(dir))?;
+    Bits::from_count(tone.bits).map_err(|e| e.naming(dir))?;
     // Even pictures read without their sidecar may not be of a set whose
     // replacement was interrupted: they could be of two sets.
     check_set_complete(dir, SIDECAR, "export the views again")?;
@@ -215,8 +175,7 @@ pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Resu
                         "B" => rgb.get_pixel(e as u32, j as u32)[2],
                         _ => luma.get_pixel(e as u32, j as u32)[0],
                     };
-                    let value = srgb_decode(f64::from(q) / 65535.0) * f64::from(tone.white);
-                    m.set(c, j, e, v, value as f32);
+                    m.set(c, j, e, v, png_tone.sample(q));
                 }
             }
         }
@@ -287,19 +246,4 @@ pub fn import_views_file(
 /// A file of a set of views that is not what it should be.
 fn malformed(path: &Path, problem: String) -> Error {
     Error::Set { path: path.to_path_buf(), problem: crate::SetProblem::Malformed(problem) }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn srgb_round_trips() {
-        for i in 0..=1000 {
-            let x = i as f64 / 1000.0;
-            assert!((srgb_decode(srgb_encode(x)) - x).abs() < 1e-12);
-        }
-        assert!((srgb_encode(1.0) - 1.0).abs() < 1e-15);
-        assert_eq!(srgb_encode(0.0), 0.0);
-    }
 }

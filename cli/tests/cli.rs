@@ -8,6 +8,17 @@ fn holo(args: &[&str], cwd: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_holo")).args(args).current_dir(cwd).output().expect("run holo")
 }
 
+/// The bundled textured mesh.
+fn spot() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/mesh/spot/spot.obj").to_str().unwrap().to_string()
+}
+
+/// A Mark I view ramp written as `name` in `d`.
+fn mark1_ramp(d: &Path, name: &str) {
+    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", name], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+}
+
 fn text(o: &Output) -> String {
     format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
 }
@@ -29,7 +40,10 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["view", "--help"],
         &["export-quilt", "--help"],
         &["holoflick", "pack", "--help"],
+        &["holoflick", "encode", "--help"],
         &["convert", "holoflick", "--help"],
+        &["convert", "mesh", "--help"],
+        &["convert", "cameras", "--help"],
         &["holoflick", "unpack", "--help"],
         &["holoflick", "info", "--help"],
     ] {
@@ -50,6 +64,10 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["export-quilt", "a.holo", "--preset", "hologram"],
         &["export-quilt", "a.holo", "--tile", "64"],
         &["export-quilt", "a.holo", "-o", "q.png", "--output-dir", "d"],
+        &["export-quilt", "a.holo", "--columns", "0"],
+        &["export-quilt", "a.holo", "--aspect=-1"],
+        &["convert", "mesh", "a.obj", "-o", "a.holo", "--supersample", "0x2"],
+        &["convert", "cameras", "a", "-o", "a.holo", "--blend", "cubic"],
     ] {
         let o = holo(cmd, dir.path());
         assert_eq!(o.status.code(), Some(2), "{cmd:?}: {}", text(&o));
@@ -142,6 +160,67 @@ fn views_export_and_import_round_trip() {
 }
 
 #[test]
+fn white_is_auto_max_or_a_positive_number_with_one_meaning_everywhere() {
+    use holo::picture::White;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A view ramp with two specular glints.
+    let g = holo::layout::builtin("mark1").unwrap().geometry;
+    let m = holo::Modulation::from_fn(
+        g,
+        |c, j, e, v| {
+            if (c, j, e) == (0, 30, 100) && v < 2 {
+                25.0
+            } else {
+                0.1 + 0.15 * v as f32
+            }
+        },
+    )
+    .unwrap();
+    holo::write(d.join("glints.holo"), &m, &holo::WriteOptions::default()).unwrap();
+    let m = holo::read(d.join("glints.holo")).unwrap();
+    let auto = White::Auto.level(m.samples().iter().copied());
+    // The brightest view (0.7, as f16 stores it), not the glints.
+    assert!((auto - 0.7).abs() < 1e-3, "{auto}");
+    assert_eq!(White::Max.level(m.samples().iter().copied()), 25.0);
+    // export-views: the level chosen is printed and recorded in the sidecar.
+    for (word, want) in [("auto", auto), ("max", 25.0), ("0.5", 0.5)] {
+        let o = holo(&["export-views", "glints.holo", "--out", word, "--white", word, "--bits", "8"], d);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+        assert!(text(&o).contains(&format!("white = {want}")), "{word}: {}", text(&o));
+        let sidecar = holo::views::read_sidecar(&d.join(word).join(holo::views::SIDECAR)).unwrap();
+        assert_eq!(sidecar.tone.white, want, "{word}");
+    }
+    // export-quilt: auto is the same percentile, of the quilt's pixels.
+    let o = holo(&["export-quilt", "glints.holo", "-o", "q.png", "--tile", "40x30"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let spec = holo::cameras::quilt::QuiltSpec {
+        tile_width: 40,
+        tile_height: 30,
+        ..holo::cameras::quilt::QuiltSpec::portrait()
+    };
+    let quilt = holo::cameras::quilt::quilt_from_modulation(&m, &spec).unwrap();
+    let want = quilt.white_level(White::Auto);
+    assert!(text(&o).contains(&format!("white = {want}")), "{want}: {}", text(&o));
+    // Anything else is a usage error naming what is accepted.
+    for args in [
+        &["export-views", "glints.holo", "--out", "x", "--white", "0"][..],
+        &["export-views", "glints.holo", "--out", "x", "--white", "-1"],
+        &["export-quilt", "glints.holo", "-o", "x.png", "--white", "bright"],
+        &["export-quilt", "glints.holo", "-o", "x.png", "--white", "nan"],
+        &["view", "glints.holo", "--layout", "mark1", "-o", "x.png", "--white", "inf"],
+    ] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains("auto, max or a finite positive number"), "{args:?}: {}", text(&o));
+    }
+    let o = holo(&["import-views", "auto", "-o", "back.holo", "--white", "auto"], d);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("exported with"), "{}", text(&o));
+    assert!(!d.join("x").exists() && !d.join("x.png").exists() && !d.join("back.holo").exists());
+}
+
+#[test]
 fn info_tells_whether_two_files_hold_the_same_content() {
     let dir = tempfile::tempdir().unwrap();
     for (file, compression, kind) in
@@ -162,8 +241,9 @@ fn info_tells_whether_two_files_hold_the_same_content() {
 #[test]
 fn demo_runs_and_says_where_its_files_are() {
     let dir = tempfile::tempdir().unwrap();
-    for _ in 0..2 {
-        let o = holo(&["demo"], dir.path());
+    // Again with -o naming the same folder: the demo replaces its own files.
+    for args in [&["demo"][..], &["demo", "-o", "holo-demo"]] {
+        let o = holo(args, dir.path());
         assert_eq!(o.status.code(), Some(0), "{}", text(&o));
         assert!(text(&o).contains("holo-demo/demo.holo"));
         assert!(text(&o).contains("holo-demo/view-x+0mm.png"), "{}", text(&o));
@@ -290,8 +370,7 @@ fn check_and_view_recover_what_was_assembled() {
 fn export_quilt_names_its_file_and_overwrites_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    mark1_ramp(d, "ramp.holo");
     // The portrait preset, named as Looking Glass software expects, next to the input.
     let o = holo(&["export-quilt", "ramp.holo"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
@@ -331,9 +410,7 @@ fn export_quilt_names_its_file_and_overwrites_nothing() {
     assert_eq!(image::open(d.join("x.png")).unwrap().width(), 80);
     for (args, needle) in [
         (&["export-quilt", "missing.holo"][..], "missing.holo"),
-        (&["export-quilt", "ramp.holo", "--columns", "0", "-o", "y.png"], "0 columns"),
         (&["export-quilt", "ramp.holo", "--frame", "4", "-o", "y.png"], "no frame 4"),
-        (&["export-quilt", "ramp.holo", "--aspect=-1", "-o", "y.png"], "aspect"),
     ] {
         let o = holo(args, d);
         assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
@@ -348,8 +425,7 @@ fn export_quilt_names_its_file_and_overwrites_nothing() {
 fn convert_cameras_reads_a_quilt_and_names_what_is_wrong() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    mark1_ramp(d, "ramp.holo");
     let o =
         holo(&["export-quilt", "ramp.holo", "--tile", "64x32", "--columns", "4", "--rows", "2", "--aspect", "2"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
@@ -384,8 +460,7 @@ fn convert_cameras_reads_a_quilt_and_names_what_is_wrong() {
 fn holoflick_pack_info_unpack() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let spot = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/mesh/spot/spot.obj");
-    let spot = spot.to_str().unwrap();
+    let spot = &spot();
     let o = holo(&["holoflick", "pack", spot, spot, "-o", "cow.hflk", "--position-bits", "12"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(text(&o).contains("2 frames, 1 objects stored, 1 from key frames"), "{}", text(&o));
@@ -409,4 +484,132 @@ fn holoflick_pack_info_unpack() {
     assert!(text(&o).contains("cow.hflk") && text(&o).contains("no frame 5"), "{}", text(&o));
     let o = holo(&["holoflick", "pack", spot, "-o", "y.hflk", "--couch", "1,2,3"], d);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+}
+
+#[test]
+fn help_lists_every_choice() {
+    let dir = tempfile::tempdir().unwrap();
+    let help = |args: &[&str]| {
+        let o = holo(args, dir.path());
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", text(&o));
+        text(&o)
+    };
+    // The built-in layouts, from the library's own list, wherever a layout is asked for.
+    for cmd in [
+        &["pattern"][..],
+        &["assemble"],
+        &["check"],
+        &["view"],
+        &["layout"],
+        &["convert", "mesh"],
+        &["convert", "cameras"],
+        &["convert", "holoflick"],
+        &["holoflick", "encode"],
+    ] {
+        let t = help(&[cmd, &["--help"]].concat());
+        for name in holo::layout::BUILTIN {
+            assert!(t.contains(name), "{cmd:?} --help lacks {name}: {t}");
+        }
+        assert!(t.contains(".toml/.json profile"), "{cmd:?}: {t}");
+    }
+    let t = help(&["pattern", "--help"]);
+    for (_, kind) in holo::pattern::PatternKind::ALL {
+        assert!(t.contains(kind), "pattern --help lacks {kind}");
+    }
+    for c in holo::format::Compression::ALL {
+        assert!(t.contains(c.name()), "pattern --help lacks {}", c.name());
+    }
+    assert!(t.contains("rgb") && t.contains("lossy"), "{t}");
+    let t = help(&["assemble", "--help"]);
+    assert!(["png", "raw", "exr"].iter().all(|f| t.contains(f)), "{t}");
+    let t = help(&["export-quilt", "--help"]);
+    assert!(holo::cameras::quilt::PRESETS.iter().all(|p| t.contains(p)), "{t}");
+    let t = help(&["export-views", "--help"]);
+    assert!(t.contains("8-bit") && t.contains("16-bit"), "{t}");
+    let t = help(&["convert", "mesh", "--help"]);
+    assert!(t.contains("blinn") && t.contains("phong"), "{t}");
+    let t = help(&["convert", "cameras", "--help"]);
+    assert!(["nearest", "linear", "natural"].iter().all(|b| t.contains(b)), "{t}");
+}
+
+/// Negative numbers reach the argument checks: where they make sense they
+/// are taken, elsewhere refused with what the value means. A value the
+/// command line itself gets wrong is a usage error, exit 2, as clap's own
+/// refusals are: it is found before any file is read.
+#[test]
+fn negative_values_are_taken_or_refused_with_their_meaning() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let spot = &spot();
+    for (args, needle) in [
+        (&["convert", "mesh", spot, "-o", "x.holo", "--fps", "-30"][..], "--fps must be positive, not -30"),
+        (&["holoflick", "pack", spot, "-o", "x.hflk", "--fps", "-30"], "--fps must be positive"),
+        (&["holoflick", "encode", spot, "-o", "x.hflk", "--fps=-30"], "--fps must be positive"),
+        (&["view", "x.holo", "-o", "x.png", "--pupil", "-4"], "--pupil must be positive (millimetres), not -4"),
+        (&["pattern", "--kind", "single-view", "--view", "-3", "-o", "x.holo"], "--view must be a whole number"),
+        (
+            &["export-views", "x.holo", "-o", "v", "--white", "-1"],
+            "--white must be auto, max or a finite positive number",
+        ),
+    ] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains(needle), "{args:?}: {}", text(&o));
+        assert!(!text(&o).contains("-- -"), "no clap tip: {}", text(&o));
+    }
+    let o = holo(
+        &["convert", "mesh", spot, "--layout", "mark1", "--supersample", "1", "-o", "moved.holo"]
+            .iter()
+            .chain(&["--translate", "-1,0,0", "--rotate", "-90,0,0", "--scale", "2"])
+            .copied()
+            .collect::<Vec<_>>(),
+        d,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let o = holo(&["view", "moved.holo", "--layout", "mark1", "--eye", "-40", "-o", "left.png"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("x = -40 mm"), "{}", text(&o));
+    let o = holo(&["holoflick", "pack", spot, "-o", "c.hflk", "--couch", "-1,-1,0,1,1,2"], d);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+}
+
+#[test]
+fn a_layout_file_that_is_not_there_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        &["pattern", "--layout", "x.toml", "--kind", "view-ramp", "-o", "a.holo"][..],
+        &["assemble", "a.holo", "--layout", "x.toml", "-o", "f"],
+        &["layout", "x.toml"],
+    ] {
+        let o = holo(args, dir.path());
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        let t = text(&o);
+        assert!(t.contains("x.toml: no such file") && !t.contains("unknown layout"), "{args:?}: {t}");
+        assert_eq!(t.lines().count(), 1, "one sentence: {t}");
+    }
+}
+
+/// `-o/--output` is the thing written, a file or the folder of a
+/// multi-file output; `--out` stays as a hidden alias for old scripts.
+#[test]
+fn output_is_o_everywhere_and_out_still_works() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    mark1_ramp(d, "r.holo");
+    for (flag, folder) in [("-o", "a"), ("--output", "b"), ("--out", "c")] {
+        let o = holo(&["export-views", "r.holo", flag, &format!("views-{folder}")], d);
+        assert_eq!(o.status.code(), Some(0), "{flag}: {}", text(&o));
+        assert!(d.join(format!("views-{folder}/view_000.png")).exists());
+        let o = holo(&["assemble", "r.holo", "--layout", "mark1", flag, &format!("fringes-{folder}")], d);
+        assert_eq!(o.status.code(), Some(0), "{flag}: {}", text(&o));
+        assert!(d.join(format!("fringes-{folder}/holo-fringes.json")).exists());
+    }
+    for flag in ["-o", "--out"] {
+        let o = holo(&["export-views", "--help"], d);
+        assert!(!text(&o).contains("--out "), "--out is hidden: {}", text(&o));
+        // A folder that cannot be made: the demo fails at once, naming it.
+        let o = holo(&["demo", flag, "r.holo"], d);
+        assert_eq!(o.status.code(), Some(1), "{flag}: {}", text(&o));
+        assert!(text(&o).contains("r.holo"), "{flag}: {}", text(&o));
+    }
 }

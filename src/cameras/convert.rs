@@ -90,7 +90,7 @@ pub fn convert_cameras(
     let run = pipeline::run(&mut source, sink, None, progress)?;
     let CameraSource { unseen, mask, unseen_grey, .. } = source;
     if let Some(path) = &options.unseen_png {
-        write_unseen_png(path, geometry, unseen_grey, options.write.overwrite)?;
+        write_unseen_png(path, geometry, &unseen_grey, options.write.overwrite)?;
     }
     let report = resampler.report(unseen, options.resample.want_mask.then_some(mask));
     Ok(CameraConvertReport {
@@ -175,18 +175,13 @@ fn unseen_fraction_grey<'m>(g: &Geometry, mask: &'m [bool]) -> impl Iterator<Ite
         .map(move |views| (255.0 * views.iter().filter(|&&u| u).count() as f64 / v as f64).round() as u8)
 }
 
-/// The unseen picture: one pixel per (emitter, hololine).
-fn write_unseen_png(path: &Path, g: &Geometry, grey: Vec<u8>, overwrite: bool) -> Result<()> {
-    use image::ImageEncoder;
-    if grey.len() != g.emitters * g.hololines {
-        return Err(Error::argument("unseen mask", format!("{}: unseen mask: size mismatch", path.display())));
-    }
-    crate::output::write_atomically(path, overwrite, |out| {
-        image::codecs::png::PngEncoder::new(out)
-            .write_image(&grey, g.emitters as u32, g.hololines as u32, image::ExtendedColorType::L8)
-            .map_err(|e| Error::encode(path, "PNG", e))
-    })?;
-    Ok(())
+/// The unseen picture: one pixel per (emitter, hololine), its grey linear
+/// in the fraction unseen (a mask, not a tone-mapped picture).
+fn write_unseen_png(path: &Path, g: &Geometry, grey: &[u8], overwrite: bool) -> Result<()> {
+    let samples = crate::picture::Samples::Eight(grey);
+    let png = crate::picture::encode_png_samples(g.emitters, g.hololines, crate::picture::Colour::Grey, samples)
+        .map_err(|e| e.naming(path))?;
+    crate::output::write_bytes_beside(path, &png, overwrite)
 }
 
 /// The outputs (the `.holo` file and the unseen picture) checked before any

@@ -8,8 +8,8 @@ use std::path::Path;
 use ::image::{ColorType, ImageReader};
 
 use super::{Camera, ImageSource};
+use crate::picture::srgb_decode;
 use crate::sampling::bilerp;
-use crate::views::srgb_decode;
 use crate::{Error, Result};
 
 /// A picture in linear RGB, row-major, top row first.

@@ -53,6 +53,7 @@ use rayon::prelude::*;
 
 use super::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
 use crate::geometry::Geometry;
+use crate::picture::{encode_png, Bits, Colour, Tone, White};
 use crate::{Error, Modulation, Result};
 
 /// The layout of a quilt and the cameras that fill it.
@@ -408,60 +409,32 @@ pub fn quilt_from_modulation(m: &Modulation, spec: &QuiltSpec) -> Result<Quilt> 
 }
 
 impl Quilt {
-    /// The value shown as white when none is given: the 99.9th percentile
-    /// of every component of every pixel (so a few specular glints do not
-    /// darken the rest), else the largest value, else 1.
-    pub fn auto_white(&self) -> f32 {
-        let mut values: Vec<f32> = self.rgb.iter().flatten().copied().filter(|x| x.is_finite()).collect();
-        if values.is_empty() {
-            return 1.0;
-        }
-        let k = ((values.len() - 1) as f64 * 0.999).round() as usize;
-        let (_, p, _) = values.select_nth_unstable_by(k, f32::total_cmp);
-        let p = *p;
-        if p > 0.0 {
-            return p;
-        }
-        let max = values.iter().copied().fold(0f32, f32::max);
-        if max > 0.0 {
-            max
-        } else {
-            1.0
-        }
+    /// The sample value `white` chooses as full white among every component
+    /// of every pixel (letterbox bars and rays outside the file included).
+    pub fn white_level(&self, white: White) -> f32 {
+        white.level(self.rgb.iter().flatten().copied())
     }
 
-    /// Write an 8-bit sRGB PNG (grey for a grey quilt): `linear / white`,
-    /// clamped to [0, 1], sRGB-encoded, as `holo export-views` does. An
-    /// existing file is kept unless `overwrite`.
+    /// The quilt as an 8-bit sRGB PNG (grey for a grey quilt), tone-mapped
+    /// as every picture is ([`crate::picture`]): sample value `white` is full white.
+    pub fn png(&self, white: f32) -> Result<Vec<u8>> {
+        let tone = Tone::new(white, Bits::Eight)?;
+        let colour = if self.grey { Colour::Grey } else { Colour::Rgb };
+        encode_png(self.width, self.height, colour, &tone, |x, y| self.rgb[y * self.width + x])
+    }
+
+    /// Write [`Quilt::png`] to `path`; an existing file is kept unless `overwrite`.
     pub fn write_png(&self, path: &Path, white: f32, overwrite: bool) -> Result<()> {
-        use image::codecs::png::PngEncoder;
-        use image::{ExtendedColorType, ImageEncoder};
-        if !(white.is_finite() && white > 0.0) {
-            return Err(Error::argument(
-                "white level",
-                format!("{}: the white level must be a positive brightness, not {white}", path.display()),
-            ));
-        }
-        let code = |x: f32| (crate::views::srgb_encode(f64::from(x / white)) * 255.0).round() as u8;
-        let (bytes, colour): (Vec<u8>, _) = if self.grey {
-            (self.rgb.iter().map(|p| code(p[0])).collect(), ExtendedColorType::L8)
-        } else {
-            (self.rgb.iter().flat_map(|p| p.map(code)).collect(), ExtendedColorType::Rgb8)
-        };
-        crate::output::write_atomically(path, overwrite, |w| {
-            PngEncoder::new(w)
-                .write_image(&bytes, self.width as u32, self.height as u32, colour)
-                .map_err(|e| Error::encode(path, "PNG", e))
-        })?;
-        Ok(())
+        let png = self.png(white).map_err(|e| e.naming(path))?;
+        crate::output::write_bytes_beside(path, &png, overwrite)
     }
 }
 
 /// How [`export_quilt`] tone-maps and writes.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct QuiltOptions {
-    /// The sample value shown as white; `None` for [`Quilt::auto_white`].
-    pub white: Option<f32>,
+    /// The sample value shown as white, chosen among the quilt's pixels.
+    pub white: White,
     /// Replace an existing output file.
     pub overwrite: bool,
 }
@@ -503,19 +476,14 @@ pub fn export_quilt(
     if let Some(p) = spec.problem() {
         return Err(Error::argument("quilt", format!("{}: cannot make a quilt: {p}", out_path.display())));
     }
-    if let Some(w) = options.white {
-        if !(w.is_finite() && w > 0.0) {
-            return Err(Error::argument(
-                "white level",
-                format!("{}: the white level must be a positive brightness, not {w}", out_path.display()),
-            ));
-        }
+    if let Some(problem) = options.white.problem() {
+        return Err(Error::argument("white level", format!("{}: {problem}", out_path.display())));
     }
     crate::output::check_output(out_path, &[holo_path], options.overwrite)?;
     let file = crate::HoloFile::open(holo_path)?;
     let m = file.read_frame(frame)?;
     let quilt = quilt_from_modulation(&m, spec)?;
-    let white = options.white.unwrap_or_else(|| quilt.auto_white());
+    let white = quilt.white_level(options.white);
     quilt.write_png(out_path, white, options.overwrite)?;
     let f = Framing::new(m.geometry(), spec);
     Ok(QuiltReport {
@@ -685,16 +653,17 @@ mod tests {
         let (u, v) = (x + 20, y + 15);
         let want = q.rgb[v * q.width + u][0];
         let code = img.get_pixel(u as u32, v as u32)[0];
-        assert_eq!(f64::from(code), (crate::views::srgb_encode(f64::from(want / 0.5)) * 255.0).round());
+        assert_eq!(code, Tone::new(0.5, Bits::Eight).unwrap().code(want) as u8);
         // Not overwritten.
         let err = q.write_png(&path, 0.5, false).unwrap_err().to_string();
         assert!(err.contains("g.png") && err.contains("already exists"), "{err}");
         // Auto white: the 99.9th percentile.
         let mut q2 = q.clone();
         q2.rgb = (0..1000).map(|i| [i as f32; 3]).collect();
-        assert_eq!(q2.auto_white(), 998.0);
+        assert_eq!(q2.white_level(White::Auto), 998.0);
+        assert_eq!(q2.white_level(White::Max), 999.0);
         q2.rgb = vec![[0.0; 3]; 10];
-        assert_eq!(q2.auto_white(), 1.0);
+        assert_eq!(q2.white_level(White::Auto), 1.0);
     }
 
     #[test]
@@ -734,7 +703,7 @@ mod tests {
         assert!(report.white > 0.0 && report.outside > 0);
         let err = export_quilt(&holo, 0, &spec(), &out, &options).unwrap_err().to_string();
         assert!(err.contains("already exists"), "{err}");
-        let again = QuiltOptions { overwrite: true, white: Some(1.0) };
+        let again = QuiltOptions { overwrite: true, white: White::Value(1.0) };
         assert_eq!(export_quilt(&holo, 0, &spec(), &out, &again).unwrap().white, 1.0);
         for bad in [
             QuiltSpec { aspect: 0.0, ..spec() },

@@ -23,6 +23,7 @@ use super::shade::{radiance, Hit, Lighting};
 use super::Scene;
 use crate::cameras::Camera;
 use crate::math::{dot, scale};
+use crate::picture::{encode_png, Bits, Colour, Tone};
 use crate::{Error, Result};
 
 /// A rendered camera picture, row by row from the top (pixel `(u, v)` at
@@ -147,14 +148,12 @@ impl CameraTracer<'_> {
     }
 }
 
-/// Write a camera picture as a 16-bit sRGB PNG (linear radiance clamped to
-/// [0, 1], encoded with the exact sRGB transfer function, exposure 1) and,
+/// Write a camera picture as a 16-bit sRGB PNG (tone-mapped as every
+/// picture is, [`crate::picture`], at exposure 1: radiance 1 is white) and,
 /// if asked, its depth as a grey PFM (camera `z` in metres, infinity where
 /// nothing was seen). Each file is written whole through a temporary file
 /// and replaces an existing file of that name.
 pub fn write_camera_picture(pic: &CameraPicture, png_path: &Path, pfm_depth_path: Option<&Path>) -> Result<()> {
-    use image::codecs::png::PngEncoder;
-    use image::{ExtendedColorType, ImageEncoder};
     let n = pic.width * pic.height;
     if pic.rgb.len() != n || pic.depth_z.len() != n || n == 0 {
         return Err(Error::argument(
@@ -169,22 +168,10 @@ pub fn write_camera_picture(pic: &CameraPicture, png_path: &Path, pfm_depth_path
             ),
         ));
     }
-    let (w, h) = (u32::try_from(pic.width), u32::try_from(pic.height));
-    let (Ok(w), Ok(h)) = (w, h) else {
-        return Err(Error::unsupported(png_path, format!("{}×{} is too large for a PNG", pic.width, pic.height)));
-    };
-    let mut bytes = Vec::with_capacity(n * 6);
-    for px in &pic.rgb {
-        for &c in px {
-            let code = (crate::views::srgb_encode(f64::from(c)) * 65535.0).round() as u16;
-            bytes.extend_from_slice(&code.to_ne_bytes());
-        }
-    }
-    crate::output::write_atomically(png_path, true, |out| {
-        PngEncoder::new(out)
-            .write_image(&bytes, w, h, ExtendedColorType::Rgb16)
-            .map_err(|e| Error::encode(png_path, "PNG", e))
-    })?;
+    let tone = Tone::unit(Bits::Sixteen);
+    let png = encode_png(pic.width, pic.height, Colour::Rgb, &tone, |x, y| pic.rgb[y * pic.width + x])
+        .map_err(|e| e.naming(png_path))?;
+    crate::output::write_bytes_beside(png_path, &png, true)?;
     if let Some(path) = pfm_depth_path {
         write_pfm_grey(path, pic.width, pic.height, &pic.depth_z)?;
     }
@@ -473,7 +460,7 @@ mod tests {
         for (i, want) in rgb.iter().enumerate() {
             let p = img.get_pixel((i % w) as u32, (i / w) as u32);
             for c in 0..3 {
-                let got = crate::views::srgb_decode(f64::from(p[c]) / 65535.0);
+                let got = crate::picture::srgb_decode(f64::from(p[c]) / 65535.0);
                 let want = f64::from(want[c]).clamp(0.0, 1.0);
                 // Half a 16-bit step of the encoded value, in linear terms.
                 assert!((got - want).abs() < 2e-5, "pixel {i} channel {c}: {got} vs {want}");

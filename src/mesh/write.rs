@@ -15,7 +15,11 @@
 use std::path::Path;
 
 use super::Object;
+use crate::picture::{Bits, Tone};
 use crate::{Error, Result};
+
+/// Vertex colours in PLY are bytes, encoded as an 8-bit sRGB picture's.
+const SRGB_8: Tone = Tone::unit(Bits::Eight);
 
 /// The format, from the file name's extension (`.glb` or `.ply`).
 pub fn write_mesh(path: &Path, objects: &[Object], overwrite: bool) -> Result<()> {
@@ -181,7 +185,8 @@ fn ply_bytes(path: &Path, objects: &[Object]) -> Result<Vec<u8>> {
             }
             if colours {
                 let c = o.colours.get(i).copied().unwrap_or([1.0; 4]);
-                let srgb = |x: f32| byte(crate::views::srgb_encode(x as f64));
+                // Alpha is linear.
+                let srgb = |x: f32| SRGB_8.code(x) as u8;
                 out.extend_from_slice(&[srgb(c[0]), srgb(c[1]), srgb(c[2]), byte(c[3] as f64)]);
             }
         }

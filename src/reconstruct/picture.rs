@@ -3,9 +3,8 @@
 
 use std::path::Path;
 
-use crate::output::write_atomically;
-use crate::views::srgb_encode;
-use crate::{Error, Result};
+use crate::picture::{encode_png, Bits, Colour, Tone};
+use crate::Result;
 
 /// Linear brightness per (hololine, emitter) and colour channel,
 /// `data[(j · emitters + e) · channels + c]`, 1 for a fully lit emitter.
@@ -36,46 +35,31 @@ impl Picture {
             / n as f64
     }
 
-    /// Write an 8-bit sRGB PNG (grey for one channel, RGB for R, G, B; a
-    /// missing colour is black): brightness `white` is full white, and each
-    /// emitter and hololine becomes a block of whole pixels in proportion to
-    /// their pitches, the smaller pitch one pixel. An existing file is kept
-    /// unless `overwrite`.
-    pub fn write_png(&self, path: &Path, white: f32, overwrite: bool) -> Result<()> {
-        use image::codecs::png::PngEncoder;
-        use image::{ExtendedColorType, ImageEncoder};
-        if !(white.is_finite() && white > 0.0) {
-            return Err(Error::argument("white level", format!("white {white} must be a positive brightness")));
-        }
+    /// The picture as an 8-bit sRGB PNG (grey for one channel, RGB for R,
+    /// G, B; a missing colour is black), tone-mapped as every picture is
+    /// ([`crate::picture`]): brightness `white` is full white. Each emitter
+    /// and hololine becomes a block of whole pixels in proportion to their
+    /// pitches, the smaller pitch one pixel.
+    pub fn png(&self, white: f32) -> Result<Vec<u8>> {
+        let tone = Tone::new(white, Bits::Eight)?;
         let (px_e, px_j) = if self.column_aspect >= 1.0 {
             (self.column_aspect.round().max(1.0) as usize, 1)
         } else {
             (1, (1.0 / self.column_aspect).round().max(1.0) as usize)
         };
-        let (width, height) = (self.emitters * px_e, self.hololines * px_j);
-        let mono = self.channels.len() == 1;
-        let components = if mono { 1 } else { 3 };
-        let code = |x: f32| (srgb_encode(f64::from((x / white).clamp(0.0, 1.0))) * 255.0).round() as u8;
-        let mut pixels = Vec::with_capacity(width * height * components);
-        for y in 0..height {
-            for x in 0..width {
-                let (j, e) = (y / px_j, x / px_e);
-                if mono {
-                    pixels.push(code(self.at(j, e, 0)));
-                } else {
-                    for name in ["R", "G", "B"] {
-                        let c = self.channels.iter().position(|n| n == name);
-                        pixels.push(c.map_or(0, |c| code(self.at(j, e, c))));
-                    }
-                }
-            }
-        }
-        let colour = if mono { ExtendedColorType::L8 } else { ExtendedColorType::Rgb8 };
-        write_atomically(path, overwrite, |w| {
-            PngEncoder::new(w)
-                .write_image(&pixels, width as u32, height as u32, colour)
-                .map_err(|e| Error::encode(path, "PNG", e))
-        })?;
-        Ok(())
+        let (colour, slots) = if self.channels.len() == 1 {
+            (Colour::Grey, [Some(0), None, None])
+        } else {
+            (Colour::Rgb, ["R", "G", "B"].map(|name| self.channels.iter().position(|n| n == name)))
+        };
+        encode_png(self.emitters * px_e, self.hololines * px_j, colour, &tone, |x, y| {
+            slots.map(|c| c.map_or(0.0, |c| self.at(y / px_j, x / px_e, c)))
+        })
+    }
+
+    /// Write [`Picture::png`] to `path`; an existing file is kept unless `overwrite`.
+    pub fn write_png(&self, path: &Path, white: f32, overwrite: bool) -> Result<()> {
+        let png = self.png(white).map_err(|e| e.naming(path))?;
+        crate::output::write_bytes_beside(path, &png, overwrite)
     }
 }

@@ -139,6 +139,6 @@ fn quilt_round_trip_keeps_the_views() {
         g.hololines, g.emitters, g.views.count
     );
     let round = artefacts().join("example02_roundtrip_qs4x8a1.6.png");
-    quilt.write_png(&round, quilt.auto_white(), true).unwrap();
+    quilt.write_png(&round, quilt.white_level(holo::picture::White::Auto), true).unwrap();
     assert!(rel < 0.05, "round trip error {rel}");
 }

@@ -11,10 +11,11 @@
 
 use std::path::Path;
 
-use super::texture::{decode, srgb_to_linear};
+use super::texture::decode;
 use super::{fan, file_name, finish_scene, resolve_file, LoadLimits};
 use crate::math::unit;
 use crate::mesh::{Material, Object, Scene, TextureRef, UvTransform, Wrap};
+use crate::picture::srgb_decode_f32;
 use crate::{Error, Result};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -375,7 +376,7 @@ impl BodyReader<'_> {
                     if t.is_float() {
                         vals[i] as f32
                     } else {
-                        srgb_to_linear((vals[i] / t.max()).clamp(0.0, 1.0) as f32)
+                        srgb_decode_f32((vals[i] / t.max()).clamp(0.0, 1.0) as f32)
                     }
                 };
                 let a = alpha.map_or(1.0, |i| (vals[i] / el.props[i].ty.max()) as f32);

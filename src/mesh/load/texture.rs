@@ -1,21 +1,12 @@
 //! Helpers shared by the loaders: image decoding to linear RGBA texels,
-//! the sRGB transfer function, and tangent generation for normal maps.
+//! and tangent generation for normal maps.
 
 use std::io::Cursor;
 
 use super::LoadLimits;
 use crate::math::{cross, dot, length, scale, sub, widen};
 use crate::mesh::{Texture, Wrap};
-
-/// sRGB-encoded value in `[0, 1]` to linear (IEC 61966-2-1).
-#[inline]
-pub(crate) fn srgb_to_linear(c: f32) -> f32 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
+use crate::picture::srgb_decode_f32;
 
 /// Decode a PNG or JPEG image to linear RGBA texels. `srgb` says whether
 /// the colour channels are sRGB-encoded (base colour, emissive) or already
@@ -57,7 +48,7 @@ pub(crate) fn decode(
         | image::DynamicImage::ImageRgb8(_)
         | image::DynamicImage::ImageRgba8(_) => {
             let lut: Vec<f32> =
-                (0..256).map(|i| if srgb { srgb_to_linear(i as f32 / 255.0) } else { i as f32 / 255.0 }).collect();
+                (0..256).map(|i| if srgb { srgb_decode_f32(i as f32 / 255.0) } else { i as f32 / 255.0 }).collect();
             img.to_rgba8()
                 .pixels()
                 .map(|p| {
@@ -72,7 +63,7 @@ pub(crate) fn decode(
             .map(|p| {
                 let [r, g, b, a] = p.0;
                 if srgb {
-                    [srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b), a]
+                    [srgb_decode_f32(r), srgb_decode_f32(g), srgb_decode_f32(b), a]
                 } else {
                     [r, g, b, a]
                 }
@@ -155,13 +146,6 @@ pub(crate) fn generate_tangents(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn srgb_endpoints() {
-        assert_eq!(srgb_to_linear(0.0), 0.0);
-        assert!((srgb_to_linear(1.0) - 1.0).abs() < 1e-6);
-        assert!((srgb_to_linear(0.5) - 0.214).abs() < 1e-3);
-    }
 
     #[test]
     fn tangent_of_a_quad_is_plus_x() {

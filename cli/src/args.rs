@@ -1,0 +1,508 @@
+//! The arguments module: every value on the command line is parsed, checked
+//! and converted here, once, into what the library takes (millimetres
+//! typed, metres stored; a choice typed, the library's enum stored), so a
+//! command receives values it can hand on as they are.
+//!
+//! A value that breaks its rule is a usage error (exit 2) whose message says
+//! what the value means: `--fps must be positive, not -30`. Every argument
+//! that takes a value accepts a negative number ([`negative_numbers`]), so a
+//! negative value reaches its check instead of clap's `-- -30` tip; lists of
+//! numbers (`--translate -1,0,0`) also allow a leading hyphen.
+
+use std::ffi::OsStr;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, OnceLock};
+
+use clap::builder::{PossibleValue, TypedValueParser};
+use clap::error::ErrorKind;
+use clap::{Arg, Args, Command, ValueEnum};
+use holo::cameras::quilt::{QuiltSpec, PRESETS};
+use holo::format::{Compression, SampleType, WriteOptions};
+use holo::layout::{Layout, BUILTIN};
+use holo::pattern::PatternKind;
+use holo::picture::White;
+use holo::Geometry;
+
+use crate::commands::Failure;
+
+/// `command` with every argument that takes a value accepting negative
+/// numbers, in every subcommand.
+pub fn negative_numbers(command: Command) -> Command {
+    command
+        .mut_args(|a| if a.get_action().takes_values() { a.allow_negative_numbers(true) } else { a })
+        .mut_subcommands(negative_numbers)
+}
+
+/// A value parser from a function that says what is wrong with a value (a
+/// phrase such as `must be positive`); the error names the flag and the value.
+#[derive(Clone)]
+pub struct Checked<T>(Arc<Parse<T>>);
+
+/// A value's text to the value, or the phrase saying what is wrong with it.
+type Parse<T> = dyn Fn(&str) -> Result<T, String> + Send + Sync;
+
+impl<T> Checked<T> {
+    fn new(parse: impl Fn(&str) -> Result<T, String> + Send + Sync + 'static) -> Self {
+        Checked(Arc::new(parse))
+    }
+}
+
+impl<T: Clone + Send + Sync + 'static> TypedValueParser for Checked<T> {
+    type Value = T;
+
+    fn parse_ref(&self, cmd: &Command, arg: Option<&Arg>, value: &OsStr) -> Result<T, clap::Error> {
+        let text = value.to_string_lossy();
+        (self.0)(&text).map_err(|why| {
+            let flag = match arg {
+                Some(a) => a.get_long().map_or_else(|| a.get_id().to_string(), |l| format!("--{l}")),
+                None => "a value".to_string(),
+            };
+            cmd.clone().error(ErrorKind::ValueValidation, format!("{flag} {why}, not {text}"))
+        })
+    }
+}
+
+/// A finite number that passes `ok`, times `to_library` (the factor from the
+/// unit typed to the library's).
+fn number(ok: fn(f64) -> bool, rule: &'static str, to_library: f64) -> Checked<f64> {
+    Checked::new(move |s| match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && ok(x) => Ok(x * to_library),
+        _ => Err(rule.to_string()),
+    })
+}
+
+/// A positive number.
+pub fn positive() -> Checked<f64> {
+    number(|x| x > 0.0, "must be positive", 1.0)
+}
+
+/// A number that is not negative, as an `f32` (radiance).
+pub fn non_negative_f32() -> Checked<f32> {
+    let parse = number(|x| x >= 0.0, "must be 0 or more", 1.0).0;
+    Checked::new(move |s| parse(s).map(|x| x as f32))
+}
+
+/// A positive length typed in millimetres, in metres.
+pub fn positive_millimetres() -> Checked<f64> {
+    number(|x| x > 0.0, "must be positive (millimetres)", 1e-3)
+}
+
+/// An angle typed in degrees between 0 and 180 (a field of view or a view
+/// cone), in degrees as the library takes them.
+pub fn angle_below_180_degrees() -> Checked<f64> {
+    number(|x| x > 0.0 && x < 180.0, "must be between 0 and 180 (degrees)", 1.0)
+}
+
+/// A whole number from `min` up to `max`.
+pub fn whole(min: usize, max: usize) -> Checked<usize> {
+    let rule = if max == usize::MAX {
+        format!("must be a whole number, {min} or more")
+    } else {
+        format!("must be {min} to {max}")
+    };
+    Checked::new(move |s| {
+        s.trim().parse::<usize>().ok().filter(|n| (min..=max).contains(n)).ok_or_else(|| rule.clone())
+    })
+}
+
+/// A whole number, `min` or more.
+pub fn at_least(min: usize) -> Checked<usize> {
+    whole(min, usize::MAX)
+}
+
+/// `n` comma-separated finite numbers, each times `to_library`.
+fn numbers<const N: usize>(what: &'static str, to_library: f64) -> Checked<[f64; N]> {
+    Checked::new(move |s| {
+        let v: Option<Vec<f64>> =
+            s.split(',').map(|t| t.trim().parse::<f64>().ok().filter(|x| x.is_finite())).collect();
+        v.and_then(|v| <[f64; N]>::try_from(v).ok())
+            .map(|a| a.map(|x| x * to_library))
+            .ok_or_else(|| format!("must be {N} comma-separated numbers ({what})"))
+    })
+}
+
+/// Three numbers, `X,Y,Z`, in the unit typed.
+pub fn triple(what: &'static str) -> Checked<[f64; 3]> {
+    numbers(what, 1.0)
+}
+
+/// Three lengths typed in millimetres, `X,Y,Z`, in metres.
+pub fn millimetre_triple() -> Checked<[f64; 3]> {
+    numbers("X,Y,Z in millimetres", 1e-3)
+}
+
+/// A row-major 4×4 matrix: 16 numbers.
+pub fn matrix() -> Checked<[[f64; 4]; 4]> {
+    let parse = numbers::<16>("a row-major 4x4 matrix", 1.0).0;
+    Checked::new(move |s| {
+        let v = parse(s)?;
+        Ok(std::array::from_fn(|i| std::array::from_fn(|k| v[4 * i + k])))
+    })
+}
+
+/// The viewer's couch of a HoloFlick: `XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX` in
+/// metres, each minimum at most its maximum.
+pub fn couch() -> Checked<holo::holoflick::container::ViewerCouch> {
+    let six = numbers::<6>("XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in metres", 1.0).0;
+    Checked::new(move |s| {
+        let v = six(s)?;
+        if (0..3).any(|k| v[k] > v[k + 3]) {
+            return Err("must have each minimum at most its maximum (XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX)".into());
+        }
+        Ok(holo::holoflick::container::ViewerCouch { min_m: [v[0], v[1], v[2]], max_m: [v[3], v[4], v[5]] })
+    })
+}
+
+/// A horizontal eye position `X[,Y]` typed in millimetres, in metres.
+pub fn eye_millimetres() -> Checked<(f64, f64)> {
+    let pair = numbers::<2>("X,Y in millimetres", 1e-3).0;
+    let one = numbers::<1>("X or X,Y in millimetres", 1e-3).0;
+    Checked::new(move |s| if s.contains(',') { pair(s).map(|[x, y]| (x, y)) } else { one(s).map(|[x]| (x, 0.0)) })
+}
+
+/// Frames or hololines: `N`, `A..B` (B excluded) or `A..=B`, not empty.
+pub fn range() -> Checked<Range<usize>> {
+    Checked::new(|s| {
+        let bad = || "must be N, A..B (B excluded) or A..=B, not empty".to_string();
+        let number = |t: &str| t.trim().parse::<usize>().map_err(|_| bad());
+        let range = if let Some((a, b)) = s.split_once("..=") {
+            number(a)?..number(b)? + 1
+        } else if let Some((a, b)) = s.split_once("..") {
+            number(a)?..number(b)?
+        } else {
+            let n = number(s)?;
+            n..n + 1
+        };
+        if range.is_empty() {
+            return Err(bad());
+        }
+        Ok(range)
+    })
+}
+
+/// Two whole numbers `AxB`, each from 1 to `max` (`N` alone is `NxN` when
+/// `square` allows it).
+pub fn by(max: usize, square: bool) -> Checked<(usize, usize)> {
+    Checked::new(move |s| {
+        let n = |t: &str| t.trim().parse::<usize>().ok().filter(|n| (1..=max).contains(n));
+        let limit = if max == usize::MAX { "1 or more".to_string() } else { format!("from 1 to {max}") };
+        let rule = || format!("must be {}AxB with whole numbers {limit}", if square { "N or " } else { "" });
+        match s.split_once(['x', 'X']) {
+            Some((a, b)) => n(a).zip(n(b)).ok_or_else(rule),
+            None if square => n(s).map(|k| (k, k)).ok_or_else(rule),
+            None => Err(rule()),
+        }
+    })
+}
+
+/// `--white`: the sample value shown as full white, `max` or `auto` (one
+/// meaning everywhere: [`White`]).
+pub fn white() -> Checked<White> {
+    Checked::new(|s| s.parse::<White>().map_err(|_| "must be auto, max or a finite positive number".to_string()))
+}
+
+/// `import-views --white`: the number the views were exported with (the
+/// sidecar records it), as `auto` and `max` cannot be undone.
+pub fn white_number() -> Checked<f32> {
+    Checked::new(|s| match s.parse::<White>() {
+        Ok(White::Value(white)) => Ok(white),
+        Ok(_) => Err("must be a number: give the white level the views were exported with".to_string()),
+        Err(_) => Err("must be a finite positive number (the white level the views were exported with)".to_string()),
+    })
+}
+
+/// The help of every `--white` that chooses a white level, then what the
+/// command's samples are.
+macro_rules! white_help {
+    ($samples:literal) => {
+        concat!(
+            "Sample value shown as full white: a positive number, `max` (the largest sample: nothing clips) or ",
+            "`auto` (the 99.9th percentile of the samples, so a few specular glints do not darken the rest); ",
+            $samples
+        )
+    };
+}
+
+pub(crate) use white_help;
+
+/// The help of a `--layout` argument: the built-in layouts, from the library.
+pub fn layout_help(default: &str) -> String {
+    format!("Display layout: {} (built in), or a .toml/.json profile{default}", BUILTIN.join(", "))
+}
+
+/// Load a layout ready to assemble: a built-in name or a profile file; a
+/// file name that names no file says so.
+pub fn load_layout(name: &str) -> Result<Layout, Failure> {
+    missing_file(name)?;
+    Ok(holo::assemble::load_layout(name)?)
+}
+
+/// The geometry of a layout, or of a geometry JSON file (`holo-views.json`).
+pub fn layout_geometry(name: &str) -> Result<Geometry, Failure> {
+    missing_file(name)?;
+    let path = Path::new(name);
+    if path.extension().is_some_and(|e| e == "json") {
+        if let Ok(g) = holo::views::read_geometry_json(path) {
+            return Ok(g);
+        }
+    }
+    Ok(holo::assemble::load_layout(name)?.geometry)
+}
+
+/// A layout argument that looks like a file (it has an extension or a
+/// folder) but names none.
+fn missing_file(name: &str) -> Result<(), Failure> {
+    let path = Path::new(name);
+    let file_like = path.extension().is_some() || path.components().count() > 1;
+    if holo::layout::builtin(name).is_none() && file_like && !path.exists() {
+        return Err(Failure(format!(
+            "{name}: no such file (a layout is {} or a .toml/.json profile)",
+            BUILTIN.join(", ")
+        )));
+    }
+    Ok(())
+}
+
+/// The output of a command writing one `.holo` file, and how it is written.
+#[derive(Args)]
+pub struct WriteArgs {
+    /// Output .holo file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Store f32 samples instead of f16.
+    #[arg(long)]
+    pub f32: bool,
+    /// Compression of the samples.
+    #[arg(long, value_enum, default_value = "zip")]
+    pub compression: CompressionChoice,
+    /// Replace an existing output file.
+    #[arg(long)]
+    pub force: bool,
+}
+
+impl WriteArgs {
+    /// The write options these arguments ask for, with provenance `source`
+    /// (empty: the converter writes its own).
+    pub fn options(&self, source: String) -> WriteOptions {
+        WriteOptions {
+            sample_type: if self.f32 { SampleType::F32 } else { SampleType::F16 },
+            compression: self.compression.0,
+            source,
+            overwrite: self.force,
+            ..WriteOptions::default()
+        }
+    }
+}
+
+/// A library enum offered as a clap [`ValueEnum`]: its values, names and
+/// help come from the library's own list, so `--help` lists them all.
+macro_rules! library_choice {
+    ($(#[$doc:meta])* $name:ident($library:ty) = $all:expr, $value:expr) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug)]
+        pub struct $name(pub $library);
+
+        impl ValueEnum for $name {
+            fn value_variants<'a>() -> &'a [Self] {
+                static ALL: OnceLock<Vec<$name>> = OnceLock::new();
+                ALL.get_or_init(|| $all.into_iter().map($name).collect())
+            }
+
+            fn to_possible_value(&self) -> Option<PossibleValue> {
+                let value: fn($library) -> PossibleValue = $value;
+                Some(value(self.0))
+            }
+        }
+    };
+}
+
+library_choice!(
+    /// `--compression`: every compression a `.holo` file may use.
+    CompressionChoice(Compression) = Compression::ALL,
+    |c| {
+        let help = match (c.is_lossless_for(SampleType::F16), c.is_lossless_for(SampleType::F32)) {
+            (true, true) => "lossless",
+            (true, false) => "lossless for f16, lossy for f32",
+            _ => "lossy",
+        };
+        PossibleValue::new(c.name()).help(help)
+    }
+);
+
+library_choice!(
+    /// `pattern --kind`: every test pattern.
+    PatternChoice(PatternKind) = PatternKind::ALL.map(|(kind, _)| kind),
+    |k| PossibleValue::new(k.name())
+);
+
+library_choice!(
+    /// `export-quilt --preset`: the Looking Glass quilt settings.
+    PresetChoice(&'static str) = PRESETS,
+    |name| {
+        let value = PossibleValue::new(name);
+        let value = if name == "standard" { value.alias("4k") } else { value };
+        match QuiltSpec::preset(name) {
+            Some(s) => value.help(format!(
+                "{}x{} tiles of {}x{}, aspect {}",
+                s.columns, s.rows, s.tile_width, s.tile_height, s.aspect
+            )),
+            None => value,
+        }
+    }
+);
+
+impl PresetChoice {
+    /// The quilt settings of this preset.
+    pub fn spec(self) -> Result<QuiltSpec, Failure> {
+        QuiltSpec::preset(self.0).ok_or_else(|| Failure(format!("no quilt preset {:?}", self.0)))
+    }
+}
+
+/// `--specular`: the specular lobe.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum SpecularChoice {
+    /// (N·H)^n, Blinn 1977.
+    Blinn,
+    /// (R·V)^n, Phong 1975.
+    Phong,
+}
+
+impl From<SpecularChoice> for holo::mesh::shade::SpecularModel {
+    fn from(c: SpecularChoice) -> Self {
+        match c {
+            SpecularChoice::Blinn => Self::Blinn,
+            SpecularChoice::Phong => Self::Phong,
+        }
+    }
+}
+
+/// `--blend`: how the cameras around a ray are weighted.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum BlendChoice {
+    /// The nearest camera.
+    Nearest,
+    /// Linear along a rail, barycentric in the cameras' Delaunay triangle.
+    #[value(alias = "barycentric")]
+    Linear,
+    /// Sibson's natural-neighbour coordinates.
+    #[value(aliases = ["natural-neighbour", "natural-neighbor"])]
+    Natural,
+}
+
+impl From<BlendChoice> for holo::cameras::resample::Blend {
+    fn from(c: BlendChoice) -> Self {
+        match c {
+            BlendChoice::Nearest => Self::Nearest,
+            BlendChoice::Linear => Self::Linear,
+            BlendChoice::Natural => Self::NaturalNeighbour,
+        }
+    }
+}
+
+/// `assemble --format`: how fringe images are stored.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FringeFormatChoice {
+    /// 8-bit PNG with the layout's offset and gain.
+    Png,
+    /// The same 8-bit pixels as bare bytes, as the frame buffer takes them.
+    Raw,
+    /// The float signal before quantization (OpenEXR).
+    Exr,
+}
+
+impl From<FringeFormatChoice> for holo::assemble::output::FringeFormat {
+    fn from(c: FringeFormatChoice) -> Self {
+        match c {
+            FringeFormatChoice::Png => Self::Png,
+            FringeFormatChoice::Raw => Self::Raw,
+            FringeFormatChoice::Exr => Self::Exr,
+        }
+    }
+}
+
+/// `export-views --bits`: bits per PNG component.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum PngBits {
+    /// 8-bit PNGs.
+    #[value(name = "8")]
+    Eight,
+    /// 16-bit PNGs.
+    #[value(name = "16")]
+    Sixteen,
+}
+
+impl PngBits {
+    /// Bits per component.
+    pub fn bits(self) -> u8 {
+        match self {
+            PngBits::Eight => 8,
+            PngBits::Sixteen => 16,
+        }
+    }
+}
+
+/// `pattern --channels`: colour channels instead of the layout's own.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ChannelsChoice {
+    /// Red, green and blue.
+    Rgb,
+    /// One luminance channel.
+    Y,
+}
+
+impl ChannelsChoice {
+    /// The channels.
+    pub fn channels(self) -> Vec<holo::geometry::ColourChannel> {
+        match self {
+            ChannelsChoice::Rgb => holo::geometry::rgb_channels(),
+            ChannelsChoice::Y => holo::geometry::mono_channel(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse<T: Clone + Send + Sync + 'static>(p: Checked<T>, s: &str) -> Result<T, String> {
+        let arg = Arg::new("fps").long("fps");
+        p.parse_ref(&Command::new("t"), Some(&arg), OsStr::new(s)).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn values_are_converted_and_refused_with_their_meaning() {
+        assert_eq!(parse(positive(), "30").unwrap(), 30.0);
+        let e = parse(positive(), "-30").unwrap_err();
+        assert!(e.contains("--fps must be positive, not -30"), "{e}");
+        assert_eq!(parse(positive_millimetres(), "4").unwrap(), 4e-3);
+        assert_eq!(parse(millimetre_triple(), "-1,0,2").unwrap(), [-1e-3, 0.0, 2e-3]);
+        assert!(parse(millimetre_triple(), "1,2").is_err());
+        assert!(parse(millimetre_triple(), "1,2,3,4").is_err());
+        assert!(parse(millimetre_triple(), "1,x,3").is_err());
+        assert_eq!(parse(eye_millimetres(), "-40").unwrap(), (-0.04, 0.0));
+        assert_eq!(parse(eye_millimetres(), "-20,5").unwrap(), (-0.02, 0.005));
+        assert_eq!(parse(range(), "2..=4").unwrap(), 2..5);
+        assert!(parse(range(), "3..1").is_err());
+        assert_eq!(parse(by(64, true), "3").unwrap(), (3, 3));
+        assert!(parse(by(64, false), "3").is_err());
+        assert_eq!(parse(white(), "auto").unwrap(), White::Auto);
+        assert_eq!(parse(white(), "max").unwrap(), White::Max);
+        assert_eq!(parse(white(), "0.5").unwrap(), White::Value(0.5));
+        assert!(parse(white(), "-1").unwrap_err().contains("must be auto, max or a finite positive number"));
+        assert_eq!(parse(white_number(), "0.5").unwrap(), 0.5);
+        assert!(parse(white_number(), "auto").unwrap_err().contains("exported with"));
+        assert!(parse(whole(1, 16), "17").unwrap_err().contains("must be 1 to 16"));
+        let m = parse(matrix(), "1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16").unwrap();
+        assert_eq!((m[0][3], m[3][0]), (4.0, 13.0));
+    }
+
+    #[test]
+    fn a_layout_file_that_is_not_there_is_named() {
+        let Err(Failure(e)) = load_layout("nowhere/x.toml") else { panic!("loaded") };
+        assert!(e.starts_with("nowhere/x.toml: no such file"), "{e}");
+        let Err(Failure(e)) = load_layout("mark9") else { panic!("loaded") };
+        assert!(e.contains("unknown layout"), "{e}");
+        assert!(load_layout("mark1-hogel").is_ok());
+    }
+}

@@ -1,0 +1,73 @@
+//! `holo assemble`: hologram fringes for a layout's frame buffer.
+
+use std::ops::Range;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Args;
+use holo::assemble::output::{assemble_file, AssembleOptions, FRINGE_SIDECAR};
+
+use super::Outcome;
+use crate::args::{self, layout_help, load_layout, FringeFormatChoice};
+use crate::out::{say, warn};
+use crate::progress::Reporter;
+
+/// Assemble hologram fringes: one image per head (or colour layer) per
+/// frame, laid out as the layout's frame buffer expects.
+#[derive(Args)]
+pub struct AssembleArgs {
+    /// The .holo file.
+    file: PathBuf,
+    #[arg(long, default_value = "mark3", help = layout_help(""))]
+    layout: String,
+    /// Folder for the images and holo-fringes.json (created if needed).
+    #[arg(short, long, alias = "out")]
+    output: PathBuf,
+    /// Frames to assemble: N, A..B (B excluded) or A..=B; default all.
+    #[arg(long, value_parser = args::range())]
+    frames: Option<Range<usize>>,
+    /// How the images are stored.
+    #[arg(long, value_enum, default_value = "png")]
+    format: FringeFormatChoice,
+    /// When the file's geometry is not the layout's, resample it onto the
+    /// layout (ray by ray) instead of refusing.
+    #[arg(long)]
+    resample: bool,
+    /// Replace existing files.
+    #[arg(long)]
+    force: bool,
+}
+
+pub fn run(a: AssembleArgs) -> Outcome {
+    let layout = load_layout(&a.layout)?;
+    let options =
+        AssembleOptions { frames: a.frames, format: a.format.into(), overwrite: a.force, resample: a.resample };
+    let started = Instant::now();
+    let report = assemble_file(&a.file, &layout, &a.output, &options, &Reporter::on_stderr())?;
+    say!(
+        "assembled {} frame(s) of {} for {} in {:.2} s: {} files and {FRINGE_SIDECAR} in {}",
+        report.frames.len(),
+        a.file.display(),
+        layout.name,
+        started.elapsed().as_secs_f64(),
+        report.files.len() - 1,
+        a.output.display()
+    );
+    if let Some(r) = report.resampled {
+        say!(
+            "resampled onto {} by rays: {} of {} samples had no ray in the file and are black",
+            layout.name,
+            r.outside,
+            r.total
+        );
+    }
+    if report.stats.clipped > 0 {
+        warn(format_args!(
+            "{} samples clipped by the 8-bit quantization (the modulation is brighter than the layout's gain \
+             allows; scale it down)",
+            report.stats.clipped
+        ));
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,308 @@
+//! `holo convert mesh|cameras|holoflick`: content into a `.holo` file for a
+//! layout.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Args, Subcommand};
+use holo::cameras::convert::{convert_camera_files, CameraConvertOptions};
+use holo::cameras::quilt::{DEFAULT_VERTICAL_FOV_DEG, DEFAULT_VIEW_CONE_DEG};
+use holo::cameras::read::OpenOptions;
+use holo::cameras::resample::{CameraOptions, PlacementRequest};
+use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
+use holo::mesh::convert::{convert_mesh, ConvertOptions};
+use holo::mesh::place::{display_volume, Placement};
+use holo::mesh::render::{Engine, RenderOptions, Supersample};
+use holo::mesh::shade::{parse_light, read_lights, Lighting};
+
+use super::{check_output, Outcome};
+use crate::args::{self, layout_geometry, layout_help, BlendChoice, SpecularChoice, WriteArgs};
+use crate::out::{say, warn};
+use crate::progress::Reporter;
+
+#[derive(Subcommand)]
+pub enum ConvertCommand {
+    Holoflick(HoloflickArgs),
+    Mesh(MeshArgs),
+    Cameras(CamerasArgs),
+}
+
+pub fn run(command: ConvertCommand) -> Outcome {
+    match command {
+        ConvertCommand::Holoflick(a) => holoflick(a),
+        ConvertCommand::Mesh(a) => mesh(a),
+        ConvertCommand::Cameras(a) => cameras(a),
+    }
+}
+
+/// What every conversion shares: the display it is for, and the file written.
+#[derive(Args)]
+pub struct Target {
+    #[arg(long, default_value = "mark3", help = layout_help(""))]
+    layout: String,
+    #[command(flatten)]
+    write: WriteArgs,
+}
+
+/// Sub-rays per sample, as `--supersample` gives them.
+fn supersample((emitter, view): (usize, usize)) -> Supersample {
+    Supersample { emitter, view }
+}
+
+/// Draw a HoloFlick's lit micropolygons for every emitter and view of a
+/// layout, adding each frame's specular highlights per view.
+#[derive(Args)]
+pub struct HoloflickArgs {
+    /// The .hflk file.
+    file: PathBuf,
+    #[command(flatten)]
+    target: Target,
+    /// Frames to convert: N, A..B or A..=B (split a movie across machines); default all.
+    #[arg(long, value_parser = args::range())]
+    frames: Option<Range<usize>>,
+    /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN.
+    #[arg(long, default_value = "2x2", value_parser = args::by(64, true))]
+    supersample: (usize, usize),
+    /// Fit the content to the display even when it was made for it.
+    #[arg(long)]
+    fit: bool,
+}
+
+fn holoflick(a: HoloflickArgs) -> Outcome {
+    check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
+    let g = layout_geometry(&a.target.layout)?;
+    let options = HoloFlickConvertOptions {
+        frames: a.frames,
+        render: RenderOptions { supersample: supersample(a.supersample), ..Default::default() },
+        write: a.target.write.options(String::new()),
+        fit: a.fit,
+    };
+    let started = Instant::now();
+    let report = convert_holoflick(&a.file, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
+    report.warnings.iter().for_each(warn);
+    let w = report.work;
+    say!(
+        "converted frames {}..{} of {} into {} in {:.2} s",
+        report.frames.start,
+        report.frames.end,
+        a.file.display(),
+        report.path.display(),
+        started.elapsed().as_secs_f64()
+    );
+    say!(
+        "objects decoded {}, reused from key frames {}, skipped unseen {}; {} back faces dropped; {} segments rasterised, {} sub-rays shaded",
+        w.decoded,
+        w.reused,
+        w.unseen_objects,
+        w.back_faces,
+        w.render.segments,
+        w.render.shaded
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Render a glTF (.gltf/.glb), OBJ or PLY scene for every emitter and
+/// view of a layout (animated glTF: one frame per 1/fps).
+#[derive(Args)]
+pub struct MeshArgs {
+    /// The scene file.
+    scene: PathBuf,
+    #[command(flatten)]
+    target: Target,
+    /// Frames to convert (animated glTF): N, A..B or A..=B; default all.
+    #[arg(long, value_parser = args::range())]
+    frames: Option<Range<usize>>,
+    /// Frames per second at which animations are sampled.
+    #[arg(long, default_value = "30", value_parser = args::positive())]
+    fps: f64,
+    /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN.
+    #[arg(long, default_value = "2x2", value_parser = args::by(64, true))]
+    supersample: (usize, usize),
+    /// Specular lobe.
+    #[arg(long, value_enum, default_value = "blinn")]
+    specular: SpecularChoice,
+    /// A light (repeatable): dir:DX,DY,DZ[:R,G,B], point:X,Y,Z[:R,G,B] (mm) or ambient:R,G,B.
+    #[arg(long)]
+    light: Vec<String>,
+    /// A file of lights, one per line in --light's form.
+    #[arg(long)]
+    lights: Option<PathBuf>,
+    /// Ignore the scene's own lights (glTF KHR_lights_punctual).
+    #[arg(long)]
+    no_scene_lights: bool,
+    /// Rotation before fitting, degrees about x, y, z: RX,RY,RZ.
+    #[arg(long = "rotate", value_parser = args::triple("RX,RY,RZ in degrees"), allow_hyphen_values = true)]
+    rotate_deg: Option<[f64; 3]>,
+    /// Display millimetres per scene unit, instead of fitting the scene to the display.
+    #[arg(long = "scale", value_parser = args::positive_millimetres())]
+    scale_m: Option<f64>,
+    /// Offset after centring, millimetres: X,Y,Z.
+    #[arg(long = "translate", value_parser = args::millimetre_triple(), allow_hyphen_values = true)]
+    translate_m: Option<[f64; 3]>,
+    /// A row-major 4x4 matrix (16 numbers, scene units to display metres) instead of fitting.
+    #[arg(long, value_parser = args::matrix(), allow_hyphen_values = true)]
+    matrix: Option<[[f64; 4]; 4]>,
+    /// Render with the reference ray caster (slow; for checking).
+    #[arg(long)]
+    reference: bool,
+}
+
+fn mesh(a: MeshArgs) -> Outcome {
+    let mut read = vec![a.scene.as_path(), Path::new(&a.target.layout)];
+    read.extend(a.lights.as_deref());
+    check_output(&a.target.write.output, &read, a.target.write.force)?;
+    let g = layout_geometry(&a.target.layout)?;
+    // Point lights are given relative to the middle of the display.
+    let (lo, hi) = display_volume(&g);
+    let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), g.emitter_z_m];
+    let mut user_lights = match &a.lights {
+        Some(path) => read_lights(path, centre)?,
+        None => Vec::new(),
+    };
+    for spec in &a.light {
+        user_lights.push(parse_light(spec, centre)?);
+    }
+    let options = ConvertOptions {
+        placement: Placement {
+            rotate_deg: a.rotate_deg.unwrap_or([0.0; 3]),
+            scale: a.scale_m,
+            translate_m: a.translate_m.unwrap_or([0.0; 3]),
+            matrix: a.matrix,
+        },
+        render: RenderOptions {
+            supersample: supersample(a.supersample),
+            lighting: Lighting { lights: user_lights, model: a.specular.into() },
+            scene_lights: !a.no_scene_lights,
+            default_lights: true,
+            engine: if a.reference { Engine::Reference } else { Engine::Fast },
+        },
+        frames: a.frames,
+        fps: a.fps,
+        write: a.target.write.options(String::new()),
+    };
+    let started = Instant::now();
+    let report = convert_mesh(&a.scene, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
+    report.warnings.iter().for_each(warn);
+    for w in &report.written.warnings {
+        warn(format_args!("{}: {w}", report.path.display()));
+    }
+    say!(
+        "converted {} ({} triangles in {} objects) into {} frame(s) of {} in {:.2} s",
+        a.scene.display(),
+        report.triangles,
+        report.objects,
+        report.frames.len(),
+        report.path.display(),
+        started.elapsed().as_secs_f64()
+    );
+    say!("{}", report.placed);
+    say!(
+        "{} light(s); {} segments rasterised, {} sub-rays shaded",
+        report.lights.len(),
+        report.stats.segments,
+        report.stats.shaded
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Resample camera-array pictures (a rig file, an HCI or Stanford light
+/// field folder, a Middlebury _par.txt, a Looking Glass quilt or a
+/// folder of images on a rail) into every emitter and view of a layout.
+#[derive(Args)]
+pub struct CamerasArgs {
+    /// The capture: rig file (.json/.toml), folder, _par.txt or quilt image.
+    input: PathBuf,
+    #[command(flatten)]
+    target: Target,
+    /// Camera weighting.
+    #[arg(long, value_enum, default_value = "linear")]
+    blend: BlendChoice,
+    /// Focus distance from the cameras, in the rig's units (default: what the capture says).
+    #[arg(long, value_parser = args::positive())]
+    focus: Option<f64>,
+    /// Display millimetres per rig unit (default: cameras at the viewer's distance).
+    #[arg(long = "scale", value_parser = args::positive_millimetres())]
+    scale_m: Option<f64>,
+    /// The rig point shown at the middle of the emitter plane, rig units: X,Y,Z (default: the focus point).
+    #[arg(long, value_parser = args::triple("X,Y,Z in rig units"), allow_hyphen_values = true)]
+    center: Option<[f64; 3]>,
+    /// Scale so the middle camera's view at the focus fills the display's width.
+    #[arg(long)]
+    fill_width: bool,
+    /// Ignore the rig's depth maps.
+    #[arg(long)]
+    no_depth: bool,
+    /// Rays averaged across each emitter (default: from the pictures' resolution).
+    #[arg(long, value_parser = args::at_least(1))]
+    taps: Option<usize>,
+    /// Also write a PNG (emitters × hololines) of the fraction of views no camera sees.
+    #[arg(long)]
+    unseen_mask: Option<PathBuf>,
+    /// Folder of images: distance between neighbouring cameras (rig units).
+    #[arg(long, value_parser = args::positive())]
+    baseline: Option<f64>,
+    /// Folder or Stanford: focal length in pixels.
+    #[arg(long, value_parser = args::positive())]
+    focal_px: Option<f64>,
+    /// Folder or Stanford: horizontal field of view in degrees.
+    #[arg(long = "fov", value_parser = args::angle_below_180_degrees())]
+    fov_deg: Option<f64>,
+    /// Quilt: angle between the first and last view, degrees.
+    #[arg(long = "view-cone", default_value_t = DEFAULT_VIEW_CONE_DEG, value_parser = args::angle_below_180_degrees())]
+    view_cone_deg: f64,
+    /// Quilt: vertical field of view of each view, degrees.
+    #[arg(long = "quilt-fov", default_value_t = DEFAULT_VERTICAL_FOV_DEG, value_parser = args::angle_below_180_degrees())]
+    quilt_fov_deg: f64,
+    /// Locate rays among the cameras by brute force (slow; for checking).
+    #[arg(long)]
+    reference: bool,
+}
+
+fn cameras(a: CamerasArgs) -> Outcome {
+    let write = &a.target.write;
+    check_output(&write.output, &[&a.input, Path::new(&a.target.layout)], write.force)?;
+    if let Some(mask) = &a.unseen_mask {
+        check_output(mask, &[&a.input, &write.output], write.force)?;
+    }
+    let g = layout_geometry(&a.target.layout)?;
+    let mut open = OpenOptions::default();
+    open.folder.baseline = a.baseline;
+    open.folder.focal_length_px = a.focal_px;
+    open.folder.horizontal_fov_deg = a.fov_deg;
+    open.folder.focus_distance = a.focus;
+    open.stanford.focal_length_px = a.focal_px;
+    open.stanford.horizontal_fov_deg = a.fov_deg;
+    open.stanford.focus_distance = a.focus;
+    open.quilt.view_cone_deg = a.view_cone_deg;
+    open.quilt.vertical_fov_deg = a.quilt_fov_deg;
+    let placement = PlacementRequest { scale: a.scale_m, centre: a.center, focus: a.focus, fill_width: a.fill_width };
+    let options = CameraConvertOptions {
+        resample: CameraOptions {
+            blend: a.blend.into(),
+            placement,
+            use_depth: !a.no_depth,
+            want_mask: false,
+            reference: a.reference,
+            emitter_taps: a.taps,
+        },
+        unseen_png: a.unseen_mask,
+        write: write.options(String::new()),
+    };
+    let started = Instant::now();
+    let report = convert_camera_files(&a.input, &open, &g, &write.output, &options, &Reporter::on_stderr())?;
+    report.resample.warnings.iter().chain(&report.written.warnings).for_each(warn);
+    let r = &report.resample;
+    let (input, output, seconds) = (a.input.display(), report.path.display(), started.elapsed().as_secs_f64());
+    say!("converted {input} ({}) into {output} in {seconds:.2} s", r.surface);
+    say!("placement: {}", r.placement);
+    say!(
+        "{} rays, {} taps per emitter; {} ({:.1}%) seen by no camera and left black",
+        r.rays,
+        r.emitter_taps,
+        r.unseen,
+        100.0 * r.unseen as f64 / r.rays.max(1) as f64
+    );
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,24 @@
+//! `holo demo`: the main job on built-in defaults.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+
+use super::Outcome;
+use crate::out::put;
+use crate::progress::Reporter;
+
+/// Run the main job on built-in defaults and say where the results are.
+#[derive(Args)]
+pub struct DemoArgs {
+    /// Folder for the demo's files (its own earlier files there are replaced).
+    #[arg(short, long, alias = "out", default_value = "holo-demo")]
+    output: PathBuf,
+}
+
+pub fn run(a: DemoArgs) -> Outcome {
+    let demo = holo::report::demo(&a.output, &Reporter::on_stderr())?;
+    put!("{demo}");
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,71 @@
+//! One module per command, each a function `run` from its checked
+//! arguments to an outcome: call the library, print what it did.
+
+pub mod assemble;
+pub mod check;
+pub mod convert;
+pub mod demo;
+pub mod holoflick;
+pub mod info;
+pub mod layout;
+pub mod pattern;
+pub mod quilt;
+pub mod validate;
+pub mod view;
+pub mod views;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use crate::args::WriteArgs;
+use crate::out::{say, warn};
+
+/// Why a command failed: one sentence (exit code 1).
+#[derive(Debug)]
+pub struct Failure(pub String);
+
+/// A library error as the one sentence the user reads; a refusal to
+/// replace something says how to ask for it.
+impl From<holo::Error> for Failure {
+    fn from(e: holo::Error) -> Self {
+        match &e {
+            holo::Error::Output {
+                problem: holo::OutputProblem::Exists | holo::OutputProblem::SetExists(_), ..
+            } => Failure(format!("{e} (use --force to replace it)")),
+            _ => Failure(e.to_string()),
+        }
+    }
+}
+
+impl From<String> for Failure {
+    fn from(message: String) -> Self {
+        Failure(message)
+    }
+}
+
+/// What a command ends with: its exit code, or why it failed.
+pub type Outcome = Result<ExitCode, Failure>;
+
+/// Refuse, before any work, an output that exists (without `force`), whose
+/// folder is missing, or that is one of `inputs`, where an input folder
+/// stands for itself and every file in it.
+fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<(), Failure> {
+    let mut read: Vec<PathBuf> = Vec::new();
+    for input in inputs {
+        read.push(input.to_path_buf());
+        if let Ok(entries) = std::fs::read_dir(input) {
+            read.extend(entries.flatten().map(|e| e.path()));
+        }
+    }
+    let read: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
+    Ok(holo::output::check_output(output, &read, force)?)
+}
+
+/// What writing a `.holo` file did, said as every command that writes one says it.
+fn wrote(report: &holo::format::WriteReport, args: &WriteArgs) -> Outcome {
+    for w in &report.warnings {
+        warn(format_args!("{}: {w}", args.output.display()));
+    }
+    say!("wrote {} ({} bytes, {})", report.path.display(), report.file_bytes, report.digests[0]);
+    Ok(ExitCode::SUCCESS)
+}
