@@ -246,6 +246,13 @@ enum Interpolator {
     Triangles { triangulation: DelaunayTriangulation<Point2<f64>>, cameras: Vec<usize> },
 }
 
+/// The coordinate of `p` along the line through `origin` with unit
+/// direction `axis`: how cameras on a line are sorted and rays located
+/// among them.
+fn along_line(p: [f64; 2], origin: [f64; 2], axis: [f64; 2]) -> f64 {
+    (p[0] - origin[0]) * axis[0] + (p[1] - origin[1]) * axis[1]
+}
+
 impl RigGeometry {
     /// Work out the placement and the camera surface for `rig` shown on `g`.
     pub fn new(rig: &Rig, g: &Geometry, request: &PlacementRequest) -> Result<RigGeometry> {
@@ -442,7 +449,7 @@ impl Interpolator {
         match self {
             Interpolator::Single => out.push((0, 1.0)),
             Interpolator::Line { origin, axis, sorted } => {
-                let s = (q[0] - origin[0]) * axis[0] + (q[1] - origin[1]) * axis[1];
+                let s = along_line(q, *origin, *axis);
                 for pair in sorted.windows(2) {
                     let (a, b) = (pair[0], pair[1]);
                     if s >= a.0 && s <= b.0 {
@@ -540,7 +547,7 @@ impl Interpolator {
             let mut sorted: Vec<(f64, usize)> = points
                 .iter()
                 .enumerate()
-                .map(|(i, p)| ((p[0] - c[0]) * axis[0] + (p[1] - c[1]) * axis[1], i))
+                .map(|(i, &p)| (along_line(p, c, axis), i))
                 .collect();
             sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
             return Ok(Interpolator::Line { origin: c, axis, sorted });
@@ -570,7 +577,7 @@ impl Interpolator {
         match self {
             Interpolator::Single => out.push((0, 1.0)),
             Interpolator::Line { origin, axis, sorted } => {
-                let s = (q[0] - origin[0]) * axis[0] + (q[1] - origin[1]) * axis[1];
+                let s = along_line(q, *origin, *axis);
                 let (first, last) = (sorted[0].0, sorted[sorted.len() - 1].0);
                 if !(s >= first && s <= last) {
                     return;
