@@ -63,13 +63,15 @@ pub fn run(path: &Path) -> Result<(), Box<dyn Error>> {
         let frame = file.read_frame(index)?;
         let (lo, hi) = frame.value_range();
         println!("frame {} (number {}): linear radiance {lo} to {hi}", index, frame_info.number);
-        // One sample: channel 0, hololine 0, emitter 0, the middle view.
-        let middle = g.views.count / 2;
+        // One sample: channel 0, the middle hololine, emitter and view.
+        let (j, e, v) = (g.hololines / 2, g.emitters / 2, g.views.count / 2);
         println!(
-            "  channel {} hololine 0 emitter 0 view {middle} ({:.2}°): {}",
+            "  channel {} hololine {j} (y {:+.2} mm) emitter {e} (x {:+.2} mm) view {v} ({:+.2}°): {}",
             g.channels[0].name,
-            g.views.theta_rad(middle).to_degrees(),
-            frame.get(0, 0, 0, middle)
+            g.hololine_y_m(j) * 1e3,
+            g.emitter_x_m(e) * 1e3,
+            g.views.theta_rad(v).to_degrees(),
+            frame.get(0, j, e, v)
         );
     }
 

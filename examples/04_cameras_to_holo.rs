@@ -22,8 +22,8 @@ use holo::cameras::resample::{resample_rig, CameraOptions, CameraView};
 use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
 
 /// Pixels across and down each picture.
-const WIDTH: usize = 96;
-const HEIGHT: usize = 64;
+const WIDTH: usize = 192;
+const HEIGHT: usize = 128;
 
 fn main() -> Result<(), Box<dyn Error>> {
     // A new folder each run: nothing a user had is ever replaced.
@@ -34,9 +34,9 @@ fn main() -> Result<(), Box<dyn Error>> {
 }
 
 /// The wall's linear RGB radiance at `(x, y)` (metres on the plane `z = 0`):
-/// 10 cm squares, coloured by column.
+/// 1 cm squares, coloured by column.
 fn wall(x: f64, y: f64) -> [f32; 3] {
-    let (column, row) = ((x / 0.1).floor() as i64, (y / 0.1).floor() as i64);
+    let (column, row) = ((x / 0.01).floor() as i64, (y / 0.01).floor() as i64);
     let bright = if (column + row).rem_euclid(2) == 0 { 0.9 } else { 0.2 };
     let hue = column.rem_euclid(3) as usize;
     let mut rgb = [0.1 * bright; 3];
@@ -44,20 +44,25 @@ fn wall(x: f64, y: f64) -> [f32; 3] {
     rgb
 }
 
-/// Camera `k` of `n`, on the rail `z = 1 m`, looking at the wall (`−z`).
+/// Camera `k` of `n`, on the rail `z = 1 m`, looking at the wall (`−z`),
+/// its sensor shifted so that the wall's centre is the picture's centre.
 fn camera(k: usize, n: usize) -> Camera {
     let x = 0.04 * (k as f64 - (n - 1) as f64 / 2.0);
-    Camera {
+    let mut camera = Camera {
         name: format!("cam{k}"),
         // The pictures are made in memory; the name is for messages.
         image: ImageSource::File(format!("cam{k}.png").into()),
         width: WIDTH,
         height: HEIGHT,
-        intrinsics: Intrinsics::centred(WIDTH, HEIGHT, 100.0, 100.0),
+        // A narrow field of view (about 9° across): the display shows a few
+        // centimetres of the wall.
+        intrinsics: Intrinsics::centred(WIDTH, HEIGHT, 1200.0, 1200.0),
         // Picture `+y` (down) is the world's `−y`.
         pose: Pose { rotation: look_rotation([0.0, 0.0, -1.0], [0.0, -1.0, 0.0]), centre: [x, 0.0, 1.0] },
         depth: None,
-    }
+    };
+    camera.centre_on([0.0, 0.0, 0.0]);
+    camera
 }
 
 /// What `camera` sees of the wall: one ray through each pixel's centre.
