@@ -19,11 +19,12 @@ use holo::mesh::convert::{convert_mesh, ConvertOptions};
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/mesh/spot/spot.obj");
 
 fn main() -> Result<(), Box<dyn Error>> {
-    // A new folder each run: nothing a user had is ever replaced.
+    // A new folder each run, kept: nothing a user had is replaced, and the
+    // file stays to be looked at.
     let folder = tempfile::Builder::new().prefix("holo-example-").tempdir()?.keep();
     let file = run(&folder)?;
     println!("wrote {}", file.display());
-    println!("look at it with: holo info {0}; holo export-views {0} -o views", file.display());
+    println!("look at it with: holo info {}", file.display());
     Ok(())
 }
 

@@ -13,22 +13,23 @@
 //! temporary folder, which it prints.
 
 use std::error::Error;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use holo::assemble::output::{assemble_file, AssembleOptions, FringeFormat};
 use holo::pattern::{Pattern, PatternKind};
 use holo::reconstruct::files::{check_file, CheckOptions};
 
 fn main() -> Result<(), Box<dyn Error>> {
-    // A new folder each run: nothing a user had is ever replaced.
+    // The folder is new and kept: look at the fringes after the run.
     let folder = tempfile::Builder::new().prefix("holo-example-").tempdir()?.keep();
-    run(&folder)?;
-    println!("wrote {}", folder.display());
+    let fringes = run(&folder)?;
+    println!("the fringe set is {}", fringes.display());
     Ok(())
 }
 
-/// Write `folder/bars.holo` and its fringes in `folder/fringes`.
-pub fn run(folder: &Path) -> Result<(), Box<dyn Error>> {
+/// Write `folder/bars.holo` and its fringes in `folder/fringes`; returns
+/// the fringe folder.
+pub fn run(folder: &Path) -> Result<PathBuf, Box<dyn Error>> {
     let layout = holo::layout::mark1();
 
     // Any modulation on the layout's geometry will do; a test pattern is the
@@ -50,11 +51,11 @@ pub fn run(folder: &Path) -> Result<(), Box<dyn Error>> {
 
     // Read the fringes back (the manifest is checked against every image)
     // and recover the modulation of the first eight hololines from them.
-    let check = CheckOptions { frame: 0, fringes: Some(fringes), hololines: Some(0..8) };
+    let check = CheckOptions { frame: 0, fringes: Some(fringes.clone()), hololines: Some(0..8) };
     let result = check_file(&holo_file, None, &check)?;
     println!(
         "recovered from the fringes: relative L2 error {:.2e}, PSNR {:.1} dB",
         result.report.signal.relative_l2, result.report.signal.psnr_db
     );
-    Ok(())
+    Ok(fringes)
 }

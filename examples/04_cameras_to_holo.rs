@@ -26,7 +26,7 @@ const WIDTH: usize = 192;
 const HEIGHT: usize = 128;
 
 fn main() -> Result<(), Box<dyn Error>> {
-    // A new folder each run: nothing a user had is ever replaced.
+    // Kept after the run, so the file can be looked at.
     let folder = tempfile::Builder::new().prefix("holo-example-").tempdir()?.keep();
     let file = run(&folder)?;
     println!("wrote {}", file.display());
@@ -54,9 +54,9 @@ fn camera(k: usize, n: usize) -> Camera {
         image: ImageSource::File(format!("cam{k}.png").into()),
         width: WIDTH,
         height: HEIGHT,
-        // A narrow field of view (about 9° across): the display shows a few
-        // centimetres of the wall.
-        intrinsics: Intrinsics::centred(WIDTH, HEIGHT, 1200.0, 1200.0),
+        // A narrow field of view (under 4° across, 6 cm of the wall): the
+        // display shows about 3 cm of it.
+        intrinsics: Intrinsics::centred(WIDTH, HEIGHT, 3000.0, 3000.0),
         // Picture `+y` (down) is the world's `−y`.
         pose: Pose { rotation: look_rotation([0.0, 0.0, -1.0], [0.0, -1.0, 0.0]), centre: [x, 0.0, 1.0] },
         depth: None,

@@ -14,22 +14,21 @@
 //! test pattern for the new display in memory.
 
 use std::error::Error;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use holo::assemble::{load_layout, Assembler};
 use holo::pattern::{Pattern, PatternKind};
 
 fn main() -> Result<(), Box<dyn Error>> {
-    // A new folder each run: nothing a user had is ever replaced.
-    let folder = tempfile::Builder::new().prefix("holo-example-").tempdir()?.keep();
-    run(&folder)?;
-    println!("wrote {}", folder.display());
+    // A new folder, kept after the run.
+    let profile = run(&tempfile::Builder::new().prefix("holo-example-").tempdir()?.keep())?;
+    println!("the profile is {}; `holo layout` prints it", profile.display());
     Ok(())
 }
 
 /// Write `folder/half-mark1.toml` (and a broken profile beside it), load
-/// them and assemble a pattern with the first.
-pub fn run(folder: &Path) -> Result<(), Box<dyn Error>> {
+/// them and assemble a pattern with the first; returns the profile's path.
+pub fn run(folder: &Path) -> Result<PathBuf, Box<dyn Error>> {
     let mut layout = holo::layout::mark1();
     layout.name = "half-mark1".into();
     layout.description = "MIT Mark I with its upper 32 hololines only".into();
@@ -68,5 +67,5 @@ pub fn run(folder: &Path) -> Result<(), Box<dyn Error>> {
         images.components,
         stats.clipped
     );
-    Ok(())
+    Ok(profile)
 }

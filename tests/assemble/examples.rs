@@ -26,14 +26,21 @@ mod cameras_to_holo;
 #[path = "../../examples/05_custom_layout.rs"]
 mod custom_layout;
 
+use std::error::Error;
 use std::path::Path;
+
+/// Run an example's `run` into a new temporary folder, which is kept as
+/// long as the returned handle.
+fn run_example<T>(run: fn(&Path) -> Result<T, Box<dyn Error>>) -> (tempfile::TempDir, T) {
+    let folder = tempfile::tempdir().unwrap();
+    let out = run(folder.path()).unwrap_or_else(|e| panic!("the example failed: {e}"));
+    (folder, out)
+}
 
 #[test]
 fn mesh_to_holo_then_read_and_inspect() {
-    let folder = tempfile::tempdir().unwrap();
-    let file = mesh_to_holo::run(folder.path()).unwrap();
-    let frame = holo::read(&file).unwrap();
-    assert!(frame.value_range().1 > 0.0, "the cow is lit");
+    let (folder, file) = run_example(mesh_to_holo::run);
+    assert!(holo::read(&file).unwrap().value_range().1 > 0.0, "the cow is lit");
     // The example refuses to replace what the first run wrote.
     assert!(mesh_to_holo::run(folder.path()).is_err());
     read_and_inspect::run(&file).unwrap();
@@ -42,21 +49,18 @@ fn mesh_to_holo_then_read_and_inspect() {
 
 #[test]
 fn assemble_fringes() {
-    let folder = tempfile::tempdir().unwrap();
-    assemble_fringes::run(folder.path()).unwrap();
-    assert!(folder.path().join("fringes").join(holo::assemble::output::FRINGE_SIDECAR).is_file());
+    let (_folder, fringes) = run_example(assemble_fringes::run);
+    assert!(fringes.join(holo::assemble::output::FRINGE_SIDECAR).is_file());
 }
 
 #[test]
 fn cameras_to_holo() {
-    let folder = tempfile::tempdir().unwrap();
-    let file = cameras_to_holo::run(folder.path()).unwrap();
-    let frame = holo::read(&file).unwrap();
-    assert!(frame.value_range().1 > 0.5, "the wall is seen");
+    let (_folder, file) = run_example(cameras_to_holo::run);
+    assert!(holo::read(&file).unwrap().value_range().1 > 0.5, "the wall is seen");
 }
 
 #[test]
 fn custom_layout() {
-    let folder = tempfile::tempdir().unwrap();
-    custom_layout::run(folder.path()).unwrap();
+    let (_folder, profile) = run_example(custom_layout::run);
+    assert_eq!(holo::layout::Layout::load(&profile.to_string_lossy()).unwrap().geometry.hololines, 32);
 }
