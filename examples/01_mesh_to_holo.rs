@@ -42,10 +42,7 @@ pub fn run(folder: &Path) -> Result<PathBuf, Box<dyn Error>> {
     let options = ConvertOptions::default();
     let report = convert_mesh(Path::new(SCENE), &layout.geometry, &output, &options, &|_frame, _done, _total| {})?;
 
-    println!(
-        "{} triangles in {} objects, {}",
-        report.triangles, report.objects, report.placed
-    );
+    println!("{} triangles in {} objects, {}", report.triangles, report.objects, report.placed);
     for warning in &report.warnings {
         println!("warning: {warning}");
     }

@@ -22,11 +22,11 @@ use crate::layout::{ColourSignals, FrameBuffer, Layout, Quantization};
 use crate::simd::Simd;
 use crate::{Error, Modulation, Result};
 pub use basis::ColourBasis;
+pub use chirp::ZonedChirp;
+pub use hogel::HogelGratings;
 pub use pack::FringeSample;
 use pack::{interleave, Adder, Encoder, LineScratch};
 use plan::PaddedWeights;
-pub use chirp::ZonedChirp;
-pub use hogel::HogelGratings;
 pub use plan::{BlockSink, Plan};
 pub use profile::{load_layout, problems};
 

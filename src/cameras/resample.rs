@@ -551,11 +551,8 @@ impl Interpolator {
             } else {
                 [0.0, 1.0]
             };
-            let mut sorted: Vec<(f64, usize)> = points
-                .iter()
-                .enumerate()
-                .map(|(i, &p)| (along_line(p, c, axis), i))
-                .collect();
+            let mut sorted: Vec<(f64, usize)> =
+                points.iter().enumerate().map(|(i, &p)| (along_line(p, c, axis), i)).collect();
             sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
             return Ok(Interpolator::Line { origin: c, axis, sorted });
         }
