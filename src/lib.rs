@@ -74,7 +74,8 @@
 //! let layout = holo::layout::mark1(); // 242 emitters × 64 hololines × 5 views, RGB
 //! let geometry = &layout.geometry;
 //!
-//! // The scene, fitted into the display's volume (metres).
+//! // A scene file (glTF/GLB, OBJ+MTL or PLY; this one ships with holo's
+//! // sources), fitted into the display's volume (metres).
 //! let mut scene = SceneSource::open(Path::new("fixtures/mesh/spot/spot.obj"))?.scene_at(0.0)?;
 //! place(&mut scene, geometry, &Placement::default())?;
 //!
@@ -87,7 +88,7 @@
 //! let folder = tempfile::tempdir()?;
 //! let file = folder.path().join("spot.holo");
 //! holo::write(&file, &frame, &holo::WriteOptions::default())?;
-//! let stored = holo::read(&file)?; // f16 on disk: within half a unit in the last place
+//! let stored = holo::read(&file)?; // f16 by default: 11 significant bits a sample
 //!
 //! // The fringes: one 2048 × 1024 layer per colour, as the frame buffer expects.
 //! let (layers, stats) = Assembler::new(&layout)?.assemble::<u8>(&stored)?;
