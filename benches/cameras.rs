@@ -84,14 +84,14 @@ fn tables(quick: bool, rig: &Rig, views: &[CameraView]) {
         let reference = CameraOptions { reference: true, ..fast.clone() };
         let mut unseen = 0.0;
         let t_fast = time(runs, || {
-            let (_, r) = resample_rig(rig, views, &g, &fast, &|_, _| {}).expect("resample");
+            let (_, r) = resample_rig(rig, views, &g, &fast, &holo::progress::Silent).expect("resample");
             unseen = r.unseen as f64 / r.rays as f64;
         });
         let mut band_ref = None;
-        let t_ref =
-            time(runs, || band_ref = Some(resample_rig(rig, views, &b, &reference, &|_, _| {}).expect("resample").0))
-                * scale;
-        let band_fast = resample_rig(rig, views, &b, &fast, &|_, _| {}).expect("resample").0;
+        let t_ref = time(runs, || {
+            band_ref = Some(resample_rig(rig, views, &b, &reference, &holo::progress::Silent).expect("resample").0)
+        }) * scale;
+        let band_fast = resample_rig(rig, views, &b, &fast, &holo::progress::Silent).expect("resample").0;
         let worst = band_fast
             .samples()
             .iter()
@@ -121,7 +121,7 @@ fn bench(c: &mut Criterion) {
     for blend in [Blend::Linear, Blend::NaturalNeighbour] {
         let o = CameraOptions { blend, use_depth: false, ..CameraOptions::default() };
         group.bench_function(format!("fast_frame_{}", blend.name()), |bch| {
-            bch.iter(|| resample_rig(&rig, &views, &g, &o, &|_, _| {}).expect("resample"))
+            bch.iter(|| resample_rig(&rig, &views, &g, &o, &holo::progress::Silent).expect("resample"))
         });
     }
     group.finish();

@@ -200,7 +200,7 @@ fn report(started: SystemTime) {
         s.run(k);
         let images = if k.bytes { FrameRef::Bytes(&s.bytes) } else { FrameRef::Floats(&s.floats) };
         // Against the original f32 modulation, whatever the input knob.
-        let r = check(&s.a, &s.original, images, 0..HOLOLINES).unwrap();
+        let r = check(&s.a, &s.original, images, 0..HOLOLINES, &holo::progress::Silent).unwrap();
         optical = r.optical.relative_l2;
         let ms_per_frame = ms * FULL_FRAME as f64 / HOLOLINES as f64;
         rows.push(Row { knobs: k, ms_per_frame, relative_l2: r.signal.relative_l2, psnr_db: r.signal.psnr_db });

@@ -151,13 +151,13 @@ fn options(ss: usize, engine: Engine) -> RenderOptions {
 }
 
 fn frame(scene: &Scene, g: &Geometry, o: &RenderOptions) -> Modulation {
-    render(scene, g, o, &|_, _| {}).expect("render").0
+    render(scene, g, o, &holo::progress::Silent).expect("render").0
 }
 
 /// Render into `reused`, as a movie does frame after frame (no fresh
 /// 57 MB frame to fault in each time).
 fn frame_into(scene: &Scene, o: &RenderOptions, reused: &mut Modulation) {
-    render_into(scene, o, &|_, _| {}, reused).expect("render");
+    render_into(scene, o, &holo::progress::Silent, reused).expect("render");
 }
 
 /// (mean |a − b| / mean b, fraction of samples off by > 1% of b's peak), as in tests/mesh/render.rs.

@@ -36,7 +36,7 @@ fn play(reader: &mut HoloFlickReader, frame: &mut Modulation, options: &RenderOp
     // The frame's lights exactly, as `holo convert holoflick` renders it.
     let exact = RenderOptions::lit_exactly(Lighting { lights, ..options.lighting.clone() });
     let options = RenderOptions { supersample: options.supersample, engine: options.engine, ..exact };
-    render_into(&scene, &options, &|_, _| {}, frame).expect("render");
+    render_into(&scene, &options, &holo::progress::Silent, frame).expect("render");
     scene.triangle_count()
 }
 
@@ -49,7 +49,7 @@ fn bench(c: &mut Criterion) {
     let hflk = dir.path().join("spot.hflk");
     // 2.2× what Mark III resolves gives about 400 000 micropolygons.
     let options = HoloFlickEncodeOptions { micropolygon: 2.2, ..HoloFlickEncodeOptions::default() };
-    let encoded = encode_holoflick(&spot, g, &hflk, &options, &|_, _| {}).expect("encode");
+    let encoded = encode_holoflick(&spot, g, &hflk, &options, &holo::progress::Silent).expect("encode");
     let mut reader = HoloFlickReader::open(&hflk).expect("open");
     let mut frame = Modulation::zeros(g.clone()).expect("frame");
     let render = RenderOptions {

@@ -7,6 +7,10 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
+    /// The caller asked, through its [`crate::progress::Progress`], for the
+    /// work to stop; nothing was written.
+    #[error("cancelled; nothing was written")]
+    Cancelled,
     /// The operating system refused a read or write.
     #[error("{path}: {source}", path = .path.display())]
     Io {
@@ -150,6 +154,13 @@ pub enum SetProblem {
     /// A listed file has another SHA-256.
     #[error("its SHA-256 differs from the one {0} lists: not the file of this set")]
     Digest(String),
+    /// The folder's set was being replaced when the writing stopped: its
+    /// files may be of two sets (`remedy` says how to make it again).
+    #[error("holds a set whose replacement was interrupted: its files may be of two sets; {remedy}")]
+    Interrupted {
+        /// What to do, e.g. "export the views again".
+        remedy: &'static str,
+    },
 }
 
 /// Why an output cannot be written: the problems of

@@ -120,6 +120,8 @@ pub mod mesh;
 mod modulation;
 pub mod output;
 pub mod pattern;
+pub mod pipeline;
+pub mod progress;
 pub mod reconstruct;
 pub mod report;
 pub mod resample;

@@ -165,14 +165,30 @@ impl Band {
     pub fn first_bad_sample(&self) -> Option<(usize, usize, usize, usize, f32, &'static str)> {
         first_bad(&self.geometry, &self.samples, self.hololines.clone())
     }
-    /// The band as a frame, when it holds every hololine.
-    pub fn into_modulation(self) -> Result<Modulation> {
+    /// Work on the band as a whole frame, without copying: for renderers
+    /// that fill whole frames (the band must hold every hololine).
+    pub fn as_frame<R>(&mut self, f: impl FnOnce(&mut Modulation) -> R) -> Result<R> {
+        self.check_whole()?;
+        let samples = std::mem::take(&mut self.samples);
+        let mut frame = Modulation::from_samples(self.geometry.clone(), samples)?;
+        let result = f(&mut frame);
+        self.samples = frame.into_samples();
+        Ok(result)
+    }
+
+    fn check_whole(&self) -> Result<()> {
         if self.hololines != (0..self.geometry.hololines) {
             return Err(Error::Usage(format!(
                 "a band of hololines {}..{} is not a whole frame of {}",
                 self.hololines.start, self.hololines.end, self.geometry.hololines
             )));
         }
+        Ok(())
+    }
+
+    /// The band as a frame, when it holds every hololine.
+    pub fn into_modulation(self) -> Result<Modulation> {
+        self.check_whole()?;
         Modulation::from_samples(self.geometry, self.samples)
     }
 }

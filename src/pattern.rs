@@ -1,7 +1,12 @@
 //! Display-engineering test patterns: the inputs people calibrate a display
 //! with, and inputs with known answers for every later stage.
 
-use crate::{Error, Geometry, Modulation, Result};
+use std::path::{Path, PathBuf};
+
+use crate::format::{WriteOptions, WriteReport};
+use crate::pipeline::{HoloSink, Run, Source, Warnings};
+use crate::progress::Progress;
+use crate::{Band, Error, Geometry, Modulation, Result};
 
 /// Which pattern.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,7 +102,7 @@ impl Pattern {
         let emitter = pick("emitter", self.emitter, g.emitters)?;
         let view = pick("view", self.view, g.views.count)?;
         if self.every == 0 || self.cell == 0 {
-            return Err(Error::Usage("--every and --cell must be at least 1".into()));
+            return Err(Error::Usage("the pattern's emitter spacing and checker cell must each be at least 1".into()));
         }
         let views = g.views.count;
         let names: Vec<String> = g.channels.iter().map(|c| c.name.clone()).collect();
@@ -139,6 +144,57 @@ impl Pattern {
             lit * level
         })
     }
+}
+
+/// A test pattern as a [`Source`] of one `.holo` frame.
+#[derive(Clone, Debug)]
+pub struct PatternSource<'a> {
+    pattern: &'a Pattern,
+}
+
+impl<'a> PatternSource<'a> {
+    /// The frame `pattern` draws.
+    pub fn new(pattern: &'a Pattern) -> Self {
+        PatternSource { pattern }
+    }
+}
+
+impl Source for PatternSource<'_> {
+    type Frame = Band;
+
+    fn name(&self) -> String {
+        self.pattern.describe()
+    }
+
+    fn inputs(&self) -> Vec<PathBuf> {
+        Vec::new()
+    }
+
+    fn frame_count(&self) -> usize {
+        1
+    }
+
+    fn provenance(&self) -> String {
+        self.pattern.describe()
+    }
+
+    fn render(&mut self, _number: usize, frame: &mut Band, _: &dyn Progress, _: &mut Warnings) -> Result<()> {
+        let drawn = self.pattern.render(frame.geometry())?;
+        frame.samples_mut().copy_from_slice(drawn.samples());
+        Ok(())
+    }
+}
+
+/// Write `pattern` for `geometry` into the `.holo` file `output`
+/// (`holo pattern`).
+pub fn write_pattern(
+    pattern: &Pattern,
+    geometry: &Geometry,
+    output: &Path,
+    options: WriteOptions,
+    progress: &dyn Progress,
+) -> Result<Run<WriteReport>> {
+    crate::pipeline::run(&mut PatternSource::new(pattern), HoloSink::new(output, geometry, options), None, progress)
 }
 
 #[cfg(test)]

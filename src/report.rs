@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use crate::format::{FileInfo, HoloFile};
 use crate::layout;
+use crate::progress::{Labelled, Progress};
 use crate::Result;
 
 /// `holo info`: the headers plus, when asked, the value range of every frame.
@@ -207,8 +208,8 @@ const DEMO_SCENE: [(&str, &[u8]); 3] = [
 /// every Mark III emitter and view into `dir/demo.holo`, assembled into
 /// Mark III fringes in `dir/fringes`, and reconstructed by scalar diffraction
 /// into what viewers at three positions see (`dir/view-*.png`). An earlier
-/// demo's files are replaced.
-pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
+/// demo's files are replaced. Each step's phases go to `progress`.
+pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {
     use crate::assemble::output::{assemble_file, AssembleOptions, FringeFormat};
     use crate::mesh::convert::{convert_mesh, ConvertOptions};
     use crate::reconstruct::files::{view_file, EyeAt};
@@ -227,7 +228,7 @@ pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
     // Turn the cow to show its side and face.
     options.placement.rotate_deg = [0.0, -60.0, 0.0];
     let started = std::time::Instant::now();
-    let converted = convert_mesh(&scene, &layout.geometry, &holo_file, &options, &|_, _, _| {})?;
+    let converted = convert_mesh(&scene, &layout.geometry, &holo_file, &options, &Labelled::new(progress, "mesh"))?;
     let convert_seconds = started.elapsed().as_secs_f64();
     let info = info(&holo_file, true)?;
     let fringes = dir.join("fringes");
@@ -237,20 +238,20 @@ pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
         &layout,
         &fringes,
         &AssembleOptions { frames: None, format: FringeFormat::Png, overwrite: true, resample: false },
-        &mut |_, _| {},
+        &Labelled::new(progress, "fringes"),
     )?;
     let assemble_seconds = started.elapsed().as_secs_f64();
     let eyes_mm = [-40.0, 0.0, 40.0];
     let eyes: Vec<EyeAt> =
         eyes_mm.iter().map(|x| EyeAt { x_m: x * 1e-3, y_m: 0.0, distance_m: None, pupil_m: 4e-3 }).collect();
-    let pictures = view_file(&fringes, None, 0, &eyes)?;
+    let pictures = view_file(&fringes, None, 0, &eyes, &Labelled::new(progress, "views"))?;
     let mut views = Vec::new();
     for (x, picture) in eyes_mm.iter().zip(&pictures) {
         let path = dir.join(format!("view-x{x:+.0}mm.png"));
         picture.write_png(&path, 1.0, true)?;
         views.push((*x, path));
     }
-    let movie = demo_movie(&dir.join("movie"), &layout)?;
+    let movie = demo_movie(&dir.join("movie"), &layout, &Labelled::new(progress, "movie"))?;
     Ok(Demo {
         scene,
         triangles: converted.triangles,
@@ -269,7 +270,7 @@ pub fn demo(dir: impl AsRef<Path>) -> Result<Demo> {
 /// The movie path of the demo: three frames of the bundled morphing cube,
 /// encoded for Mark III with coarse micropolygons (4× what the display
 /// resolves: a demo, not a master), drawn, assembled and one of them seen.
-fn demo_movie(dir: &Path, layout: &layout::Layout) -> Result<DemoMovie> {
+fn demo_movie(dir: &Path, layout: &layout::Layout, progress: &dyn Progress) -> Result<DemoMovie> {
     use crate::assemble::output::{assemble_file, AssembleOptions, FringeFormat};
     use crate::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
     use crate::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
@@ -287,13 +288,13 @@ fn demo_movie(dir: &Path, layout: &layout::Layout) -> Result<DemoMovie> {
         placement: crate::mesh::place::Placement { rotate_deg: [20.0, -30.0, 0.0], ..Default::default() },
         ..HoloFlickEncodeOptions::default()
     };
-    let encoded = encode_holoflick(&scene, &layout.geometry, &holoflick, &options, &|_, _| {})?;
+    let encoded = encode_holoflick(&scene, &layout.geometry, &holoflick, &options, progress)?;
     let encode_seconds = started.elapsed().as_secs_f64();
     let holo_file = dir.join("cube.holo");
     let started = std::time::Instant::now();
     let mut convert = HoloFlickConvertOptions::default();
     convert.write.overwrite = true;
-    convert_holoflick(&holoflick, &layout.geometry, &holo_file, &convert, &|_, _| {})?;
+    convert_holoflick(&holoflick, &layout.geometry, &holo_file, &convert, progress)?;
     let convert_seconds = started.elapsed().as_secs_f64();
     let fringes = dir.join("fringes");
     let started = std::time::Instant::now();
@@ -302,11 +303,11 @@ fn demo_movie(dir: &Path, layout: &layout::Layout) -> Result<DemoMovie> {
         layout,
         &fringes,
         &AssembleOptions { frames: None, format: FringeFormat::Png, overwrite: true, resample: false },
-        &mut |_, _| {},
+        progress,
     )?;
     let assemble_seconds = started.elapsed().as_secs_f64();
     let eye = EyeAt { x_m: 0.0, y_m: 0.0, distance_m: None, pupil_m: 4e-3 };
-    let picture = view_file(&fringes, None, 1, &[eye])?;
+    let picture = view_file(&fringes, None, 1, &[eye], progress)?;
     let view = dir.join("view-frame1-x+0mm.png");
     if let Some(p) = picture.first() {
         p.write_png(&view, 1.0, true)?;

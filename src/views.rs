@@ -13,9 +13,11 @@ use std::path::{Path, PathBuf};
 use image::{ImageBuffer, ImageFormat, Luma, Rgb};
 use serde::{Deserialize, Serialize};
 
-use crate::format::view_digits;
-use crate::output::{check_set_output, verify_set, FileSet, SetFile};
-use crate::{Error, Geometry, Modulation, Result};
+use crate::format::{view_digits, WriteOptions, WriteReport};
+use crate::output::{check_set_complete, check_set_output, verify_set, FileSet, SetFile};
+use crate::pipeline::{HoloSink, Run, Source, Warnings};
+use crate::progress::Progress;
+use crate::{Band, Error, Geometry, Modulation, Result};
 
 /// Name of the sidecar written next to the PNGs.
 pub const SIDECAR: &str = "holo-views.json";
@@ -173,6 +175,9 @@ pub fn read_geometry_json(path: &Path) -> Result<Geometry> {
 /// a sidecar holds pictures made elsewhere and is read as it is.
 pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Result<Modulation> {
     check_tone(tone)?;
+    // Even pictures read without their sidecar may not be of a set whose
+    // replacement was interrupted: they could be of two sets.
+    check_set_complete(dir, SIDECAR, "export the views again")?;
     let sidecar_path = dir.join(SIDECAR);
     if sidecar_path.exists() {
         let sidecar = read_sidecar(&sidecar_path)?;
@@ -216,6 +221,66 @@ pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Resu
         }
     }
     Ok(m)
+}
+
+/// A folder of view pictures as a [`Source`] of one `.holo` frame (the
+/// inverse of [`export_views`], read by [`import_views`]).
+#[derive(Clone, Debug)]
+pub struct ViewsSource<'a> {
+    dir: &'a Path,
+    tone: &'a ToneMapping,
+    /// The pictures and the sidecar: the output may be none of them.
+    inputs: Vec<PathBuf>,
+}
+
+impl<'a> ViewsSource<'a> {
+    /// The pictures in `dir` for `geometry`, decoded with `tone`.
+    pub fn new(dir: &'a Path, geometry: &Geometry, tone: &'a ToneMapping) -> Self {
+        let n = geometry.views.count;
+        let mut inputs = vec![dir.to_path_buf(), dir.join(SIDECAR)];
+        inputs.extend((0..n).map(|v| dir.join(view_file_name(v, n))));
+        ViewsSource { dir, tone, inputs }
+    }
+}
+
+impl Source for ViewsSource<'_> {
+    type Frame = Band;
+
+    fn name(&self) -> String {
+        self.dir.display().to_string()
+    }
+
+    fn inputs(&self) -> Vec<PathBuf> {
+        self.inputs.clone()
+    }
+
+    fn frame_count(&self) -> usize {
+        1
+    }
+
+    fn provenance(&self) -> String {
+        format!("holo import-views from {}", self.dir.display())
+    }
+
+    fn render(&mut self, _number: usize, frame: &mut Band, _: &dyn Progress, _: &mut Warnings) -> Result<()> {
+        let read = import_views(self.dir, frame.geometry(), self.tone)?;
+        frame.samples_mut().copy_from_slice(read.samples());
+        Ok(())
+    }
+}
+
+/// Import the pictures in `dir` for `geometry` into the `.holo` file
+/// `output` (`holo import-views`).
+pub fn import_views_file(
+    dir: &Path,
+    geometry: &Geometry,
+    tone: &ToneMapping,
+    output: &Path,
+    options: WriteOptions,
+    progress: &dyn Progress,
+) -> Result<Run<WriteReport>> {
+    let mut source = ViewsSource::new(dir, geometry, tone);
+    crate::pipeline::run(&mut source, HoloSink::new(output, geometry, options), None, progress)
 }
 
 #[cfg(test)]

@@ -117,7 +117,7 @@ fn converting_holds_a_band_not_the_frame() {
                 &g,
                 &out,
                 &options,
-                &|_, _| {},
+                &holo::progress::Silent,
             )
             .unwrap()
         });
@@ -131,7 +131,8 @@ fn converting_holds_a_band_not_the_frame() {
         peaks.push(peak);
 
         // The whole-frame resampler: at least the frame, and the same samples.
-        let ((whole, _), whole_peak) = peak_during(|| resample_rig(&rig, &views, &g, &resample, &|_, _| {}).unwrap());
+        let ((whole, _), whole_peak) =
+            peak_during(|| resample_rig(&rig, &views, &g, &resample, &holo::progress::Silent).unwrap());
         println!("{hololines} hololines: whole-frame resampling peak heap {:.1} MB", whole_peak as f64 / 1e6);
         assert!(whole_peak >= frame_bytes);
         assert!(holo::format::read(&out).unwrap() == whole, "banded conversion differs from the whole frame");

@@ -152,13 +152,8 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
                 key_interval,
                 overwrite: force,
             };
-            let bar = crate::progress_bar("frames", false);
-            let report = pack(&meshes, &output, &options, &|done, all| {
-                bar.set_length(all as u64);
-                bar.set_position(done as u64);
-            })
-            .map_err(error_text)?;
-            bar.finish_and_clear();
+            let report =
+                pack(&meshes, &output, &options, &crate::progress::Reporter::on_stderr()).map_err(error_text)?;
             for w in &report.warnings {
                 eprintln!("holo: warning: {w}");
             }
@@ -203,14 +198,12 @@ pub fn run(command: HoloflickCommand) -> Result<ExitCode, String> {
                 overwrite: force,
                 ..HoloFlickEncodeOptions::default()
             };
-            let bar = crate::progress_bar("frames", false);
-            let report = encode_holoflick(&scene, &g, &output, &options, &|done, all| {
-                bar.set_length(all as u64);
-                bar.set_position(done as u64);
-            })
-            .map_err(error_text)?;
-            bar.finish_and_clear();
+            let report = encode_holoflick(&scene, &g, &output, &options, &crate::progress::Reporter::on_stderr())
+                .map_err(error_text)?;
             let p = &report.pack;
+            for w in &p.warnings {
+                eprintln!("holo: warning: {w}");
+            }
             outln!(
                 "wrote {} ({} bytes): {} frames, {} micropolygons, {} objects stored, {} from key frames, {:.2} stream bytes/micropolygon",
                 p.path.display(),

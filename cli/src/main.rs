@@ -23,6 +23,7 @@ macro_rules! outln {
 
 mod holoflick;
 use holo::assemble::load_layout;
+mod progress;
 use holo::assemble::output::{assemble_file, AssembleOptions, FringeFormat, FRINGE_SIDECAR};
 use holo::cameras::quilt::{QuiltOptions, QuiltSpec};
 use holo::format::{Compression, SampleType, WriteOptions};
@@ -605,9 +606,11 @@ fn run(cli: Cli) -> Outcome {
                 None => {}
             }
             let pattern = Pattern { kind, emitter, view, every, cell, level };
-            let m = pattern.render(&geometry).map_err(error_text)?;
-            let source = format!("{} layout={layout}", pattern.describe());
-            write_file(&m, &write, source)
+            let options = write.options(format!("{} layout={layout}", pattern.describe()));
+            let progress = progress::Reporter::on_stderr();
+            let run = holo::pattern::write_pattern(&pattern, &geometry, &write.output, options, &progress)
+                .map_err(error_text)?;
+            wrote(&run.written, &write)
         }
         Command::ExportViews { file, out, frame, bits, white, force } => {
             let holo_file = holo::HoloFile::open(&file).map_err(error_text)?;
@@ -711,29 +714,24 @@ fn run(cli: Cli) -> Outcome {
                     ))
                 }
             };
-            let views: Vec<PathBuf> =
-                (0..g.views.count).map(|v| dir.join(holo::views::view_file_name(v, g.views.count))).collect();
-            let read: Vec<&Path> = std::iter::once(dir.as_path()).chain(views.iter().map(PathBuf::as_path)).collect();
-            check_output(&write.output, &read, write.force)?;
+            // Every file of the folder counts as an input here, not only the pictures.
+            check_output(&write.output, &[dir.as_path()], write.force)?;
             let mut tone = sidecar.map(|s| s.tone).unwrap_or_default();
             if let Some(w) = white {
                 tone.white = w;
             }
-            let m = holo::views::import_views(&dir, &g, &tone).map_err(error_text)?;
-            write_file(&m, &write, format!("holo import-views from {}", dir.display()))
+            let progress = progress::Reporter::on_stderr();
+            let options = write.options(String::new());
+            let run = holo::views::import_views_file(&dir, &g, &tone, &write.output, options, &progress)
+                .map_err(error_text)?;
+            wrote(&run.written, &write)
         }
         Command::Assemble { file, layout, out, frames, format, resample, force } => {
             let layout = load_layout(&layout).map_err(error_text)?;
             let options = AssembleOptions { frames, format, overwrite: force, resample };
-            let bar = progress_bar("frames", true);
-            bar.set_message("assembling");
             let started = std::time::Instant::now();
-            let report = assemble_file(&file, &layout, &out, &options, &mut |done, total| {
-                bar.set_length(total as u64);
-                bar.set_position(done as u64);
-            })
-            .map_err(error_text)?;
-            bar.finish_and_clear();
+            let report =
+                assemble_file(&file, &layout, &out, &options, &progress::Reporter::on_stderr()).map_err(error_text)?;
             let seconds = started.elapsed().as_secs_f64();
             outln!(
                 "assembled {} frame(s) of {} for {} in {seconds:.2} s: {} files and {FRINGE_SIDECAR} in {}",
@@ -767,7 +765,13 @@ fn run(cli: Cli) -> Outcome {
                 (None, None) => Some(load_layout("mark3").map_err(error_text)?),
             };
             let options = holo::reconstruct::files::CheckOptions { frame, fringes, hololines };
-            let checked = holo::reconstruct::files::check_file(&file, layout.as_ref(), &options).map_err(error_text)?;
+            let checked = holo::reconstruct::files::check_file(
+                &file,
+                layout.as_ref(),
+                &options,
+                &progress::Reporter::on_stderr(),
+            )
+            .map_err(error_text)?;
             if json {
                 outln!("{}", serde_json::to_string_pretty(&checked).map_err(|e| e.to_string())?);
             } else {
@@ -791,8 +795,14 @@ fn run(cli: Cli) -> Outcome {
                 distance_m: distance.map(|d| d * 1e-3),
                 pupil_m: pupil * 1e-3,
             };
-            let pictures =
-                holo::reconstruct::files::view_file(&input, layout.as_ref(), frame, &[at]).map_err(error_text)?;
+            let pictures = holo::reconstruct::files::view_file(
+                &input,
+                layout.as_ref(),
+                frame,
+                &[at],
+                &progress::Reporter::on_stderr(),
+            )
+            .map_err(error_text)?;
             pictures[0].write_png(&output, white, force).map_err(error_text)?;
             outln!(
                 "wrote {}: what an eye at x = {} mm sees of {} ({} × {} emitters × hololines)",
@@ -824,14 +834,9 @@ fn run(cli: Cli) -> Outcome {
                 write: write.options(String::new()),
                 fit,
             };
-            let bar = progress_bar("frames", false);
             let started = std::time::Instant::now();
-            let report = convert_holoflick(&file, &g, &write.output, &options, &|done, total| {
-                bar.set_length(total as u64);
-                bar.set_position(done as u64);
-            })
-            .map_err(error_text)?;
-            bar.finish_and_clear();
+            let report = convert_holoflick(&file, &g, &write.output, &options, &progress::Reporter::on_stderr())
+                .map_err(error_text)?;
             for w in &report.warnings {
                 eprintln!("holo: warning: {w}");
             }
@@ -906,15 +911,9 @@ fn run(cli: Cli) -> Outcome {
                 fps,
                 write: write.options(String::new()),
             };
-            let bar = progress_bar("hololines", true);
             let started = std::time::Instant::now();
-            let report = convert_mesh(&scene, &g, &write.output, &options, &|frame, done, total| {
-                bar.set_message(format!("frame {frame}"));
-                bar.set_length(total as u64);
-                bar.set_position(done as u64);
-            })
-            .map_err(error_text)?;
-            bar.finish_and_clear();
+            let report = convert_mesh(&scene, &g, &write.output, &options, &progress::Reporter::on_stderr())
+                .map_err(error_text)?;
             for w in &report.warnings {
                 eprintln!("holo: warning: {w}");
             }
@@ -993,14 +992,10 @@ fn run(cli: Cli) -> Outcome {
                 unseen_png: unseen_mask,
                 write: write.options(String::new()),
             };
-            let bar = progress_bar("hololines", false);
             let started = std::time::Instant::now();
-            let report = convert_camera_files(&input, &open, &g, &write.output, &options, &|done, total| {
-                bar.set_length(total as u64);
-                bar.set_position(done as u64);
-            })
-            .map_err(error_text)?;
-            bar.finish_and_clear();
+            let report =
+                convert_camera_files(&input, &open, &g, &write.output, &options, &progress::Reporter::on_stderr())
+                    .map_err(error_text)?;
             for w in report.resample.warnings.iter().chain(&report.written.warnings) {
                 eprintln!("holo: warning: {w}");
             }
@@ -1023,7 +1018,7 @@ fn run(cli: Cli) -> Outcome {
             Ok(ExitCode::SUCCESS)
         }
         Command::Demo { out } => {
-            let demo = holo::report::demo(&out).map_err(error_text)?;
+            let demo = holo::report::demo(&out, &progress::Reporter::on_stderr()).map_err(error_text)?;
             out!("{demo}");
             Ok(ExitCode::SUCCESS)
         }
@@ -1055,16 +1050,8 @@ impl WriteArgs {
     }
 }
 
-/// A progress bar counting `unit` (with a message in front when `message`).
-fn progress_bar(unit: &str, message: bool) -> indicatif::ProgressBar {
-    let template = format!("{}[{{bar:30}}] {{pos}}/{{len}} {unit}, {{eta}} left", if message { "{msg} " } else { "" });
-    indicatif::ProgressBar::new(0)
-        .with_style(indicatif::ProgressStyle::with_template(&template).expect("a valid template"))
-}
-
-fn write_file(m: &holo::Modulation, args: &WriteArgs, source: String) -> Outcome {
-    let options = args.options(source);
-    let report = holo::write(&args.output, m, &options).map_err(error_text)?;
+/// What writing a `.holo` file did, said as every command that writes one says it.
+fn wrote(report: &holo::format::WriteReport, args: &WriteArgs) -> Outcome {
     for w in &report.warnings {
         eprintln!("holo: warning: {}: {w}", args.output.display());
     }

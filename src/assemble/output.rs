@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 use super::{Assembler, FrameImages, FrameStats};
 use crate::layout::Layout;
 use crate::output::{check_set_output, verify_set, AtomicFile, FileSet, SetFile};
+use crate::progress::{Progress, Steps};
 use crate::{Error, Result};
 
 /// Name of the sidecar in a fringe directory.
@@ -125,14 +126,14 @@ pub fn image_file_name(index: usize, image_name: &str, format: FringeFormat) -> 
     format!("frame{index:04}-{image_name}.{}", format.extension())
 }
 
-/// Assemble frames of `input` for `layout` into `out_dir`. `progress` is
-/// called with (frames done, frames to do) after each frame.
+/// Assemble frames of `input` for `layout` into `out_dir`; `progress`
+/// counts the frames.
 pub fn assemble_file(
     input: &Path,
     layout: &Layout,
     out_dir: &Path,
     options: &AssembleOptions,
-    progress: &mut dyn FnMut(usize, usize),
+    progress: &dyn Progress,
 ) -> Result<AssembleReport> {
     let assembler = Assembler::new(layout)?;
     let file = crate::format::HoloFile::open(input)?;
@@ -170,7 +171,8 @@ pub fn assemble_file(
     let mut floats: FrameImages<f32> = FrameImages { width: 0, height: 0, components: 0, images: vec![] };
     let mut frames = Vec::new();
     let mut total = FrameStats::default();
-    for (done, index) in range.clone().enumerate() {
+    let steps = Steps::begin(progress, "frames", range.len());
+    for index in range.clone() {
         let mut m = file.read_frame(index)?;
         if let Some(total) = resampled.as_mut() {
             let (r, stats) = crate::resample::resample(&m, &layout.geometry)?;
@@ -199,7 +201,7 @@ pub fn assemble_file(
             files,
             clipped: stats.clipped,
         });
-        progress(done + 1, range.len());
+        steps.step();
     }
     let mut sidecar = FringeSidecar {
         layout: layout.clone(),

@@ -11,9 +11,11 @@ use rayon::prelude::*;
 use super::read::OpenOptions;
 use super::resample::{CameraOptions, CameraReport, CameraView, RigResampler};
 use super::{Camera, Rig};
-use crate::format::{write_frame_in_bands, WriteOptions, WriteReport};
+use crate::format::{WriteOptions, WriteReport};
 use crate::geometry::Geometry;
-use crate::{Error, Result};
+use crate::pipeline::{self, HoloSink, Source, Warnings};
+use crate::progress::{Progress, Steps};
+use crate::{Band, Error, Result};
 
 /// Everything `convert cameras` takes besides the rig, geometry and output.
 #[derive(Clone, Debug, Default)]
@@ -41,21 +43,30 @@ pub struct CameraConvertReport {
 }
 
 /// Load `rig`'s pictures with `load` (one camera's linear picture and
-/// depth map), then resample and write `output` for `geometry`.
-/// `progress(hololines_done, hololines)`.
+/// depth map), then resample and write `output` for `geometry`; the phases
+/// of `progress` are `pictures` (cameras loaded) and `hololines`.
 pub fn convert_cameras(
     rig: &Rig,
     load: &(dyn Fn(&Camera) -> Result<CameraView> + Sync),
     geometry: &Geometry,
     output: &Path,
     options: &CameraConvertOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &dyn Progress,
 ) -> Result<CameraConvertReport> {
     if let Some(p) = rig.problem() {
         return Err(Error::Usage(p));
     }
     check_outputs(output, options, &[])?;
-    let views: Vec<CameraView> = rig.cameras.par_iter().map(load).collect::<Result<_>>()?;
+    let loaded = Steps::begin(progress, "pictures", rig.cameras.len());
+    let views: Vec<CameraView> = rig
+        .cameras
+        .par_iter()
+        .map(|camera| {
+            let view = load(camera);
+            loaded.step();
+            view
+        })
+        .collect::<Result<_>>()?;
     for (cam, view) in rig.cameras.iter().zip(&views) {
         if view.picture.size() != (cam.width, cam.height) {
             let (w, h) = view.picture.size();
@@ -68,43 +79,94 @@ pub fn convert_cameras(
     let mut resample_options = options.resample.clone();
     resample_options.want_mask |= options.unseen_png.is_some();
     let resampler = RigResampler::new(rig, &views, geometry, &resample_options)?;
-    let mut write = options.write.clone();
-    if write.source.is_empty() {
-        let words = resampler.report(0, None);
-        write.source = format!(
-            "holo convert cameras {} ({}; {} blending{}; {})",
-            rig.source,
-            words.surface,
-            options.resample.blend.name(),
-            if options.resample.use_depth && rig.cameras.iter().any(|c| c.depth.is_some()) {
-                ", depth maps"
-            } else {
-                ""
-            },
-            words.placement
-        );
-    }
-    // Band by band: memory is the pictures plus a band of hololines (and,
-    // for the unseen picture, a byte per emitter), never the whole frame.
-    let (mut unseen, mut mask) = (0u64, Vec::new());
-    let mut unseen_grey = Vec::new();
-    let band_hololines = 4 * rayon::current_num_threads().max(4);
-    let written = write_frame_in_bands(output, geometry, band_hololines, &write, |band| {
-        let (n, band_mask) = resampler.fill(band, progress);
-        unseen += n;
-        if options.unseen_png.is_some() {
-            unseen_grey.extend(unseen_fraction_grey(geometry, &band_mask));
-        }
-        if options.resample.want_mask {
-            mask.extend(band_mask);
-        }
-        Ok(())
-    })?;
+    let mut source = CameraSource {
+        rig,
+        inputs: Vec::new(),
+        resampler: &resampler,
+        options,
+        unseen: 0,
+        mask: Vec::new(),
+        unseen_grey: Vec::new(),
+    };
+    let sink = HoloSink::new(output, geometry, options.write.clone());
+    let run = pipeline::run(&mut source, sink, None, progress)?;
+    let CameraSource { unseen, mask, unseen_grey, .. } = source;
     if let Some(path) = &options.unseen_png {
         write_unseen_png(path, geometry, unseen_grey, options.write.overwrite)?;
     }
     let report = resampler.report(unseen, options.resample.want_mask.then_some(mask));
-    Ok(CameraConvertReport { path: output.to_path_buf(), cameras: rig.cameras.len(), resample: report, written })
+    Ok(CameraConvertReport {
+        path: output.to_path_buf(),
+        cameras: rig.cameras.len(),
+        resample: report,
+        written: run.written,
+    })
+}
+
+/// A rig's loaded pictures as a [`Source`] of one `.holo` frame, resampled a
+/// band of hololines at a time: memory is the pictures plus a band (and,
+/// for the unseen picture, a byte per emitter), never the whole frame.
+struct CameraSource<'a> {
+    rig: &'a Rig,
+    inputs: Vec<PathBuf>,
+    resampler: &'a RigResampler<'a>,
+    options: &'a CameraConvertOptions,
+    /// Rays no camera sees, over the bands done.
+    unseen: u64,
+    /// Per ray, unseen (when asked for).
+    mask: Vec<bool>,
+    /// The unseen picture's grey levels, over the bands done.
+    unseen_grey: Vec<u8>,
+}
+
+impl Source for CameraSource<'_> {
+    type Frame = Band;
+
+    fn name(&self) -> String {
+        self.rig.source.clone()
+    }
+
+    fn inputs(&self) -> Vec<PathBuf> {
+        self.inputs.clone()
+    }
+
+    fn frame_count(&self) -> usize {
+        1
+    }
+
+    fn provenance(&self) -> String {
+        let (rig, resample) = (self.rig, &self.options.resample);
+        let words = self.resampler.report(0, None);
+        let depth = resample.use_depth && rig.cameras.iter().any(|c| c.depth.is_some());
+        format!(
+            "holo convert cameras {} ({}; {} blending{}; {})",
+            rig.source,
+            words.surface,
+            resample.blend.name(),
+            if depth { ", depth maps" } else { "" },
+            words.placement
+        )
+    }
+
+    fn band_hololines(&self) -> Option<usize> {
+        Some(4 * rayon::current_num_threads().max(4))
+    }
+
+    fn render(&mut self, _number: usize, band: &mut Band, progress: &dyn Progress, _: &mut Warnings) -> Result<()> {
+        let g = band.geometry().clone();
+        if band.hololines().start == 0 {
+            progress.phase("hololines", g.hololines as u64);
+        }
+        let (n, band_mask) = self.resampler.fill(band, progress);
+        self.unseen += n;
+        if self.options.unseen_png.is_some() {
+            self.unseen_grey.extend(unseen_fraction_grey(&g, &band_mask));
+        }
+        if self.options.resample.want_mask {
+            self.mask.extend(band_mask);
+        }
+        Ok(())
+    }
 }
 
 /// Grey = fraction of the emitter's views unseen, one byte per (hololine,
@@ -159,7 +221,7 @@ pub fn convert_camera_files(
     geometry: &Geometry,
     output: &Path,
     options: &CameraConvertOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &dyn Progress,
 ) -> Result<CameraConvertReport> {
     check_outputs(output, options, &[input])?;
     let rig = super::open_rig_with(input, open)?;

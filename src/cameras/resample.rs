@@ -31,6 +31,7 @@ use super::image::Picture;
 use super::{Camera, Rig};
 use crate::geometry::{channel_weights, Geometry};
 use crate::math::{add, cross, det3, dot, length, mat3_transpose_apply, normalize_or, scale, sub, Mat3};
+use crate::progress::Progress;
 use crate::{Band, Error, Modulation, Result};
 
 /// How the cameras around a ray are weighted.
@@ -621,16 +622,18 @@ impl Interpolator {
 }
 
 /// Resample the rig's pictures (`views`, one per camera, in the rig's
-/// order) into one frame of modulation on `g`.
+/// order) into one frame of modulation on `g`, reporting the phase
+/// `hololines` to `progress`.
 pub fn resample_rig(
     rig: &Rig,
     views: &[CameraView],
     g: &Geometry,
     options: &CameraOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &dyn Progress,
 ) -> Result<(Modulation, CameraReport)> {
     let resampler = RigResampler::new(rig, views, g, options)?;
     let mut frame = Band::zeros(g.clone(), 0..g.hololines)?;
+    progress.phase("hololines", g.hololines as u64);
     let (unseen, mask) = resampler.fill(&mut frame, progress);
     Ok((frame.into_modulation()?, resampler.report(unseen, options.want_mask.then_some(mask))))
 }
@@ -712,10 +715,11 @@ impl<'a> RigResampler<'a> {
     }
 
     /// Fill `band` (of this resampler's geometry), hololines in parallel;
-    /// `progress(hololines done, hololines)` counts across bands. Returns
+    /// `progress` is advanced by the hololines done across bands (the caller
+    /// begins the phase, of the geometry's hololines). Returns
     /// the rays no camera sees (left zero) and, when the options ask for a
     /// mask, which they are (band's hololine, emitter, view order).
-    pub fn fill(&self, band: &mut Band, progress: &(dyn Fn(usize, usize) + Sync)) -> (u64, Vec<bool>) {
+    pub fn fill(&self, band: &mut Band, progress: &dyn Progress) -> (u64, Vec<bool>) {
         use rayon::prelude::*;
         let g = &self.g;
         let lines = band.hololines();
@@ -775,7 +779,7 @@ impl<'a> RigResampler<'a> {
                     }
                 }
                 let n = self.done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                progress(n, g.hololines);
+                progress.advance(n as u64);
                 (unseen, mask)
             })
             .collect();

@@ -27,13 +27,15 @@ use std::path::{Path, PathBuf};
 use super::container::{HoloFlickReader, ResolvedFrame, SpecularModel, ViewerCouch};
 use super::objects::{decode_block, mesh_light, to_world};
 use super::shader::cull::{cull_back_faces, display_sees_box};
-use crate::format::{write_frames, WriteOptions, WriteReport};
+use crate::format::{WriteOptions, WriteReport};
 use crate::geometry::Geometry;
 use crate::mesh::place::{apply, place, Placed, Placement};
-use crate::mesh::render::{render, RenderOptions, RenderStats};
+use crate::mesh::render::{render_into, RenderOptions, RenderStats};
 use crate::mesh::shade::{Lighting, SpecularModel as Lobe};
 use crate::mesh::{Object, Scene};
-use crate::{Error, Result};
+use crate::pipeline::{self, HoloSink, Source, Warnings};
+use crate::progress::Progress;
+use crate::{Band, Error, Result};
 
 /// Everything `convert holoflick` takes besides input, geometry and output.
 #[derive(Clone, Debug, Default)]
@@ -93,107 +95,138 @@ fn couch_holds(c: &ViewerCouch, lo: [f64; 3], hi: [f64; 3]) -> bool {
     c.contains(lo) && c.contains(hi)
 }
 
-/// Convert `input` for `geometry` into `output`; `progress(done, frames)`.
+/// Convert `input` for `geometry` into `output`: a [`HoloFlickSource`]
+/// through [`crate::pipeline::run`]. `progress` counts the frames of a
+/// movie; of a single frame, its hololines.
 pub fn convert_holoflick(
     input: &Path,
     geometry: &Geometry,
     output: &Path,
     options: &HoloFlickConvertOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &dyn Progress,
 ) -> Result<HoloFlickConvertReport> {
     crate::output::check_output(output, &[input], options.write.overwrite)?;
-    let mut reader = HoloFlickReader::open(input)?;
-    let count = reader.frame_count() as usize;
-    let frames = options.frames.clone().unwrap_or(0..count);
-    if frames.start >= frames.end || frames.end > count {
-        return Err(Error::Usage(format!(
-            "{}: frames {}..{} asked for; the file has {count} (0..{count})",
-            input.display(),
-            frames.start,
-            frames.end
-        )));
-    }
-    let (zone_lo, zone_hi) = viewing_zone(geometry);
-    let mut warnings = Vec::new();
-    // Placement, decided on the first frame converted.
-    let first = reader.read_frame(frames.start as u32)?;
-    let made_for_display = couch_holds(&first.frame.couch, zone_lo, zone_hi) && !options.fit;
-    let mut state = State { cache: HashMap::new(), work: HoloFlickWork::default(), placed: None };
-    if !made_for_display {
-        let (mut scene, _) = state.scene(&first, None, geometry, false)?;
-        let placed = place(&mut scene, geometry, &Placement::default())?;
-        state.placed = Some(placed);
-        warnings.push(format!(
-            "{}: the viewer's couch does not hold this display's viewing zone: the content is fitted to the display ({})",
-            input.display(),
-            state.placed.as_ref().map(|p| p.to_string()).unwrap_or_default()
-        ));
-        state.work = HoloFlickWork::default();
-        state.cache.clear();
-    }
-    let mut write = options.write.clone();
-    if write.source.is_empty() {
-        write.source = format!("holo convert holoflick {} (frames {}..{})", input.display(), frames.start, frames.end);
-    }
-    write.first_frame_number = frames.start as i32;
-    if write.frames_per_second.is_none() {
-        let (n, d) = reader.info().frames_per_second;
-        write.frames_per_second = i32::try_from(n).ok().map(|n| (n, d));
-    }
-    let mut failure = None;
-    let mut outside = Vec::new();
-    let n_frames = frames.len();
-    let written = write_frames(output, geometry, n_frames, &write, |i| {
-        let number = frames.start + i;
-        let frame = reader.read_frame(number as u32)?;
-        let holds = couch_holds(&frame.frame.couch, zone_lo, zone_hi);
-        if made_for_display && !holds {
-            outside.push(number);
-        }
-        let (scene, lighting) = match state.frame_scene(&frame, geometry, made_for_display && holds) {
-            Ok(x) => x,
-            Err(e) => {
-                failure = Some(number);
-                return Err(e);
-            }
-        };
-        // The frame's own lights, exactly: its colours are pre-lit, so a
-        // frame without lights shows them as they are.
-        let options = RenderOptions {
-            supersample: options.render.supersample,
-            engine: options.render.engine,
-            ..RenderOptions::lit_exactly(lighting)
-        };
-        let (m, stats) = render(&scene, geometry, &options, &|_, _| {})?;
-        state.work.render += stats;
-        progress(i + 1, n_frames);
-        Ok(std::borrow::Cow::Owned(m))
-    })
-    .map_err(|e| match failure {
-        Some(n) => match e {
-            Error::Usage(m) => Error::Usage(format!("{}: frame {n}: {m}", input.display())),
-            other => other,
-        },
-        None => e,
-    })?;
-    if !outside.is_empty() {
-        let list: Vec<String> = outside.iter().map(|n| n.to_string()).collect();
-        warnings.push(format!(
+    let mut source = HoloFlickSource::open(input, geometry, options)?;
+    let sink = HoloSink::new(output, geometry, options.write.clone());
+    let mut run = pipeline::run(&mut source, sink, options.frames.clone(), progress)?;
+    if !source.outside.is_empty() {
+        let list: Vec<String> = source.outside.iter().map(|n| n.to_string()).collect();
+        run.warnings.push(format!(
             "{}: frames {}: the viewer's couch does not hold the display's viewing zone; views from outside it may show holes",
             input.display(),
             list.join(", ")
         ));
     }
-    warnings.sort();
-    warnings.dedup();
     Ok(HoloFlickConvertReport {
         path: output.to_path_buf(),
-        frames,
-        placed: state.placed,
-        work: state.work,
-        warnings,
-        written,
+        frames: run.frames,
+        placed: source.state.placed,
+        work: source.state.work,
+        warnings: run.warnings,
+        written: run.written,
     })
+}
+
+/// A HoloFlick as a [`Source`] of `.holo` frames: each frame's objects
+/// decoded (or taken from the key-frame cache), placed, bound and drawn by
+/// the mesh renderer under the frame's own lights.
+pub struct HoloFlickSource<'a> {
+    input: PathBuf,
+    reader: HoloFlickReader,
+    geometry: &'a Geometry,
+    render: RenderOptions,
+    fit: bool,
+    /// Drawn as stored: made for the display (decided on the first frame).
+    made_for_display: bool,
+    state: State,
+    /// The frames to convert.
+    frames: Range<usize>,
+    /// Frames whose couch does not hold the display's viewing zone.
+    outside: Vec<usize>,
+}
+
+impl<'a> HoloFlickSource<'a> {
+    /// Open `input` to draw for `geometry` with `options`' render options
+    /// and fitting.
+    pub fn open(input: &Path, geometry: &'a Geometry, options: &HoloFlickConvertOptions) -> Result<Self> {
+        Ok(HoloFlickSource {
+            input: input.to_path_buf(),
+            reader: HoloFlickReader::open(input)?,
+            geometry,
+            render: options.render.clone(),
+            fit: options.fit,
+            made_for_display: true,
+            state: State { cache: HashMap::new(), work: HoloFlickWork::default(), placed: None },
+            frames: 0..0,
+            outside: Vec::new(),
+        })
+    }
+}
+
+impl Source for HoloFlickSource<'_> {
+    type Frame = Band;
+
+    fn name(&self) -> String {
+        self.input.display().to_string()
+    }
+
+    fn inputs(&self) -> Vec<PathBuf> {
+        vec![self.input.clone()]
+    }
+
+    fn frame_count(&self) -> usize {
+        self.reader.frame_count() as usize
+    }
+
+    fn frames_per_second(&self) -> Option<(u32, u32)> {
+        Some(self.reader.info().frames_per_second)
+    }
+
+    fn place(&mut self, frames: &Range<usize>, warnings: &mut Warnings) -> Result<()> {
+        self.frames = frames.clone();
+        let (zone_lo, zone_hi) = viewing_zone(self.geometry);
+        let frame = self.reader.read_frame(frames.start as u32)?;
+        self.made_for_display = couch_holds(&frame.frame.couch, zone_lo, zone_hi) && !self.fit;
+        if !self.made_for_display {
+            let (mut scene, _) = self.state.scene(&frame, None, self.geometry, false)?;
+            let placed = place(&mut scene, self.geometry, &Placement::default())?;
+            warnings.add(format!(
+                "{}: the viewer's couch does not hold this display's viewing zone: the content is fitted to the display ({placed})",
+                self.input.display(),
+            ));
+            self.state.placed = Some(placed);
+            self.state.work = HoloFlickWork::default();
+            self.state.cache.clear();
+        }
+        Ok(())
+    }
+
+    fn provenance(&self) -> String {
+        format!("holo convert holoflick {} (frames {}..{})", self.input.display(), self.frames.start, self.frames.end)
+    }
+
+    fn render(&mut self, number: usize, band: &mut Band, progress: &dyn Progress, _: &mut Warnings) -> Result<()> {
+        let frame = self.reader.read_frame(number as u32)?;
+        let (zone_lo, zone_hi) = viewing_zone(self.geometry);
+        let holds = couch_holds(&frame.frame.couch, zone_lo, zone_hi);
+        if self.made_for_display && !holds {
+            self.outside.push(number);
+        }
+        let (scene, lighting) =
+            self.state.frame_scene(&frame, self.geometry, self.made_for_display && holds).map_err(|e| match e {
+                Error::Usage(m) => Error::Usage(format!("{}: frame {number}: {m}", self.input.display())),
+                other => other,
+            })?;
+        // The frame's own lights, exactly: its colours are pre-lit, so a
+        // frame without lights shows them as they are.
+        let options = RenderOptions {
+            supersample: self.render.supersample,
+            engine: self.render.engine,
+            ..RenderOptions::lit_exactly(lighting)
+        };
+        self.state.work.render += band.as_frame(|m| render_into(&scene, &options, progress, m))??;
+        Ok(())
+    }
 }
 
 struct State {

@@ -12,18 +12,22 @@
 //! change between frames are stored once per key frame.
 
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::cg::EncodeOptions;
-use super::container::{HoloFlickWriter, ViewerCouch};
+use super::container::{Frame, ViewerCouch};
 use super::shader::bake::BakeOptions;
 use super::shader::dice::{display_budget, DiceOptions};
 use super::shader::micro::micropolygons;
-use super::tools::{specular_light, writer_options, KeyFrames, PackReport};
+use super::sink::{frame_rate_fraction, HoloFlickSink};
+use super::tools::{specular_light, KeyFrames, PackReport};
 use crate::geometry::Geometry;
-use crate::mesh::load::SceneSource;
-use crate::mesh::place::{apply, place, Placed, Placement};
+use crate::mesh::convert::PlacedScenes;
+use crate::mesh::place::{Placed, Placement};
 use crate::mesh::render::RenderOptions;
+use crate::mesh::Scene;
+use crate::pipeline::{self, Source, Warnings};
+use crate::progress::Progress;
 use crate::{Error, Result};
 
 /// How to encode.
@@ -92,87 +96,147 @@ pub fn display_couch(g: &Geometry) -> ViewerCouch {
     }
 }
 
-/// Encode `input` for `geometry` into the HoloFlick `output`;
-/// `progress(frames done, frames)`.
+/// Encode `input` for `geometry` into the HoloFlick `output`: an
+/// [`EncodeSource`] through [`crate::pipeline::run`]. `progress` counts the
+/// frames of a movie; of a single frame, its stages (dicing and baking, then
+/// the objects compressed).
 pub fn encode_holoflick(
     input: &Path,
     geometry: &Geometry,
     output: &Path,
     options: &HoloFlickEncodeOptions,
-    progress: &dyn Fn(usize, usize),
+    progress: &dyn Progress,
 ) -> Result<HoloFlickEncodeReport> {
-    if !(options.frames_per_second.is_finite() && options.frames_per_second > 0.0) {
-        return Err(Error::Usage(format!("--fps must be positive (got {})", options.frames_per_second)));
-    }
     if !(options.micropolygon.is_finite() && options.micropolygon > 0.0) {
-        return Err(Error::Usage(format!("--micropolygon must be positive (got {})", options.micropolygon)));
+        return Err(Error::Usage(format!(
+            "the micropolygon size must be a positive multiple of what the display resolves, not {}",
+            options.micropolygon
+        )));
     }
     crate::output::check_output(output, &[input], options.overwrite)?;
-    let source = SceneSource::open(input)?;
-    let frames = match (&options.frames, source.animation_duration_s()) {
-        (Some(r), Some(_)) => r.clone(),
-        (Some(r), None) if *r == (0..1) => r.clone(),
-        (Some(r), None) => {
-            return Err(Error::Usage(format!(
-                "{}: the scene is not animated, so it has one frame (0); --frames asked for {}..{}",
-                input.display(),
-                r.start,
-                r.end
-            )))
-        }
-        (None, Some(d)) => 0..((d * options.frames_per_second).floor() as usize + 1),
-        (None, None) => 0..1,
+    let mut source = EncodeSource {
+        scenes: PlacedScenes::open(input, options.frames_per_second)?,
+        geometry,
+        options,
+        budget: Box::new(display_budget(geometry, options.micropolygon)),
+        couch: display_couch(geometry),
+        first: 0,
+        keys: KeyFrames::default(),
+        report: PackReport::default(),
+        micropolygons: 0,
+        shadowed: 0,
     };
-    if frames.is_empty() {
-        return Err(Error::Usage(format!("the frame range {}..{} is empty", frames.start, frames.end)));
+    let sink = HoloFlickSink::new(output, options.overwrite);
+    let run = pipeline::run(&mut source, sink, options.frames.clone(), progress)?;
+    let mut pack = source.report;
+    (pack.path, pack.frames, pack.file_bytes) = (output.to_path_buf(), run.frames.len(), run.written.file_bytes);
+    pack.warnings = run.warnings;
+    let placed = source.scenes.placed.ok_or_else(|| Error::Usage("internal: the scene was never placed".into()))?;
+    Ok(HoloFlickEncodeReport { pack, placed, micropolygons: source.micropolygons, shadowed: source.shadowed })
+}
+
+/// A scene file as a [`Source`] of HoloFlick frames for one display: each
+/// frame placed, diced, baked and compressed.
+pub struct EncodeSource<'a> {
+    scenes: PlacedScenes,
+    geometry: &'a Geometry,
+    options: &'a HoloFlickEncodeOptions,
+    /// The largest micropolygon edge at a point, in metres.
+    budget: Box<dyn Fn([f64; 3]) -> f64 + Sync>,
+    couch: ViewerCouch,
+    /// The first frame of the run: key frames count from it.
+    first: usize,
+    keys: KeyFrames,
+    report: PackReport,
+    micropolygons: usize,
+    shadowed: usize,
+}
+
+impl Source for EncodeSource<'_> {
+    type Frame = Frame;
+
+    fn name(&self) -> String {
+        self.scenes.path().display().to_string()
     }
-    let mut first = source.scene_at(frames.start as f64 / options.frames_per_second)?;
-    let placed = place(&mut first, geometry, &options.placement)?;
-    let provenance = format!(
-        "holo holoflick encode {} (micropolygons {}× the display's resolution{}{}; {}/{}/{} bits)",
-        input.display(),
-        options.micropolygon,
-        if options.smooth { ", smooth" } else { "" },
-        if options.shadows { ", shadows" } else { "" },
-        options.encode.position_bits,
-        options.encode.color_bits,
-        options.encode.normal_bits
-    );
-    let write = writer_options(options.frames_per_second, provenance, options.overwrite);
-    let mut writer = HoloFlickWriter::create(output, &write)?;
-    let budget = display_budget(geometry, options.micropolygon);
-    let dice = DiceOptions { smooth: options.smooth, ..DiceOptions::default() };
-    let bake = BakeOptions { shadows: options.shadows };
-    let couch = display_couch(geometry);
-    let mut keys = KeyFrames::default();
-    let mut report = PackReport { path: output.to_path_buf(), ..PackReport::default() };
-    let (mut micro_count, mut shadowed) = (0, 0);
-    let mut first = Some(first);
-    for (i, n) in frames.clone().enumerate() {
-        let scene = match first.take() {
-            Some(s) => s,
-            None => {
-                let mut s = source.scene_at(n as f64 / options.frames_per_second)?;
-                apply(&mut s, &placed.matrix);
-                s
-            }
-        };
+
+    fn inputs(&self) -> Vec<PathBuf> {
+        vec![self.scenes.path().to_path_buf()]
+    }
+
+    fn frame_count(&self) -> usize {
+        self.scenes.frame_count()
+    }
+
+    fn frames_per_second(&self) -> Option<(u32, u32)> {
+        Some(frame_rate_fraction(self.scenes.frames_per_second()))
+    }
+
+    fn place(&mut self, frames: &Range<usize>, warnings: &mut Warnings) -> Result<()> {
+        self.first = frames.start;
+        let scene = self.scenes.place(frames.start, self.geometry, &self.options.placement)?;
+        warnings.merge_frame(&scene.warnings);
+        Ok(())
+    }
+
+    fn provenance(&self) -> String {
+        let o = self.options;
+        format!(
+            "holo holoflick encode {} (micropolygons {}× the display's resolution{}{}; {}/{}/{} bits)",
+            self.scenes.path().display(),
+            o.micropolygon,
+            if o.smooth { ", smooth" } else { "" },
+            if o.shadows { ", shadows" } else { "" },
+            o.encode.position_bits,
+            o.encode.color_bits,
+            o.encode.normal_bits
+        )
+    }
+
+    fn render(
+        &mut self,
+        number: usize,
+        frame: &mut Frame,
+        stages: &dyn Progress,
+        warnings: &mut Warnings,
+    ) -> Result<()> {
+        if !self.scenes.is_kept(number) {
+            // Seen at placement otherwise.
+            let scene = self.scenes.scene(number)?;
+            warnings.merge_frame(&scene.warnings);
+            return self.encode(number, scene, frame, stages);
+        }
+        let scene = self.scenes.scene(number)?;
+        self.encode(number, scene, frame, stages)
+    }
+}
+
+impl EncodeSource<'_> {
+    /// Dice, bake and compress `scene` as frame `number`.
+    fn encode(&mut self, number: usize, scene: Scene, frame: &mut Frame, stages: &dyn Progress) -> Result<()> {
+        let o = self.options;
         // Baked with the lights a render of the scene uses, as `convert mesh`
         // lights it.
         let lights = RenderOptions::default().lighting_for(&scene).lights;
-        let (micro, specular_lights, micro_report) = micropolygons(&scene, &lights, &budget, &dice, &bake)?;
-        micro_count += micro_report.dice.triangles_out;
-        shadowed += micro_report.bake.shadowed;
-        let is_key = keys.start_frame(i, options.key_interval);
+        stages.phase("micropolygons (dice and bake)", 1);
+        let dice = DiceOptions { smooth: o.smooth, ..DiceOptions::default() };
+        let bake = BakeOptions { shadows: o.shadows };
+        let (micro, specular_lights, micro_report) = micropolygons(&scene, &lights, &*self.budget, &dice, &bake)?;
+        stages.advance(1);
+        self.micropolygons += micro_report.dice.triangles_out;
+        self.shadowed += micro_report.bake.shadowed;
+        let is_key = self.keys.start_frame(number - self.first, o.key_interval);
         let lights = specular_lights.iter().filter_map(specular_light).collect();
         // Objects diced to nothing (wholly culled) are left out.
-        let objects = micro.objects.into_iter().filter(|o| !o.triangles.is_empty());
-        let frame = keys.frame(is_key, couch, lights, objects, &options.encode, &mut report)?;
-        writer.add_frame(&frame)?;
-        progress(i + 1, frames.len());
+        let objects: Vec<_> = micro.objects.into_iter().filter(|o| !o.triangles.is_empty()).collect();
+        let count = objects.len();
+        stages.phase("objects compressed", count as u64);
+        // The k-th object is handed out when the k before it are compressed.
+        let objects = objects.into_iter().enumerate().map(|(k, o)| {
+            stages.advance(k as u64);
+            o
+        });
+        *frame = self.keys.frame(is_key, self.couch, lights, objects, &o.encode, &mut self.report)?;
+        stages.advance(count as u64);
+        Ok(())
     }
-    let written = writer.finish()?;
-    report.frames = frames.len();
-    report.file_bytes = written.file_bytes;
-    Ok(HoloFlickEncodeReport { pack: report, placed, micropolygons: micro_count, shadowed })
 }

@@ -18,4 +18,5 @@ pub mod convert;
 pub mod encode;
 pub mod objects;
 pub mod shader;
+pub mod sink;
 pub mod tools;

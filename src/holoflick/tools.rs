@@ -15,14 +15,17 @@ use std::path::{Path, PathBuf};
 
 use super::cg::{CgFile, EncodeOptions};
 use super::container::{
-    write_cg_file, Binding, Frame, GeometryBlock, HoloFlickReader, HoloFlickWriter, KeyFrameReference, ObjectRecord,
-    SpecularLight, SpecularMaterial, SpecularModel, ViewerCouch, WriteOptions, IDENTITY,
+    Binding, Frame, GeometryBlock, HoloFlickReader, KeyFrameReference, ObjectRecord, SpecularLight, SpecularMaterial,
+    SpecularModel, ViewerCouch, IDENTITY,
 };
 use super::objects::{decode_object, encode_object};
+use super::sink::{frame_rate_fraction, CgSink, HoloFlickSink};
 use crate::math::{unit, widen};
 use crate::mesh::load::SceneSource;
 use crate::mesh::shade::sample;
 use crate::mesh::{Light, Object, Scene};
+use crate::pipeline::{self, Source, Warnings};
+use crate::progress::Progress;
 use crate::{Error, Result};
 
 /// How to pack.
@@ -87,98 +90,131 @@ struct FrameSource {
 
 /// Pack `inputs` (glTF, OBJ or PLY) into `output`: a HoloFlick, or a Java 3D
 /// `.cg` file (one frame's objects, no transforms) when its name ends in
-/// `.cg`. `progress(frames done, frames)`.
-pub fn pack(
-    inputs: &[PathBuf],
-    output: &Path,
-    options: &PackOptions,
-    progress: &dyn Fn(usize, usize),
-) -> Result<PackReport> {
+/// `.cg`. `progress` counts the frames.
+pub fn pack(inputs: &[PathBuf], output: &Path, options: &PackOptions, progress: &dyn Progress) -> Result<PackReport> {
     if inputs.is_empty() {
         return Err(Error::Usage("pack needs at least one mesh".into()));
     }
-    if !(options.frames_per_second.is_finite() && options.frames_per_second > 0.0) {
-        return Err(Error::Usage(format!("--fps must be positive (got {})", options.frames_per_second)));
-    }
     let read: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     crate::output::check_output(output, &read, options.overwrite)?;
-    let sources: Vec<SceneSource> = inputs.iter().map(|p| SceneSource::open(p)).collect::<Result<_>>()?;
-    let mut frames = Vec::new();
-    for (input, s) in sources.iter().enumerate() {
-        match s.animation_duration_s() {
-            Some(d) if d > 0.0 => {
-                let count = (d * options.frames_per_second).floor() as usize + 1;
-                let keep = options.frames.clone().unwrap_or(0..count);
-                if keep.start >= keep.end || keep.end > count {
-                    return Err(Error::Usage(format!(
-                        "{}: --frames {}..{} outside the animation's {count} frames",
-                        s.path().display(),
-                        keep.start,
-                        keep.end
-                    )));
-                }
-                frames.extend(keep.map(|k| FrameSource { input, time_s: k as f64 / options.frames_per_second }));
-            }
-            _ => frames.push(FrameSource { input, time_s: 0.0 }),
-        }
-    }
-    let cg = output.extension().is_some_and(|e| e.eq_ignore_ascii_case("cg"));
-    if cg && frames.len() != 1 {
-        return Err(Error::Usage(format!(
-            "{}: a .cg file holds one frame's objects; {} frames given (write a .hflk)",
-            output.display(),
-            frames.len()
-        )));
-    }
-    let mut report = PackReport { path: output.to_path_buf(), ..PackReport::default() };
-    if cg {
-        let scene = sources[frames[0].input].scene_at(frames[0].time_s)?;
-        let mut blocks = Vec::new();
-        for (id, o) in scene.objects.iter().enumerate() {
-            let (g, stats) = encode_object(id as u32, &coloured(&scene, o), &options.encode)?;
-            if g.radiance_scale != 1.0 {
+    let mut source = PackSource::open(inputs, options)?;
+    let mut report = if output.extension().is_some_and(|e| e.eq_ignore_ascii_case("cg")) {
+        let run = pipeline::run(&mut source, CgSink::new(output, options.overwrite), options.frames.clone(), progress)?;
+        let mut report = PackReport { file_bytes: run.written.file_bytes, ..PackReport::default() };
+        for (name, scale) in source.names.iter().zip(&run.written.radiance_scales) {
+            if *scale != 1.0 {
                 report.warnings.push(format!(
-                    "object \"{}\": colours above 1 were scaled by 1/{:.4} (a .cg file cannot hold the scale)",
-                    o.name, g.radiance_scale
+                    "object \"{name}\": colours above 1 were scaled by 1/{scale:.4} (a .cg file cannot hold the scale)"
                 ));
             }
-            let m = g.world_from_object;
-            report.cg_transforms.push(([m[0][3], m[1][3], m[2][3]], m[0][0]));
-            report.triangles += stats.triangles;
-            report.stream_bytes += stats.bytes;
-            report.stored += 1;
-            blocks.push(g.block);
         }
-        report.file_bytes = write_cg_file(output, &blocks, options.overwrite)?;
-        report.frames = 1;
-        progress(1, 1);
-        return Ok(report);
-    }
-    let source = format!(
-        "holo holoflick pack {} ({}/{}/{} bits)",
-        inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(" "),
-        options.encode.position_bits,
-        options.encode.color_bits,
-        options.encode.normal_bits
-    );
-    let write = writer_options(options.frames_per_second, source, options.overwrite);
-    let mut writer = HoloFlickWriter::create(output, &write)?;
-    let mut keys = KeyFrames::default();
-    let mut couch = options.couch;
-    for (n, f) in frames.iter().enumerate() {
-        let scene = sources[f.input].scene_at(f.time_s)?;
-        let couch = *couch.get_or_insert_with(|| couch_in_front(&scene));
-        let is_key = keys.start_frame(n, options.key_interval);
-        let lights = scene.lights.iter().filter_map(specular_light).collect();
-        let objects = scene.objects.iter().map(|o| coloured(&scene, o));
-        let frame = keys.frame(is_key, couch, lights, objects, &options.encode, &mut report)?;
-        writer.add_frame(&frame)?;
-        progress(n + 1, frames.len());
-    }
-    let written = writer.finish()?;
-    report.frames = frames.len();
-    report.file_bytes = written.file_bytes;
+        report.cg_transforms = run.written.transforms;
+        report.warnings.extend(run.warnings);
+        report.frames = run.frames.len();
+        report
+    } else {
+        let sink = HoloFlickSink::new(output, options.overwrite);
+        let run = pipeline::run(&mut source, sink, options.frames.clone(), progress)?;
+        let (file_bytes, frames, warnings) = (run.written.file_bytes, run.frames.len(), run.warnings);
+        PackReport { file_bytes, frames, warnings, ..PackReport::default() }
+    };
+    let counted = &source.report;
+    report.path = output.to_path_buf();
+    (report.stored, report.references) = (counted.stored, counted.references);
+    (report.triangles, report.stream_bytes) = (counted.triangles, counted.stream_bytes);
     Ok(report)
+}
+
+/// Meshes as a [`Source`] of HoloFlick frames: one frame per file, or per
+/// `1/fps` of an animated file's animation, stored as they are.
+struct PackSource<'a> {
+    inputs: &'a [PathBuf],
+    scenes: Vec<SceneSource>,
+    frames: Vec<FrameSource>,
+    options: &'a PackOptions,
+    /// The first frame run and the couch every frame gets.
+    first: usize,
+    couch: Option<ViewerCouch>,
+    keys: KeyFrames,
+    /// Objects stored and referred to, triangles and bytes, over the frames.
+    report: PackReport,
+    /// The last frame's object names, in order.
+    names: Vec<String>,
+}
+
+impl<'a> PackSource<'a> {
+    fn open(inputs: &'a [PathBuf], options: &'a PackOptions) -> Result<Self> {
+        let fps = options.frames_per_second;
+        if !(fps.is_finite() && fps > 0.0) {
+            return Err(Error::Usage(format!(
+                "the frame rate must be a positive number of frames per second, not {fps}"
+            )));
+        }
+        let scenes: Vec<SceneSource> = inputs.iter().map(|p| SceneSource::open(p)).collect::<Result<_>>()?;
+        let mut frames = Vec::new();
+        for (input, s) in scenes.iter().enumerate() {
+            match s.animation_duration_s() {
+                Some(d) if d > 0.0 => {
+                    let count = (d * fps).floor() as usize + 1;
+                    frames.extend((0..count).map(|k| FrameSource { input, time_s: k as f64 / fps }));
+                }
+                _ => frames.push(FrameSource { input, time_s: 0.0 }),
+            }
+        }
+        Ok(PackSource {
+            inputs,
+            scenes,
+            frames,
+            options,
+            first: 0,
+            couch: options.couch,
+            keys: KeyFrames::default(),
+            report: PackReport::default(),
+            names: Vec::new(),
+        })
+    }
+}
+
+impl Source for PackSource<'_> {
+    type Frame = Frame;
+
+    fn name(&self) -> String {
+        self.inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(" ")
+    }
+
+    fn inputs(&self) -> Vec<PathBuf> {
+        self.inputs.to_vec()
+    }
+
+    fn frame_count(&self) -> usize {
+        self.frames.len()
+    }
+
+    fn frames_per_second(&self) -> Option<(u32, u32)> {
+        Some(frame_rate_fraction(self.options.frames_per_second))
+    }
+
+    fn place(&mut self, frames: &std::ops::Range<usize>, _: &mut Warnings) -> Result<()> {
+        self.first = frames.start;
+        Ok(())
+    }
+
+    fn provenance(&self) -> String {
+        let e = &self.options.encode;
+        format!("holo holoflick pack {} ({}/{}/{} bits)", self.name(), e.position_bits, e.color_bits, e.normal_bits)
+    }
+
+    fn render(&mut self, number: usize, frame: &mut Frame, _: &dyn Progress, _: &mut Warnings) -> Result<()> {
+        let f = &self.frames[number];
+        let scene = self.scenes[f.input].scene_at(f.time_s)?;
+        let couch = *self.couch.get_or_insert_with(|| couch_in_front(&scene));
+        let is_key = self.keys.start_frame(number - self.first, self.options.key_interval);
+        let lights = scene.lights.iter().filter_map(specular_light).collect();
+        self.names = scene.objects.iter().map(|o| o.name.clone()).collect();
+        let objects = scene.objects.iter().map(|o| coloured(&scene, o));
+        *frame = self.keys.frame(is_key, couch, lights, objects, &self.options.encode, &mut self.report)?;
+        Ok(())
+    }
 }
 
 /// Key frames (Deering, *HoloFlicks* §13): an object whose block (and colour scale) is
@@ -265,26 +301,6 @@ impl KeyFrames {
             }
         }
     }
-}
-
-/// How `pack` and `encode` write: the frame rate, `software` and `source` text.
-pub(crate) fn writer_options(frames_per_second: f64, source: String, overwrite: bool) -> WriteOptions {
-    WriteOptions {
-        frames_per_second: frame_rate_fraction(frames_per_second),
-        text: vec![("software".into(), format!("holo {}", env!("CARGO_PKG_VERSION"))), ("source".into(), source)],
-        overwrite,
-    }
-}
-
-/// `n / d` for a frame rate (exact for integers and for 24000/1001-style rates).
-fn frame_rate_fraction(fps: f64) -> (u32, u32) {
-    for d in [1u32, 1001, 1000, 100] {
-        let n = fps * d as f64;
-        if (n - n.round()).abs() < 1e-6 && n.round() >= 1.0 && n.round() <= u32::MAX as f64 {
-            return (n.round() as u32, d);
-        }
-    }
-    ((fps * 1000.0).round().max(1.0) as u32, 1000)
 }
 
 /// The object with its base colour at every vertex as vertex colours.

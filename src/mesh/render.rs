@@ -23,6 +23,7 @@ use rayon::prelude::*;
 use super::shade::Lighting;
 use super::Scene;
 use crate::geometry::{channel_weights, Geometry};
+use crate::progress::{Progress, Steps};
 use crate::{Error, Modulation, Result};
 
 /// Sub-rays per sample: across each emitter's aperture and each view's
@@ -200,13 +201,13 @@ pub(crate) trait HololineRenderer: Sync {
     fn render_hololine(&self, j: usize, rows: &mut [&mut [f32]]) -> RenderStats;
 }
 
-/// Render a placed scene (display metres) into one frame of modulation.
-/// `progress(done, total)` is called as hololines finish.
+/// Render a placed scene (display metres) into one frame of modulation,
+/// reporting the phase `hololines` to `progress`.
 pub fn render(
     scene: &Scene,
     geometry: &Geometry,
     options: &RenderOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &dyn Progress,
 ) -> Result<(Modulation, RenderStats)> {
     let mut frame = Modulation::zeros(geometry.clone())?;
     let stats = render_into(scene, options, progress, &mut frame)?;
@@ -218,7 +219,7 @@ pub fn render(
 pub fn render_into(
     scene: &Scene,
     options: &RenderOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &dyn Progress,
     frame: &mut Modulation,
 ) -> Result<RenderStats> {
     let geometry = &frame.geometry().clone();
@@ -236,10 +237,14 @@ pub fn render_into(
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);
     let shading = Shading { scene, lighting: &lighting, weights: &weights, rays: &rays, geometry };
-    Ok(match options.engine {
+    let stats = match options.engine {
         Engine::Fast => run(&super::epi::EpiRenderer::new(shading), frame, progress),
         Engine::Reference => run(&super::trace::TraceRenderer::new(shading), frame, progress),
-    })
+    };
+    if progress.cancelled() {
+        return Err(Error::Cancelled);
+    }
+    Ok(stats)
 }
 
 /// What both engines share.
@@ -251,10 +256,10 @@ pub(crate) struct Shading<'a> {
     pub geometry: &'a Geometry,
 }
 
-fn run(engine: &dyn HololineRenderer, frame: &mut Modulation, progress: &(dyn Fn(usize, usize) + Sync)) -> RenderStats {
+fn run(engine: &dyn HololineRenderer, frame: &mut Modulation, progress: &dyn Progress) -> RenderStats {
     let g = frame.geometry();
     let (h, e, v, c) = (g.hololines, g.emitters, g.views.count, g.channels.len());
-    let done = std::sync::atomic::AtomicUsize::new(0);
+    let steps = Steps::begin(progress, "hololines", h);
     // Each hololine's rows, one per channel: the samples are (C, H, E × V).
     // The engines write straight into them.
     let mut rows: Vec<Vec<&mut [f32]>> = (0..h).map(|_| Vec::with_capacity(c)).collect();
@@ -264,9 +269,13 @@ fn run(engine: &dyn HololineRenderer, frame: &mut Modulation, progress: &(dyn Fn
     rows.into_par_iter()
         .enumerate()
         .map(|(j, mut rows)| {
+            // A cancelled render skips what is left; its caller returns
+            // `Error::Cancelled` and the frame is never written.
+            if steps.cancelled() {
+                return RenderStats::default();
+            }
             let stats = engine.render_hololine(j, &mut rows);
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            progress(n, h);
+            steps.step();
             stats
         })
         .reduce(RenderStats::default, |mut a, b| {

@@ -116,6 +116,10 @@ impl FileSet {
         new_manifest.write_all(&manifest(&files)?).map_err(|e| Error::io(new_manifest.destination(), e))?;
         new_manifest.finish()?;
         let previous = previous_names(&manifest_path, &self.manifest);
+        // From here until the new manifest is in place the folder may hold
+        // files of two sets; the marker says so to every reader, even one
+        // that would read the files without a manifest. Interrupted, it stays.
+        let marker = mark_incomplete(&self.folder, &self.manifest)?;
         remove_in_place(&manifest_path)?;
         sync_folder(&self.folder)?;
         for file in temporaries {
@@ -129,6 +133,8 @@ impl FileSet {
             }
         }
         new_manifest.rename_into_place(overwrite)?;
+        sync_folder(&self.folder)?;
+        remove_in_place(&marker)?;
         sync_folder(&self.folder)?;
         self.created_folder = false;
         let mut paths: Vec<PathBuf> = files.iter().map(|f| self.folder.join(&f.name)).collect();
@@ -195,6 +201,7 @@ fn previous_names(manifest_path: &Path, manifest: &str) -> Vec<String> {
 /// listed size and SHA-256. The first disagreement is the error, naming the
 /// file. An empty list is refused with `remedy` (how to make the set again).
 pub fn verify_set(folder: &Path, manifest: &str, files: &[SetFile], remedy: &'static str) -> Result<()> {
+    check_set_complete(folder, manifest, remedy)?;
     let manifest_path = folder.join(manifest);
     if files.is_empty() {
         return Err(Error::Set { path: manifest_path, problem: SetProblem::NoFileList { remedy } });
@@ -219,6 +226,36 @@ pub fn verify_set(folder: &Path, manifest: &str, files: &[SetFile], remedy: &'st
         if file_sha256(&path)? != file.sha256 {
             return Err(set_error(SetProblem::Digest(manifest.to_string())));
         }
+    }
+    Ok(())
+}
+
+/// The marker of a set being replaced: `.MANIFEST.incomplete` beside it.
+fn incomplete_marker(folder: &Path, manifest: &str) -> PathBuf {
+    folder.join(format!(".{manifest}.incomplete"))
+}
+
+/// Put the marker of a set being replaced in place (synced, so it is there
+/// before any file of the old set is touched).
+fn mark_incomplete(folder: &Path, manifest: &str) -> Result<PathBuf> {
+    let path = incomplete_marker(folder, manifest);
+    let mut marker = AtomicFile::create(&path)?;
+    marker
+        .write_all(b"a set of files is being replaced here; if this file remains, the replacement was interrupted\n")
+        .map_err(|e| Error::io(marker.destination(), e))?;
+    marker.finish()?;
+    marker.rename_into_place(true)?;
+    sync_folder(folder)?;
+    Ok(path)
+}
+
+/// Whether the set with manifest `manifest` in `folder` was left half
+/// replaced by an interrupted [`FileSet::commit`]: an error naming the
+/// folder, with `remedy`, when it was. Every reader of the folder's files
+/// asks, with a manifest or without one.
+pub fn check_set_complete(folder: &Path, manifest: &str, remedy: &'static str) -> Result<()> {
+    if incomplete_marker(folder, manifest).exists() {
+        return Err(Error::Set { path: folder.to_path_buf(), problem: SetProblem::Interrupted { remedy } });
     }
     Ok(())
 }

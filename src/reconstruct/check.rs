@@ -20,6 +20,7 @@ use super::solve::HololineOperator;
 use super::viewer::{ColourOptics, Eye};
 use crate::assemble::{Assembler, FrameImages, Signals};
 use crate::layout::ColourSignals;
+use crate::progress::{Progress, Steps};
 use crate::{Error, Modulation, Result};
 
 /// How far a recovered modulation is from the stored one.
@@ -107,8 +108,15 @@ fn shown(a: &Assembler, group: usize, j: usize, per_group: usize, samples: usize
 }
 
 /// Recover the modulation of `hololines` from a frame's images both ways and
-/// compare with `m`, the modulation that was assembled.
-pub fn check(a: &Assembler, m: &Modulation, images: FrameRef<'_>, hololines: Range<usize>) -> Result<CheckReport> {
+/// compare with `m`, the modulation that was assembled; `progress` counts
+/// the hololines.
+pub fn check(
+    a: &Assembler,
+    m: &Modulation,
+    images: FrameRef<'_>,
+    hololines: Range<usize>,
+    progress: &dyn Progress,
+) -> Result<CheckReport> {
     a.check_geometry(m)?;
     let g = m.geometry();
     if hololines.is_empty() || hololines.end > g.hololines {
@@ -120,6 +128,7 @@ pub fn check(a: &Assembler, m: &Modulation, images: FrameRef<'_>, hololines: Ran
     let unpacked = images.unpack(a, g.hololines)?;
     let colours = g.channels.len();
     let optics = (0..colours).map(|c| ColourOptics::new(a, c)).collect::<Result<Vec<_>>>()?;
+    let steps = Steps::begin(progress, "hololines", hololines.len());
     let per_line: Vec<Recovered> = hololines
         .clone()
         .into_par_iter()
@@ -147,6 +156,7 @@ pub fn check(a: &Assembler, m: &Modulation, images: FrameRef<'_>, hololines: Ran
                 let field = optics.emitter_plane(&rows)?;
                 optical.push((0..g.emitters).flat_map(|e| optics.views(&optics.spectrum(&field, e))).collect());
             }
+            steps.step();
             Ok(Recovered { signal, optical, iterations })
         })
         .collect::<Result<_>>()?;
@@ -211,8 +221,9 @@ fn compare<'a>(
 }
 
 /// The pictures viewers at `eyes` see of a frame's images (the emitter
-/// spectra are computed once for all of them).
-pub fn view(a: &Assembler, images: FrameRef<'_>, eyes: &[Eye]) -> Result<Vec<Picture>> {
+/// spectra are computed once for all of them); `progress` counts the
+/// hololines.
+pub fn view(a: &Assembler, images: FrameRef<'_>, eyes: &[Eye], progress: &dyn Progress) -> Result<Vec<Picture>> {
     let g = &a.layout().geometry;
     for eye in eyes {
         let sensible =
@@ -231,6 +242,7 @@ pub fn view(a: &Assembler, images: FrameRef<'_>, eyes: &[Eye]) -> Result<Vec<Pic
     let unpacked = images.unpack(a, g.hololines)?;
     let colours = g.channels.len();
     let optics = (0..colours).map(|c| ColourOptics::new(a, c)).collect::<Result<Vec<_>>>()?;
+    let steps = Steps::begin(progress, "hololines", g.hololines);
     // rows[j][eye][e · colours + c]
     let rows: Vec<Vec<Vec<f32>>> = (0..g.hololines)
         .into_par_iter()
@@ -247,6 +259,7 @@ pub fn view(a: &Assembler, images: FrameRef<'_>, eyes: &[Eye]) -> Result<Vec<Pic
                     }
                 }
             }
+            steps.step();
             Ok(rows)
         })
         .collect::<Result<_>>()?;

@@ -14,6 +14,7 @@ use crate::assemble::output::{read_frame_images, read_sidecar, StoredImages, FRI
 use crate::assemble::Assembler;
 use crate::format::HoloFile;
 use crate::layout::Layout;
+use crate::progress::Progress;
 use crate::{Error, Result};
 
 /// A frame's fringes: assembled from a `.holo` frame, or read from a
@@ -120,8 +121,14 @@ pub struct FileCheck {
 
 /// Recover frame `options.frame` of `holo_path` from its fringes (assembled
 /// for `layout`, or read from `options.fringes`, whose sidecar names the
-/// layout) and compare it with the stored modulation.
-pub fn check_file(holo_path: &Path, layout: Option<&Layout>, options: &CheckOptions) -> Result<FileCheck> {
+/// layout) and compare it with the stored modulation; `progress` counts the
+/// hololines checked.
+pub fn check_file(
+    holo_path: &Path,
+    layout: Option<&Layout>,
+    options: &CheckOptions,
+    progress: &dyn Progress,
+) -> Result<FileCheck> {
     let file = HoloFile::open(holo_path)?;
     let (fringes, m, source) = match &options.fringes {
         Some(dir) => {
@@ -155,7 +162,7 @@ pub fn check_file(holo_path: &Path, layout: Option<&Layout>, options: &CheckOpti
     };
     fringes.assembler.check_geometry(&m).map_err(|e| with_path(e, holo_path, options.frame))?;
     let hololines = options.hololines.clone().unwrap_or(0..m.geometry().hololines);
-    let report = check(&fringes.assembler, &m, fringes.frame(), hololines)?;
+    let report = check(&fringes.assembler, &m, fringes.frame(), hololines, progress)?;
     Ok(FileCheck { file: holo_path.to_path_buf(), frame: options.frame, fringes: source, report })
 }
 
@@ -174,8 +181,15 @@ pub struct EyeAt {
 }
 
 /// The pictures viewers at `eyes` see of frame `frame` of `input`: a `.holo`
-/// file (assembled in memory for `layout`) or a directory of fringes.
-pub fn view_file(input: &Path, layout: Option<&Layout>, frame: usize, eyes: &[EyeAt]) -> Result<Vec<Picture>> {
+/// file (assembled in memory for `layout`) or a directory of fringes;
+/// `progress` counts the hololines.
+pub fn view_file(
+    input: &Path,
+    layout: Option<&Layout>,
+    frame: usize,
+    eyes: &[EyeAt],
+    progress: &dyn Progress,
+) -> Result<Vec<Picture>> {
     let fringes = if is_fringe_dir(input) {
         read_fringes(input, layout, frame)?
     } else if input.is_dir() {
@@ -192,7 +206,7 @@ pub fn view_file(input: &Path, layout: Option<&Layout>, frame: usize, eyes: &[Ey
         .iter()
         .map(|e| Eye { x_m: e.x_m, y_m: e.y_m, z_m: e.distance_m.unwrap_or(g.viewer_distance_m), pupil_m: e.pupil_m })
         .collect();
-    view(&fringes.assembler, fringes.frame(), &eyes)
+    view(&fringes.assembler, fringes.frame(), &eyes, progress)
 }
 
 impl fmt::Display for FileCheck {

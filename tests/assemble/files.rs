@@ -48,9 +48,10 @@ fn every_format_reads_back_to_the_assembled_signal() {
     {
         let out = dir.path().join(format.extension());
         let options = AssembleOptions { frames: Some(1..2), format, overwrite: false, resample: false };
-        let mut calls = Vec::new();
-        let report = assemble_file(&input, &layout, &out, &options, &mut |d, t| calls.push((d, t))).unwrap();
-        assert_eq!(calls, vec![(1, 1)]);
+        let calls = std::sync::Mutex::new(Vec::new());
+        let progress = holo::progress::Counting::new(|d, t| calls.lock().unwrap().push((d, t)));
+        let report = assemble_file(&input, &layout, &out, &options, &progress).unwrap();
+        assert_eq!(calls.into_inner().unwrap(), vec![(1, 1)]);
         assert_eq!(report.files.len(), 3, "two heads and the sidecar");
         let sidecar = read_sidecar(&out).unwrap();
         assert_eq!(sidecar.layout, layout);
@@ -69,7 +70,7 @@ fn every_format_reads_back_to_the_assembled_signal() {
         assert!(worst <= tolerance, "{format:?}: worst {worst}");
         // Asking again is refused and leaves the files alone.
         let before = std::fs::read(&report.files[0]).unwrap();
-        let err = assemble_file(&input, &layout, &out, &options, &mut |_, _| {}).unwrap_err().to_string();
+        let err = assemble_file(&input, &layout, &out, &options, &holo::progress::Silent).unwrap_err().to_string();
         assert!(err.contains("already exists"), "{err}");
         assert_eq!(std::fs::read(&report.files[0]).unwrap(), before);
     }
@@ -82,25 +83,28 @@ fn bytes_are_reproducible_and_mismatches_are_named() {
     let input = dir.path().join("in.holo");
     write_two_frames(&layout, &input);
     let options = AssembleOptions { frames: None, format: FringeFormat::Raw, overwrite: false, resample: false };
-    let a = assemble_file(&input, &layout, &dir.path().join("a"), &options, &mut |_, _| {}).unwrap();
-    let b = assemble_file(&input, &layout, &dir.path().join("b"), &options, &mut |_, _| {}).unwrap();
+    let a = assemble_file(&input, &layout, &dir.path().join("a"), &options, &holo::progress::Silent).unwrap();
+    let b = assemble_file(&input, &layout, &dir.path().join("b"), &options, &holo::progress::Silent).unwrap();
     assert_eq!(a.frames.len(), 2);
     for (x, y) in a.files.iter().zip(&b.files).take(4) {
         assert_eq!(std::fs::read(x).unwrap(), std::fs::read(y).unwrap(), "{}", x.display());
     }
     // Frames out of range.
     let bad = AssembleOptions { frames: Some(1..3), ..options.clone() };
-    let err = assemble_file(&input, &layout, &dir.path().join("c"), &bad, &mut |_, _| {}).unwrap_err().to_string();
+    let err =
+        assemble_file(&input, &layout, &dir.path().join("c"), &bad, &holo::progress::Silent).unwrap_err().to_string();
     assert!(err.contains("in.holo") && err.contains("frames 1..3"), "{err}");
     // A file for another display.
     let other = dir.path().join("mark1.holo");
     holo::write(&other, &Modulation::zeros(holo::layout::mark1().geometry).unwrap(), &WriteOptions::default()).unwrap();
-    let err = assemble_file(&other, &layout, &dir.path().join("d"), &options, &mut |_, _| {}).unwrap_err().to_string();
+    let err = assemble_file(&other, &layout, &dir.path().join("d"), &options, &holo::progress::Silent)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("mark1.holo") && err.contains("64 hololines (the layout has 4)"), "{err}");
     assert!(err.contains("--resample"), "{err}");
     // Asked for explicitly, the frames are resampled onto the layout by rays.
     let resampling = AssembleOptions { resample: true, ..options.clone() };
-    let r = assemble_file(&other, &layout, &dir.path().join("e"), &resampling, &mut |_, _| {}).unwrap();
+    let r = assemble_file(&other, &layout, &dir.path().join("e"), &resampling, &holo::progress::Silent).unwrap();
     let stats = r.resampled.unwrap();
     assert!(stats.total == 4 * 336 * 96 && stats.outside > 0, "{stats:?}");
 }

@@ -58,7 +58,7 @@ fn random_modulation_comes_back_within_the_stated_errors() {
         let m = random(&layout, 42, rough);
         let (bytes, stats) = a.assemble::<u8>(&m).unwrap();
         assert_eq!(stats.clipped, 0);
-        let r = check(&a, &m, FrameRef::Bytes(&bytes), 0..3).unwrap();
+        let r = check(&a, &m, FrameRef::Bytes(&bytes), 0..3, &holo::progress::Silent).unwrap();
         eprintln!(
             "{name} {}: signal L2 {:.2e} (PSNR {:.1} dB), optical L2 {:.3} (PSNR {:.1} dB), worst emitter {:.3}",
             if rough { "rough " } else { "smooth" },
@@ -72,7 +72,7 @@ fn random_modulation_comes_back_within_the_stated_errors() {
         assert!(r.optical.relative_l2 < optical_bound, "{name}: {:?}", r.optical);
         // Without the 8-bit rounding the least-squares recovery is exact.
         let (floats, _) = a.assemble::<f32>(&m).unwrap();
-        let exact = check(&a, &m, FrameRef::Floats(&floats), 0..3).unwrap();
+        let exact = check(&a, &m, FrameRef::Floats(&floats), 0..3, &holo::progress::Silent).unwrap();
         assert!(exact.signal.relative_l2 < 1e-5, "{name}: {:?}", exact.signal);
     }
 }
@@ -88,7 +88,7 @@ fn seen(layout: &Layout, m: &Modulation, file: &str) -> Picture {
     let a = Assembler::new(layout).unwrap();
     let (bytes, _) = a.assemble::<u8>(m).unwrap();
     let eye = Eye { x_m: 0.0, y_m: 0.0, z_m: layout.geometry.viewer_distance_m, pupil_m: 4e-3 };
-    let picture = view(&a, FrameRef::Bytes(&bytes), &[eye]).unwrap().remove(0);
+    let picture = view(&a, FrameRef::Bytes(&bytes), &[eye], &holo::progress::Silent).unwrap().remove(0);
     picture.write_png(&artefact(file), 1.0, true).unwrap();
     picture
 }

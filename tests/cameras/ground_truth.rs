@@ -94,7 +94,7 @@ fn camera_arrays_of_a_mesh_match_direct_conversion() {
         lighting: lighting.clone(),
         ..RenderOptions::default()
     };
-    let (truth, _) = render(&scene, &g, &render_options, &|_, _| {}).unwrap();
+    let (truth, _) = render(&scene, &g, &render_options, &holo::progress::Silent).unwrap();
     let (d, y_v) = (g.viewer_distance_m, g.viewer_height_m);
     let target = [0.0, 0.0, g.emitter_z_m];
     // Cameras cover the view fan from every emitter: ±(24 mm + 500 mm × tan 15°).
@@ -162,7 +162,7 @@ fn camera_arrays_of_a_mesh_match_direct_conversion() {
                 placement: PlacementRequest { scale: Some(1.0), centre: Some(target), ..PlacementRequest::default() },
                 ..CameraOptions::default()
             };
-            let (m, report) = resample_rig(rig, &views, &g, &options, &|_, _| {}).unwrap();
+            let (m, report) = resample_rig(rig, &views, &g, &options, &holo::progress::Silent).unwrap();
             let (err, unseen) = compare(&m, &truth, report.mask.as_ref().unwrap());
             println!(
                 "| {name} | {} | {} | {} | {err:.3} | {:.1}% |",

@@ -39,7 +39,7 @@ fn real_captures_convert_and_dino_is_seen_through_the_display() {
             &layout.geometry,
             &output,
             &CameraConvertOptions::default(),
-            &|_, _| {},
+            &holo::progress::Silent,
         )
         .unwrap();
         let r = &report.resample;
@@ -59,7 +59,7 @@ fn real_captures_convert_and_dino_is_seen_through_the_display() {
         if name == "dino" {
             // What an eye at the middle of the viewer line sees on Mark III.
             let eyes = [EyeAt { x_m: 0.0, y_m: 0.0, distance_m: None, pupil_m: 4e-3 }];
-            let picture = &view_file(&output, Some(&layout), 0, &eyes).unwrap()[0];
+            let picture = &view_file(&output, Some(&layout), 0, &eyes, &holo::progress::Silent).unwrap()[0];
             let path = artefacts().join("dino-mark3-view-x0mm.png");
             picture.write_png(&path, picture.data.iter().fold(0.0f32, |a, &b| a.max(b)).max(1e-6), true).unwrap();
             println!("  reconstructed view: {}", path.display());
@@ -102,7 +102,7 @@ fn quilt_round_trip_keeps_the_views() {
         use_depth: false,
         ..CameraOptions::default()
     };
-    let (m, report) = resample_rig(&rig, &views, &g, &options, &|_, _| {}).unwrap();
+    let (m, report) = resample_rig(&rig, &views, &g, &options, &holo::progress::Silent).unwrap();
     // The display's rays beyond the outer cameras are unseen; the quilt's own rays are all held.
     println!("{:.1}% of the display's rays unseen", 100.0 * report.unseen as f64 / report.rays as f64);
     let spec = QuiltSpec {

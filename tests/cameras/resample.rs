@@ -93,7 +93,7 @@ fn error_with(n: usize, blend: Blend, plane_z: f64, use_depth: bool, placement: 
     let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, plane_z)).collect();
     let fill = placement.fill_width;
     let options = CameraOptions { blend, use_depth, want_mask: true, placement, ..CameraOptions::default() };
-    let (m, report) = resample_rig(&rig, &views, &g, &options, &|_, _| {}).unwrap();
+    let (m, report) = resample_rig(&rig, &views, &g, &options, &holo::progress::Silent).unwrap();
     // Auto placement: the focus point (0, 0, 0) at the emitter plane, the
     // cameras (1 m away) at the viewer's 500 mm.
     let scale = report.scale;
@@ -165,7 +165,7 @@ fn rays_beyond_the_rail_are_unseen_and_zero() {
     }
     let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, 0.0)).collect();
     let options = CameraOptions { want_mask: true, ..CameraOptions::default() };
-    let (m, report) = resample_rig(&rig, &views, &g, &options, &|_, _| {}).unwrap();
+    let (m, report) = resample_rig(&rig, &views, &g, &options, &holo::progress::Silent).unwrap();
     let mask = report.mask.unwrap();
     assert!(report.unseen > report.rays / 2, "{} of {}", report.unseen, report.rays);
     assert_eq!(mask.iter().filter(|&&u| u).count() as u64, report.unseen);
@@ -182,7 +182,7 @@ fn rays_beyond_the_rail_are_unseen_and_zero() {
 
 /// The error of a resampling that must fail (without printing a frame if it does not).
 fn error_of(rig: &Rig, views: &[CameraView], g: &Geometry) -> String {
-    match resample_rig(rig, views, g, &CameraOptions::default(), &|_, _| {}) {
+    match resample_rig(rig, views, g, &CameraOptions::default(), &holo::progress::Silent) {
         Ok(_) => panic!("{}: expected an error", rig.source),
         Err(e) => e.to_string(),
     }
@@ -201,7 +201,7 @@ fn coincident_cameras_and_missing_focus_are_errors_naming_them() {
     // The same camera listed twice (as Middlebury's temple ring does) is used once, with a warning.
     let mut rig = rail(4);
     rig.cameras[2].pose = rig.cameras[1].pose;
-    let (_, report) = resample_rig(&rig, &views, &g, &CameraOptions::default(), &|_, _| {}).unwrap();
+    let (_, report) = resample_rig(&rig, &views, &g, &CameraOptions::default(), &holo::progress::Silent).unwrap();
     assert!(report.warnings.iter().any(|w| w.contains("rail1") && w.contains("rail2")), "{:?}", report.warnings);
     let mut rig = rail(4);
     rig.focus_distance = None;
@@ -228,7 +228,8 @@ fn coincident_cameras_and_missing_focus_are_errors_naming_them() {
         let rig = Rig { source: format!("rail at {degrees}°"), cameras: cameras.collect(), ..rail(2) };
         let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, 0.0)).collect();
         if ok {
-            let (_, report) = resample_rig(&rig, &views, &g, &CameraOptions::default(), &|_, _| {}).unwrap();
+            let (_, report) =
+                resample_rig(&rig, &views, &g, &CameraOptions::default(), &holo::progress::Silent).unwrap();
             assert!(report.surface.contains("rail"), "{}", report.surface);
         } else {
             let e = error_of(&rig, &views, &g);
@@ -258,8 +259,8 @@ fn fast_location_equals_the_brute_force_reference_on_a_scattered_grid() {
     for blend in [Blend::Nearest, Blend::Linear] {
         let fast = CameraOptions { blend, use_depth: false, want_mask: true, ..CameraOptions::default() };
         let reference = CameraOptions { reference: true, ..fast.clone() };
-        let (a, ra) = resample_rig(&rig, &views, &g, &fast, &|_, _| {}).unwrap();
-        let (b, rb) = resample_rig(&rig, &views, &g, &reference, &|_, _| {}).unwrap();
+        let (a, ra) = resample_rig(&rig, &views, &g, &fast, &holo::progress::Silent).unwrap();
+        let (b, rb) = resample_rig(&rig, &views, &g, &reference, &holo::progress::Silent).unwrap();
         assert!(ra.surface.contains("planar grid"), "{}", ra.surface);
         assert_eq!(ra.unseen, rb.unseen);
         let worst = a.samples().iter().zip(b.samples()).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);

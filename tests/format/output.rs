@@ -11,7 +11,9 @@ use std::process::Command;
 
 use holo::assemble::output::{assemble_file, read_sidecar, AssembleOptions, FringeFormat, FRINGE_SIDECAR};
 use holo::geometry::{mono_channel, Geometry, Views};
-use holo::output::{check_output, check_set_output, verify_set, AtomicFile, FileSet, SetFile, Spool};
+use holo::output::{
+    check_output, check_set_complete, check_set_output, verify_set, AtomicFile, FileSet, SetFile, Spool,
+};
 use holo::{Error, Modulation, OutputProblem, SetProblem};
 
 /// Names in `dir`, sorted.
@@ -202,6 +204,52 @@ fn a_set_is_replaced_whole_and_refused_when_it_disagrees() {
 }
 
 #[test]
+fn a_set_whose_replacement_stops_midway_is_refused_by_every_reader() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("views");
+    let manifest = holo::views::SIDECAR;
+    let old = [("view_000.png", &b"old 0"[..]), ("view_001.png", b"old 1"), ("view_002.png", b"old 2")];
+    let mut set = FileSet::create(&folder, manifest).unwrap();
+    for (name, bytes) in old {
+        set.add_bytes(name, bytes).unwrap();
+    }
+    set.commit(false, |files| Ok(serde_json::to_vec(&serde_json::json!({ "files": files })).unwrap())).unwrap();
+    check_set_complete(&folder, manifest, "again").unwrap();
+
+    // The replacement stops after view 0 is renamed: view 2 cannot be (a
+    // folder now stands at its name), as if the power had gone.
+    let mut set = FileSet::create(&folder, manifest).unwrap();
+    for name in ["view_000.png", "view_001.png", "view_002.png"] {
+        set.add_bytes(name, b"new").unwrap();
+    }
+    std::fs::remove_file(folder.join("view_002.png")).unwrap();
+    std::fs::create_dir(folder.join("view_002.png")).unwrap();
+    set.commit(true, |files| Ok(serde_json::to_vec(&serde_json::json!({ "files": files })).unwrap())).unwrap_err();
+    assert_eq!(std::fs::read(folder.join("view_000.png")).unwrap(), b"new");
+    assert!(!folder.join(manifest).exists(), "the old manifest went first");
+
+    // Files of two sets and no manifest: every reader refuses, even one
+    // told the geometry and reading pictures without a sidecar.
+    let interrupted = |e: Error| matches!(e, Error::Set { problem: SetProblem::Interrupted { .. }, .. });
+    assert!(interrupted(check_set_complete(&folder, manifest, "again").unwrap_err()));
+    let new_view_0 = SetFile { name: "view_000.png".into(), bytes: 3, sha256: String::new() };
+    assert!(interrupted(verify_set(&folder, manifest, &[new_view_0], "again").unwrap_err()));
+    let g = Geometry::centred(2, 2, Views::tan_spaced(3, -0.2, 0.2), 1.3e-4, 2.4e-4, 0.027, 0.6, mono_channel());
+    let e = holo::views::import_views(&folder, &g, &Default::default()).unwrap_err();
+    assert!(e.to_string().contains("interrupted") && e.to_string().contains("export the views again"), "{e}");
+
+    // A complete replacement clears it.
+    std::fs::remove_dir(folder.join("view_002.png")).unwrap();
+    let mut set = FileSet::create(&folder, manifest).unwrap();
+    set.add_bytes("view_000.png", b"newer").unwrap();
+    set.commit(true, |files| Ok(serde_json::to_vec(&serde_json::json!({ "files": files })).unwrap())).unwrap();
+    check_set_complete(&folder, manifest, "again").unwrap();
+    let mut expected = vec!["view_000.png", "view_001.png", manifest];
+    expected.sort();
+    assert_eq!(names(&folder), expected);
+}
+
+#[test]
 fn fringe_readers_refuse_a_mixed_or_unlisted_set() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -215,7 +263,7 @@ fn fringe_readers_refuse_a_mixed_or_unlisted_set() {
     write("b.holo", 0.6);
     let options = AssembleOptions { frames: None, format: FringeFormat::Png, overwrite: false, resample: false };
     for (input, out) in [("a.holo", "fa"), ("b.holo", "fb")] {
-        let report = assemble_file(&d.join(input), &layout, &d.join(out), &options, &mut |_, _| {}).unwrap();
+        let report = assemble_file(&d.join(input), &layout, &d.join(out), &options, &holo::progress::Silent).unwrap();
         assert!(report.files.last().unwrap().ends_with(FRINGE_SIDECAR));
     }
     let sidecar = read_sidecar(&d.join("fa")).unwrap();
@@ -236,11 +284,11 @@ fn fringe_readers_refuse_a_mixed_or_unlisted_set() {
     assert!(e.to_string().contains("assemble the fringes again"), "{e}");
     // Re-assembling with overwrite replaces it, old names and all.
     let again = AssembleOptions { overwrite: true, ..options.clone() };
-    assemble_file(&d.join("b.holo"), &layout, &d.join("fb"), &again, &mut |_, _| {}).unwrap();
+    assemble_file(&d.join("b.holo"), &layout, &d.join("fb"), &again, &holo::progress::Silent).unwrap();
     read_sidecar(&d.join("fb")).unwrap();
     // An unreadable input leaves no folder.
     std::fs::write(d.join("bad.holo"), b"not a file").unwrap();
-    assert!(assemble_file(&d.join("bad.holo"), &layout, &d.join("fc"), &options, &mut |_, _| {}).is_err());
+    assert!(assemble_file(&d.join("bad.holo"), &layout, &d.join("fc"), &options, &holo::progress::Silent).is_err());
     assert!(!d.join("fc").exists());
 }
 

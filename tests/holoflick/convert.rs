@@ -116,10 +116,15 @@ fn unseen_objects_are_skipped_and_key_frame_objects_decoded_once() {
     write_movie(&d.join("alone.hflk"), &vec![vec![cow.clone()]; 3], 1);
     write_movie(&d.join("with_aside.hflk"), &vec![vec![cow.clone(), aside]; 3], 1);
     write_movie(&d.join("keyed.hflk"), &vec![vec![cow]; 3], 10);
-    let alone = convert_holoflick(&d.join("alone.hflk"), &g, &d.join("alone.holo"), &options(), &|_, _| {}).unwrap();
+    let alone =
+        convert_holoflick(&d.join("alone.hflk"), &g, &d.join("alone.holo"), &options(), &holo::progress::Silent)
+            .unwrap();
     let aside =
-        convert_holoflick(&d.join("with_aside.hflk"), &g, &d.join("aside.holo"), &options(), &|_, _| {}).unwrap();
-    let keyed = convert_holoflick(&d.join("keyed.hflk"), &g, &d.join("keyed.holo"), &options(), &|_, _| {}).unwrap();
+        convert_holoflick(&d.join("with_aside.hflk"), &g, &d.join("aside.holo"), &options(), &holo::progress::Silent)
+            .unwrap();
+    let keyed =
+        convert_holoflick(&d.join("keyed.hflk"), &g, &d.join("keyed.holo"), &options(), &holo::progress::Silent)
+            .unwrap();
     println!("alone {:?}\nwith an object aside {:?}\nkey frames {:?}", alone.work, aside.work, keyed.work);
     assert!(alone.placed.is_none(), "made for the display: drawn as stored");
     let reference = frames_of(&d.join("alone.holo"));
@@ -167,7 +172,7 @@ fn encoded_movies_convert_like_the_mesh() {
         },
         ..ConvertOptions::default()
     };
-    let direct = convert_mesh(&spot, &g, &d.join("direct.holo"), &mesh_options, &|_, _, _| {}).unwrap();
+    let direct = convert_mesh(&spot, &g, &d.join("direct.holo"), &mesh_options, &holo::progress::Silent).unwrap();
     let truth = holo::format::read(&direct.path).unwrap();
     println!("micropolygon (× display resolution) | micropolygons | bytes | error vs convert mesh");
     let mut errors = Vec::new();
@@ -178,7 +183,7 @@ fn encoded_movies_convert_like_the_mesh() {
             &g,
             &hflk,
             &HoloFlickEncodeOptions { micropolygon: factor, ..HoloFlickEncodeOptions::default() },
-            &|_, _| {},
+            &holo::progress::Silent,
         )
         .unwrap();
         let out = d.join(format!("spot-{factor}.holo"));
@@ -187,7 +192,7 @@ fn encoded_movies_convert_like_the_mesh() {
             &g,
             &out,
             &HoloFlickConvertOptions { render: render.clone(), ..HoloFlickConvertOptions::default() },
-            &|_, _| {},
+            &holo::progress::Silent,
         )
         .unwrap();
         assert!(conv.placed.is_none(), "encoded for the display: drawn as stored");
@@ -277,7 +282,7 @@ fn objects_get_their_bound_lights_and_lobes() {
             &g,
             &d.join(format!("{name}.holo")),
             &options(),
-            &|_, _| {},
+            &holo::progress::Silent,
         )
         .unwrap();
         assert!(report.warnings.is_empty(), "{name}: {:?}", report.warnings);

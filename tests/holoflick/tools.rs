@@ -17,8 +17,9 @@ fn key_frames_store_a_static_object_once() {
     let inputs = vec![spot(), spot(), spot()];
     let once = dir.path().join("once.hflk");
     let every = dir.path().join("every.hflk");
-    let a = pack(&inputs, &once, &PackOptions::default(), &|_, _| {}).unwrap();
-    let b = pack(&inputs, &every, &PackOptions { key_interval: 1, ..PackOptions::default() }, &|_, _| {}).unwrap();
+    let a = pack(&inputs, &once, &PackOptions::default(), &holo::progress::Silent).unwrap();
+    let b = pack(&inputs, &every, &PackOptions { key_interval: 1, ..PackOptions::default() }, &holo::progress::Silent)
+        .unwrap();
     assert_eq!((a.frames, a.stored, a.references), (3, 1, 2));
     assert_eq!((b.frames, b.stored, b.references), (3, 3, 0));
     // The same frames either way.
@@ -45,7 +46,7 @@ fn key_frames_store_a_static_object_once() {
 fn unpacked_frames_read_back_and_cg_files_pack() {
     let dir = tempfile::tempdir().unwrap();
     let hflk = dir.path().join("spot.hflk");
-    pack(&[spot()], &hflk, &PackOptions::default(), &|_, _| {}).unwrap();
+    pack(&[spot()], &hflk, &PackOptions::default(), &holo::progress::Silent).unwrap();
     for ext in ["glb", "ply"] {
         let out = dir.path().join(format!("spot.{ext}"));
         assert_eq!(unpack(&hflk, 0, &out, false).unwrap(), 500);
@@ -53,17 +54,18 @@ fn unpacked_frames_read_back_and_cg_files_pack() {
         assert_eq!(scene.triangle_count(), 500);
     }
     let cg = dir.path().join("spot.cg");
-    let r = pack(&[spot()], &cg, &PackOptions::default(), &|_, _| {}).unwrap();
+    let r = pack(&[spot()], &cg, &PackOptions::default(), &holo::progress::Silent).unwrap();
     assert_eq!(r.cg_transforms.len(), 1);
     let objects = frame_objects(&cg, 0).unwrap();
     assert_eq!(objects[0].triangles.len(), 500);
     // In the normalised frame: every coordinate in [−1, 1).
     assert!(objects[0].positions.iter().flatten().all(|x| (-1.0..1.0).contains(x)));
     // Bad requests: several frames into a .cg, a missing frame, an existing output.
-    let e = pack(&[spot(), spot()], &dir.path().join("two.cg"), &PackOptions::default(), &|_, _| {}).unwrap_err();
+    let e = pack(&[spot(), spot()], &dir.path().join("two.cg"), &PackOptions::default(), &holo::progress::Silent)
+        .unwrap_err();
     assert!(e.to_string().contains("one frame"), "{e}");
     let e = unpack(&hflk, 3, &dir.path().join("x.glb"), false).unwrap_err();
     assert!(e.to_string().contains("no frame 3"), "{e}");
-    let e = pack(&[spot()], &hflk, &PackOptions::default(), &|_, _| {}).unwrap_err();
+    let e = pack(&[spot()], &hflk, &PackOptions::default(), &holo::progress::Silent).unwrap_err();
     assert!(e.to_string().contains("already exists"), "{e}");
 }

@@ -56,7 +56,7 @@ fn quilt_tiles_agree_with_camera_pictures_of_the_scene() {
         engine: Engine::Reference,
         ..RenderOptions::lit_exactly(lighting.clone())
     };
-    let (m, _) = render(&scene, &g, &options, &|_, _| {}).unwrap();
+    let (m, _) = render(&scene, &g, &options, &holo::progress::Silent).unwrap();
     // 20 mm × 15 mm at aspect 4/3: the tiles frame exactly the emitters and
     // hololines; with 40 × 30 tiles a tile pixel is an emitter and a hololine
     // (only views are interpolated), with 37 × 29 it falls between them.

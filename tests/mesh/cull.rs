@@ -115,7 +115,7 @@ fn culled_frames_give_the_same_samples_with_less_work() {
         engine: Engine::Fast,
         ..RenderOptions::default()
     };
-    let (all, all_stats) = render(&scene, &g, &options, &|_, _| {}).unwrap();
+    let (all, all_stats) = render(&scene, &g, &options, &holo::progress::Silent).unwrap();
     let mut culled = scene.clone();
     culled.objects.retain(|o| object_bounds(o).is_some_and(|(lo, hi)| display_sees_box(&g, lo, hi)));
     assert_eq!(culled.objects.len(), 2, "the object aside is dropped");
@@ -125,7 +125,7 @@ fn culled_frames_give_the_same_samples_with_less_work() {
         .collect();
     let dropped = cull_back_faces(&mut culled.objects, &couch);
     assert_eq!(dropped, 2, "the square facing away");
-    let (fewer, fewer_stats) = render(&culled, &g, &options, &|_, _| {}).unwrap();
+    let (fewer, fewer_stats) = render(&culled, &g, &options, &holo::progress::Silent).unwrap();
     println!("work: all {all_stats:?}; culled {fewer_stats:?}");
     assert!(all == fewer, "culling changed a sample");
     assert!(fewer_stats.segments + fewer_stats.back_face_culled < all_stats.segments + all_stats.back_face_culled);

@@ -34,7 +34,7 @@ fn end_to_end(layout: &Layout, bound: f64) {
     let dir = tempfile::tempdir().unwrap();
     let holo_path = dir.path().join("spot.holo");
     let options = ConvertOptions::default();
-    let report = convert_mesh(&scene_path, &layout.geometry, &holo_path, &options, &|_, _, _| {}).unwrap();
+    let report = convert_mesh(&scene_path, &layout.geometry, &holo_path, &options, &holo::progress::Silent).unwrap();
     println!("{}: {}", layout.name, report.placed);
 
     let mut scene = SceneSource::open(&scene_path).unwrap().scene_at(0.0).unwrap();
@@ -45,7 +45,7 @@ fn end_to_end(layout: &Layout, bound: f64) {
     let eyes_mm = [-30.0, 0.0, 30.0];
     let eyes: Vec<EyeAt> =
         eyes_mm.iter().map(|x| EyeAt { x_m: x * 1e-3, y_m: 0.0, distance_m: None, pupil_m }).collect();
-    let pictures = view_file(&holo_path, Some(layout), 0, &eyes).unwrap();
+    let pictures = view_file(&holo_path, Some(layout), 0, &eyes, &holo::progress::Silent).unwrap();
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("mesh-end-to-end");
     std::fs::create_dir_all(&out).unwrap();
     for (x_mm, picture) in eyes_mm.iter().zip(&pictures) {

@@ -13,5 +13,6 @@ mod dice;
 mod end_to_end;
 mod load;
 mod micro;
+mod pipeline;
 mod render;
 mod write;

@@ -64,7 +64,7 @@ fn relative_error(a: &Modulation, b: &Modulation) -> f64 {
 fn micropolygons_render_like_the_mesh_and_converge() {
     let g = display();
     let scene = spot(&g);
-    let (direct, _) = render(&scene, &g, &options(lights()), &|_, _| {}).unwrap();
+    let (direct, _) = render(&scene, &g, &options(lights()), &holo::progress::Silent).unwrap();
     println!("micropolygon edge (× display resolution) | micropolygons | error vs direct");
     let mut errors = Vec::new();
     for factor in [4.0, 2.0, 1.0, 0.5] {
@@ -72,7 +72,7 @@ fn micropolygons_render_like_the_mesh_and_converge() {
         let (micro, specular_lights, report) =
             micropolygons(&scene, &lights(), &budget, &DiceOptions::default(), &BakeOptions::default()).unwrap();
         assert!(specular_lights.iter().all(|l| !matches!(l, Light::Ambient { .. })));
-        let (m, _) = render(&micro, &g, &options(specular_lights), &|_, _| {}).unwrap();
+        let (m, _) = render(&micro, &g, &options(specular_lights), &holo::progress::Silent).unwrap();
         let e = relative_error(&m, &direct);
         println!("{factor:>4} | {:>7} | {e:.4}", report.dice.triangles_out);
         errors.push(e);
@@ -93,11 +93,11 @@ fn deferred_specular_moves_across_views_like_direct_rendering() {
         o.material.shininess = 300.0;
     }
     let sun = vec![Light::Directional { direction: [0.1, -0.2, -1.0], irradiance: [3.0; 3], name: "sun".into() }];
-    let (direct, _) = render(&scene, &g, &options(sun.clone()), &|_, _| {}).unwrap();
+    let (direct, _) = render(&scene, &g, &options(sun.clone()), &holo::progress::Silent).unwrap();
     let (micro, specular_lights, _) =
         micropolygons(&scene, &sun, &display_budget(&g, 0.5), &DiceOptions::default(), &BakeOptions::default())
             .unwrap();
-    let (m, _) = render(&micro, &g, &options(specular_lights), &|_, _| {}).unwrap();
+    let (m, _) = render(&micro, &g, &options(specular_lights), &holo::progress::Silent).unwrap();
     let (mut same, mut compared) = (0, 0);
     for j in 0..g.hololines {
         for e in 0..g.emitters {

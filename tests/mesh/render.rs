@@ -29,9 +29,11 @@ fn small_geometry(emitter_z_m: f64) -> Geometry {
 }
 
 fn both(scene: &Scene, g: &Geometry, options: &RenderOptions) -> (Modulation, Modulation, RenderStats) {
-    let fast = render(scene, g, &RenderOptions { engine: Engine::Fast, ..options.clone() }, &|_, _| {}).unwrap();
+    let fast =
+        render(scene, g, &RenderOptions { engine: Engine::Fast, ..options.clone() }, &holo::progress::Silent).unwrap();
     let reference =
-        render(scene, g, &RenderOptions { engine: Engine::Reference, ..options.clone() }, &|_, _| {}).unwrap();
+        render(scene, g, &RenderOptions { engine: Engine::Reference, ..options.clone() }, &holo::progress::Silent)
+            .unwrap();
     (fast.0, reference.0, fast.1)
 }
 
@@ -170,7 +172,7 @@ fn occlusion_has_the_known_answer_in_every_view() {
         ..RenderOptions::lit_exactly(Lighting { lights: vec![], model: SpecularModel::Blinn })
     };
     for engine in [Engine::Fast, Engine::Reference] {
-        let (m, _) = render(&scene, &g, &RenderOptions { engine, ..options.clone() }, &|_, _| {}).unwrap();
+        let (m, _) = render(&scene, &g, &RenderOptions { engine, ..options.clone() }, &holo::progress::Silent).unwrap();
         let mut seen = [0; 3];
         for v in 0..81 {
             let s = g.views.theta_rad(v).tan();
@@ -238,7 +240,7 @@ fn highlights_move_across_views_as_the_formulas_say() {
                 model,
             })
         };
-        let (m, _) = render(&scene, &g, &options, &|_, _| {}).unwrap();
+        let (m, _) = render(&scene, &g, &options, &holo::progress::Silent).unwrap();
         let mut moved = Vec::new();
         for e in 0..g.emitters {
             let x = g.emitter_x_m(e);
@@ -294,17 +296,17 @@ fn bad_scenes_are_errors_naming_the_object() {
     let mut rng = ChaCha8Rng::seed_from_u64(9);
     let mut scene = random_scene(&mut rng, 9);
     scene.objects[1].positions[2][1] = f64::NAN;
-    let e = render(&scene, &g, &RenderOptions::default(), &|_, _| {}).unwrap_err().to_string();
+    let e = render(&scene, &g, &RenderOptions::default(), &holo::progress::Silent).unwrap_err().to_string();
     assert!(e.contains("random 1") && e.contains("vertex 2"), "{e}");
     let mut scene = random_scene(&mut rng, 9);
     scene.objects[0].triangles[0][2] = 1000;
-    let e = render(&scene, &g, &RenderOptions::default(), &|_, _| {}).unwrap_err().to_string();
+    let e = render(&scene, &g, &RenderOptions::default(), &holo::progress::Silent).unwrap_err().to_string();
     assert!(e.contains("random 0") && e.contains("triangle 0"), "{e}");
     let mut empty = Scene { source: "empty.obj".into(), ..Scene::default() };
     let e = holo::mesh::place::place(&mut empty, &g, &Default::default()).unwrap_err().to_string();
     assert!(e.contains("empty.obj") && e.contains("no triangles"), "{e}");
     let options = RenderOptions { supersample: Supersample { emitter: 0, view: 1 }, ..RenderOptions::default() };
-    assert!(render(&random_scene(&mut rng, 9), &g, &options, &|_, _| {}).is_err());
+    assert!(render(&random_scene(&mut rng, 9), &g, &options, &holo::progress::Silent).is_err());
 }
 
 /// The layouts' own emitter and view geometry, on a band of `rows`
@@ -482,10 +484,10 @@ fn render_into_a_used_frame_equals_a_fresh_render() {
     let scene = random_scene(&mut rng, 30);
     let g = small_geometry(0.0);
     let options = RenderOptions { lighting: lighting(SpecularModel::Blinn), ..RenderOptions::default() };
-    let (fresh, _) = render(&scene, &g, &options, &|_, _| {}).unwrap();
+    let (fresh, _) = render(&scene, &g, &options, &holo::progress::Silent).unwrap();
     let mut used = Modulation::zeros(g.clone()).unwrap();
     used.samples_mut().iter_mut().enumerate().for_each(|(i, v)| *v = (i % 7) as f32 + 0.5);
-    holo::mesh::render::render_into(&scene, &options, &|_, _| {}, &mut used).unwrap();
+    holo::mesh::render::render_into(&scene, &options, &holo::progress::Silent, &mut used).unwrap();
     assert_eq!(fresh.samples(), used.samples());
 }
 
@@ -559,8 +561,8 @@ fn fast_equals_reference_with_per_material_lobes_and_lights() {
             o.material.lights = Some((0..n).rev().chain([0]).collect());
             o.material.specular_model = Some(model);
         }
-        let (fast_all, _) = render(&all, &g, &options, &|_, _| {}).unwrap();
-        let (fast_plain, _) = render(&plain, &g, &options, &|_, _| {}).unwrap();
+        let (fast_all, _) = render(&all, &g, &options, &holo::progress::Silent).unwrap();
+        let (fast_plain, _) = render(&plain, &g, &options, &holo::progress::Silent).unwrap();
         assert!(fast_all == fast_plain, "seed {seed}: choosing everything changed a sample");
     }
 }
@@ -574,7 +576,7 @@ fn choosing_a_missing_light_is_an_error() {
     let g = small_geometry(0.0);
     for engine in [Engine::Fast, Engine::Reference] {
         let options = RenderOptions { lighting: lighting(SpecularModel::Blinn), engine, ..RenderOptions::default() };
-        let e = render(&scene, &g, &options, &|_, _| {}).unwrap_err().to_string();
+        let e = render(&scene, &g, &options, &holo::progress::Silent).unwrap_err().to_string();
         assert!(e.contains("random 1") && e.contains("light 3"), "{e}");
     }
 }
@@ -592,17 +594,18 @@ fn a_library_render_uses_the_scenes_lights_as_convert_mesh_does() {
     assert!(!scene.lights.is_empty(), "the fixture defines lights");
     place(&mut scene, &g, &Placement::default()).unwrap();
     let options = RenderOptions { supersample: Supersample { emitter: 1, view: 1 }, ..RenderOptions::default() };
-    let (library, _) = render(&scene, &g, &options, &|_, _| {}).unwrap();
+    let (library, _) = render(&scene, &g, &options, &holo::progress::Silent).unwrap();
     assert!(library.samples().iter().any(|&v| v > 0.0), "the band sees the scene");
 
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("lights.holo");
     let write = holo::WriteOptions { sample_type: holo::format::SampleType::F32, ..Default::default() };
     let convert = ConvertOptions { render: options.clone(), write, ..ConvertOptions::default() };
-    let report = convert_mesh(&path, &g, &out, &convert, &|_, _, _| {}).unwrap();
+    let report = convert_mesh(&path, &g, &out, &convert, &holo::progress::Silent).unwrap();
     assert_eq!(report.lights, scene.lights);
     assert!(holo::read(&out).unwrap() == library, "convert_mesh and a library render differ");
 
-    let (default_lit, _) = render(&scene, &g, &RenderOptions { scene_lights: false, ..options }, &|_, _| {}).unwrap();
+    let (default_lit, _) =
+        render(&scene, &g, &RenderOptions { scene_lights: false, ..options }, &holo::progress::Silent).unwrap();
     assert!(default_lit.samples() != library.samples(), "the scene's lights are not the default lights");
 }
