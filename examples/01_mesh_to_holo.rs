@@ -14,6 +14,7 @@ use std::error::Error;
 use std::path::{Path, PathBuf};
 
 use holo::mesh::convert::{convert_mesh, ConvertOptions};
+use holo::progress::Silent;
 
 /// The scene to render.
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/mesh/spot/spot.obj");
@@ -40,7 +41,7 @@ pub fn run(folder: &Path) -> Result<PathBuf, Box<dyn Error>> {
     // f16 samples with ZIP compression. `write.overwrite` is false: an
     // existing `spot.holo` is refused before any work.
     let options = ConvertOptions::default();
-    let report = convert_mesh(Path::new(SCENE), &layout.geometry, &output, &options, &|_frame, _done, _total| {})?;
+    let report = convert_mesh(Path::new(SCENE), &layout.geometry, &output, &options, &Silent)?;
 
     println!("{} triangles in {} objects, {}", report.triangles, report.objects, report.placed);
     for warning in &report.warnings {

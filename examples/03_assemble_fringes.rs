@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 
 use holo::assemble::output::{assemble_file, AssembleOptions, FringeFormat};
 use holo::pattern::{Pattern, PatternKind};
+use holo::progress::Silent;
 use holo::reconstruct::files::{check_file, CheckOptions};
 
 fn main() -> Result<(), Box<dyn Error>> {
@@ -43,7 +44,7 @@ pub fn run(folder: &Path) -> Result<PathBuf, Box<dyn Error>> {
     // `overwrite`, an existing set in `fringes/` is refused before any work.
     let fringes = folder.join("fringes");
     let options = AssembleOptions { frames: None, format: FringeFormat::Png, overwrite: false, resample: false };
-    let report = assemble_file(&holo_file, &layout, &fringes, &options, &mut |_done, _total| {})?;
+    let report = assemble_file(&holo_file, &layout, &fringes, &options, &Silent)?;
     for file in &report.files {
         println!("{}", file.display());
     }
@@ -52,7 +53,7 @@ pub fn run(folder: &Path) -> Result<PathBuf, Box<dyn Error>> {
     // Read the fringes back (the manifest is checked against every image)
     // and recover the modulation of the first eight hololines from them.
     let check = CheckOptions { frame: 0, fringes: Some(fringes.clone()), hololines: Some(0..8) };
-    let result = check_file(&holo_file, None, &check)?;
+    let result = check_file(&holo_file, None, &check, &Silent)?;
     println!(
         "recovered from the fringes: relative L2 error {:.2e}, PSNR {:.1} dB",
         result.report.signal.relative_l2, result.report.signal.psnr_db

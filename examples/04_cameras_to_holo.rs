@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 use holo::cameras::image::Picture;
 use holo::cameras::resample::{resample_rig, CameraOptions, CameraView};
 use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
+use holo::progress::Silent;
 
 /// Pixels across and down each picture.
 const WIDTH: usize = 192;
@@ -94,7 +95,7 @@ pub fn run(folder: &Path) -> Result<PathBuf, Box<dyn Error>> {
     };
 
     let layout = holo::layout::mark1();
-    let (frame, report) = resample_rig(&rig, &views, &layout.geometry, &CameraOptions::default(), &|_, _| {})?;
+    let (frame, report) = resample_rig(&rig, &views, &layout.geometry, &CameraOptions::default(), &Silent)?;
     println!("{}; {}", report.surface, report.placement);
     println!("{} of {} rays seen by no camera", report.unseen, report.rays);
 

@@ -39,9 +39,13 @@
 //! | modulation → fringes | [`assemble::Assembler::new`] → [`assemble`](assemble::Assembler::assemble) | [`assemble::output::assemble_file`] |
 //! | what a viewer sees | [`reconstruct::check::check`], [`reconstruct::check::view`] | [`reconstruct::files::check_file`], [`reconstruct::files::view_file`] |
 //!
-//! Every file is written through [`output`]: to a temporary beside its
-//! destination, renamed into place only when complete, and never over an
-//! existing file unless asked (`overwrite` in the options).
+//! The file-to-file calls all run through [`pipeline`], which checks the
+//! output before any work, picks the frames, records provenance and gathers
+//! warnings. Every file is written through [`output`]: to a temporary beside
+//! its destination, renamed into place only when complete, and never over an
+//! existing file unless asked (`overwrite` in the options). A long call takes
+//! a [`progress::Progress`] reporter, which also lets the caller cancel it
+//! ([`progress::Silent`] when nothing is to be shown).
 //!
 //! # Units and conventions
 //!
@@ -69,6 +73,7 @@
 //! use holo::mesh::load::SceneSource;
 //! use holo::mesh::place::{place, Placement};
 //! use holo::mesh::render::{render, RenderOptions, Supersample};
+//! use holo::progress::Silent;
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let layout = holo::layout::mark1(); // 242 emitters × 64 hololines × 5 views, RGB
@@ -81,7 +86,7 @@
 //!
 //! // One frame of modulation: the radiance along every display ray.
 //! let options = RenderOptions { supersample: Supersample { emitter: 1, view: 1 }, ..RenderOptions::default() };
-//! let (frame, _stats) = render(&scene, geometry, &options, &|_, _| {})?;
+//! let (frame, _stats) = render(&scene, geometry, &options, &Silent)?;
 //! assert_eq!(frame.geometry(), geometry);
 //!
 //! // The `.holo` file: written atomically, refused if it exists.
