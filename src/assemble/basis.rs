@@ -1,6 +1,6 @@
 //! The basis of one colour channel as physics: where each (emitter, view)
 //! element lies on the hololine, which signal carries it, and its exact value
-//! at every sample, in f64 and without tables. The fast path ([`super::plan`])
+//! at every sample, in f64 and without tables. The fast path (`plan.rs`)
 //! tabulates these values; the tests and [`ColourBasis::reference`] use them
 //! directly.
 //!

@@ -9,11 +9,11 @@
 //! check and view fringes already written.
 
 pub mod basis;
-pub mod chirp;
-pub mod hogel;
+pub(crate) mod chirp;
+pub(crate) mod hogel;
 pub mod output;
 mod pack;
-pub mod plan;
+pub(crate) mod plan;
 mod profile;
 
 use rayon::prelude::*;
@@ -22,10 +22,12 @@ use crate::layout::{ColourSignals, FrameBuffer, Layout, Quantization};
 use crate::simd::Simd;
 use crate::{Error, Modulation, Result};
 pub use basis::ColourBasis;
+pub use chirp::ZonedChirp;
+pub use hogel::HogelGratings;
 pub use pack::FringeSample;
 use pack::{interleave, Adder, Encoder, LineScratch};
 use plan::PaddedWeights;
-pub use plan::Plan;
+pub use plan::{BlockSink, Plan};
 pub use profile::{load_layout, problems};
 
 /// The float signals of every hololine of one colour channel, before they
@@ -493,6 +495,14 @@ mod tests {
         layout
     }
 
+    /// `layout` cut to `hololines`, its assembler, and a random frame for it
+    /// ([`random`]).
+    fn assembler_and_frame(layout: Layout, hololines: usize, seed: u64, rough: bool) -> (Assembler, Modulation) {
+        let layout = with_hololines(layout, hololines);
+        let m = random(&layout, seed, rough);
+        (Assembler::new(&layout).unwrap(), m)
+    }
+
     /// Rough (independent uniform) or smooth random modulation, never zero everywhere.
     fn random(layout: &Layout, seed: u64, rough: bool) -> Modulation {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
@@ -565,9 +575,7 @@ mod tests {
     fn mark3_channels_carry_the_right_zone_and_component() {
         // Every (head, colour) of the frame buffer, read back through the
         // paper's own words, holds the matching zone signal of the reference.
-        let layout = with_hololines(mark3(), 2);
-        let a = Assembler::new(&layout).unwrap();
-        let m = random(&layout, 7, true);
+        let (a, m) = assembler_and_frame(mark3(), 2, 7, true);
         let (images, _) = a.assemble::<f32>(&m).unwrap();
         let reference = a.signals_reference(&m, 0, 0..2).unwrap();
         // (head, component, zone, sine): "Head 1 RG channels produce the
@@ -591,9 +599,7 @@ mod tests {
 
     #[test]
     fn mark1_layers_hold_one_colour_each_in_16_rows_per_hololine() {
-        let layout = with_hololines(mark1(), 3);
-        let a = Assembler::new(&layout).unwrap();
-        let m = random(&layout, 11, false);
+        let (a, m) = assembler_and_frame(mark1(), 3, 11, false);
         let (images, stats) = a.assemble::<u8>(&m).unwrap();
         assert_eq!(stats.clipped, 0);
         for colour in 0..3 {
@@ -609,9 +615,7 @@ mod tests {
 
     #[test]
     fn unpack_inverts_assembly_except_for_blanking_and_quantization() {
-        let layout = with_hololines(mark3(), 3);
-        let a = Assembler::new(&layout).unwrap();
-        let m = random(&layout, 8, true);
+        let (a, m) = assembler_and_frame(mark3(), 3, 8, true);
         let direct = a.signals(&m, 0).unwrap();
         let (floats, _) = a.assemble::<f32>(&m).unwrap();
         let (bytes, stats) = a.assemble::<u8>(&m).unwrap();

@@ -249,6 +249,27 @@ enum Interpolator {
     Triangles { triangulation: DelaunayTriangulation<Point2<f64>>, cameras: Vec<usize> },
 }
 
+/// The coordinate of `p` along the line through `origin` with unit
+/// direction `axis`: how cameras on a line are sorted and rays located
+/// among them.
+fn along_line(p: [f64; 2], origin: [f64; 2], axis: [f64; 2]) -> f64 {
+    (p[0] - origin[0]) * axis[0] + (p[1] - origin[1]) * axis[1]
+}
+
+/// The weights at coordinate `s` on a line of the neighbouring cameras `a`
+/// and `b` (coordinate, camera index) around it: the nearest, or both in
+/// proportion (natural-neighbour weights on a line are linear).
+fn pair_weights(a: (f64, usize), b: (f64, usize), s: f64, blend: Blend, out: &mut Vec<(usize, f64)>) {
+    let t = ((s - a.0) / (b.0 - a.0)).clamp(0.0, 1.0);
+    match blend {
+        Blend::Nearest => out.push((if t < 0.5 { a.1 } else { b.1 }, 1.0)),
+        Blend::Linear | Blend::NaturalNeighbour => {
+            out.push((a.1, 1.0 - t));
+            out.push((b.1, t));
+        }
+    }
+}
+
 impl RigGeometry {
     /// Work out the placement and the camera surface for `rig` shown on `g`.
     pub fn new(rig: &Rig, g: &Geometry, request: &PlacementRequest) -> Result<RigGeometry> {
@@ -442,18 +463,11 @@ impl Interpolator {
         match self {
             Interpolator::Single => out.push((0, 1.0)),
             Interpolator::Line { origin, axis, sorted } => {
-                let s = (q[0] - origin[0]) * axis[0] + (q[1] - origin[1]) * axis[1];
+                let s = along_line(q, *origin, *axis);
                 for pair in sorted.windows(2) {
                     let (a, b) = (pair[0], pair[1]);
                     if s >= a.0 && s <= b.0 {
-                        let t = ((s - a.0) / (b.0 - a.0)).clamp(0.0, 1.0);
-                        match blend {
-                            Blend::Nearest => out.push((if t < 0.5 { a.1 } else { b.1 }, 1.0)),
-                            _ => {
-                                out.push((a.1, 1.0 - t));
-                                out.push((b.1, t));
-                            }
-                        }
+                        pair_weights(a, b, s, blend, out);
                         return;
                     }
                 }
@@ -539,11 +553,8 @@ impl Interpolator {
             } else {
                 [0.0, 1.0]
             };
-            let mut sorted: Vec<(f64, usize)> = points
-                .iter()
-                .enumerate()
-                .map(|(i, p)| ((p[0] - c[0]) * axis[0] + (p[1] - c[1]) * axis[1], i))
-                .collect();
+            let mut sorted: Vec<(f64, usize)> =
+                points.iter().enumerate().map(|(i, &p)| (along_line(p, c, axis), i)).collect();
             sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
             return Ok(Interpolator::Line { origin: c, axis, sorted });
         }
@@ -574,22 +585,14 @@ impl Interpolator {
         match self {
             Interpolator::Single => out.push((0, 1.0)),
             Interpolator::Line { origin, axis, sorted } => {
-                let s = (q[0] - origin[0]) * axis[0] + (q[1] - origin[1]) * axis[1];
+                let s = along_line(q, *origin, *axis);
                 let (first, last) = (sorted[0].0, sorted[sorted.len() - 1].0);
                 if !(s >= first && s <= last) {
                     return;
                 }
                 // The last camera at or before s.
                 let i = sorted.partition_point(|&(x, _)| x <= s).saturating_sub(1).min(sorted.len() - 2);
-                let (a, b) = (sorted[i], sorted[i + 1]);
-                let t = ((s - a.0) / (b.0 - a.0)).clamp(0.0, 1.0);
-                match blend {
-                    Blend::Nearest => out.push((if t < 0.5 { a.1 } else { b.1 }, 1.0)),
-                    Blend::Linear | Blend::NaturalNeighbour => {
-                        out.push((a.1, 1.0 - t));
-                        out.push((b.1, t));
-                    }
-                }
+                pair_weights(sorted[i], sorted[i + 1], s, blend, out);
             }
             Interpolator::Triangles { triangulation, cameras } => {
                 let p = Point2::new(q[0], q[1]);

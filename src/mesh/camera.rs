@@ -4,7 +4,7 @@
 //! directly.
 //!
 //! The scene's coordinates are the camera's world coordinates, in metres.
-//! Every pixel is ray cast through the [`Bvh`] in f64 from the camera's
+//! Every pixel is ray cast through a bounding-volume hierarchy (`bvh.rs`) in f64 from the camera's
 //! centre, box-filtered over `n × n` sub-pixel positions
 //! `u + (a + ½)/n − ½`, `v + (b + ½)/n − ½`. Visibility and shading are
 //! those of the display's reference renderer ([`super::trace`]): the first

@@ -2,7 +2,7 @@
 //! lights, loaded from glTF, OBJ and PLY ([`load`]), placed in the display's
 //! volume ([`place`]), shaded per view ([`shade`]) and rendered for every ray
 //! (hololine, emitter, view) by a reference ray caster ([`trace`]) and by the
-//! fast epipolar-plane rasteriser ([`epi`]); [`camera`] renders what a
+//! fast epipolar-plane rasteriser (`epi.rs`); [`camera`] renders what a
 //! calibrated camera would photograph of the same scene.
 //!
 //! A [`Scene`] is plain data in one space: the loaders give it in the file's
@@ -10,10 +10,10 @@
 //! world onto display metres (docs/optics.md §1.2: `x` right, `y` up, `z` toward the
 //! viewer, hologram at `z = 0`). Colours are linear: loaders decode sRGB.
 
-pub mod bvh;
+pub(crate) mod bvh;
 pub mod camera;
 pub mod convert;
-pub mod epi;
+pub(crate) mod epi;
 mod fastshade;
 pub mod load;
 pub mod place;

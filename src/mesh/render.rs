@@ -47,7 +47,7 @@ impl Default for Supersample {
 /// Which renderer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Engine {
-    /// The per-hololine epipolar-plane rasteriser ([`super::epi`]).
+    /// The per-hololine epipolar-plane rasteriser (`epi.rs`).
     #[default]
     Fast,
     /// One ray per sub-ray through a BVH ([`super::trace`]).

@@ -1,7 +1,7 @@
 //! The reference renderer: every sub-ray is cast on its own through a BVH,
 //! in f64, from the viewer line back along `−d`; the first surface met that
 //! faces the viewer (or is double-sided) is shaded. Obviously correct and
-//! slow; the fast rasteriser ([`super::epi`]) is tested against it.
+//! slow; the fast rasteriser (`epi.rs`) is tested against it.
 
 use super::bvh::Bvh;
 use super::render::{HololineRenderer, RenderStats, Shading};

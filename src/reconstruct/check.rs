@@ -2,7 +2,7 @@
 //! images of one frame, the modulation recovered two ways and compared with
 //! the stored one, and the picture a viewer sees.
 //!
-//! - *Signal recovery* ([`super::solve`]): least squares against the basis.
+//! - *Signal recovery* (`solve.rs`): least squares against the basis.
 //!   Exact but for what the frame buffer loses (blanking, 8-bit rounding):
 //!   it checks the assembly and the layout.
 //! - *Optical recovery* ([`super::viewer`]): scalar diffraction to the

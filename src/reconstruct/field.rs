@@ -33,11 +33,12 @@ pub fn oversampling(basis: &ColourBasis) -> usize {
 /// The hologram-plane field of one hololine from its signals (one slice per
 /// signal, in the layout's order), sampled `M` = [`oversampling`] times
 /// finer than the signal, sample `k` at `x = (k / M + ½ − N/2) · pitch`.
+#[cfg(test)]
 pub fn hologram_field(basis: &ColourBasis, signals: &[&[f32]]) -> Field1d {
     FieldPlan::new(basis, None).field(signals)
 }
 
-/// [`hologram_field`] planned once per layout and colour: the carriers'
+/// The hologram-plane field of a hololine (`hologram_field`) planned once per layout and colour: the carriers'
 /// phasors on the fine grid are computed once, in f64 (their phase reduced
 /// exactly before scaling), and reused for every hololine.
 #[derive(Clone, Debug)]

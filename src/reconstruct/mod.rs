@@ -6,11 +6,11 @@
 //! angular spectrum method, and the angular spectrum of a window of it.
 
 pub mod check;
-pub mod field;
+pub(crate) mod field;
 pub mod files;
 pub mod picture;
 pub mod propagate;
-pub mod solve;
+pub(crate) mod solve;
 pub mod viewer;
 
 use std::cell::RefCell;

@@ -1,5 +1,5 @@
 //! What the display shows, emitter by emitter (docs/optics.md §8.3): the
-//! hologram-plane field of a hololine ([`super::field`]) is propagated to the
+//! hologram-plane field of a hololine (`field.rs`) is propagated to the
 //! emitter plane; the field in a window one emitter pitch wide around each
 //! emitter is the light that emitter sends, and its angular spectrum says
 //! how much goes in every direction. Summed over a view's interval of

@@ -1,8 +1,10 @@
-//! Fringe assembly and reconstruction: files, frame-buffer layouts, physics, recovery.
+//! Fringe assembly and reconstruction: files, frame-buffer layouts, physics, recovery; and the
+//! numbered user examples of `examples/`, which end in fringes.
 //!
 //! One test binary for this stage of the data flow (each file a module), so a
 //! clean build links a few binaries rather than one per file.
 
+mod examples;
 mod files;
 mod layouts;
 mod physics;

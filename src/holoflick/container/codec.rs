@@ -10,6 +10,23 @@ use super::error::{invalid, Problem};
 use super::model::*;
 use super::*;
 
+/// Refuse frame `frame` of `path` when its geometry once references are
+/// resolved (its own blocks and those it takes from key frames) passes
+/// [`MAX_RESOLVED_BYTES`]: the reader and the writer hold frames to the
+/// same limit, so the writer cannot make a frame the reader refuses.
+pub(crate) fn check_resolved_bytes(path: &std::path::Path, frame: u32, bytes: u64) -> Result<(), ContainerError> {
+    if bytes > MAX_RESOLVED_BYTES {
+        return Err(ContainerError::TooLarge {
+            path: path.to_path_buf(),
+            at: At(Some(frame)),
+            what: "the geometry bytes of the resolved frame",
+            value: bytes,
+            limit: MAX_RESOLVED_BYTES,
+        });
+    }
+    Ok(())
+}
+
 /// Bytes of a chunk header: tag and little-endian u32 payload length.
 pub(crate) const CHUNK_HEADER: usize = 8;
 

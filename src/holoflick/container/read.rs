@@ -354,15 +354,7 @@ impl HoloFlickReader {
                 }
             };
             resolved_bytes += r.block.cg_record().len() as u64;
-            if resolved_bytes > MAX_RESOLVED_BYTES {
-                return Err(ContainerError::TooLarge {
-                    path: self.path.clone(),
-                    at: At(Some(n)),
-                    what: "the geometry bytes of the resolved frame",
-                    value: resolved_bytes,
-                    limit: MAX_RESOLVED_BYTES,
-                });
-            }
+            codec::check_resolved_bytes(&self.path, n, resolved_bytes)?;
             objects.push(r);
         }
         Ok(ResolvedFrame { number: n, frame, objects })

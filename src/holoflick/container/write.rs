@@ -150,15 +150,7 @@ impl HoloFlickWriter {
                 }
             }
         }
-        if resolved > MAX_RESOLVED_BYTES {
-            return Err(ContainerError::TooLarge {
-                path: self.path.clone(),
-                at: At(Some(number)),
-                what: "the geometry bytes of the resolved frame",
-                value: resolved,
-                limit: MAX_RESOLVED_BYTES,
-            });
-        }
+        codec::check_resolved_bytes(&self.path, number, resolved)?;
         let bytes = codec::encode_frame(number, frame);
         if bytes.len() as u64 > MAX_FRAME_BYTES {
             return Err(ContainerError::TooLarge {
