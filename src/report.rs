@@ -370,7 +370,7 @@ impl fmt::Display for Demo {
         writeln!(f, "Each view is also a picture in any OpenEXR viewer, or as PNGs:")?;
         writeln!(
             f,
-            "  holo export-views {} --out {}",
+            "  holo export-views {} -o {}",
             self.holo_file.display(),
             self.holo_file.with_file_name("views").display()
         )

@@ -1242,53 +1242,39 @@ fn pose(
             transform_point(m, q)
         })
         .collect();
-    let mut ok = true;
-    let normals: Vec<[f32; 3]> = prim
+    // A direction that comes out zero makes the whole attribute unusable.
+    let normals: Option<Vec<[f32; 3]>> = prim
         .normals
         .iter()
         .enumerate()
         .map(|(i, nrm)| {
             let q = morphed(*nrm, &active, |t| t.normals.get(i).copied());
-            match unit(mat3_apply(&nm, q)) {
-                Some(u) => u.map(|x| x as f32),
-                None => {
-                    ok = false;
-                    [0.0, 0.0, 1.0]
-                }
-            }
+            unit(mat3_apply(&nm, q)).map(|u| u.map(|x| x as f32))
         })
         .collect();
-    let normals = if ok {
-        normals
-    } else {
+    let normals = normals.unwrap_or_else(|| {
         warnings.push(format!("{file}: object \"{name}\": some normals are zero; the object is shaded flat"));
         Vec::new()
-    };
-    let mut tok = true;
-    let tangents: Vec<[f32; 4]> = prim
+    });
+    let s = if flip { -1.0 } else { 1.0 };
+    let tangents: Option<Vec<[f32; 4]>> = prim
         .tangents
         .iter()
         .enumerate()
         .map(|(i, t4)| {
             let q = morphed([t4[0], t4[1], t4[2]], &active, |t| t.tangents.get(i).copied());
-            let s = if flip { -1.0 } else { 1.0 };
             let wsign = if t4[3] < 0.0 { -s } else { s };
-            match unit(transform_direction(m, q)) {
-                Some(u) => [u[0] as f32, u[1] as f32, u[2] as f32, wsign],
-                None => {
-                    tok = false;
-                    [1.0, 0.0, 0.0, 1.0]
-                }
-            }
+            unit(transform_direction(m, q)).map(|u| [u[0] as f32, u[1] as f32, u[2] as f32, wsign])
         })
         .collect();
-    let tangents = if tok && !normals.is_empty() {
-        tangents
-    } else {
-        if !prim.tangents.is_empty() {
-            warnings.push(format!("{file}: object \"{name}\": tangents unusable; its normal map is not used"));
+    let tangents = match tangents {
+        Some(tangents) if !normals.is_empty() => tangents,
+        _ => {
+            if !prim.tangents.is_empty() {
+                warnings.push(format!("{file}: object \"{name}\": tangents unusable; its normal map is not used"));
+            }
+            Vec::new()
         }
-        Vec::new()
     };
     let triangles =
         if flip { prim.triangles.iter().map(|t| [t[0], t[2], t[1]]).collect() } else { prim.triangles.clone() };
