@@ -358,22 +358,31 @@ mod tests {
         }
     }
 
-    fn small() -> Geometry {
+    /// Run a `Count` of `frames` frames for `asked` into a small `.holo`
+    /// file in a new folder: (the folder, the frames rendered, the outcome).
+    fn run_count(
+        frames: usize,
+        asked: Option<Range<usize>>,
+        progress: &dyn Progress,
+    ) -> (tempfile::TempDir, Vec<usize>, Result<Run<WriteReport>>) {
         use crate::geometry::{mono_channel, Views};
-        Geometry::centred(4, 6, Views::tan_spaced(3, -0.2, 0.2), 1.3e-4, 2.4e-4, 0.027, 0.6, mono_channel())
+        let g = Geometry::centred(4, 6, Views::tan_spaced(3, -0.2, 0.2), 1.3e-4, 2.4e-4, 0.027, 0.6, mono_channel());
+        let dir = tempfile::tempdir().unwrap();
+        let mut source = Count { frames, rendered: Vec::new() };
+        let path = dir.path().join("count.holo");
+        let sink = HoloSink::new(&path, &g, WriteOptions::default());
+        let outcome = run(&mut source, sink, asked, progress);
+        (dir, source.rendered, outcome)
     }
 
     #[test]
     fn a_run_writes_the_frames_asked_for_with_provenance_and_counted_warnings() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("count.holo");
-        let g = small();
-        let mut source = Count { frames: 5, rendered: Vec::new() };
-        let run = run(&mut source, HoloSink::new(&path, &g, WriteOptions::default()), Some(1..4), &Silent).unwrap();
-        assert_eq!(source.rendered, [1, 2, 3]);
+        let (dir, rendered, run) = run_count(5, Some(1..4), &Silent);
+        let run = run.unwrap();
+        assert_eq!(rendered, [1, 2, 3]);
         assert_eq!(run.frames, 1..4);
         assert_eq!(run.warnings, ["same (2 times)"]);
-        let file = crate::format::HoloFile::open(&path).unwrap();
+        let file = crate::format::HoloFile::open(dir.path().join("count.holo")).unwrap();
         assert_eq!(file.info().frames.len(), 3);
         assert_eq!(file.info().source.as_deref(), Some("counting"));
         assert_eq!(file.info().frames_per_second, Some((24, 1)));
@@ -382,13 +391,10 @@ mod tests {
 
     #[test]
     fn a_range_outside_the_source_is_refused_before_any_work() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("count.holo");
-        let g = small();
-        let mut source = Count { frames: 1, rendered: Vec::new() };
-        let e = run(&mut source, HoloSink::new(&path, &g, WriteOptions::default()), Some(0..3), &Silent).unwrap_err();
+        let (dir, rendered, run) = run_count(1, Some(0..3), &Silent);
+        let e = run.unwrap_err();
         assert_eq!(e.to_string(), "count: frames 0..3 asked for; it has frames 0..1");
-        assert!(source.rendered.is_empty() && !path.exists());
+        assert!(rendered.is_empty() && std::fs::read_dir(dir.path()).unwrap().count() == 0);
     }
 
     #[test]
@@ -405,14 +411,10 @@ mod tests {
                 self.0.load(Ordering::Relaxed)
             }
         }
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("count.holo");
-        let g = small();
-        let mut source = Count { frames: 4, rendered: Vec::new() };
-        let progress = CancelAfterFirst(AtomicBool::new(false));
-        let e = run(&mut source, HoloSink::new(&path, &g, WriteOptions::default()), None, &progress).unwrap_err();
+        let (dir, rendered, run) = run_count(4, None, &CancelAfterFirst(AtomicBool::new(false)));
+        let e = run.unwrap_err();
         assert!(matches!(e, Error::Cancelled), "{e}");
-        assert_eq!(source.rendered, [0]);
+        assert_eq!(rendered, [0]);
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing left behind");
     }
 
