@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use common::shared_data;
 use holo::cameras::image::{image_size, load_picture};
 use holo::cameras::pfm::{load_depth, write_pfm};
-use holo::cameras::read::{open_rig_with, FolderOptions, OpenOptions, StanfordOptions};
+use holo::cameras::read::{open_rig_with, CameraHints, FolderOptions, OpenOptions, StanfordOptions};
 use holo::cameras::rig_file::read_rig_file;
 use holo::cameras::{open_rig, Camera, DepthKind, ImageSource, Intrinsics, Pose, Rig};
 
@@ -485,11 +485,20 @@ fn stanford_names_give_positions() {
     }
     let e = error_of(open_rig(d));
     assert!(e.contains("focal_length_px or horizontal_fov_deg"), "{e}");
-    let stanford = StanfordOptions { focal_length_px: Some(10.0), ..StanfordOptions::default() };
+    let stanford = StanfordOptions {
+        camera: CameraHints { focal_length_px: Some(10.0), ..CameraHints::default() },
+        ..StanfordOptions::default()
+    };
     let options = OpenOptions { stanford: stanford.clone(), ..OpenOptions::default() };
     let e = error_of(open_rig_with(d, &options));
     assert!(e.contains("focus_distance"), "{e}");
-    let options = OpenOptions { stanford: StanfordOptions { focus_distance: Some(100.0), ..stanford }, ..options };
+    let options = OpenOptions {
+        stanford: StanfordOptions {
+            camera: CameraHints { focus_distance: Some(100.0), ..stanford.camera.clone() },
+            ..stanford
+        },
+        ..options
+    };
     let rig = open_rig_with(d, &options).unwrap();
     assert_eq!(rig.metres_per_unit, 0.001);
     // (Y, X) = (−10, −10) is row 0, column 0: top left, world y up.
@@ -517,8 +526,10 @@ fn stanford_archive_names_as_published_are_read() {
         for name in names {
             png(&dir.path().join(name), 8, 6);
         }
-        let stanford =
-            StanfordOptions { focal_length_px: Some(10.0), focus_distance: Some(500.0), ..StanfordOptions::default() };
+        let stanford = StanfordOptions {
+            camera: CameraHints { focal_length_px: Some(10.0), focus_distance: Some(500.0), ..CameraHints::default() },
+            ..StanfordOptions::default()
+        };
         let rig = open_rig_with(dir.path(), &OpenOptions { stanford, ..OpenOptions::default() }).unwrap();
         assert_eq!(rig.cameras.len(), 2);
         let mean = (x[0] + x[1]) / 2.0;
@@ -540,7 +551,8 @@ fn plain_folder_is_a_rail_in_name_order() {
     let folder = FolderOptions { baseline: Some(0.1), ..FolderOptions::default() };
     let e = error_of(open_rig_with(d, &OpenOptions { folder: folder.clone(), ..OpenOptions::default() }));
     assert!(e.contains("focal_length_px or horizontal_fov_deg"), "{e}");
-    let folder = FolderOptions { horizontal_fov_deg: Some(90.0), ..folder };
+    let folder =
+        FolderOptions { camera: CameraHints { horizontal_fov_deg: Some(90.0), ..CameraHints::default() }, ..folder };
     let rig = open_rig_with(d, &OpenOptions { folder, ..OpenOptions::default() }).unwrap();
     let names: Vec<&str> = rig.cameras.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(names, ["view1.png", "view2.png", "view10.png"]);
@@ -645,7 +657,8 @@ fn bad_input_names_the_file_and_camera() {
     png(&d.join("views/view_2.png"), 10, 6);
     let e = error_of(read_rig_file(&rig));
     assert!(e.contains("camera 2 (views/view_2.png)") && e.contains("10×6, camera 0 is 8×6"), "{e}");
-    let folder = FolderOptions { baseline: Some(1.0), focal_length_px: Some(5.0), ..FolderOptions::default() };
+    let camera = CameraHints { focal_length_px: Some(5.0), ..CameraHints::default() };
+    let folder = FolderOptions { baseline: Some(1.0), camera, ..FolderOptions::default() };
     let e = error_of(open_rig_with(&d.join("views"), &OpenOptions { folder, ..OpenOptions::default() }));
     assert!(e.contains("view_2.png") && e.contains("camera view_0.png's is 8×6"), "{e}");
     let e = error_of(read_rig_file(&d.join("nothing.toml")));

@@ -32,28 +32,30 @@ pub fn read_folder(folder: &Path, options: &FolderOptions) -> Result<Rig> {
             ))
         }
     };
-    if let Some(f) = options.focus_distance {
+    if let Some(f) = options.camera.focus_distance {
         if !(f > 0.0 && f.is_finite()) {
-            return Err(usage(format!("FolderOptions focus_distance must be positive (got {f})")));
+            return Err(usage(format!("FolderOptions camera.focus_distance must be positive (got {f})")));
         }
     }
     let size = common_size(&images)?;
-    let f = focal_px(options.focal_length_px, options.horizontal_fov_deg, size.0, "FolderOptions").map_err(usage)?;
-    let centre = [0.0, 0.0, options.focus_distance.unwrap_or(0.0)];
+    let f = focal_px(options.camera.focal_length_px, options.camera.horizontal_fov_deg, size.0, "FolderOptions")
+        .map_err(usage)?;
+    let centre = [0.0, 0.0, options.camera.focus_distance.unwrap_or(0.0)];
     let frame = ArrayFrame::new(centre, [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]).map_err(usage)?;
     let n = images.len() as f64;
     let mut cameras = Vec::with_capacity(images.len());
     for (i, (name, path)) in images.into_iter().enumerate() {
         let offset = [(i as f64 - (n - 1.0) / 2.0) * baseline, 0.0, 0.0];
-        let camera =
-            frame.camera(name, ImageSource::File(path), size, (f, f), offset, options.focus_distance).map_err(usage)?;
+        let camera = frame
+            .camera(name, ImageSource::File(path), size, (f, f), offset, options.camera.focus_distance)
+            .map_err(usage)?;
         cameras.push(camera);
     }
     finish(Rig {
         source: folder.display().to_string(),
         cameras,
         metres_per_unit: options.metres_per_unit,
-        focus_distance: options.focus_distance,
+        focus_distance: options.camera.focus_distance,
         linear: false,
     })
 }

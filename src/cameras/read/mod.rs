@@ -35,49 +35,52 @@ pub struct OpenOptions {
     pub quilt: QuiltOptions,
 }
 
+/// What a capture's files do not say about its cameras, as the user gives
+/// it: the focal length (in pixels, or as a field of view) and the distance
+/// at which the views converge (the plane of zero parallax). The formats
+/// that need it ([`FolderOptions`], [`StanfordOptions`]) say which parts
+/// they require.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CameraHints {
+    /// Focal length in pixels (this or `horizontal_fov_deg` is required).
+    pub focal_length_px: Option<f64>,
+    /// Horizontal field of view, degrees, edge to edge of the picture.
+    pub horizontal_fov_deg: Option<f64>,
+    /// Distance from the cameras' plane to the plane of zero parallax, in
+    /// the capture's units.
+    pub focus_distance: Option<f64>,
+}
+
 /// A plain folder of images is a horizontal rail, first image (by name,
-/// numbers compared as numbers) leftmost; its files hold no geometry.
+/// numbers compared as numbers) leftmost; its files hold no geometry. With
+/// a focus distance the cameras' sensors are shifted so that the views
+/// converge there; without one they are parallel with centred principal
+/// points.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FolderOptions {
     /// Distance between neighbouring cameras, world units (required when
     /// there is more than one image).
     pub baseline: Option<f64>,
-    /// Focal length in pixels (this or `horizontal_fov_deg` is required).
-    pub focal_length_px: Option<f64>,
-    /// Horizontal field of view, degrees, edge to edge of the picture.
-    pub horizontal_fov_deg: Option<f64>,
-    /// When given, the cameras' sensors are shifted so that the views
-    /// converge at this distance (world units); else they are parallel
-    /// with centred principal points.
-    pub focus_distance: Option<f64>,
+    /// Focal length and focus distance (world units).
+    pub camera: CameraHints,
     /// Metres per world unit (default 1).
     pub metres_per_unit: f64,
 }
 
 impl Default for FolderOptions {
     fn default() -> Self {
-        FolderOptions {
-            baseline: None,
-            focal_length_px: None,
-            horizontal_fov_deg: None,
-            focus_distance: None,
-            metres_per_unit: 1.0,
-        }
+        FolderOptions { baseline: None, camera: CameraHints::default(), metres_per_unit: 1.0 }
     }
 }
 
 /// The Stanford archive's file names give each camera's position (up to a
 /// scale), but not the focal length nor the distance to the plane the
-/// images are rectified to.
+/// images are rectified to: both are required here.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StanfordOptions {
-    /// Focal length in pixels (this or `horizontal_fov_deg` is required).
-    pub focal_length_px: Option<f64>,
-    /// Horizontal field of view, degrees, edge to edge of the picture.
-    pub horizontal_fov_deg: Option<f64>,
-    /// Distance from the camera plane to the reference plane the images are
-    /// rectified to (zero parallax), in the file names' units (required).
-    pub focus_distance: Option<f64>,
+    /// Focal length, and the distance to the plane the images are rectified
+    /// to, in the file names' units.
+    pub camera: CameraHints,
     /// Metres per unit of the file names' positions (default 0.001: the
     /// archive gives gantry positions in millimetres; the Lego gantry's are
     /// only known up to scale).
@@ -86,12 +89,7 @@ pub struct StanfordOptions {
 
 impl Default for StanfordOptions {
     fn default() -> Self {
-        StanfordOptions {
-            focal_length_px: None,
-            horizontal_fov_deg: None,
-            focus_distance: None,
-            metres_per_unit: 0.001,
-        }
+        StanfordOptions { camera: CameraHints::default(), metres_per_unit: 0.001 }
     }
 }
 
