@@ -256,6 +256,24 @@ pub fn inverse_transpose3(m: &Mat3) -> Option<Mat3> {
     Some(cofactor3(m).map(|row| row.map(|c| c / det)))
 }
 
+/// A plane: a point of it and its unit normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane {
+    /// A point of the plane.
+    pub point: Vec3,
+    /// Its unit normal.
+    pub normal: Vec3,
+}
+
+impl Plane {
+    /// Where the ray `origin + t·direction` (any `t`, behind the origin
+    /// too) crosses the plane, or `None` where it runs parallel to it.
+    pub fn crossing(&self, origin: Vec3, direction: Vec3) -> Option<Vec3> {
+        let t = dot(sub(self.point, origin), self.normal) / dot(direction, self.normal);
+        t.is_finite().then(|| add(origin, scale(direction, t)))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -286,6 +304,27 @@ mod tests {
         }
         assert_eq!(inverse_transpose3(&[[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]]), None);
         assert_eq!(det3(&[[2.0, 0.0, 0.0], [0.0, -3.0, 0.0], [0.0, 0.0, 0.5]]), -3.0);
+    }
+
+    #[test]
+    fn a_ray_crosses_a_plane_where_its_point_satisfies_the_plane_equation() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..1000 {
+            let v = |rng: &mut rand_chacha::ChaCha8Rng| std::array::from_fn(|_| rng.gen_range(-2.0..2.0));
+            let plane = Plane { point: v(&mut rng), normal: normalize(v(&mut rng)) };
+            let (origin, direction) = (v(&mut rng), v(&mut rng));
+            let Some(p) = plane.crossing(origin, direction) else { continue };
+            // On the plane, and on the ray's line.
+            let scale_of = 1.0 + length(p);
+            assert!(
+                dot(sub(p, plane.point), plane.normal).abs() < 1e-9 * scale_of,
+                "{plane:?} {origin:?} {direction:?}"
+            );
+            assert!(length(cross(sub(p, origin), direction)) < 1e-9 * scale_of * (1.0 + length(direction)));
+        }
+        let floor = Plane { point: [0.0; 3], normal: [0.0, 0.0, 1.0] };
+        assert_eq!(floor.crossing([1.0, 2.0, 3.0], [0.0, 0.0, -1.0]), Some([1.0, 2.0, 0.0]));
+        assert_eq!(floor.crossing([1.0, 2.0, 3.0], [1.0, 0.0, 0.0]), None);
     }
 
     #[test]

@@ -226,7 +226,7 @@ pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {
     let mut options = ConvertOptions::default();
     options.write.overwrite = true;
     // Turn the cow to show its side and face.
-    options.placement.rotate_deg = [0.0, -60.0, 0.0];
+    options.scene.placement.rotate_deg = [0.0, -60.0, 0.0];
     let started = std::time::Instant::now();
     let converted = convert_mesh(&scene, &layout.geometry, &holo_file, &options, &Labelled::new(progress, "mesh"))?;
     let convert_seconds = started.elapsed().as_secs_f64();
@@ -274,6 +274,7 @@ fn demo_movie(dir: &Path, layout: &layout::Layout, progress: &dyn Progress) -> R
     use crate::assemble::output::{assemble_file, AssembleOptions, FringeFormat};
     use crate::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
     use crate::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
+    use crate::mesh::convert::SceneFramesOptions;
     use crate::reconstruct::files::{view_file, EyeAt};
     std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
     let scene = dir.join("AnimatedMorphCube.glb");
@@ -282,10 +283,12 @@ fn demo_movie(dir: &Path, layout: &layout::Layout, progress: &dyn Progress) -> R
     let started = std::time::Instant::now();
     let options = HoloFlickEncodeOptions {
         micropolygon: 4.0,
-        frames_per_second: 0.5,
-        frames: Some(0..3),
+        scene: SceneFramesOptions {
+            placement: crate::mesh::place::Placement { rotate_deg: [20.0, -30.0, 0.0], ..Default::default() },
+            frames: Some(0..3),
+            frames_per_second: 0.5,
+        },
         overwrite: true,
-        placement: crate::mesh::place::Placement { rotate_deg: [20.0, -30.0, 0.0], ..Default::default() },
         ..HoloFlickEncodeOptions::default()
     };
     let encoded = encode_holoflick(&scene, &layout.geometry, &holoflick, &options, progress)?;

@@ -30,7 +30,7 @@ use spade::{DelaunayTriangulation, Point2, PositionInTriangulation, Triangulatio
 use super::image::Picture;
 use super::{Camera, Rig};
 use crate::geometry::{channel_weights, Geometry};
-use crate::math::{add, cross, det3, dot, length, mat3_transpose_apply, normalize_or, scale, sub, Mat3};
+use crate::math::{add, cross, det3, dot, length, mat3_transpose_apply, normalize_or, scale, sub, Mat3, Plane};
 use crate::progress::Progress;
 use crate::{Band, Error, Modulation, Result};
 
@@ -168,9 +168,8 @@ pub struct RigGeometry {
     placement: Placement,
     surface: Surface,
     cameras_on_surface: Interpolator,
-    /// A point of the focus plane and its unit normal (capture).
-    focus_point: [f64; 3],
-    focus_normal: [f64; 3],
+    /// The focus plane (capture).
+    focus: Plane,
     /// Words for the report.
     placement_words: String,
     /// The middle camera's pixel at the focus, display metres.
@@ -180,9 +179,9 @@ pub struct RigGeometry {
 }
 
 enum Surface {
-    /// Rays are located where they cross this plane: `u`, `v` in-plane
-    /// unit axes, `normal` unit.
-    Plane { origin: [f64; 3], u: [f64; 3], v: [f64; 3], normal: [f64; 3] },
+    /// Rays are located where they cross this plane, in its unit axes `u`
+    /// and `v`.
+    Plane { plane: Plane, u: [f64; 3], v: [f64; 3] },
     /// Rays are located by their direction, cameras by theirs from
     /// `centre`: azimuth and elevation in the display-aligned frame.
     Directions { centre: [f64; 3] },
@@ -313,7 +312,7 @@ impl RigGeometry {
         // A rail: the second spread tiny next to the first (calibrated rails
         // are straight to better than 1%); a plane likewise in the third.
         let surface = if n == 1 {
-            Surface::Plane { origin: mean_centre, u: x_d, v: y_d, normal: z_d }
+            Surface::Plane { plane: Plane { point: mean_centre, normal: z_d }, u: x_d, v: y_d }
         } else if extent == 0.0 {
             return Err(Error::rig(
                 &rig.source,
@@ -323,11 +322,11 @@ impl RigGeometry {
             // A rail: the plane through it, as square to the mean axis as it can be.
             let along = axes[0];
             let normal = normalized(sub(z_d, scale(along, dot(z_d, along))));
-            Surface::Plane { origin: mean_centre, u: along, v: cross(normal, along), normal }
+            Surface::Plane { plane: Plane { point: mean_centre, normal }, u: along, v: cross(normal, along) }
         } else if axes_agree && spread[2] <= 0.02 * spread[1] && dot(axes[2], z_d).abs() > 0.7 {
             let normal = if dot(axes[2], z_d) > 0.0 { axes[2] } else { scale(axes[2], -1.0) };
             let u = normalized(sub(x_d, scale(normal, dot(x_d, normal))));
-            Surface::Plane { origin: mean_centre, u, v: cross(normal, u), normal }
+            Surface::Plane { plane: Plane { point: mean_centre, normal }, u, v: cross(normal, u) }
         } else {
             Surface::Directions { centre: focus_point }
         };
@@ -341,7 +340,7 @@ impl RigGeometry {
         let points: Vec<[f64; 2]> = centres
             .iter()
             .map(|&c| match &surface {
-                Surface::Plane { origin, u, v, .. } => [dot(sub(c, *origin), *u), dot(sub(c, *origin), *v)],
+                Surface::Plane { plane, u, v } => [dot(sub(c, plane.point), *u), dot(sub(c, plane.point), *v)],
                 Surface::Directions { centre } => direction_coords(normalized(sub(c, *centre)), &rotation),
             })
             .collect();
@@ -394,8 +393,7 @@ impl RigGeometry {
             placement,
             surface,
             cameras_on_surface,
-            focus_point,
-            focus_normal: z_d,
+            focus: Plane { point: focus_point, normal: z_d },
             placement_words,
             pixel_at_focus_m,
             warnings,
@@ -433,12 +431,8 @@ impl RigGeometry {
     /// The ray's point on the camera surface, or `None` when it misses it.
     fn surface_point(&self, origin: [f64; 3], dir: [f64; 3]) -> Option<[f64; 2]> {
         match &self.surface {
-            Surface::Plane { origin: o, u, v, normal } => {
-                let t = dot(sub(*o, origin), *normal) / dot(dir, *normal);
-                if !t.is_finite() {
-                    return None;
-                }
-                let p = sub(add(origin, scale(dir, t)), *o);
+            Surface::Plane { plane, u, v } => {
+                let p = sub(plane.crossing(origin, dir)?, plane.point);
                 Some([dot(p, *u), dot(p, *v)])
             }
             Surface::Directions { .. } => Some(direction_coords(dir, &self.placement.rotation)),
@@ -447,8 +441,7 @@ impl RigGeometry {
 
     /// Where the ray crosses the focus plane.
     fn focus_on_ray(&self, origin: [f64; 3], dir: [f64; 3]) -> Option<[f64; 3]> {
-        let t = dot(sub(self.focus_point, origin), self.focus_normal) / dot(dir, self.focus_normal);
-        t.is_finite().then(|| add(origin, scale(dir, t)))
+        self.focus.crossing(origin, dir)
     }
 }
 

@@ -11,7 +11,6 @@
 //! `holo convert holoflick` draws the result as it is. Objects that do not
 //! change between frames are stored once per key frame.
 
-use std::ops::Range;
 use std::path::Path;
 
 use super::cg::EncodeOptions;
@@ -22,8 +21,8 @@ use super::shader::micro::micropolygons;
 use super::sink::{frame_rate_fraction, HoloFlickSink};
 use super::tools::{specular_light, KeyFrames, PackReport};
 use crate::geometry::Geometry;
-use crate::mesh::convert::{SceneFrames, SceneStage};
-use crate::mesh::place::{Placed, Placement};
+use crate::mesh::convert::{SceneFrames, SceneFramesOptions, SceneStage};
+use crate::mesh::place::Placed;
 use crate::mesh::render::RenderOptions;
 use crate::mesh::Scene;
 use crate::pipeline;
@@ -33,8 +32,8 @@ use crate::{Error, Result};
 /// How to encode.
 #[derive(Clone, Debug)]
 pub struct HoloFlickEncodeOptions {
-    /// Where the scene goes in the display.
-    pub placement: Placement,
+    /// Placement, frames and frame rate.
+    pub scene: SceneFramesOptions,
     /// Micropolygon edge as a multiple of what the display resolves at its
     /// depth (1: one display sample; smaller is finer).
     pub micropolygon: f64,
@@ -44,10 +43,6 @@ pub struct HoloFlickEncodeOptions {
     pub shadows: bool,
     /// Quantization.
     pub encode: EncodeOptions,
-    /// Animation sampling rate and frame rate.
-    pub frames_per_second: f64,
-    /// Frames to encode (animated scenes); default all.
-    pub frames: Option<Range<usize>>,
     /// A key frame every this many frames.
     pub key_interval: usize,
     /// Replace an existing output.
@@ -57,13 +52,11 @@ pub struct HoloFlickEncodeOptions {
 impl Default for HoloFlickEncodeOptions {
     fn default() -> Self {
         HoloFlickEncodeOptions {
-            placement: Placement::default(),
+            scene: SceneFramesOptions::default(),
             micropolygon: 1.0,
             smooth: true,
             shadows: false,
             encode: EncodeOptions::default(),
-            frames_per_second: 30.0,
-            frames: None,
             key_interval: 30,
             overwrite: false,
         }
@@ -125,9 +118,9 @@ pub fn encode_holoflick(
         micropolygons: 0,
         shadowed: 0,
     };
-    let open = |input: &Path| SceneFrames::open(input, geometry, &options.placement, options.frames_per_second, stage);
+    let open = |input: &Path| SceneFrames::open(input, geometry, &options.scene, stage);
     let sink = HoloFlickSink::new(output, options.overwrite);
-    let (source, run) = pipeline::open_and_run(input, open, sink, options.frames.clone(), progress)?;
+    let (source, run) = pipeline::open_and_run(input, open, sink, options.scene.frames.clone(), progress)?;
     let placed =
         source.placed().cloned().ok_or_else(|| Error::argument("placement", "internal: the scene was never placed"))?;
     let Encode { mut report, micropolygons, shadowed, .. } = source.stage;

@@ -19,33 +19,37 @@ use crate::pipeline::{self, HoloSink, Source, Warnings};
 use crate::progress::{Labelled, Progress};
 use crate::{Band, Error, Result};
 
-/// Everything `convert mesh` takes besides the input, layout geometry and output.
+/// Which moments of a scene file become frames, and where the scene goes:
+/// what every command that makes frames of a scene (`convert mesh`,
+/// `holoflick encode`) takes the same way ([`SceneFrames`]).
 #[derive(Clone, Debug)]
-pub struct ConvertOptions {
-    /// Where the scene goes.
+pub struct SceneFramesOptions {
+    /// Where the scene goes, decided on the first frame of the run.
     pub placement: Placement,
+    /// Frames to make (animated glTF); default all. Frame `i` is the scene
+    /// at `i / frames_per_second` seconds.
+    pub frames: Option<Range<usize>>,
+    /// The rate animations are sampled at, and the frame rate written.
+    pub frames_per_second: f64,
+}
+
+impl Default for SceneFramesOptions {
+    fn default() -> Self {
+        SceneFramesOptions { placement: Placement::default(), frames: None, frames_per_second: 30.0 }
+    }
+}
+
+/// Everything `convert mesh` takes besides the input, layout geometry and output.
+#[derive(Clone, Debug, Default)]
+pub struct ConvertOptions {
+    /// Placement, frames and frame rate.
+    pub scene: SceneFramesOptions,
     /// Renderer, supersampling, specular lobe and lights: its lights (in
     /// display metres, after placement) are added to the scene's own
     /// (see [`RenderOptions::lighting_for`]).
     pub render: RenderOptions,
-    /// Frames to convert (animated glTF): frame `i` is the scene at `i / fps`.
-    pub frames: Option<Range<usize>>,
-    /// Frame rate for sampling animations.
-    pub fps: f64,
     /// How to write the file.
     pub write: WriteOptions,
-}
-
-impl Default for ConvertOptions {
-    fn default() -> Self {
-        ConvertOptions {
-            placement: Placement::default(),
-            render: RenderOptions::default(),
-            frames: None,
-            fps: 30.0,
-            write: WriteOptions::default(),
-        }
-    }
 }
 
 /// What a conversion did.
@@ -82,9 +86,8 @@ pub fn convert_mesh(
     progress: &dyn Progress,
 ) -> Result<ConvertReport> {
     let sink = HoloSink::new(output, geometry, options.write.clone());
-    let open =
-        |input: &Path| SceneFrames::open(input, geometry, &options.placement, options.fps, MeshRender::new(options));
-    let (source, run) = pipeline::open_and_run(input, open, sink, options.frames.clone(), progress)?;
+    let open = |input: &Path| SceneFrames::open(input, geometry, &options.scene, MeshRender::new(options));
+    let (source, run) = pipeline::open_and_run(input, open, sink, options.scene.frames.clone(), progress)?;
     let MeshRender { first, stats, .. } = source.stage;
     let first = first.ok_or_else(|| Error::argument("placement", "internal: the scene was never placed"))?;
     Ok(ConvertReport {
@@ -124,7 +127,7 @@ pub trait SceneStage {
 }
 
 /// A scene file's frames in display metres as a [`Source`]: frame `i` is
-/// the scene at `i / fps` seconds, placed as the first frame of the run was
+/// the scene at `i / frames_per_second` seconds, placed as the first frame of the run was
 /// (so an animation does not jitter as its bounding box changes), and made
 /// into a frame by the stage `S`.
 #[derive(Debug)]
@@ -142,15 +145,10 @@ pub struct SceneFrames<'a, S> {
 }
 
 impl<'a, S: SceneStage> SceneFrames<'a, S> {
-    /// Open `input` for `geometry`, placed by `placement`, an animation
-    /// sampled at `frames_per_second`.
-    pub fn open(
-        input: &Path,
-        geometry: &'a Geometry,
-        placement: &Placement,
-        frames_per_second: f64,
-        stage: S,
-    ) -> Result<Self> {
+    /// Open `input` for `geometry`, placed and sampled as `options` say
+    /// (its frame range is the run's: [`pipeline::run`]).
+    pub fn open(input: &Path, geometry: &'a Geometry, options: &SceneFramesOptions, stage: S) -> Result<Self> {
+        let frames_per_second = options.frames_per_second;
         if !(frames_per_second.is_finite() && frames_per_second > 0.0) {
             return Err(Error::argument(
                 "frame rate",
@@ -160,7 +158,7 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
         Ok(SceneFrames {
             source: SceneSource::open(input)?,
             geometry,
-            placement: placement.clone(),
+            placement: options.placement.clone(),
             frames_per_second,
             first: None,
             first_number: 0,

@@ -6,7 +6,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use holo::geometry::{mono_channel, Geometry, Views};
-use holo::mesh::convert::{convert_mesh, ConvertOptions};
+use holo::mesh::convert::{convert_mesh, ConvertOptions, SceneFramesOptions};
 use holo::progress::{Progress, Silent};
 
 fn small_display() -> Geometry {
@@ -60,7 +60,10 @@ fn a_still_scene_has_one_frame_and_a_range_beyond_it_is_refused_before_any_work(
     let dir = tempfile::tempdir().unwrap();
     let scene = instanced_tile(dir.path(), 2);
     let out = dir.path().join("tiles.holo");
-    let options = ConvertOptions { frames: Some(0..3), ..ConvertOptions::default() };
+    let options = ConvertOptions {
+        scene: SceneFramesOptions { frames: Some(0..3), ..Default::default() },
+        ..ConvertOptions::default()
+    };
     let e = convert_mesh(&scene, &small_display(), &out, &options, &Silent).unwrap_err();
     assert!(e.to_string().ends_with("tiles.gltf: frames 0..3 asked for; it has frames 0..1"), "{e}");
     assert!(!out.exists());

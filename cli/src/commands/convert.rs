@@ -12,7 +12,7 @@ use holo::cameras::quilt::{DEFAULT_VERTICAL_FOV_DEG, DEFAULT_VIEW_CONE_DEG};
 use holo::cameras::read::{CameraHints, OpenOptions};
 use holo::cameras::resample::{CameraOptions, PlacementRequest};
 use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
-use holo::mesh::convert::{convert_mesh, ConvertOptions};
+use holo::mesh::convert::{convert_mesh, ConvertOptions, SceneFramesOptions};
 use holo::mesh::place::{display_volume, Placement};
 use holo::mesh::render::{Engine, RenderOptions, Supersample};
 use holo::mesh::shade::{parse_light, read_lights, Lighting};
@@ -165,11 +165,15 @@ fn mesh(a: MeshArgs) -> Outcome {
         user_lights.push(parse_light(spec, centre)?);
     }
     let options = ConvertOptions {
-        placement: Placement {
-            rotate_deg: a.rotate_deg.unwrap_or([0.0; 3]),
-            scale: a.scale_m,
-            translate_m: a.translate_m.unwrap_or([0.0; 3]),
-            matrix: a.matrix,
+        scene: SceneFramesOptions {
+            placement: Placement {
+                rotate_deg: a.rotate_deg.unwrap_or([0.0; 3]),
+                scale: a.scale_m,
+                translate_m: a.translate_m.unwrap_or([0.0; 3]),
+                matrix: a.matrix,
+            },
+            frames: a.frames,
+            frames_per_second: a.fps,
         },
         render: RenderOptions {
             supersample: supersample(a.supersample),
@@ -178,8 +182,6 @@ fn mesh(a: MeshArgs) -> Outcome {
             default_lights: true,
             engine: if a.reference { Engine::Reference } else { Engine::Fast },
         },
-        frames: a.frames,
-        fps: a.fps,
         write: a.target.write.options(String::new()),
     };
     let started = Instant::now();

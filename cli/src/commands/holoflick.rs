@@ -10,6 +10,7 @@ use holo::holoflick::cg::EncodeOptions;
 use holo::holoflick::container::ViewerCouch;
 use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
 use holo::holoflick::tools::{info, pack, unpack, PackOptions, PackReport};
+use holo::mesh::convert::SceneFramesOptions;
 
 use super::{check_output, Outcome};
 use crate::args::{self, layout_geometry, layout_help};
@@ -171,11 +172,9 @@ fn run_encode(a: EncodeArgs) -> Outcome {
         smooth: !a.flat,
         shadows: a.shadows,
         encode: m.encode(),
-        frames_per_second: m.fps,
-        frames: m.frames.clone(),
+        scene: SceneFramesOptions { frames: m.frames.clone(), frames_per_second: m.fps, ..Default::default() },
         key_interval: m.key_interval,
         overwrite: m.force,
-        ..HoloFlickEncodeOptions::default()
     };
     let report = encode_holoflick(&a.scene, &g, &a.output, &options, &Reporter::on_stderr())?;
     report.pack.warnings.iter().for_each(warn);
