@@ -447,6 +447,47 @@ fn write_ply(path: &Path, format: &str) {
     std::fs::write(path, out).unwrap();
 }
 
+/// A header as old exporters wrote them: a line of free text without the
+/// `comment` keyword (Blender 2.4x), `obj_info`, CRLF line ends, in ASCII
+/// and binary. It reads as the file without those lines does, with one
+/// warning naming the free-text line; a malformed keyword line is still an
+/// error.
+#[test]
+fn ply_headers_as_old_exporters_wrote_them_read_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    write_png(&dir.path().join("tex.png"), 2, 2);
+    let blender = "Created by Blender3D 247 - www.blender.org, source file: 'spot.blend'";
+    for format in ["ascii", "binary_little_endian"] {
+        let clean = dir.path().join(format!("clean-{format}.ply"));
+        write_ply(&clean, format);
+        let bytes = std::fs::read(&clean).unwrap();
+        let split = bytes.windows(10).position(|w| w == b"end_header").unwrap();
+        let header = std::str::from_utf8(&bytes[..split]).unwrap();
+        let old_header = header
+            .replacen("comment made by the holo tests\n", &format!("{blender}\nobj_info num_cols 2\n"), 1)
+            .replace('\n', "\r\n");
+        assert!(old_header.contains(blender));
+        let old = dir.path().join(format!("old-{format}.ply"));
+        std::fs::write(&old, [old_header.as_bytes(), &bytes[split..]].concat()).unwrap();
+        let (want, got) = (load_ok(&clean), load_ok(&old));
+        assert_eq!(got.objects[0].positions, want.objects[0].positions);
+        assert_eq!(got.objects[0].triangles, want.objects[0].triangles);
+        assert_eq!(got.objects[0].colours, want.objects[0].colours);
+        let named: Vec<&String> = got.warnings.iter().filter(|w| w.contains(blender)).collect();
+        assert_eq!(named.len(), 1, "{:?}", got.warnings);
+        assert!(named[0].contains(&old.display().to_string()) && named[0].contains("header line 3"), "{}", named[0]);
+        // A line that starts with a keyword but is malformed is not skipped.
+        let broken = dir.path().join(format!("broken-{format}.ply"));
+        std::fs::write(
+            &broken,
+            [old_header.replacen("element face 2", "element face", 1).as_bytes(), &bytes[split..]].concat(),
+        )
+        .unwrap();
+        let e = load(&broken).unwrap_err().to_string();
+        assert!(e.contains("broken-") && e.contains("element face"), "{e}");
+    }
+}
+
 #[test]
 fn ply_ascii_and_binary_load_identically() {
     let dir = tempfile::tempdir().unwrap();

@@ -8,6 +8,14 @@
 //! `vertex_indices` (or `vertex_index`) lists are fan-triangulated. Other
 //! elements and properties are read past. `comment TextureFile name` gives
 //! a base-colour texture. The whole file is one object.
+//!
+//! Header lines are read as the well-known readers (rply, trimesh, assimp)
+//! read them: `comment` and `obj_info` lines are skipped, line ends may be
+//! CRLF, and a line that starts with no PLY keyword at all (old Blender
+//! exporters wrote `Created by Blender3D 247 - www.blender.org, source
+//! file: …` without `comment`) is skipped with a warning naming it. A line
+//! that starts with a keyword but is malformed stays an error: skipping it
+//! would misread the body.
 
 use std::path::Path;
 
@@ -186,7 +194,7 @@ pub(crate) fn load(path: &Path, limits: &LoadLimits) -> Result<Scene> {
         limits,
         body: Body { bytes: &bytes, pos: body_at, format: header.format },
         data: Vertices::default(),
-        warnings: Vec::new(),
+        warnings: header.warnings,
         seen_vertex: false,
     };
     for el in &header.elements {
@@ -204,7 +212,13 @@ struct Header {
     format: Format,
     elements: Vec<Element>,
     texture_file: Option<String>,
+    /// Lines skipped as free text.
+    warnings: Vec<String>,
 }
+
+/// The words a PLY header line can start with (Turk, "The PLY Polygon File
+/// Format"; `obj_info` from the Stanford tools).
+const KEYWORDS: [&str; 6] = ["format", "comment", "obj_info", "element", "property", "end_header"];
 
 impl Header {
     /// The header's lines after the first (`ply`), each checked.
@@ -213,6 +227,7 @@ impl Header {
         let mut format = None;
         let mut elements: Vec<Element> = Vec::new();
         let mut texture_file: Option<String> = None;
+        let mut warnings = Vec::new();
         for (i, raw) in header.lines().enumerate().skip(1) {
             let ln = i + 1;
             let line = raw.trim();
@@ -265,11 +280,15 @@ impl Header {
                         .ok_or_else(|| bad(format!("header line {ln}: property before any element")))?;
                     e.props.push(Prop { name: name.to_string(), ty: t, list_count: None });
                 }
+                [first, ..] if !KEYWORDS.contains(first) => warnings.push(format!(
+                    "{}: header line {ln}: \"{line}\" starts with no PLY keyword; skipped as a comment",
+                    path.display()
+                )),
                 _ => return Err(bad(format!("header line {ln}: cannot understand \"{line}\""))),
             }
         }
         let format = format.ok_or_else(|| bad("the PLY header has no format line".into()))?;
-        Ok(Header { format, elements, texture_file })
+        Ok(Header { format, elements, texture_file, warnings })
     }
 }
 
