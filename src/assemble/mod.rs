@@ -519,7 +519,9 @@ mod tests {
 
     #[test]
     fn fast_and_straightforward_agree_with_the_f64_reference_for_every_basis() {
-        for layout in [mark3(), mark1(), mark1_hogel(), mark2(), mark4()] {
+        // One layout per core: the test is the longest of the library's.
+        use rayon::prelude::*;
+        [mark3(), mark1(), mark1_hogel(), mark2(), mark4()].into_par_iter().for_each(|layout| {
             let layout = with_hololines(layout, 2);
             let a = Assembler::new(&layout).unwrap();
             // The portable kernel is what processors without AVX2 run: held
@@ -557,7 +559,7 @@ mod tests {
                     assert!(worst.iter().all(|w| *w < 2e-6), "{} colour {colour}: worst {worst:?}", layout.name);
                 }
             }
-        }
+        });
     }
 
     #[test]

@@ -12,24 +12,7 @@ use std::time::{Duration, Instant};
 use holo::geometry::{mono_channel, Geometry, Views};
 use holo::{Modulation, WriteOptions};
 
-const HOLO: &str = env!("CARGO_BIN_EXE_holo");
-
-fn holo(args: &[&str], cwd: &Path) -> Output {
-    Command::new(HOLO).args(args).current_dir(cwd).output().expect("run holo")
-}
-
-fn text(o: &Output) -> String {
-    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
-}
-
-fn ok(o: Output) -> Output {
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
-    o
-}
-
-fn fixture(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures").join(path)
-}
+use super::{fixture, holo, ok, text, HOLO};
 
 /// Hidden files in `dir`: temporaries and spools left behind.
 fn hidden(dir: &Path) -> Vec<String> {

@@ -1,26 +1,14 @@
-//! The `holo` binary as a user meets it: exit codes (0 ok, 1 error, 2 usage),
+//! Each command as a user meets it: exit codes (0 ok, 1 error, 2 usage),
 //! one-sentence errors naming the file, `--help` everywhere, nothing overwritten.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn holo(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_holo")).args(args).current_dir(cwd).output().expect("run holo")
-}
-
-/// The bundled textured mesh.
-fn spot() -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/mesh/spot/spot.obj").to_str().unwrap().to_string()
-}
+use super::{holo, ok, spot, text};
 
 /// A Mark I view ramp written as `name` in `d`.
 fn mark1_ramp(d: &Path, name: &str) {
     let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", name], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
-}
-
-fn text(o: &Output) -> String {
-    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
 }
 
 #[test]
@@ -241,15 +229,25 @@ fn info_tells_whether_two_files_hold_the_same_content() {
 #[test]
 fn demo_runs_and_says_where_its_files_are() {
     let dir = tempfile::tempdir().unwrap();
-    // Again with -o naming the same folder: the demo replaces its own files.
-    for args in [&["demo"][..], &["demo", "-o", "holo-demo"]] {
-        let o = holo(args, dir.path());
-        assert_eq!(o.status.code(), Some(0), "{}", text(&o));
-        assert!(text(&o).contains("holo-demo/demo.holo"));
-        assert!(text(&o).contains("holo-demo/view-x+0mm.png"), "{}", text(&o));
-    }
+    // The folder already holds what an earlier run left (another file and its
+    // whole fringe set, as a run of an older holo would have): the demo
+    // replaces its own files, and the set it leaves is its own.
     let d = dir.path().join("holo-demo");
+    std::fs::create_dir(&d).unwrap();
+    ok(holo(&["pattern", "--layout", "mark3", "--kind", "view-ramp", "-o", "demo.holo"], &d));
+    ok(holo(&["assemble", "demo.holo", "--layout", "mark3", "-o", "fringes"], &d));
+    let earlier = std::fs::read(d.join("demo.holo")).unwrap();
+    let o = holo(&["demo", "-o", "holo-demo"], dir.path());
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("holo-demo/demo.holo"));
+    assert!(text(&o).contains("holo-demo/view-x+0mm.png"), "{}", text(&o));
+    assert!(std::fs::read(d.join("demo.holo")).unwrap() != earlier);
     assert!(holo::format::validate(d.join("demo.holo")).unwrap().is_valid());
+    // The fringe set is whole and made from the new file.
+    let set = holo::assemble::output::read_sidecar(&d.join("fringes")).unwrap();
+    let file = holo::HoloFile::open(d.join("demo.holo")).unwrap();
+    assert_eq!(set.frames.len(), 1);
+    assert_eq!(set.frames[0].source_digest, file.info().frames[0].digest);
     for f in ["fringes/frame0000-head1.png", "fringes/frame0000-head2.png", "view-x-40mm.png", "view-x+40mm.png"] {
         assert!(d.join(f).is_file(), "{f}");
     }
