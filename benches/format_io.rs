@@ -2,6 +2,13 @@
 //! emitters × 96 views, RGB, f16) with every compression, in MB/s of raw f16
 //! samples, against a plain memory copy of the same bytes in the same run.
 //! Also prints each compression's size ratio. `cargo bench --bench format_io`
+//!
+//! Before the timed runs it prints a second table, on ordinary rendered
+//! content: the bundled Spot converted for Mark III (black around the cow, so
+//! lossy codecs meet dark edges), stored with every compression as f16 (and
+//! pxr24 as f32, where it is lossy): size, the largest and mean error against
+//! the f32 rendering, and write and read speed (median of three, one with
+//! `--test`).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use holo::format::{read, write, Compression, SampleType, WriteOptions};
@@ -24,7 +31,82 @@ fn frame() -> Modulation {
     .unwrap()
 }
 
+/// Size, error and speed of every compression on the bundled Spot.
+fn compression_table(repeats: usize) {
+    use holo::mesh::convert::{convert_mesh, ConvertOptions};
+    use std::time::Instant;
+    let dir = tempfile::tempdir().unwrap();
+    let spot = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/spot/spot.obj");
+    let exact_path = dir.path().join("exact.holo");
+    let options = ConvertOptions {
+        write: WriteOptions { sample_type: SampleType::F32, ..WriteOptions::default() },
+        ..ConvertOptions::default()
+    };
+    let g = holo::layout::mark3().geometry;
+    convert_mesh(&spot, &g, &exact_path, &options, &holo::progress::Silent).unwrap();
+    let exact = read(&exact_path).unwrap();
+    let peak = exact.samples().iter().fold(0f32, |a, &b| a.max(b));
+    let f16_bytes = exact.samples().len() as f64 * 2.0;
+    let median = |mut t: Vec<f64>| {
+        t.sort_by(f64::total_cmp);
+        t[t.len() / 2]
+    };
+    println!(
+        "\nThe bundled Spot for Mark III ({} samples, peak {peak:.3}), every compression:\n",
+        exact.samples().len()
+    );
+    println!(
+        "| compression | sample type | size of raw f16 | max error (of peak) | mean error (of peak) | decoded below zero \
+         (most negative) | write MiB/s | read MiB/s |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    let mut rows: Vec<(Compression, SampleType)> = Compression::ALL.iter().map(|&c| (c, SampleType::F16)).collect();
+    rows.push((Compression::Pxr24, SampleType::F32));
+    for (compression, sample_type) in rows {
+        let path = dir.path().join(format!("{}-{sample_type:?}.holo", compression.name()));
+        let options = WriteOptions { sample_type, compression, overwrite: true, ..WriteOptions::default() };
+        let mut writes = Vec::new();
+        let mut reads = Vec::new();
+        let mut got = None;
+        let mut bytes = 0;
+        for _ in 0..repeats {
+            let t = Instant::now();
+            bytes = write(&path, &exact, &options).unwrap().file_bytes;
+            writes.push(t.elapsed().as_secs_f64());
+            let t = Instant::now();
+            got = Some(read(&path).unwrap());
+            reads.push(t.elapsed().as_secs_f64());
+        }
+        let got = got.unwrap();
+        let (mut worst, mut sum) = (0f32, 0f64);
+        for (a, b) in exact.samples().iter().zip(got.samples()) {
+            worst = worst.max((a - b).abs());
+            sum += f64::from((a - b).abs());
+        }
+        let mean = sum / exact.samples().len() as f64;
+        // What the codec itself returned, before a reader sets negatives to zero.
+        let file = holo::format::HoloFile::open(&path).unwrap();
+        let decoded = file.read_decoded(0, &holo::format::Region::all(&file.info().geometry)).unwrap();
+        let below: Vec<f32> = decoded.samples().iter().copied().filter(|&x| x < 0.0).collect();
+        let lowest = below.iter().fold(0f32, |a, &b| a.min(b));
+        let mib = f16_bytes / (1 << 20) as f64;
+        println!(
+            "| {} | {sample_type:?} | {:.1}% | {worst:.2e} ({:.2}%) | {mean:.2e} ({:.4}%) | {} ({lowest:.1e}) | {:.0} | {:.0} |",
+            compression.name(),
+            100.0 * bytes as f64 / f16_bytes,
+            100.0 * worst / peak,
+            100.0 * mean / f64::from(peak),
+            below.len(),
+            mib / median(writes),
+            mib / median(reads),
+        );
+    }
+    println!();
+}
+
 fn bench(c: &mut Criterion) {
+    let quick = std::env::args().any(|a| a == "--test");
+    compression_table(if quick { 1 } else { 3 });
     let m = frame();
     let raw_bytes = m.samples().len() as u64 * 2;
     let dir = tempfile::tempdir().unwrap();

@@ -73,7 +73,7 @@ impl HoloFile {
 
     /// Read frame `index` (0-based part order) whole and verify its digest.
     pub fn read_frame(&self, index: usize) -> Result<Modulation> {
-        let m = self.read_region(index, &Region::all(&self.info.geometry))?;
+        let mut m = self.read_decoded(index, &Region::all(&self.info.geometry))?;
         let frame = &self.info.frames[index];
         if let Some(stored) = &frame.digest {
             let computed = frame_digest(&m, self.info.sample_type);
@@ -86,12 +86,35 @@ impl HoloFile {
                 });
             }
         }
+        if self.is_lossy() {
+            clamp_undershoot(&mut m);
+        }
         Ok(m)
     }
 
     /// Read one region of frame `index`; only the chunks holding its hololines
     /// are read and decompressed. The digest cannot be checked on a part.
     pub fn read_region(&self, index: usize, region: &Region) -> Result<Modulation> {
+        let mut m = self.read_decoded(index, region)?;
+        if self.is_lossy() {
+            clamp_undershoot(&mut m);
+        }
+        Ok(m)
+    }
+
+    /// Whether the samples come back from the codec only approximately
+    /// (spec §3.4: then a negative sample is the codec's undershoot, read
+    /// as +0).
+    pub fn is_lossy(&self) -> bool {
+        !self.info.compression.is_lossless_for(self.info.sample_type)
+    }
+
+    /// A region's samples exactly as the codec decodes them (what the frame
+    /// digest covers): non-finite values are refused, and negative ones too
+    /// unless the compression is lossy, when they are returned as decoded
+    /// (for measuring a codec; [`HoloFile::read_region`] is what a reader
+    /// wants).
+    pub fn read_decoded(&self, index: usize, region: &Region) -> Result<Modulation> {
         let path = &self.info.path;
         let g = &self.info.geometry;
         let frame = self.info.frames.get(index).ok_or_else(|| Error::no_frame(path, index, self.info.frames.len()))?;
@@ -159,7 +182,8 @@ impl HoloFile {
                 }
             }
         }
-        if let Some((c, j, e, v, value, why)) = out.first_bad_sample() {
+        let bad = if self.is_lossy() { first_non_finite(&out) } else { out.first_bad_sample() };
+        if let Some((c, j, e, v, value, why)) = bad {
             return Err(Error::BadSample {
                 path: path.clone(),
                 frame: index,
@@ -173,6 +197,28 @@ impl HoloFile {
         }
         Ok(out)
     }
+}
+
+/// Negative samples set to +0: the undershoot a lossy codec (B44's 4×4
+/// blocks, DWA's DCT) adds next to dark samples, which is not light (spec
+/// §3.4).
+fn clamp_undershoot(m: &mut Modulation) {
+    for x in m.samples_mut() {
+        if *x < 0.0 {
+            *x = 0.0;
+        }
+    }
+}
+
+/// The first NaN or infinite sample, as [`Modulation::first_bad_sample`]
+/// reports it; negative values pass.
+fn first_non_finite(m: &Modulation) -> Option<(usize, usize, usize, usize, f32, &'static str)> {
+    if m.samples().iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let mut clamped = m.clone();
+    clamp_undershoot(&mut clamped);
+    clamped.first_bad_sample()
 }
 
 /// The geometry of a region: positions and view angles of what it holds.

@@ -296,7 +296,7 @@ fn write_parts<'a>(
             for top in (0..geometry.hololines).step_by(64) {
                 let lines = top..(top + 64).min(geometry.hololines);
                 let region = super::read::Region { hololines: lines.clone(), ..super::read::Region::all(geometry) };
-                let band = stored.read_region(i, &region)?;
+                let band = stored.read_decoded(i, &region)?;
                 for j in 0..lines.len() {
                     stored_row(geometry, &order, options.sample_type, |c| band.hololine(c, j), &mut row);
                     digest.update(&row);
