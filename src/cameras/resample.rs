@@ -162,6 +162,12 @@ pub struct CameraReport {
     pub warnings: Vec<String>,
 }
 
+/// The most rays averaged across one emitter. The automatic choice, one
+/// ray per picture pixel the emitter spans at the focus, stops at 16; past
+/// 64 a picture is sampled finer than any capture resolves across one
+/// emitter, and the cost (linear in the taps) only grows.
+pub const MAX_EMITTER_TAPS: usize = 64;
+
 /// The geometry of the rig that every ray uses: placement, camera surface,
 /// focus plane.
 pub struct RigGeometry {
@@ -687,7 +693,12 @@ impl<'a> RigResampler<'a> {
         // the pictures: the display's own filter (the mesh renderer's emitter
         // supersampling), not a blur the display does not have.
         let taps = match options.emitter_taps {
-            Some(0) => return Err(Error::argument("emitter taps", "the emitter taps must be at least 1, not 0")),
+            Some(n) if !(1..=MAX_EMITTER_TAPS).contains(&n) => {
+                return Err(Error::argument(
+                    "emitter taps",
+                    format!("the emitter taps must be 1 to {MAX_EMITTER_TAPS}, not {n}"),
+                ))
+            }
             Some(n) => n,
             None => ((g.emitter_pitch_m / geo.pixel_at_focus_m).ceil() as usize).clamp(1, 16),
         };

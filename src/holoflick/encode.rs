@@ -100,6 +100,7 @@ pub fn encode_holoflick(
     options: &HoloFlickEncodeOptions,
     progress: &dyn Progress,
 ) -> Result<HoloFlickEncodeReport> {
+    super::tools::check_key_interval(options.key_interval)?;
     if !(options.micropolygon.is_finite() && options.micropolygon > 0.0) {
         return Err(Error::argument(
             "micropolygon size",

@@ -88,6 +88,14 @@ struct FrameSource {
     time_s: f64,
 }
 
+/// A key frame every `interval` frames: at least every frame.
+pub(crate) fn check_key_interval(interval: usize) -> Result<()> {
+    if interval == 0 {
+        return Err(Error::argument("key interval", "the key-frame interval must be 1 frame or more, not 0"));
+    }
+    Ok(())
+}
+
 /// Pack `inputs` (glTF, OBJ or PLY) into `output`: a HoloFlick, or a Java 3D
 /// `.cg` file (one frame's objects, no transforms) when its name ends in
 /// `.cg`. `progress` counts the frames.
@@ -95,6 +103,7 @@ pub fn pack(inputs: &[PathBuf], output: &Path, options: &PackOptions, progress: 
     if inputs.is_empty() {
         return Err(Error::argument("meshes", "pack needs at least one mesh"));
     }
+    check_key_interval(options.key_interval)?;
     let read: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     crate::output::check_output(output, &read, options.overwrite)?;
     let mut source = PackSource::open(inputs, options)?;
@@ -220,7 +229,7 @@ pub(crate) struct KeyFrames {
 impl KeyFrames {
     /// Begin frame `n`: a key frame every `interval` frames. Returns whether it is one.
     pub(crate) fn start_frame(&mut self, n: usize, interval: usize) -> bool {
-        self.is_key = n % interval.max(1) == 0;
+        self.is_key = n % interval == 0;
         if self.is_key {
             self.blocks.clear();
             self.key_frame = n as u32;

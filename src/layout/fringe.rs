@@ -256,6 +256,18 @@ impl FrameBuffer {
         }
         if self.line_samples < self.width {
             p.push(format!("line_samples {} is less than the visible width {}", self.line_samples, self.width));
+        } else if self.width > 0 && self.line_samples - self.width > self.line_samples / 2 {
+            // Displays blank a few samples of each line (Mark III 16 of 4096,
+            // analogue video about a fifth); most of every line unseen is a
+            // mistyped width, not a display.
+            p.push(format!(
+                "width {} of line_samples {}: {} of every {} samples would fall in the horizontal blanking and never be \
+                 shown (at most half may)",
+                self.width,
+                self.line_samples,
+                self.line_samples - self.width,
+                self.line_samples
+            ));
         }
         if self.line_samples == 0 || self.rows_per_hololine * self.line_samples != samples {
             p.push(format!(

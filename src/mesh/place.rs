@@ -13,8 +13,8 @@
 use super::{Light, Scene};
 use crate::geometry::Geometry;
 use crate::math::{
-    cofactor3, det3, linear, mat3_apply, narrow, normalize_or, rotation_xyz, transform_point, transpose, widen, Mat3,
-    Mat4,
+    cofactor3, det3, linear, mat3_apply, narrow, normalize_or, rotation_xyz, transform_point, transpose, unit, widen,
+    Mat3, Mat4,
 };
 use crate::{Error, Result};
 
@@ -110,6 +110,15 @@ pub fn place(scene: &mut Scene, g: &Geometry, placement: &Placement) -> Result<P
                     let mut s = f64::INFINITY;
                     for k in 0..3 {
                         let extent = hi[k] - lo[k];
+                        if extent.is_infinite() {
+                            return Err(Error::scene(
+                                &scene.source,
+                                format!(
+                                    "its coordinates run from {:e} to {:e}, a span too large to compute with",
+                                    lo[k], hi[k]
+                                ),
+                            ));
+                        }
                         if extent > 0.0 {
                             s = s.min(FIT_FILL * (volume.1[k] - volume.0[k]) / extent);
                         }
@@ -134,25 +143,53 @@ pub fn place(scene: &mut Scene, g: &Geometry, placement: &Placement) -> Result<P
             m
         }
     };
-    check_matrix(&matrix)?;
+    // A matrix the caller gave is the caller's value; one placement computed
+    // is the scene's doing (its coordinates), and names it.
+    check_matrix(&matrix).map_err(|problem| match placement.matrix {
+        Some(_) => Error::argument("placement matrix", problem),
+        None => Error::scene(&scene.source, problem),
+    })?;
     apply(scene, &matrix);
-    let det = linear_det(&matrix);
+    let scale = LinearPart::of(&matrix).scale;
     let placed_bounds = scene.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
-    Ok(Placed { matrix, scale: det.abs().cbrt(), bounds_m: placed_bounds, volume_m: volume })
-}
-
-fn check_matrix(m: &Mat4) -> Result<()> {
-    if m.iter().flatten().any(|v| !v.is_finite()) {
-        return Err(Error::argument("placement matrix", "the placement matrix has a NaN or infinite entry"));
-    }
-    if m[3] != [0.0, 0.0, 0.0, 1.0] {
-        return Err(Error::argument(
-            "placement matrix",
-            "the placement matrix must be affine: its last row must be 0 0 0 1",
+    // Each hololine sees the scene only where its plane `y = y_j` cuts it
+    // (horizontal parallax): a scene that falls between two hololines, or
+    // above or below them all, is drawn by none and comes out black.
+    let (y_lo, y_hi) = (placed_bounds.0[1], placed_bounds.1[1]);
+    if !(0..g.hololines).any(|j| (y_lo..=y_hi).contains(&g.hololine_y_m(j))) {
+        scene.warnings.push(format!(
+            "{}: placed, the scene spans y {:+.4} … {:+.4} mm, which no hololine crosses (they are {:.4} mm apart, \
+             from {:+.2} to {:+.2} mm): it will come out black; scale or move it, or check its units",
+            scene.source,
+            y_lo * 1e3,
+            y_hi * 1e3,
+            g.hololine_pitch_m * 1e3,
+            g.hololine_y_m(g.hololines - 1) * 1e3,
+            g.hololine_y_m(0) * 1e3,
         ));
     }
-    if linear_det(m) == 0.0 {
-        return Err(Error::argument("placement matrix", "the placement matrix is singular (it flattens the scene)"));
+    Ok(Placed { matrix, scale, bounds_m: placed_bounds, volume_m: volume })
+}
+
+/// What makes a placement matrix unusable, if anything.
+fn check_matrix(m: &Mat4) -> std::result::Result<(), String> {
+    if m.iter().flatten().any(|v| !v.is_finite()) {
+        return Err("the placement matrix has a NaN or infinite entry (are the scene's coordinates too large?)".into());
+    }
+    if m[3] != [0.0, 0.0, 0.0, 1.0] {
+        return Err("the placement matrix must be affine: its last row must be 0 0 0 1".into());
+    }
+    // Singular or nearly so, whatever the scale: the determinant of the rows
+    // made unit length (a scene in units of 1e300 is placed by a matrix of
+    // 1e-300s, whose own determinant underflows to zero).
+    let rows = linear(m).map(|row| {
+        // Divided by the largest entry first, so squaring cannot underflow.
+        let k = row.iter().fold(0f64, |a, x| a.max(x.abs()));
+        unit(row.map(|x| x / k)).unwrap_or([0.0; 3])
+    });
+    let det = det3(&rows).abs();
+    if det.is_nan() || det <= 1e-12 {
+        return Err("the placement matrix is singular (it flattens the scene)".into());
     }
     Ok(())
 }
@@ -162,11 +199,11 @@ fn check_matrix(m: &Mat4) -> Result<()> {
 /// winding so front faces stay counter-clockwise.
 pub fn apply(scene: &mut Scene, m: &Mat4) {
     let lin = linear(m);
-    let det = linear_det(m);
+    let LinearPart { det, scale, cofactors } = LinearPart::of(m);
     // The cofactor matrix is the inverse transpose times det; with det's sign
     // turned it maps normals to the right side, and normalising removes |det|.
     let sign = if det < 0.0 { -1.0 } else { 1.0 };
-    let normal_map = cofactor3(&lin).map(|row| row.map(|c| c * sign));
+    let normal_map = cofactors.map(|row| row.map(|c| c * sign));
     let xform_normal = |n: [f64; 3]| -> [f64; 3] {
         // `+ 0.0` turns −0 components into +0, as placement always has: the
         // signs of zero components reach the `.cg` normal codes.
@@ -189,7 +226,7 @@ pub fn apply(scene: &mut Scene, m: &Mat4) {
             }
         }
     }
-    let area_scale = (det.abs().cbrt()).powi(2);
+    let area_scale = scale.powi(2);
     for l in &mut scene.lights {
         match l {
             Light::Point { position, intensity, .. } => {
@@ -206,11 +243,36 @@ pub fn apply(scene: &mut Scene, m: &Mat4) {
     }
 }
 
-/// The determinant of the linear part, expanded along its first column (the
-/// first row of the transpose), as placement has always computed it: the
-/// point lights' intensity scale depends on its last bit.
-fn linear_det(m: &Mat4) -> f64 {
-    det3(&transpose(&linear(m)))
+/// What placement needs of an affine matrix's linear part `A`.
+struct LinearPart {
+    /// det A, or a number of its sign where it under- or overflows.
+    det: f64,
+    /// The uniform scale |det A|^⅓.
+    scale: f64,
+    /// The cofactor matrix, up to a positive factor.
+    cofactors: Mat3,
+}
+
+impl LinearPart {
+    /// Computed as placement always has (the determinant expanded along the
+    /// first column: the point lights' intensity scale depends on its last
+    /// bit, and the `.cg` normal codes on the cofactors'), unless that under-
+    /// or overflows, as it does for a scene in units of 1e300 placed by a
+    /// matrix of 1e-302s: then on `A / k`, `k` its largest entry, since
+    /// det(kA) = k³ det A and cof(kA) = k² cof A.
+    fn of(m: &Mat4) -> LinearPart {
+        let lin = linear(m);
+        let det = det3(&transpose(&lin));
+        let cofactors = cofactor3(&lin);
+        let fine = |x: f64| x == 0.0 || (x.is_normal() && x.abs() < 1e300);
+        if det.is_normal() && cofactors.iter().flatten().all(|&c| fine(c)) {
+            return LinearPart { det, scale: det.abs().cbrt(), cofactors };
+        }
+        let k = lin.iter().flatten().fold(0f64, |a, x| a.max(x.abs()));
+        let a = lin.map(|row| row.map(|x| x / k));
+        let det_a = det3(&transpose(&a));
+        LinearPart { det: det_a, scale: k * det_a.abs().cbrt(), cofactors: cofactor3(&a) }
+    }
 }
 
 /// Rotation about x, then y, then z (degrees), row-major.

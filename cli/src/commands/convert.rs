@@ -10,7 +10,7 @@ use clap::{Args, Subcommand};
 use holo::cameras::convert::{convert_camera_files, CameraConvertOptions};
 use holo::cameras::quilt::{DEFAULT_VERTICAL_FOV_DEG, DEFAULT_VIEW_CONE_DEG};
 use holo::cameras::read::{CameraHints, OpenOptions};
-use holo::cameras::resample::{CameraOptions, PlacementRequest};
+use holo::cameras::resample::{CameraOptions, PlacementRequest, MAX_EMITTER_TAPS};
 use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
 use holo::mesh::convert::{convert_mesh, ConvertOptions, SceneFramesOptions};
 use holo::mesh::place::{display_volume, Placement};
@@ -236,8 +236,8 @@ pub struct CamerasArgs {
     /// Ignore the rig's depth maps.
     #[arg(long)]
     no_depth: bool,
-    /// Rays averaged across each emitter (default: from the pictures' resolution).
-    #[arg(long, value_parser = args::at_least(1))]
+    /// Rays averaged across each emitter, 1 to 64 (default: from the pictures' resolution).
+    #[arg(long, value_parser = args::whole(1, MAX_EMITTER_TAPS))]
     taps: Option<usize>,
     /// Also write a PNG (emitters × hololines) of the fraction of views no camera sees.
     #[arg(long)]

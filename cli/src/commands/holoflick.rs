@@ -76,7 +76,7 @@ pub struct MovieArgs {
     /// Frames of an animation to keep: N, A..B or A..=B; default all.
     #[arg(long, value_parser = args::range())]
     frames: Option<Range<usize>>,
-    /// A key frame every N frames.
+    /// A key frame every N frames (1 or more; 1: every frame a key frame).
     #[arg(long, default_value = "30", value_parser = args::at_least(1))]
     key_interval: usize,
     /// Replace an existing output.

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 mod commands;
+mod inputs;
 mod output;
 
 const HOLO: &str = env!("CARGO_BIN_EXE_holo");
@@ -32,4 +33,13 @@ fn fixture(path: &str) -> PathBuf {
 /// The bundled textured mesh.
 fn spot() -> String {
     fixture("mesh/spot/spot.obj").to_str().unwrap().to_string()
+}
+
+/// Mark III with `hololines` hololines, as a user would edit the profile.
+fn small_profile(d: &Path, hololines: usize) -> PathBuf {
+    let o = ok(holo(&["layout", "mark3"], d));
+    let profile = String::from_utf8(o.stdout).unwrap().replace("hololines = 440", &format!("hololines = {hololines}"));
+    let path = d.join("small.toml");
+    std::fs::write(&path, profile).unwrap();
+    path
 }

@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use holo::geometry::{mono_channel, Geometry, Views};
 use holo::{Modulation, WriteOptions};
 
-use super::{fixture, holo, ok, text, HOLO};
+use super::{fixture, holo, ok, small_profile, text, HOLO};
 
 /// Hidden files in `dir`: temporaries and spools left behind.
 fn hidden(dir: &Path) -> Vec<String> {
@@ -68,15 +68,6 @@ fn interrupt(child: Child, signal: &str) -> (Option<i32>, String) {
     assert!(Command::new("kill").args([&format!("-{signal}"), &pid]).status().unwrap().success());
     let out = child.wait_with_output().unwrap();
     (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
-}
-
-/// Mark III with `hololines` hololines, as a user would edit the profile.
-fn small_profile(d: &Path, hololines: usize) -> PathBuf {
-    let o = ok(holo(&["layout", "mark3"], d));
-    let profile = String::from_utf8(o.stdout).unwrap().replace("hololines = 440", &format!("hololines = {hololines}"));
-    let path = d.join("small.toml");
-    std::fs::write(&path, profile).unwrap();
-    path
 }
 
 /// A noise value in [0, 1) from a position, the same every run.

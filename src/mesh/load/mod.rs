@@ -18,6 +18,7 @@ mod texture;
 use std::path::{Path, PathBuf};
 
 use super::{Object, Scene};
+use crate::math::{cross, dot, length, sub};
 use crate::{Error, Result};
 
 /// Sizes the loaders refuse before allocating, so that a scene larger than
@@ -153,13 +154,34 @@ pub(crate) fn finish_object(path: &Path, obj: &mut Object, warnings: &mut Vec<St
     }
     let before = obj.triangles.len();
     let positions = &obj.positions;
-    obj.triangles.retain(|t| {
+    // The edges and their largest component.
+    let edges = |t: &[u32; 3]| {
         let [a, b, c] = t.map(|i| positions[i as usize]);
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let cr = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
-        let area2 = cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2];
-        area2 > 0.0
+        let (u, v) = (sub(b, a), sub(c, a));
+        (u.iter().chain(&v).fold(0f64, |m, x| m.max(x.abs())), u, v)
+    };
+    if let Some(t) = obj.triangles.iter().position(|t| edges(t).0.is_infinite()) {
+        let corners = obj.triangles[t].map(|i| positions[i as usize]);
+        return Err(Error::scene(
+            path,
+            format!(
+                "object \"{name}\": triangle {t} has corners {corners:?}, too far apart to compute with (an edge \
+                 overflows a double)"
+            ),
+        ));
+    }
+    obj.triangles.retain(|t| {
+        let (k, u, v) = edges(t);
+        if (1e-100..1e100).contains(&k) {
+            // |u × v|² as it has always been computed: exactly zero for a
+            // degenerate triangle, and no under- or overflow at these sizes.
+            let cr = cross(u, v);
+            dot(cr, cr) > 0.0
+        } else {
+            // Scaled to the largest component first, so that a scene in units
+            // of 1e-200 or 1e300 is not taken for zero area.
+            k > 0.0 && length(cross(u.map(|x| x / k), v.map(|x| x / k))) > 0.0
+        }
     });
     let dropped = before - obj.triangles.len();
     if dropped > 0 {

@@ -1,0 +1,112 @@
+//! Inputs as real exporters write them, and every compression: what the user
+//! is told when holo reads past something, or cannot.
+
+use super::{holo, ok, small_profile, spot, text};
+
+/// An ASCII PLY as old Blender exporters wrote it: a line of free text
+/// without `comment`, CRLF line ends.
+#[test]
+fn an_old_blender_ply_converts_with_a_warning_naming_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    let ply = "ply\r\nformat ascii 1.0\r\nCreated by Blender3D 247 - www.blender.org, source file: 'tri.blend'\r\n\
+               element vertex 3\r\nproperty float x\r\nproperty float y\r\nproperty float z\r\n\
+               element face 1\r\nproperty list uchar uint vertex_indices\r\nend_header\r\n\
+               -1 -1 0\r\n1 -1 0\r\n0 1 0\r\n3 0 1 2\r\n";
+    std::fs::write(d.join("old.ply"), ply).unwrap();
+    let o = ok(holo(&["convert", "mesh", "old.ply", "--layout", profile.to_str().unwrap(), "-o", "old.holo"], d));
+    let said = text(&o);
+    assert!(
+        said.contains("old.ply: header line 3")
+            && said.contains("Created by Blender3D 247")
+            && said.contains("skipped"),
+        "{said}"
+    );
+    assert!(d.join("old.holo").is_file());
+}
+
+/// Every lossy compression converts the bundled Spot, says it is lossy, and
+/// the file validates.
+#[test]
+fn every_lossy_compression_converts_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 24);
+    for compression in ["b44", "b44a", "dwaa", "dwab"] {
+        let out = format!("{compression}.holo");
+        let o = holo(
+            &[
+                "convert",
+                "mesh",
+                &spot(),
+                "--layout",
+                profile.to_str().unwrap(),
+                "--compression",
+                compression,
+                "-o",
+                &out,
+            ],
+            d,
+        );
+        assert_eq!(o.status.code(), Some(0), "{compression}: {}", text(&o));
+        assert!(text(&o).contains(&format!("compression {compression} is lossy")), "{}", text(&o));
+        let o = ok(holo(&["validate", &out], d));
+        assert!(text(&o).contains("valid"), "{}", text(&o));
+    }
+}
+
+/// Each knob and input that has a limit refuses what is past it at once,
+/// naming the file and the value; what holo can still do, it does and says.
+#[test]
+fn bounds_refuse_their_values_quickly_naming_file_and_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    let layout = profile.to_str().unwrap();
+    let refused = |args: &[&str], code: i32, words: &[&str]| {
+        let started = std::time::Instant::now();
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(code), "{args:?}: {}", text(&o));
+        for w in words {
+            assert!(text(&o).contains(w), "{args:?}: {w:?} not in {}", text(&o));
+        }
+        assert!(started.elapsed().as_secs() < 10, "{args:?} took {:?}", started.elapsed());
+    };
+    // Too many taps per emitter: a usage error before anything is read.
+    refused(&["convert", "cameras", "rig", "--taps", "100000", "-o", "t.holo"], 2, &["100000", "--taps", "1 to 64"]);
+    refused(
+        &["holoflick", "encode", &spot(), "--key-interval", "0", "-o", "k.hflk"],
+        2,
+        &["--key-interval", "1 or more", "not 0"],
+    );
+    // Frames past the end of what the scene holds (a still scene: one frame).
+    refused(
+        &["convert", "mesh", &spot(), "--layout", layout, "--frames", "0..5", "-o", "f.holo"],
+        1,
+        &["spot.obj", "0..5"],
+    );
+    // A profile that blanks almost every sample of its lines.
+    let blank = std::fs::read_to_string(&profile).unwrap().replace("width = 4080", "width = 10");
+    std::fs::write(d.join("blank.toml"), blank).unwrap();
+    ok(holo(&["pattern", "--layout", layout, "--kind", "view-ramp", "-o", "p.holo"], d));
+    refused(
+        &["assemble", "p.holo", "--layout", "blank.toml", "-o", "fringes"],
+        1,
+        &["blank.toml", "width 10", "4086 of every 4096"],
+    );
+    assert!(!d.join("fringes").exists());
+
+    // Coordinates near 1e300 place like any others.
+    std::fs::write(d.join("huge.obj"), "v 1e300 0 0\nv 3e300 0 0\nv 1e300 2e300 0\nf 1 2 3\n").unwrap();
+    ok(holo(&["convert", "mesh", "huge.obj", "--layout", layout, "-o", "huge.holo"], d));
+    let huge = holo::format::read(d.join("huge.holo")).unwrap();
+    assert!(huge.samples().iter().any(|&x| x > 0.0), "the huge triangle came out black");
+    // Coordinates whose span overflows are refused, naming the file.
+    std::fs::write(d.join("span.obj"), "v -1e308 0 0\nv 1e308 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    refused(&["convert", "mesh", "span.obj", "--layout", layout, "-o", "span.holo"], 1, &["span.obj", "too far apart"]);
+    // A sliver 1e38 wide and 1e-30 tall falls between the hololines: said.
+    std::fs::write(d.join("sliver.obj"), "v 0 0 0\nv 1e38 0 0\nv 0 1e-30 0\nf 1 2 3\n").unwrap();
+    let o = ok(holo(&["convert", "mesh", "sliver.obj", "--layout", layout, "-o", "sliver.holo"], d));
+    assert!(text(&o).contains("sliver.obj") && text(&o).contains("no hololine crosses"), "{}", text(&o));
+}
