@@ -81,3 +81,44 @@ fn multi_frame_vector_is_stable() {
         assert_eq!(&file.read_frame(i).unwrap(), f);
     }
 }
+
+/// 8 hololines × 8 emitters × 1 view, HALF, B44: a ramp rising from black,
+/// sample `(j, e) = 0.37 · max(0, j + e − 6)`. B44 returns small negative
+/// values where it meets the black; the vector freezes a file whose decoded
+/// samples hold some (spec §3.4, §12).
+fn undershoot() -> Modulation {
+    let g = Geometry::centred(
+        8,
+        8,
+        Views::tan_spaced(1, 0.0, 0.0),
+        1e-3,
+        1e-3,
+        0.01,
+        0.5,
+        vec![ColourChannel::new("Y", 633e-9)],
+    );
+    Modulation::from_fn(g, |_, j, e, _| 0.37 * ((j + e) as f32 - 6.0).max(0.0)).unwrap()
+}
+
+#[test]
+fn lossy_undershoot_vector_reads_as_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("undershoot.holo");
+    let options = WriteOptions {
+        compression: Compression::B44,
+        source: "spec undershoot example".into(),
+        ..WriteOptions::default()
+    };
+    write(&out, &undershoot(), &options).unwrap();
+    check("undershoot-y-f16-b44.holo", &out);
+    let file = HoloFile::open(fixture("undershoot-y-f16-b44.holo")).unwrap();
+    let decoded = file.read_decoded(0, &holo::format::Region::all(&file.info().geometry)).unwrap();
+    let negative: Vec<(usize, f32)> = decoded.samples().iter().copied().enumerate().filter(|&(_, x)| x < 0.0).collect();
+    assert!(!negative.is_empty(), "B44 no longer undershoots this content: the vector tests nothing");
+    let read_back = file.read_frame(0).unwrap();
+    for (i, (&d, &r)) in decoded.samples().iter().zip(read_back.samples()).enumerate() {
+        assert_eq!(r, d.max(0.0), "sample {i}");
+    }
+    assert!(holo::format::validate(fixture("undershoot-y-f16-b44.holo")).unwrap().is_valid());
+    eprintln!("decoded below zero (index, value): {negative:?}");
+}
