@@ -52,7 +52,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
-use crate::geometry::Geometry;
+use crate::geometry::{Geometry, Views};
 use crate::picture::{encode_png, Bits, Colour, Tone, White};
 use crate::{Error, Modulation, Result};
 
@@ -460,6 +460,48 @@ pub struct QuiltReport {
     pub distance_m: f64,
     /// The vertical field of view the cameras have, degrees.
     pub vertical_fov_deg: f64,
+    /// Tiles that look from beyond the file's views, or views no tile
+    /// shows: said, with the view cone that fits.
+    pub warnings: Vec<String>,
+}
+
+/// The view cone, degrees, that fits a file's views: a quilt's cameras are
+/// symmetric about the axis, so the cone reaches out to the nearer of the
+/// first and last view (all of a symmetric file's views, no tile beyond
+/// them).
+pub fn view_cone_deg_for(views: &Views) -> f64 {
+    2.0 * views.first_theta_rad.abs().min(views.last_theta_rad.abs()).to_degrees()
+}
+
+/// What a quilt of `spec` leaves out of `views`, or shows beyond them.
+fn view_cone_warnings(views: &Views, spec: &QuiltSpec) -> Vec<String> {
+    let n = spec.views();
+    let half_rad = spec.view_cone_deg.to_radians() / 2.0;
+    let phi = |i: usize| if n > 1 { (i as f64 / (n - 1) as f64 - 0.5) * 2.0 * half_rad } else { 0.0 };
+    let span = views.count as f64 - 0.5;
+    let black = (0..n).filter(|&i| !(-0.5..=span).contains(&views.index_at(phi(i)))).count();
+    let left_out = (0..views.count).filter(|&k| views.theta_rad(k).abs() > half_rad + 1e-12).count();
+    let range = format!(
+        "the file's views run from {:+.1}° to {:+.1}°",
+        views.first_theta_rad.to_degrees(),
+        views.last_theta_rad.to_degrees()
+    );
+    let fit = view_cone_deg_for(views);
+    let mut warnings = Vec::new();
+    if black > 0 {
+        warnings.push(format!(
+            "{black} of {n} tiles look from beyond the file's views and are black: {range}, the quilt spans \
+             {:.1}°; a view cone of {fit:.1}° fits them",
+            spec.view_cone_deg
+        ));
+    }
+    if left_out > 0 {
+        warnings.push(format!(
+            "{left_out} of the file's {} views lie outside the quilt's {:.1}° and are not shown: {range}",
+            views.count, spec.view_cone_deg
+        ));
+    }
+    warnings
 }
 
 /// Read frame `frame` of `holo_path` and write its quilt to `out_path` (an
@@ -496,6 +538,7 @@ pub fn export_quilt(
         frame_m: [f.x[0], f.x[1], f.y[0], f.y[1]],
         distance_m: f.s,
         vertical_fov_deg: (2.0 * ((f.y[1] - f.y[0]) / (2.0 * f.s)).atan()).to_degrees(),
+        warnings: view_cone_warnings(&m.geometry().views, spec),
     })
 }
 

@@ -4,13 +4,13 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use holo::cameras::quilt::{export_quilt, quilt_file_name, QuiltOptions, DEFAULT_VIEW_CONE_DEG};
+use holo::cameras::quilt::{export_quilt, quilt_file_name, view_cone_deg_for, QuiltOptions};
 
 use holo::picture::White;
 
 use super::{check_output, Failure, Outcome};
 use crate::args::{self, white_help, PresetChoice};
-use crate::out::say;
+use crate::out::{say, warn};
 
 /// Write a frame as a Looking Glass quilt (8-bit sRGB PNG): one view per
 /// camera on a horizontal rail facing the display, view 0 (leftmost) in the
@@ -43,9 +43,10 @@ pub struct ExportQuiltArgs {
     /// Width/height of a view as the display shows it, instead of the preset's.
     #[arg(long, value_parser = args::positive())]
     aspect: Option<f64>,
-    /// Angle between the outermost views, degrees.
-    #[arg(long, default_value_t = DEFAULT_VIEW_CONE_DEG, value_parser = args::angle_below_180_degrees())]
-    view_cone: f64,
+    /// Angle between the outermost views, degrees (default: the file's own
+    /// view range; HoloPlay renders with 35).
+    #[arg(long, value_parser = args::angle_below_180_degrees())]
+    view_cone: Option<f64>,
     #[arg(long, default_value = "auto", value_parser = args::white(), help = white_help!("the samples are the quilt's pixels"))]
     white: White,
     /// Replace an existing file.
@@ -61,7 +62,10 @@ pub fn run(a: ExportQuiltArgs) -> Outcome {
         (spec.tile_width, spec.tile_height) = (w, h);
     }
     spec.aspect = a.aspect.unwrap_or(spec.aspect);
-    spec.view_cone_deg = a.view_cone;
+    spec.view_cone_deg = match a.view_cone {
+        Some(deg) => deg,
+        None => view_cone_deg_for(&holo::HoloFile::open(&a.file)?.info().geometry.views),
+    };
     let name = || {
         let stem = a.file.file_stem().map_or("quilt".into(), |s| s.to_string_lossy().into_owned());
         quilt_file_name(&stem, &spec)
@@ -78,8 +82,9 @@ pub fn run(a: ExportQuiltArgs) -> Outcome {
     };
     check_output(&out, &[&a.file], a.force)?;
     let report = export_quilt(&a.file, a.frame, &spec, &out, &QuiltOptions { white: a.white, overwrite: a.force })?;
+    report.warnings.iter().for_each(warn);
     say!(
-        "wrote {}: a {}×{} quilt of {} views ({}×{} tiles of {}×{}) of frame {} of {}, white = {}",
+        "wrote {}: a {}×{} quilt of {} views ({}×{} tiles of {}×{}, a {:.1}° view cone) of frame {} of {}, white = {}",
         report.path.display(),
         report.width,
         report.height,
@@ -88,6 +93,7 @@ pub fn run(a: ExportQuiltArgs) -> Outcome {
         spec.rows,
         spec.tile_width,
         spec.tile_height,
+        spec.view_cone_deg,
         a.frame,
         a.file.display(),
         report.white

@@ -8,6 +8,7 @@ use std::process::{Command, Output};
 mod commands;
 mod inputs;
 mod output;
+mod pictures;
 
 const HOLO: &str = env!("CARGO_BIN_EXE_holo");
 
