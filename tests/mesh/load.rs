@@ -950,3 +950,48 @@ fn errors_keep_their_meaning() {
     let e = load(&write(d, "nan.obj", "v nan 0 0\n")).unwrap_err().to_string();
     assert!(!e.contains("--"), "{e}");
 }
+
+/// `KHR_mesh_quantization`: positions as normalised shorts, the node's scale
+/// undoing the quantization, in a file that requires the extension. An
+/// extension the loader does not read is an error when required, a warning
+/// naming it when only used.
+#[test]
+fn quantized_positions_load_and_unknown_extensions_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let quantized = |extensions: &str| {
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},{extensions}"scene":0,"scenes":[{{"nodes":[0]}}],
+            "nodes":[{{"mesh":0,"scale":[2,3,1]}}],
+            "meshes":[{{"name":"Q","primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+            "buffers":[{{"byteLength":18,"uri":"data:application/octet-stream;base64,AAAAAAAA/38AAAAAAAD/fwAA"}}],
+            "bufferViews":[{{"buffer":0,"byteLength":18}}],
+            "accessors":[{{"bufferView":0,"componentType":5122,"normalized":true,"count":3,"type":"VEC3",
+                "min":[0,0,0],"max":[32767,32767,0]}}]}}"#
+        )
+    };
+    let q = write(
+        d,
+        "q.gltf",
+        &quantized(r#""extensionsUsed":["KHR_mesh_quantization"],"extensionsRequired":["KHR_mesh_quantization"],"#),
+    );
+    let scene = load_ok(&q);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!(scene.objects[0].positions, vec![[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 3.0, 0.0]]);
+    let used = write(d, "used.gltf", &quantized(r#""extensionsUsed":["KHR_materials_sheen"],"#));
+    let scene = load_ok(&used);
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("used.gltf") && w.contains("KHR_materials_sheen")),
+        "{:?}",
+        scene.warnings
+    );
+    let required = write(
+        d,
+        "required.gltf",
+        &quantized(
+            r#""extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],"#,
+        ),
+    );
+    let e = err_of(&required);
+    assert!(e.contains("required.gltf") && e.contains("KHR_draco_mesh_compression"), "{e}");
+}

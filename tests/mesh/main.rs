@@ -15,4 +15,5 @@ mod load;
 mod micro;
 mod pipeline;
 mod render;
+mod skin;
 mod write;

@@ -38,6 +38,7 @@ pub(crate) struct GltfSource {
     order: Vec<(usize, Option<usize>)>,
     channels: Vec<Channel>,
     lights: Vec<LightDef>,
+    skins: Vec<SkinData>,
     duration: Option<f64>,
     /// Warnings found while opening, repeated in every scene.
     warnings: Vec<String>,
@@ -63,6 +64,18 @@ struct Prim {
     colours: Vec<[f32; 4]>,
     triangles: Vec<[u32; 3]>,
     targets: Vec<MorphTarget>,
+    /// Per vertex, each influence set `JOINTS_n` / `WEIGHTS_n`: four joints
+    /// (indices into the skin's list) and their weights.
+    joints: Vec<Vec<[f32; 4]>>,
+    joint_weights: Vec<Vec<[f32; 4]>>,
+}
+
+/// A skin (glTF 2.0 §3.7.3): its joint nodes and their inverse bind
+/// matrices (row-major; identity where the file gives none).
+#[derive(Debug)]
+struct SkinData {
+    joints: Vec<usize>,
+    inverse_bind: Vec<Mat4>,
 }
 
 #[derive(Debug, Default)]
@@ -81,6 +94,7 @@ struct NodeData {
     rotation: [f64; 4],
     scale: [f64; 3],
     mesh: Option<usize>,
+    skin: Option<usize>,
     weights: Option<Vec<f32>>,
     light: Option<usize>,
     animated: bool,
@@ -139,8 +153,11 @@ impl Buffers {
     /// phrase to follow "accessor N".
     fn read(&self, acc: &gltf::Accessor, max_count: usize) -> Result<(Vec<f64>, usize), String> {
         let dims = acc.dimensions();
-        if matches!(dims, Dimensions::Mat2 | Dimensions::Mat3 | Dimensions::Mat4) {
-            return Err("is a matrix, which no vertex attribute here may be".into());
+        // Float 4×4 matrices (a skin's inverse bind matrices) have no column
+        // padding; the smaller and integer ones, which nothing here reads, do.
+        let float_mat4 = dims == Dimensions::Mat4 && acc.data_type() == DataType::F32;
+        if matches!(dims, Dimensions::Mat2 | Dimensions::Mat3 | Dimensions::Mat4) && !float_mat4 {
+            return Err("is a matrix other than float 4×4, which nothing here reads".into());
         }
         let comps = dims.multiplicity();
         let ctype = acc.data_type();
@@ -505,6 +522,38 @@ impl Reader<'_> {
         Ok(mat)
     }
 
+    /// Every skin's joints and inverse bind matrices, checked.
+    fn skins(&self, doc: &gltf::Document) -> Result<Vec<SkinData>> {
+        let nodes = doc.nodes().count();
+        let mut skins = Vec::new();
+        for s in doc.skins() {
+            let joints: Vec<usize> = s.joints().map(|j| j.index()).collect();
+            if let Some(&bad) = joints.iter().find(|&&j| j >= nodes) {
+                return Err(
+                    self.err(format!("skin {} names joint node {bad}, but the file has {nodes} nodes", s.index()))
+                );
+            }
+            let inverse_bind = match s.inverse_bind_matrices() {
+                Some(acc) => {
+                    let ctx = format!("skin {} inverseBindMatrices", s.index());
+                    let m = self.floats::<16>(&acc, &ctx, joints.len())?;
+                    if m.len() != joints.len() {
+                        return Err(self.err(format!("{ctx} holds {} matrices for {} joints", m.len(), joints.len())));
+                    }
+                    // glTF lists a matrix column by column.
+                    m.iter()
+                        .map(|c| {
+                            transpose(&std::array::from_fn(|col| std::array::from_fn(|row| c[col * 4 + row] as f64)))
+                        })
+                        .collect()
+                }
+                None => vec![IDENTITY4; joints.len()],
+            };
+            skins.push(SkinData { joints, inverse_bind });
+        }
+        Ok(skins)
+    }
+
     /// Every mesh's primitives, in the mesh's own space.
     fn meshes(
         &mut self,
@@ -699,13 +748,29 @@ impl Reader<'_> {
     }
 }
 
-/// Refuse a file that requires an extension this loader does not read.
-fn check_extensions(path: &Path, doc: &gltf::Document) -> Result<()> {
+/// The glTF extensions this loader reads. `KHR_mesh_quantization` needs
+/// nothing of its own: every accessor is read in whatever component type it
+/// has (normalized or not), and the node transforms undo the quantization.
+const SUPPORTED_EXTENSIONS: [&str; 4] =
+    ["KHR_texture_transform", "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_mesh_quantization"];
+
+/// Refuse a file that requires an extension this loader does not read; one
+/// that only uses such an extension is read with a warning naming it, since
+/// what the extension changes is not drawn.
+fn check_extensions(path: &Path, doc: &gltf::Document, warnings: &mut Vec<String>) -> Result<()> {
     for ext in doc.extensions_required() {
-        if !matches!(ext, "KHR_texture_transform" | "KHR_lights_punctual" | "KHR_materials_emissive_strength") {
+        if !SUPPORTED_EXTENSIONS.contains(&ext) {
             return Err(Error::scene(
                 path,
                 format!("requires the glTF extension {ext}, which this loader does not support"),
+            ));
+        }
+    }
+    for ext in doc.extensions_used() {
+        if !SUPPORTED_EXTENSIONS.contains(&ext) && !doc.extensions_required().any(|r| r == ext) {
+            warnings.push(format!(
+                "{}: uses the glTF extension {ext}, which holo does not read; what it changes is not drawn",
+                file_name(path)
             ));
         }
     }
@@ -825,6 +890,7 @@ fn node_data(n: &gltf::Node) -> NodeData {
         rotation: r.map(|x| x as f64),
         scale: s.map(|x| x as f64),
         mesh: n.mesh().map(|m| m.index()),
+        skin: n.skin().map(|s| s.index()),
         weights: n.weights().map(<[f32]>::to_vec),
         light: n.light().map(|l| l.index()),
         animated: false,
@@ -900,7 +966,7 @@ impl GltfSource {
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let doc = &g.document;
         let mut warnings = Vec::new();
-        check_extensions(path, doc)?;
+        check_extensions(path, doc, &mut warnings)?;
         let data = read_buffers(path, &dir, &g)?;
         let mut rd = Reader {
             path,
@@ -917,7 +983,19 @@ impl GltfSource {
         let mut nodes: Vec<NodeData> = doc.nodes().map(|n| node_data(&n)).collect();
         let lights = doc.lights().map(|ls| ls.map(|l| light_def(&l)).collect()).unwrap_or_default();
         let (channels, duration) = rd.animations(doc, &mut nodes)?;
-        Ok(GltfSource { textures: rd.textures, materials, meshes, nodes, order, channels, lights, duration, warnings })
+        let skins = rd.skins(doc)?;
+        Ok(GltfSource {
+            textures: rd.textures,
+            materials,
+            meshes,
+            nodes,
+            order,
+            channels,
+            lights,
+            skins,
+            duration,
+            warnings,
+        })
     }
 
     pub(crate) fn animation_duration_s(&self) -> Option<f64> {
@@ -997,7 +1075,27 @@ impl GltfSource {
                     continue;
                 }
                 let material = prim.material.and_then(|k| self.materials.get(k)).cloned().unwrap_or_default();
-                scene.objects.push(pose(prim, m, &w, name, material, &file, &mut scene.warnings));
+                let skinned = match nd.skin.and_then(|k| self.skins.get(k)) {
+                    Some(skin) if !prim.joints.is_empty() => {
+                        let joint_matrices: Vec<Mat4> = skin
+                            .joints
+                            .iter()
+                            .zip(&skin.inverse_bind)
+                            .map(|(&j, ibm)| mat_mul(&world[j], ibm))
+                            .collect();
+                        let v = vertex_skin_matrices(prim, &joint_matrices, m)
+                            .map_err(|e| Error::scene(path, format!("object \"{name}\" (mesh {}): {e}", mesh.label)))?;
+                        Some(v)
+                    }
+                    Some(_) => {
+                        scene.warnings.push(format!(
+                            "{file}: object \"{name}\" has a skin but no JOINTS_0 and WEIGHTS_0; it is drawn unskinned"
+                        ));
+                        None
+                    }
+                    None => None,
+                };
+                scene.objects.push(pose(prim, m, skinned.as_deref(), &w, name, material, &file, &mut scene.warnings));
             }
         }
         finish_scene(path, &mut scene)?;
@@ -1038,7 +1136,10 @@ fn parse(bytes: &[u8]) -> Result<gltf::Gltf, String> {
         root.validate(root, gltf::json::Path::new, &mut |path: &dyn Fn() -> gltf::json::Path, e| {
             let p = path().as_str().to_string();
             let min_max = p.ends_with(".min") || p.ends_with(".max");
-            if !(min_max && matches!(e, gltf::json::validation::Error::Missing)) {
+            // Required extensions are judged by [`check_extensions`], against
+            // what this loader reads rather than what the crate parses.
+            let extension = p.starts_with("extensionsRequired");
+            if !(min_max && matches!(e, gltf::json::validation::Error::Missing) || extension) {
                 errors.push(format!("{p}: {e}"));
             }
         });
@@ -1158,6 +1259,22 @@ fn read_primitive(
         per_vertex("COLOR_0", &acc, c.len())?;
         prim.colours = c;
     }
+    let mut set = 0u32;
+    while let (Some(j), Some(w)) = (p.get(&Semantic::Joints(set)), p.get(&Semantic::Weights(set))) {
+        let joints = rd.floats::<4>(&j, &format!("{ctx} JOINTS_{set}"), max_vertices)?;
+        per_vertex(&format!("JOINTS_{set}"), &j, joints.len())?;
+        let weights = rd.floats::<4>(&w, &format!("{ctx} WEIGHTS_{set}"), max_vertices)?;
+        per_vertex(&format!("WEIGHTS_{set}"), &w, weights.len())?;
+        if let Some(bad) = joints.iter().flatten().find(|x| **x < 0.0 || x.fract() != 0.0) {
+            return Err(rd.err(format!("{ctx} JOINTS_{set} accessor {} holds {bad}, not a joint index", j.index())));
+        }
+        if let Some(bad) = weights.iter().flatten().find(|x| **x < 0.0) {
+            return Err(rd.err(format!("{ctx} WEIGHTS_{set} accessor {} holds the negative weight {bad}", w.index())));
+        }
+        prim.joints.push(joints);
+        prim.joint_weights.push(weights);
+        set += 1;
+    }
     for (ti, t) in p.morph_targets().enumerate() {
         let mut mt = MorphTarget::default();
         if let Some(acc) = t.positions() {
@@ -1214,18 +1331,64 @@ fn morphed(
     q
 }
 
-/// A primitive morphed by `w` and moved to world space by `m`.
+/// Linear-blend skinning (glTF 2.0 §3.7.3): each vertex's matrix is the sum
+/// over its influences (every `JOINTS_n`/`WEIGHTS_n` set, four each) of
+/// weight × joint matrix, the weights divided by their sum. The joint
+/// matrices are `world(joint) · inverseBind(joint)`; the skinned node's own
+/// transform is not applied (the spec: it is ignored). A vertex with no
+/// weight keeps `node`, its node's transform.
+fn vertex_skin_matrices(prim: &Prim, joint_matrices: &[Mat4], node: &Mat4) -> std::result::Result<Vec<Mat4>, String> {
+    (0..prim.positions.len())
+        .map(|i| {
+            let mut sum = [[0.0f64; 4]; 4];
+            let mut total = 0.0f64;
+            for (set, (joints, weights)) in prim.joints.iter().zip(&prim.joint_weights).enumerate() {
+                for (&j, &wt) in joints[i].iter().zip(&weights[i]) {
+                    if wt == 0.0 {
+                        continue;
+                    }
+                    let jm = joint_matrices.get(j as usize).ok_or_else(|| {
+                        let n = joint_matrices.len();
+                        let listed = if n == 1 { "1 joint".to_string() } else { format!("{n} joints") };
+                        format!("vertex {i} is bound (JOINTS_{set}) to joint {j}, but its skin lists {listed}")
+                    })?;
+                    for (row, jrow) in sum.iter_mut().zip(jm) {
+                        for (s, x) in row.iter_mut().zip(jrow) {
+                            *s += f64::from(wt) * x;
+                        }
+                    }
+                    total += f64::from(wt);
+                }
+            }
+            if total > 0.0 {
+                Ok(sum.map(|row| row.map(|x| x / total)))
+            } else {
+                Ok(*node)
+            }
+        })
+        .collect()
+}
+
+/// A primitive morphed by `w` and moved to world space: by `m`, or where the
+/// primitive is skinned by each vertex's own matrix `skinned[i]`.
+#[allow(clippy::too_many_arguments)]
 fn pose(
     prim: &Prim,
     m: &Mat4,
+    skinned: Option<&[Mat4]>,
     w: &[f32],
     name: String,
     material: Material,
     file: &str,
     warnings: &mut Vec<String>,
 ) -> Object {
-    let flip = det3(&linear(m)) < 0.0;
+    let matrix = |i: usize| skinned.map_or(m, |v| &v[i]);
+    // Winding follows the first vertex's matrix (a skin that mirrors some
+    // vertices and not others has no one winding).
+    let flip = det3(&linear(skinned.and_then(|v| v.first()).unwrap_or(m))) < 0.0;
     let nm = normal_matrix(m);
+    let skinned_normals: Option<Vec<Mat3>> = skinned.map(|v| v.iter().map(normal_matrix).collect());
+    let normal_matrix_of = |i: usize| skinned_normals.as_ref().map_or(&nm, |v| &v[i]);
     let active: Vec<(f32, &MorphTarget)> = prim
         .targets
         .iter()
@@ -1239,7 +1402,7 @@ fn pose(
         .enumerate()
         .map(|(i, p)| {
             let q = morphed(*p, &active, |t| t.positions.get(i).copied());
-            transform_point(m, q)
+            transform_point(matrix(i), q)
         })
         .collect();
     // A direction that comes out zero makes the whole attribute unusable.
@@ -1249,7 +1412,7 @@ fn pose(
         .enumerate()
         .map(|(i, nrm)| {
             let q = morphed(*nrm, &active, |t| t.normals.get(i).copied());
-            unit(mat3_apply(&nm, q)).map(|u| u.map(|x| x as f32))
+            unit(mat3_apply(normal_matrix_of(i), q)).map(|u| u.map(|x| x as f32))
         })
         .collect();
     let normals = normals.unwrap_or_else(|| {
@@ -1264,7 +1427,7 @@ fn pose(
         .map(|(i, t4)| {
             let q = morphed([t4[0], t4[1], t4[2]], &active, |t| t.tangents.get(i).copied());
             let wsign = if t4[3] < 0.0 { -s } else { s };
-            unit(transform_direction(m, q)).map(|u| [u[0] as f32, u[1] as f32, u[2] as f32, wsign])
+            unit(transform_direction(matrix(i), q)).map(|u| [u[0] as f32, u[1] as f32, u[2] as f32, wsign])
         })
         .collect();
     let tangents = match tangents {
