@@ -287,6 +287,7 @@ fn demo_movie(dir: &Path, layout: &layout::Layout, progress: &dyn Progress) -> R
             placement: crate::mesh::place::Placement { rotate_deg: [20.0, -30.0, 0.0], ..Default::default() },
             frames: Some(0..3),
             frames_per_second: 0.5,
+            ..SceneFramesOptions::default()
         },
         overwrite: true,
         ..HoloFlickEncodeOptions::default()

@@ -94,6 +94,11 @@ pub fn angle_below_180_degrees() -> Checked<f64> {
     number(|x| x > 0.0 && x < 180.0, "must be between 0 and 180 (degrees)", 1.0)
 }
 
+/// An angle from 0 to 180 degrees, both included.
+pub fn degrees_0_to_180() -> Checked<f64> {
+    number(|x| (0.0..=180.0).contains(&x), "must be from 0 to 180 (degrees)", 1.0)
+}
+
 /// A whole number from `min` up to `max`.
 pub fn whole(min: usize, max: usize) -> Checked<usize> {
     let rule = if max == usize::MAX {

@@ -31,11 +31,20 @@ pub struct SceneFramesOptions {
     pub frames: Option<Range<usize>>,
     /// The rate animations are sampled at, and the frame rate written.
     pub frames_per_second: f64,
+    /// Objects without vertex normals get smooth ones by this angle
+    /// threshold, degrees ([`crate::mesh::normals::smooth_normals`]);
+    /// `None` shades them flat.
+    pub smooth_normals_deg: Option<f64>,
 }
 
 impl Default for SceneFramesOptions {
     fn default() -> Self {
-        SceneFramesOptions { placement: Placement::default(), frames: None, frames_per_second: 30.0 }
+        SceneFramesOptions {
+            placement: Placement::default(),
+            frames: None,
+            frames_per_second: 30.0,
+            smooth_normals_deg: None,
+        }
     }
 }
 
@@ -126,6 +135,11 @@ pub trait SceneStage {
     ) -> Result<()>;
 }
 
+/// Objects without normals from this many triangles on are said to be
+/// shaded flat: a scan, rarely meant to show its facets. A box or a
+/// low-polygon model below it usually is.
+const FLAT_HINT_TRIANGLES: usize = 1000;
+
 /// A scene file's frames in display metres as a [`Source`]: frame `i` is
 /// the scene at `i / frames_per_second` seconds, placed as the first frame of the run was
 /// (so an animation does not jitter as its bounding box changes), and made
@@ -136,6 +150,7 @@ pub struct SceneFrames<'a, S> {
     geometry: &'a Geometry,
     placement: Placement,
     frames_per_second: f64,
+    smooth_normals_deg: Option<f64>,
     /// The first frame of the run, kept from placement until it is made.
     first: Option<(usize, Scene)>,
     first_number: usize,
@@ -160,6 +175,7 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
             geometry,
             placement: options.placement.clone(),
             frames_per_second,
+            smooth_normals_deg: options.smooth_normals_deg,
             first: None,
             first_number: 0,
             placed: None,
@@ -170,6 +186,30 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
     /// The placement, once decided.
     pub fn placed(&self) -> Option<&Placed> {
         self.placed.as_ref()
+    }
+
+    /// The scene at `time_s`, its objects without normals given smooth ones
+    /// when asked; large ones shaded flat are said.
+    fn scene_at(&self, time_s: f64) -> Result<Scene> {
+        let mut scene = self.source.scene_at(time_s)?;
+        for o in &mut scene.objects {
+            match self.smooth_normals_deg {
+                Some(deg) => {
+                    crate::mesh::normals::smooth_normals(o, deg);
+                }
+                None if o.normals.is_empty() && o.triangles.len() >= FLAT_HINT_TRIANGLES => {
+                    scene.warnings.push(format!(
+                        "{}: object \"{}\" has no normals: its {} triangles are shaded flat, each facet visible; \
+                         smoothing by angle can give it smooth ones",
+                        scene.source,
+                        o.name,
+                        o.triangles.len()
+                    ));
+                }
+                None => {}
+            }
+        }
+        Ok(scene)
     }
 }
 
@@ -194,7 +234,7 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
     }
 
     fn place(&mut self, frames: &Range<usize>, warnings: &mut Warnings) -> Result<()> {
-        let mut scene = self.source.scene_at(frames.start as f64 / self.frames_per_second)?;
+        let mut scene = self.scene_at(frames.start as f64 / self.frames_per_second)?;
         let placed = place(&mut scene, self.geometry, &self.placement)?;
         warnings.merge_frame(&scene.warnings);
         self.stage.placed(&scene, &placed);
@@ -221,7 +261,7 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
                     .placed
                     .as_ref()
                     .ok_or_else(|| Error::argument("placement", "internal: the scene was not placed"))?;
-                let mut scene = self.source.scene_at(number as f64 / self.frames_per_second)?;
+                let mut scene = self.scene_at(number as f64 / self.frames_per_second)?;
                 apply(&mut scene, &placed.matrix);
                 warnings.merge_frame(&scene.warnings);
                 scene

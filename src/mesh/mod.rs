@@ -16,6 +16,7 @@ pub mod convert;
 pub(crate) mod epi;
 mod fastshade;
 pub mod load;
+pub mod normals;
 pub mod place;
 pub mod render;
 pub mod shade;

@@ -13,6 +13,7 @@ mod dice;
 mod end_to_end;
 mod load;
 mod micro;
+mod normals;
 mod pipeline;
 mod render;
 mod skin;

@@ -147,6 +147,11 @@ pub struct MeshArgs {
     /// Render with the reference ray caster (slow; for checking).
     #[arg(long)]
     reference: bool,
+    /// Give objects without normals (scans, old exporters) smooth ones: edges
+    /// between faces within DEG of each other are smoothed (30 is a common
+    /// choice); without it they are shaded flat.
+    #[arg(long, value_name = "DEG", value_parser = args::degrees_0_to_180())]
+    smooth_normals: Option<f64>,
 }
 
 fn mesh(a: MeshArgs) -> Outcome {
@@ -174,6 +179,7 @@ fn mesh(a: MeshArgs) -> Outcome {
             },
             frames: a.frames,
             frames_per_second: a.fps,
+            smooth_normals_deg: a.smooth_normals,
         },
         render: RenderOptions {
             supersample: supersample(a.supersample),

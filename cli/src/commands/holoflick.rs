@@ -159,6 +159,10 @@ pub struct EncodeArgs {
     /// Bake shadows of the scene's lights.
     #[arg(long)]
     shadows: bool,
+    /// Give objects without normals smooth ones: edges between faces within
+    /// DEG of each other are smoothed; without it they are shaded flat.
+    #[arg(long, value_name = "DEG", value_parser = args::degrees_0_to_180())]
+    smooth_normals: Option<f64>,
     #[command(flatten)]
     movie: MovieArgs,
 }
@@ -172,7 +176,12 @@ fn run_encode(a: EncodeArgs) -> Outcome {
         smooth: !a.flat,
         shadows: a.shadows,
         encode: m.encode(),
-        scene: SceneFramesOptions { frames: m.frames.clone(), frames_per_second: m.fps, ..Default::default() },
+        scene: SceneFramesOptions {
+            frames: m.frames.clone(),
+            frames_per_second: m.fps,
+            smooth_normals_deg: a.smooth_normals,
+            ..Default::default()
+        },
         key_interval: m.key_interval,
         overwrite: m.force,
     };

@@ -110,3 +110,40 @@ fn bounds_refuse_their_values_quickly_naming_file_and_value() {
     let o = ok(holo(&["convert", "mesh", "sliver.obj", "--layout", layout, "-o", "sliver.holo"], d));
     assert!(text(&o).contains("sliver.obj") && text(&o).contains("no hololine crosses"), "{}", text(&o));
 }
+
+/// A scan-like OBJ without normals: shaded flat with a word that says so,
+/// smooth with `--smooth-normals`.
+#[test]
+fn a_scan_without_normals_is_said_flat_and_smoothed_on_request() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    // A 40 × 40 height field (3200 triangles).
+    let mut obj = String::new();
+    for j in 0..41 {
+        for i in 0..41 {
+            let (x, y) = (i as f64 / 40.0, j as f64 / 40.0);
+            obj += &format!("v {x} {y} {}\n", 0.1 * (6.0 * x).sin() * (5.0 * y).cos());
+        }
+    }
+    for j in 0..40 {
+        for i in 0..40 {
+            let a = j * 41 + i + 1;
+            obj += &format!("f {} {} {}\nf {} {} {}\n", a, a + 1, a + 42, a, a + 42, a + 41);
+        }
+    }
+    std::fs::write(d.join("scan.obj"), obj).unwrap();
+    let layout = profile.to_str().unwrap();
+    let o = ok(holo(&["convert", "mesh", "scan.obj", "--layout", layout, "-o", "flat.holo"], d));
+    assert!(text(&o).contains("scan.obj") && text(&o).contains("3200 triangles are shaded flat"), "{}", text(&o));
+    let o = ok(holo(
+        &["convert", "mesh", "scan.obj", "--layout", layout, "--smooth-normals", "30", "-o", "smooth.holo"],
+        d,
+    ));
+    assert!(!text(&o).contains("shaded flat"), "{}", text(&o));
+    let (flat, smooth) =
+        (holo::format::read(d.join("flat.holo")).unwrap(), holo::format::read(d.join("smooth.holo")).unwrap());
+    assert!(flat != smooth, "smoothing changed nothing");
+    let o = holo(&["convert", "mesh", "scan.obj", "--layout", layout, "--smooth-normals", "200", "-o", "x.holo"], d);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+}
