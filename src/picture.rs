@@ -15,12 +15,13 @@
 //!
 //! The pixels become PNG bytes in memory ([`encode_png`],
 //! [`encode_png_samples`]); callers write them with the crate's file writer.
+//! A tone-mapped PNG carries an `sRGB` chunk (its codes are sRGB-encoded),
+//! and, where its pixels are not square on the display, a `pHYs` chunk with
+//! their physical size, so viewers that honour it show the right shape.
 
 use std::fmt;
 use std::str::FromStr;
 
-use image::codecs::png::PngEncoder;
-use image::{ExtendedColorType, ImageEncoder};
 use rayon::prelude::*;
 
 use crate::{Error, Result};
@@ -278,9 +279,25 @@ pub enum Samples<'a> {
     Sixteen(&'a [u16]),
 }
 
+/// What a PNG says of its pixels besides their codes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PngTags {
+    /// The codes are sRGB-encoded: an `sRGB` chunk (perceptual intent).
+    pub srgb: bool,
+    /// Each pixel's width and height on the display, metres: a `pHYs`
+    /// chunk in pixels per metre.
+    pub pixel_size_m: Option<[f64; 2]>,
+}
+
 /// A `width × height` PNG of `colour` holding `samples` as they are (no tone
-/// mapping), default compression.
-pub fn encode_png_samples(width: usize, height: usize, colour: Colour, samples: Samples<'_>) -> Result<Vec<u8>> {
+/// mapping), default compression, tagged as `tags` say.
+pub fn encode_png_samples(
+    width: usize,
+    height: usize,
+    colour: Colour,
+    samples: Samples<'_>,
+    tags: PngTags,
+) -> Result<Vec<u8>> {
     let (w, h) = png_size(width, height)?;
     let n = width * height * colour.components();
     let length = match samples {
@@ -293,32 +310,48 @@ pub fn encode_png_samples(width: usize, height: usize, colour: Colour, samples: 
             format!("a {width}×{height} {colour:?} picture has {n} samples, not the {length} given"),
         ));
     }
-    let native;
-    let (bytes, colour_type) = match (samples, colour) {
-        (Samples::Eight(s), Colour::Grey) => (s, ExtendedColorType::L8),
-        (Samples::Eight(s), Colour::Rgb) => (s, ExtendedColorType::Rgb8),
-        (Samples::Sixteen(s), colour) => {
-            // The encoder takes 16-bit samples as bytes in native order.
-            native = s.iter().flat_map(|c| c.to_ne_bytes()).collect::<Vec<u8>>();
-            let t = if colour == Colour::Grey { ExtendedColorType::L16 } else { ExtendedColorType::Rgb16 };
-            (native.as_slice(), t)
+    let big_endian;
+    let (bytes, depth) = match samples {
+        Samples::Eight(s) => (s, png::BitDepth::Eight),
+        Samples::Sixteen(s) => {
+            // PNG stores 16-bit samples most significant byte first.
+            big_endian = s.iter().flat_map(|c| c.to_be_bytes()).collect::<Vec<u8>>();
+            (big_endian.as_slice(), png::BitDepth::Sixteen)
         }
     };
+    let failed =
+        |e: png::EncodingError| Error::argument("picture", format!("cannot encode a {width}×{height} PNG: {e}"));
     let mut png = Vec::new();
-    PngEncoder::new(&mut png)
-        .write_image(bytes, w, h, colour_type)
-        .map_err(|e| Error::argument("picture", format!("cannot encode a {width}×{height} PNG: {e}")))?;
+    let mut encoder = png::Encoder::new(&mut png, w, h);
+    encoder.set_color(if colour == Colour::Grey { png::ColorType::Grayscale } else { png::ColorType::Rgb });
+    encoder.set_depth(depth);
+    if tags.srgb {
+        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    }
+    if let Some([x_m, y_m]) = tags.pixel_size_m {
+        let per_metre = |size_m: f64| (1.0 / size_m).round().clamp(1.0, f64::from(u32::MAX)) as u32;
+        encoder.set_pixel_dims(Some(png::PixelDimensions {
+            xppu: per_metre(x_m),
+            yppu: per_metre(y_m),
+            unit: png::Unit::Meter,
+        }));
+    }
+    let mut writer = encoder.write_header().map_err(failed)?;
+    writer.write_image_data(bytes).map_err(failed)?;
+    writer.finish().map_err(failed)?;
     Ok(png)
 }
 
 /// A `width × height` PNG of `colour` tone-mapped by `tone`: `pixel(x, y)`
 /// gives the linear samples of column `x`, row `y` from the top (a grey
-/// picture uses the first; a colour the picture lacks is 0, black).
+/// picture uses the first; a colour the picture lacks is 0, black). Tagged
+/// sRGB, and with each pixel's physical size where given.
 pub fn encode_png(
     width: usize,
     height: usize,
     colour: Colour,
     tone: &Tone,
+    pixel_size_m: Option<[f64; 2]>,
     pixel: impl Fn(usize, usize) -> [f32; 3] + Sync,
 ) -> Result<Vec<u8>> {
     png_size(width, height)?;
@@ -333,12 +366,13 @@ pub fn encode_png(
     };
     let mut codes = vec![0u16; width * height * components];
     codes.par_chunks_mut(width * components).enumerate().for_each(|(y, out)| row(y, out));
+    let tags = PngTags { srgb: true, pixel_size_m };
     match tone.bits() {
-        Bits::Sixteen => encode_png_samples(width, height, colour, Samples::Sixteen(&codes)),
+        Bits::Sixteen => encode_png_samples(width, height, colour, Samples::Sixteen(&codes), tags),
         Bits::Eight => {
             // Each code is at most 255 here.
             let bytes: Vec<u8> = codes.iter().map(|&c| c as u8).collect();
-            encode_png_samples(width, height, colour, Samples::Eight(&bytes))
+            encode_png_samples(width, height, colour, Samples::Eight(&bytes), tags)
         }
     }
 }
@@ -475,7 +509,7 @@ mod tests {
         let value = |x: usize, y: usize| [x as f32 / 4.0, y as f32 / 2.0, 0.3];
         for (colour, bits) in [(Colour::Grey, Bits::Eight), (Colour::Rgb, Bits::Eight), (Colour::Rgb, Bits::Sixteen)] {
             let tone = Tone::new(0.9, bits).unwrap();
-            let png = encode_png(w, h, colour, &tone, value).unwrap();
+            let png = encode_png(w, h, colour, &tone, None, value).unwrap();
             let img = image::load_from_memory(&png).unwrap();
             let want_type = match (colour, bits) {
                 (Colour::Grey, Bits::Eight) => image::ColorType::L8,
@@ -497,9 +531,10 @@ mod tests {
                 }
             }
         }
-        let err = encode_png(0, 3, Colour::Grey, &Tone::unit(Bits::Eight), value).unwrap_err().to_string();
+        let err = encode_png(0, 3, Colour::Grey, &Tone::unit(Bits::Eight), None, value).unwrap_err().to_string();
         assert!(err.contains("0×3"), "{err}");
-        let err = encode_png_samples(2, 2, Colour::Rgb, Samples::Eight(&[0; 4])).unwrap_err().to_string();
+        let err =
+            encode_png_samples(2, 2, Colour::Rgb, Samples::Eight(&[0; 4]), PngTags::default()).unwrap_err().to_string();
         assert!(err.contains("12 samples"), "{err}");
     }
 }

@@ -90,7 +90,11 @@ pub fn export_views(m: &Modulation, dir: &Path, tone: &ToneMapping, overwrite: b
     let mono = g.channel_index("Y");
     let colour = if mono.is_some() { Colour::Grey } else { Colour::Rgb };
     for (v, name) in names.iter().enumerate() {
-        let png = encode_png(g.emitters, g.hololines, colour, &png_tone, |e, j| match mono {
+        // One pixel per emitter and hololine, so that import-views takes the
+        // pictures back sample for sample; their physical size, in the pHYs
+        // chunk, gives viewers that honour it the display's proportions.
+        let pixel_size = Some([g.emitter_pitch_m, g.hololine_pitch_m]);
+        let png = encode_png(g.emitters, g.hololines, colour, &png_tone, pixel_size, |e, j| match mono {
             Some(c) => [m.get(c, j, e, v), 0.0, 0.0],
             None => {
                 let mut rgb = [0.0; 3];

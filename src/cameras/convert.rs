@@ -179,8 +179,14 @@ fn unseen_fraction_grey<'m>(g: &Geometry, mask: &'m [bool]) -> impl Iterator<Ite
 /// in the fraction unseen (a mask, not a tone-mapped picture).
 fn write_unseen_png(path: &Path, g: &Geometry, grey: &[u8], overwrite: bool) -> Result<()> {
     let samples = crate::picture::Samples::Eight(grey);
-    let png = crate::picture::encode_png_samples(g.emitters, g.hololines, crate::picture::Colour::Grey, samples)
-        .map_err(|e| e.naming(path))?;
+    let png = crate::picture::encode_png_samples(
+        g.emitters,
+        g.hololines,
+        crate::picture::Colour::Grey,
+        samples,
+        crate::picture::PngTags { srgb: false, pixel_size_m: Some([g.emitter_pitch_m, g.hololine_pitch_m]) },
+    )
+    .map_err(|e| e.naming(path))?;
     crate::output::write_bytes_beside(path, &png, overwrite)
 }
 

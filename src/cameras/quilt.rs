@@ -420,7 +420,7 @@ impl Quilt {
     pub fn png(&self, white: f32) -> Result<Vec<u8>> {
         let tone = Tone::new(white, Bits::Eight)?;
         let colour = if self.grey { Colour::Grey } else { Colour::Rgb };
-        encode_png(self.width, self.height, colour, &tone, |x, y| self.rgb[y * self.width + x])
+        encode_png(self.width, self.height, colour, &tone, None, |x, y| self.rgb[y * self.width + x])
     }
 
     /// Write [`Quilt::png`] to `path`; an existing file is kept unless `overwrite`.

@@ -169,7 +169,7 @@ pub fn write_camera_picture(pic: &CameraPicture, png_path: &Path, pfm_depth_path
         ));
     }
     let tone = Tone::unit(Bits::Sixteen);
-    let png = encode_png(pic.width, pic.height, Colour::Rgb, &tone, |x, y| pic.rgb[y * pic.width + x])
+    let png = encode_png(pic.width, pic.height, Colour::Rgb, &tone, None, |x, y| pic.rgb[y * pic.width + x])
         .map_err(|e| e.naming(png_path))?;
     crate::output::write_bytes_beside(png_path, &png, true)?;
     if let Some(path) = pfm_depth_path {

@@ -37,23 +37,28 @@ impl Picture {
 
     /// The picture as an 8-bit sRGB PNG (grey for one channel, RGB for R,
     /// G, B; a missing colour is black), tone-mapped as every picture is
-    /// ([`crate::picture`]): brightness `white` is full white. Each emitter
-    /// and hololine becomes a block of whole pixels in proportion to their
-    /// pitches, the smaller pitch one pixel.
+    /// ([`crate::picture`]): brightness `white` is full white. The pixels
+    /// are square on the display: the smaller pitch is one pixel, and the
+    /// other axis is widened to the pitches' exact ratio, each pixel showing
+    /// the emitter or hololine under its centre (so every emitter and
+    /// hololine keeps at least one pixel, and no value is made up).
     pub fn png(&self, white: f32) -> Result<Vec<u8>> {
         let tone = Tone::new(white, Bits::Eight)?;
-        let (px_e, px_j) = if self.column_aspect >= 1.0 {
-            (self.column_aspect.round().max(1.0) as usize, 1)
+        let (width, height) = if self.column_aspect >= 1.0 {
+            ((self.emitters as f64 * self.column_aspect).round().max(1.0) as usize, self.hololines)
         } else {
-            (1, (1.0 / self.column_aspect).round().max(1.0) as usize)
+            (self.emitters, (self.hololines as f64 / self.column_aspect).round().max(1.0) as usize)
         };
+        let (emitters, hololines) = (self.emitters, self.hololines);
+        let column = move |x: usize| ((x as f64 + 0.5) * emitters as f64 / width as f64) as usize;
+        let row = move |y: usize| ((y as f64 + 0.5) * hololines as f64 / height as f64) as usize;
         let (colour, slots) = if self.channels.len() == 1 {
             (Colour::Grey, [Some(0), None, None])
         } else {
             (Colour::Rgb, ["R", "G", "B"].map(|name| self.channels.iter().position(|n| n == name)))
         };
-        encode_png(self.emitters * px_e, self.hololines * px_j, colour, &tone, |x, y| {
-            slots.map(|c| c.map_or(0.0, |c| self.at(y / px_j, x / px_e, c)))
+        encode_png(width, height, colour, &tone, None, |x, y| {
+            slots.map(|c| c.map_or(0.0, |c| self.at(row(y).min(hololines - 1), column(x).min(emitters - 1), c)))
         })
     }
 

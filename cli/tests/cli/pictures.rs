@@ -40,3 +40,68 @@ fn a_quilt_fits_the_file_s_views_by_default() {
     let o = ok(holo(&["export-quilt", "c.holo", "-o", "narrow.png", "--view-cone", "10"], d));
     assert!(text(&o).contains("56 of the file's 96 views lie outside the quilt's 10.0°"), "{}", text(&o));
 }
+
+/// The bounding box (columns, rows) of the pixels brighter than half of the
+/// brightest in `rect` (x0, y0, width, height) of a picture.
+fn lit_box(img: &image::DynamicImage, rect: (u32, u32, u32, u32)) -> (f64, f64) {
+    let grey = img.to_luma8();
+    let (x0, y0, w, h) = rect;
+    let peak =
+        (y0..y0 + h).flat_map(|y| (x0..x0 + w).map(move |x| (x, y))).map(|(x, y)| grey.get_pixel(x, y).0[0]).max();
+    let half = peak.unwrap() / 2;
+    let lit: Vec<(u32, u32)> = (y0..y0 + h)
+        .flat_map(|y| (x0..x0 + w).map(move |x| (x, y)))
+        .filter(|&(x, y)| grey.get_pixel(x, y).0[0] > half)
+        .collect();
+    let (xs, ys): (Vec<u32>, Vec<u32>) = lit.into_iter().unzip();
+    let span = |v: &[u32]| f64::from(v.iter().max().unwrap() - v.iter().min().unwrap() + 1);
+    (span(&xs), span(&ys))
+}
+
+/// A pHYs chunk's pixels per metre, x and y.
+fn pixels_per_metre(png: &[u8]) -> (f64, f64) {
+    let at = png.windows(4).position(|w| w == b"pHYs").expect("a pHYs chunk");
+    let word = |k: usize| f64::from(u32::from_be_bytes(png[at + 4 + k..at + 8 + k].try_into().unwrap()));
+    assert_eq!(png[at + 12], 1, "pHYs in metres");
+    (word(0), word(4))
+}
+
+/// A 20 mm square, lit in every view, on Mark III's grid (emitters 0.238 mm
+/// apart, hololines 0.136 mm): every picture shows it square, within 2%.
+#[test]
+fn pictures_show_a_square_square() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 160);
+    let g = holo::layout::Layout::load(profile.to_str().unwrap()).unwrap().geometry;
+    // Centred on the hololines the profile keeps (its top stays Mark III's).
+    let y_mid = 0.5 * (g.hololine_y_m(0) + g.hololine_y_m(g.hololines - 1));
+    let m = holo::Modulation::from_fn(g.clone(), |_, j, e, _| {
+        f32::from(g.emitter_x_m(e).abs() < 0.010 && (g.hololine_y_m(j) - y_mid).abs() < 0.010)
+    })
+    .unwrap();
+    holo::format::write(d.join("square.holo"), &m, &holo::WriteOptions::default()).unwrap();
+    let square_within = |what: &str, (w, h): (f64, f64)| {
+        assert!((w / h - 1.0).abs() < 0.02, "{what}: the square is {w:.1} × {h:.1}, {:.3} wide for its height", w / h);
+    };
+
+    // export-views: one pixel per emitter and hololine, the physical size in pHYs.
+    ok(holo(&["export-views", "square.holo", "-o", "views"], d));
+    let png = std::fs::read(d.join("views/view_048.png")).unwrap();
+    assert!(png.windows(4).any(|w| w == b"sRGB"), "export-views: no sRGB chunk");
+    let (xppm, yppm) = pixels_per_metre(&png);
+    let img = image::load_from_memory(&png).unwrap();
+    let (w, h) = lit_box(&img, (0, 0, img.width(), img.height()));
+    square_within("export-views (pHYs)", (w / xppm, h / yppm));
+
+    // view: square pixels.
+    ok(holo(&["view", "square.holo", "--layout", profile.to_str().unwrap(), "-o", "eye.png"], d));
+    let img = image::open(d.join("eye.png")).unwrap();
+    square_within("view", lit_box(&img, (0, 0, img.width(), img.height())));
+
+    // export-quilt: the middle tile, shown at the preset's aspect (square pixels).
+    ok(holo(&["export-quilt", "square.holo", "-o", "q.png"], d));
+    let img = image::open(d.join("q.png")).unwrap();
+    let (tw, th) = (img.width() / 8, img.height() / 6);
+    square_within("export-quilt", lit_box(&img, (4 * tw, 3 * th, tw, th)));
+}
