@@ -53,17 +53,19 @@ fn check(name: &str, written: &std::path::Path) {
     );
 }
 
+/// Write `m` as one frame with `compression` and `source`, f16, and check
+/// the bytes against the frozen vector `name`.
+fn write_and_check(name: &str, m: &Modulation, compression: Compression, source: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join(name);
+    let options = WriteOptions { compression, source: source.into(), ..WriteOptions::default() };
+    write(&out, m, &options).unwrap();
+    check(name, &out);
+}
+
 #[test]
 fn tiny_vector_is_stable() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("tiny.holo");
-    let options = WriteOptions {
-        compression: Compression::None,
-        source: "spec worked example".into(),
-        ..WriteOptions::default()
-    };
-    write(&out, &tiny(), &options).unwrap();
-    check("tiny-y-f16-none.holo", &out);
+    write_and_check("tiny-y-f16-none.holo", &tiny(), Compression::None, "spec worked example");
     assert_eq!(read(fixture("tiny-y-f16-none.holo")).unwrap(), tiny());
 }
 
@@ -102,15 +104,7 @@ fn undershoot() -> Modulation {
 
 #[test]
 fn lossy_undershoot_vector_reads_as_zero() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("undershoot.holo");
-    let options = WriteOptions {
-        compression: Compression::B44,
-        source: "spec undershoot example".into(),
-        ..WriteOptions::default()
-    };
-    write(&out, &undershoot(), &options).unwrap();
-    check("undershoot-y-f16-b44.holo", &out);
+    write_and_check("undershoot-y-f16-b44.holo", &undershoot(), Compression::B44, "spec undershoot example");
     let file = HoloFile::open(fixture("undershoot-y-f16-b44.holo")).unwrap();
     let decoded = file.read_decoded(0, &holo::format::Region::all(&file.info().geometry)).unwrap();
     let negative: Vec<(usize, f32)> = decoded.samples().iter().copied().enumerate().filter(|&(_, x)| x < 0.0).collect();
