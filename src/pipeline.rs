@@ -191,6 +191,19 @@ where
     Ok((source, run))
 }
 
+/// [`open_and_run`] into the `.holo` file `output` for `geometry`, written
+/// as `write` says: what every converter of one input file into a `.holo`
+/// file does.
+pub fn open_and_write<S: Source<Frame = Band>>(
+    input: &Path,
+    open: impl FnOnce(&Path) -> Result<S>,
+    (output, geometry, write): (&Path, &Geometry, &WriteOptions),
+    frames: Option<Range<usize>>,
+    progress: &dyn Progress,
+) -> Result<(S, Run<WriteReport>)> {
+    open_and_run(input, open, HoloSink::new(output, geometry, write.clone()), frames, progress)
+}
+
 /// `asked` (all of `count` frames by default), checked against them.
 pub fn frame_range(name: &str, asked: Option<Range<usize>>, count: usize) -> Result<Range<usize>> {
     let frames = asked.unwrap_or(0..count);

@@ -33,7 +33,7 @@ use crate::mesh::place::{apply, place, Placed, Placement};
 use crate::mesh::render::{render_into, RenderOptions, RenderStats};
 use crate::mesh::shade::{Lighting, SpecularModel as Lobe};
 use crate::mesh::{Object, Scene};
-use crate::pipeline::{self, HoloSink, Source, Warnings};
+use crate::pipeline::{self, Source, Warnings};
 use crate::progress::Progress;
 use crate::{Band, Error, Result};
 
@@ -105,9 +105,9 @@ pub fn convert_holoflick(
     options: &HoloFlickConvertOptions,
     progress: &dyn Progress,
 ) -> Result<HoloFlickConvertReport> {
-    let sink = HoloSink::new(output, geometry, options.write.clone());
     let open = |input: &Path| HoloFlickSource::open(input, geometry, options);
-    let (source, mut run) = pipeline::open_and_run(input, open, sink, options.frames.clone(), progress)?;
+    let target = (output, geometry, &options.write);
+    let (source, mut run) = pipeline::open_and_write(input, open, target, options.frames.clone(), progress)?;
     if !source.outside.is_empty() {
         let list: Vec<String> = source.outside.iter().map(|n| n.to_string()).collect();
         run.warnings.push(format!(

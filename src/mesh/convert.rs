@@ -15,7 +15,7 @@ use super::render::{render_into, RenderOptions, RenderStats};
 use super::{Light, Scene};
 use crate::format::{WriteOptions, WriteReport};
 use crate::geometry::Geometry;
-use crate::pipeline::{self, HoloSink, Source, Warnings};
+use crate::pipeline::{self, Source, Warnings};
 use crate::progress::{Labelled, Progress};
 use crate::{Band, Error, Result};
 
@@ -94,9 +94,9 @@ pub fn convert_mesh(
     options: &ConvertOptions,
     progress: &dyn Progress,
 ) -> Result<ConvertReport> {
-    let sink = HoloSink::new(output, geometry, options.write.clone());
     let open = |input: &Path| SceneFrames::open(input, geometry, &options.scene, MeshRender::new(options));
-    let (source, run) = pipeline::open_and_run(input, open, sink, options.scene.frames.clone(), progress)?;
+    let target = (output, geometry, &options.write);
+    let (source, run) = pipeline::open_and_write(input, open, target, options.scene.frames.clone(), progress)?;
     let MeshRender { first, stats, .. } = source.stage;
     let first = first.ok_or_else(|| Error::argument("placement", "internal: the scene was never placed"))?;
     Ok(ConvertReport {

@@ -106,7 +106,10 @@ pub struct QuiltOptions {
 
 impl Default for QuiltOptions {
     fn default() -> Self {
-        QuiltOptions { view_cone_deg: 35.0, vertical_fov_deg: 14.0 }
+        QuiltOptions {
+            view_cone_deg: crate::cameras::quilt::DEFAULT_VIEW_CONE_DEG,
+            vertical_fov_deg: crate::cameras::quilt::DEFAULT_VERTICAL_FOV_DEG,
+        }
     }
 }
 
