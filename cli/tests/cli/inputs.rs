@@ -147,3 +147,34 @@ fn a_scan_without_normals_is_said_flat_and_smoothed_on_request() {
     let o = holo(&["convert", "mesh", "scan.obj", "--layout", layout, "--smooth-normals", "200", "-o", "x.holo"], d);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
 }
+
+/// A glTF that uses an extension holo does not read converts with a warning
+/// naming it; one that requires it is refused, naming it.
+#[test]
+fn gltf_extensions_holo_does_not_read_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    // One triangle, positions (0,0,0) (1,0,0) (0,1,0) as f32, base64.
+    let gltf = |extensions: &str| {
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},{extensions}"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+            "buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}}],
+            "bufferViews":[{{"buffer":0,"byteLength":36}}],
+            "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]}}"#
+        )
+    };
+    std::fs::write(d.join("sheen.gltf"), gltf(r#""extensionsUsed":["KHR_materials_sheen"],"#)).unwrap();
+    let layout = profile.to_str().unwrap();
+    let o = ok(holo(&["convert", "mesh", "sheen.gltf", "--layout", layout, "-o", "s.holo"], d));
+    assert!(text(&o).contains("sheen.gltf: uses the glTF extension KHR_materials_sheen"), "{}", text(&o));
+    std::fs::write(
+        d.join("draco.gltf"),
+        gltf(r#""extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],"#),
+    )
+    .unwrap();
+    let o = holo(&["convert", "mesh", "draco.gltf", "--layout", layout, "-o", "d.holo"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("draco.gltf") && text(&o).contains("KHR_draco_mesh_compression"), "{}", text(&o));
+}
