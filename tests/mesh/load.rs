@@ -629,8 +629,15 @@ fn bad_inputs_give_clear_errors() {
     let e = err_of(&write(d, "nan.gltf", &tiny_gltf(nan, 36, 3, "")));
     assert!(e.contains("nan.gltf") && e.contains("\"Tri\"") && e.contains("NaN at vertex 0"), "{e}");
 
-    let e = err_of(&write(d, "nomtl.obj", "mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
-    assert!(e.contains("nomtl.obj") && e.contains("gone.mtl"), "{e}");
+    // A missing material library is drawn with the default material, said
+    // (as assimp and trimesh read it).
+    let s = load_ok(&write(d, "nomtl.obj", "mtllib gone.mtl\nusemtl skin\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+    assert_eq!(s.triangle_count(), 1);
+    assert!(
+        s.warnings.iter().any(|w| w.contains("nomtl.obj: line 1") && w.contains("gone.mtl") && w.contains("default")),
+        "{:?}",
+        s.warnings
+    );
 
     let e = err_of(&write(d, "range.obj", "g lid\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"));
     assert!(e.contains("range.obj") && e.contains("\"lid\"") && e.contains("9"), "{e}");
@@ -641,10 +648,8 @@ fn bad_inputs_give_clear_errors() {
     let e = err_of(&write(d, "empty.obj", "# nothing here\n"));
     assert!(e.contains("empty.obj") && e.contains("no triangles in the scene"), "{e}");
 
-    let e = err_of(&write(d, "notex.obj", "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
-    let _ = e;
     write(d, "m.mtl", "newmtl a\nmap_Kd missing_tex.png\n");
-    let e = err_of(&d.join("notex.obj"));
+    let e = err_of(&write(d, "notex.obj", "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
     assert!(e.contains("m.mtl") && e.contains("missing_tex.png") && e.contains("material \"a\""), "{e}");
 
     // PLY: a binary body cut short, and a header claiming a huge count.

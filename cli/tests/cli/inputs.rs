@@ -24,6 +24,12 @@ fn an_old_blender_ply_converts_with_a_warning_naming_the_line() {
         "{said}"
     );
     assert!(d.join("old.holo").is_file());
+    // An OBJ whose material library is missing is drawn with the default
+    // material, said (as assimp and trimesh read it).
+    std::fs::write(d.join("nomtl.obj"), "mtllib gone.mtl\nusemtl skin\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n")
+        .unwrap();
+    let o = ok(holo(&["convert", "mesh", "nomtl.obj", "--layout", profile.to_str().unwrap(), "-o", "nomtl.holo"], d));
+    assert!(text(&o).contains("nomtl.obj: line 1: material library \"gone.mtl\" (mtllib) not found"), "{}", text(&o));
 }
 
 /// Every lossy compression converts the bundled Spot, says it is lossy, and

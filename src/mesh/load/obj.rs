@@ -280,11 +280,16 @@ impl<'a> Parser<'a> {
             args.iter().map(|s| s.to_string()).collect()
         };
         for name in names {
+            // As assimp and trimesh do: the geometry is still drawn, with the
+            // default material for what the library would have defined.
             let Some(p) = resolve_file(dir, &name) else {
-                return Err(Error::scene(
-                    self.path,
-                    format!("line {ln}: material library \"{name}\" (mtllib) not found in {}", dir.display()),
+                self.warnings.push(format!(
+                    "{}: line {ln}: material library \"{name}\" (mtllib) not found in {}; its materials are drawn \
+                     with the default material",
+                    self.file,
+                    dir.display()
                 ));
+                continue;
             };
             self.mtl.read(&p, self.limits, &mut self.warnings)?;
         }
