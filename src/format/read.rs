@@ -169,19 +169,28 @@ impl HoloFile {
         // costs more than it saves (and its threads outlive the call).
         let parallel =
             if file_bytes >= PARALLEL_DECODE_MIN_BYTES { chunks.parallel_decompressor(false) } else { Err(chunks) };
-        match parallel {
-            Ok(mut decompressor) => {
-                while let Some(block) = decompressor.decompress_next_block() {
-                    place(block.map_err(|e| Error::exr(path, e))?)?;
+        // The exr crate's decoders can panic on hostile compressed data (its
+        // B44 decoder subtracts with overflow on some blocks); that is a
+        // damaged file, said as one, not a crash.
+        let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| -> Result<()> {
+            match parallel {
+                Ok(mut decompressor) => {
+                    while let Some(block) = decompressor.decompress_next_block() {
+                        place(block.map_err(|e| Error::exr(path, e))?)?;
+                    }
+                }
+                Err(chunks) => {
+                    let mut decompressor = chunks.sequential_decompressor(false);
+                    while let Some(block) = decompressor.decompress_next_block() {
+                        place(block.map_err(|e| Error::exr(path, e))?)?;
+                    }
                 }
             }
-            Err(chunks) => {
-                let mut decompressor = chunks.sequential_decompressor(false);
-                while let Some(block) = decompressor.decompress_next_block() {
-                    place(block.map_err(|e| Error::exr(path, e))?)?;
-                }
-            }
-        }
+            Ok(())
+        }));
+        decoded.unwrap_or_else(|_| {
+            Err(Error::invalid(path, format!("frame {index}: a compressed block could not be decoded (it is damaged)")))
+        })?;
         let bad = if self.is_lossy() { first_non_finite(&out) } else { out.first_bad_sample() };
         if let Some((c, j, e, v, value, why)) = bad {
             return Err(Error::BadSample {

@@ -360,3 +360,18 @@ fn failed_writes_leave_nothing_and_existing_files_are_kept() {
     assert_eq!(std::fs::read(&target).unwrap(), b"precious");
     assert_eq!(leftovers(dir.path()), vec![target]);
 }
+
+/// A B44 file the fuzzer made from the frozen B44 vector: the exr crate's
+/// B44 decoder subtracts with overflow on one of its blocks. Reading it is an
+/// error naming the file, never a panic.
+#[test]
+fn a_b44_block_that_breaks_the_decoder_is_an_error() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/bad/b44-overflow.holo");
+    assert!(path.is_file(), "{} is missing", path.display());
+    if let Ok(file) = holo::HoloFile::open(&path) {
+        let e = file.read_frame(0).unwrap_err().to_string();
+        assert!(e.contains("b44-overflow.holo"), "{e}");
+    }
+    let report = holo::format::validate(&path);
+    assert!(report.map(|r| !r.is_valid()).unwrap_or(true));
+}
