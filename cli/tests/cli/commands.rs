@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use super::{holo, ok, spot, text};
+use super::{holo, ok, small_profile, spot, text};
 
 /// A Mark I view ramp written as `name` in `d`.
 fn mark1_ramp(d: &Path, name: &str) {
@@ -264,11 +264,8 @@ fn demo_runs_and_says_where_its_files_are() {
 fn assemble_writes_head_images_and_refuses_to_overwrite() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let o = holo(&["layout", "mark3"], d);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     // A custom profile: Mark III with 2 hololines, as a user would edit it.
-    let profile = String::from_utf8(o.stdout).unwrap().replace("hololines = 440", "hololines = 2");
-    std::fs::write(d.join("small.toml"), profile).unwrap();
+    small_profile(d, 2);
     let o = holo(&["pattern", "--layout", "small.toml", "--kind", "single-emitter", "-o", "s.holo"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     let o = holo(&["assemble", "s.holo", "--layout", "small.toml", "-o", "fringes"], d);
@@ -290,14 +287,12 @@ fn assemble_writes_head_images_and_refuses_to_overwrite() {
 fn a_profile_whose_basis_does_not_fit_is_refused_with_its_reasons_everywhere() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let o = holo(&["layout", "mark3"], d);
-    let profile = String::from_utf8(o.stdout).unwrap();
-    std::fs::write(d.join("small.toml"), profile.replace("hololines = 440", "hololines = 2")).unwrap();
+    let profile = std::fs::read_to_string(small_profile(d, 2)).unwrap();
     let o = holo(&["pattern", "--layout", "small.toml", "--kind", "single-emitter", "-o", "s.holo"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     // Two emitters more than Mark III's chirps reach: the layout's data is
     // consistent, its fringe side cannot be assembled.
-    let wide = profile.replace("hololines = 440", "hololines = 2").replace("emitters = 336", "emitters = 338");
+    let wide = profile.replace("emitters = 336", "emitters = 338");
     std::fs::write(d.join("wide.toml"), wide).unwrap();
     for cmd in [
         &["layout", "wide.toml"][..],
@@ -321,9 +316,7 @@ fn check_and_view_recover_what_was_assembled() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     // Mark III with 2 hololines, as a user would edit the profile.
-    let o = holo(&["layout", "mark3"], d);
-    let profile = String::from_utf8(o.stdout).unwrap().replace("hololines = 440", "hololines = 2");
-    std::fs::write(d.join("small.toml"), profile).unwrap();
+    small_profile(d, 2);
     let o = holo(&["pattern", "--layout", "small.toml", "--kind", "colour-bars", "-o", "s.holo"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
 
