@@ -25,7 +25,8 @@ cp fixtures/cg/*.cg fixtures/cg/java3d/*.cg "$cg_corpus/"
 # The HoloFlick reader: the frozen movie.
 hflk_corpus=fuzz/corpus/hflk_read
 mkdir -p "$hflk_corpus"
-cp fixtures/holoflick/v1.0/*.hflk "$hflk_corpus/"
+cp fixtures/holoflick/v1.0/movie.hflk "$hflk_corpus/v1.0-movie.hflk"
+cp fixtures/holoflick/v1.1/movie.hflk "$hflk_corpus/v1.1-movie.hflk"
 # cargo-fuzz needs nightly flags (-Z sanitizer); the stable toolchain allows them with RUSTC_BOOTSTRAP.
 cd fuzz
 RUSTC_BOOTSTRAP=1 cargo fuzz run read corpus/read -- -max_total_time="$third" -rss_limit_mb=4096 -max_len=65536

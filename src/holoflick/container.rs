@@ -14,6 +14,7 @@
 //! writer checks every frame by the same rules the reader does, so it cannot
 //! produce a file the reader refuses.
 
+mod checksum;
 mod codec;
 mod error;
 mod model;
@@ -37,7 +38,7 @@ pub const MAGIC: [u8; 8] = [0x89, b'H', b'F', b'L', b'K', 0x0D, 0x0A, 0x1A];
 /// Container major version this library reads and writes.
 pub const VERSION_MAJOR: u16 = 1;
 /// Container minor version this library writes.
-pub const VERSION_MINOR: u16 = 0;
+pub const VERSION_MINOR: u16 = 1;
 /// Version of the compressed geometry: Java 3D 1.5.2's format 1.0.2.
 pub const GEOMETRY_VERSION: [u32; 3] = [1, 0, 2];
 

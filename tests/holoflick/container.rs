@@ -1,9 +1,14 @@
 //! The HoloFlick container (spec/holoflick.md): round trips, key frames and
-//! references, random access, the frozen test vector, and bad input (every
+//! references, random access, the frozen test vectors (1.0 read, 1.1 read and
+//! written), checksums (every single-bit flip found), and bad input (every
 //! truncation, corrupted counts and offsets, bad references, unknown versions
 //! and chunks, random byte flips) giving clear errors and never a panic.
-//! Regenerate the vector only on a deliberate format change:
-//! `HOLO_BLESS=1 cargo test --test holoflick_container` (then update spec §12).
+//! Regenerate the 1.1 vector only on a deliberate format change:
+//! `HOLO_BLESS=1 cargo test --test holo holoflick::container` (then update spec §12).
+//!
+//! The structural checks are tested on patched files whose checksums
+//! [`reseal`] recomputes, as a careless or hostile writer would leave them:
+//! without it the checksums would report every patch as damage first.
 
 use std::path::{Path, PathBuf};
 
@@ -209,6 +214,64 @@ fn with_bytes(bytes: &[u8], f: impl FnOnce(&Path)) {
     f(&path);
 }
 
+/// CRC-32 (ISO-HDLC, as PNG and zlib) bit by bit, from its definition in
+/// spec §3.3: the test's own, independent of the library's.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut crc = 0xFFFF_FFFFu32;
+    for &b in bytes {
+        crc ^= b as u32;
+        for _ in 0..8 {
+            crc = if crc & 1 != 0 { (crc >> 1) ^ 0xEDB8_8320 } else { crc >> 1 };
+        }
+    }
+    !crc
+}
+
+fn le32(bytes: &[u8], at: usize) -> Option<u32> {
+    bytes.get(at..at + 4).map(|b| u32::from_le_bytes(b.try_into().unwrap()))
+}
+
+/// A patched 1.1 file with its checksums recomputed from spec §3.3 where
+/// its structure still lets them be found: the index's and the file-level
+/// chunks' in the file header, each frame's in its `sums` chunk.
+fn reseal(mut b: Vec<u8>) -> Vec<u8> {
+    let Some(index) = b.get(16..24).map(|x| u64::from_le_bytes(x.try_into().unwrap()) as usize) else { return b };
+    if index > b.len() {
+        return b;
+    }
+    let Some(frames) = le32(&b, index + 8) else { return b };
+    let mut entries = Vec::new();
+    for n in 0..frames as usize {
+        let at = index + 16 + 16 * n;
+        match (b.get(at..at + 8), le32(&b, at + 8)) {
+            (Some(o), Some(len)) => entries.push((u64::from_le_bytes(o.try_into().unwrap()) as usize, len as usize)),
+            _ => break,
+        }
+    }
+    if let Some(index_bytes) = b.get(index..) {
+        let sum = crc32(index_bytes);
+        b[12..16].copy_from_slice(&sum.to_le_bytes());
+    }
+    let first_frame = entries.first().map_or(index, |e| e.0);
+    if let Some(file_chunks) = b.get(32..first_frame) {
+        let sum = crc32(file_chunks);
+        b[28..32].copy_from_slice(&sum.to_le_bytes());
+    }
+    for (offset, len) in entries {
+        let Some(chunk) = b.get(offset..offset + len) else { continue };
+        let payload = &chunk[8.min(chunk.len())..];
+        if payload.get(8..12) != Some(b"sums") {
+            continue;
+        }
+        if payload.len() < 24 {
+            continue;
+        }
+        let sum = crc32(&[&payload[..20], &[0; 4], &payload[24..]].concat());
+        b[offset + 8 + 20..offset + 8 + 24].copy_from_slice(&sum.to_le_bytes());
+    }
+    b
+}
+
 fn find(bytes: &[u8], needle: &[u8], nth: usize) -> usize {
     bytes.windows(needle.len()).enumerate().filter(|(_, w)| *w == needle).nth(nth).map(|(i, _)| i).unwrap()
 }
@@ -219,7 +282,7 @@ fn round_trip_and_resolution() {
     let frames = movie();
     let mut r = HoloFlickReader::open(&path).unwrap();
     assert_eq!(r.frame_count(), 4);
-    assert_eq!(r.info().version, (1, 0));
+    assert_eq!(r.info().version, (1, 1));
     assert_eq!(r.info().frames_per_second, (24000, 1001));
     assert_eq!(r.info().geometry_version, [1, 0, 2]);
     assert_eq!(r.info().text, options().text);
@@ -309,8 +372,9 @@ fn geometry_blocks_are_cg_records() {
 }
 
 #[test]
-fn frozen_test_vector() {
-    let fixture = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/holoflick/v1.0/movie.hflk");
+fn frozen_test_vectors() {
+    let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/holoflick");
+    let fixture = fixtures.join("v1.1/movie.hflk");
     let (_dir, _path, bytes) = written_movie();
     if std::env::var_os("HOLO_BLESS").is_some() {
         std::fs::create_dir_all(fixture.parent().unwrap()).unwrap();
@@ -318,9 +382,54 @@ fn frozen_test_vector() {
     }
     let frozen = std::fs::read(&fixture).unwrap_or_else(|e| panic!("{}: {e}", fixture.display()));
     assert!(frozen == bytes, "the writer's bytes changed; a format change needs a spec change and HOLO_BLESS=1");
-    let mut r = HoloFlickReader::open(&fixture).unwrap();
-    for (n, f) in movie().iter().enumerate() {
-        assert_eq!(&r.read_stored_frame(n as u32).unwrap(), f);
+    // The checksums are the ones spec §3.3 defines: recomputing them here
+    // changes nothing.
+    assert!(reseal(frozen.clone()) == frozen, "checksums differ from the spec's CRC-32");
+    // Every version ever written reads to the same frames; 1.0 files carry
+    // no checksums and need none.
+    for version in ["v1.0", "v1.1"] {
+        let path = fixtures.join(version).join("movie.hflk");
+        let mut r = HoloFlickReader::open(&path).unwrap();
+        assert_eq!(r.info().version.1, if version == "v1.0" { 0 } else { 1 });
+        for (n, f) in movie().iter().enumerate() {
+            assert_eq!(&r.read_stored_frame(n as u32).unwrap(), f, "{version} frame {n}");
+            r.read_frame(n as u32).unwrap();
+        }
+    }
+}
+
+#[test]
+fn every_single_bit_flip_is_found() {
+    let (_dir, _path, bytes) = written_movie();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("flipped.hflk");
+    let frames = movie();
+    let geom = find(&bytes, b"GEOM", 0);
+    for bit in 0..bytes.len() * 8 {
+        let mut b = bytes.clone();
+        b[bit / 8] ^= 1 << (bit % 8);
+        std::fs::write(&path, &b).unwrap();
+        let at = bit / 8;
+        match read_all(&path) {
+            // The minor version may change: the file then reads as another
+            // 1.x, and still to the same frames.
+            Ok(_) if (10..12).contains(&at) => {
+                let mut r = HoloFlickReader::open(&path).unwrap();
+                for (n, f) in frames.iter().enumerate() {
+                    assert_eq!(&r.read_stored_frame(n as u32).unwrap(), f);
+                }
+            }
+            Ok(_) => panic!("a flip of bit {} of byte {at:#x} was not found", bit % 8),
+            Err(e) => {
+                let text = e.to_string();
+                assert!(text.starts_with(&path.display().to_string()), "{text}");
+                // Inside the first object's geometry: the frame and object are named.
+                if at >= geom + 12 && at < geom + 8 + 184 {
+                    assert!(matches!(e, ContainerError::Damaged { .. }), "byte {at:#x}: {text}");
+                    assert!(text.contains("frame 0: damaged: object 1 (its GEOM chunk"), "{text}");
+                }
+            }
+        }
     }
 }
 
@@ -420,7 +529,7 @@ fn corrupted_counts_and_offsets() {
         b
     };
     let expect = |b: Vec<u8>, needle: &str| {
-        with_bytes(&b, |p| {
+        with_bytes(&reseal(b), |p| {
             let e = read_all(p).unwrap_err().to_string();
             assert!(e.contains(needle), "expected {needle:?} in: {e}");
         })
@@ -478,7 +587,7 @@ fn references_to_non_key_or_later_frames() {
     let patch = |k: u32| {
         let mut b = bytes.clone();
         b[kref + 12..kref + 16].copy_from_slice(&k.to_le_bytes());
-        b
+        reseal(b)
     };
     with_bytes(&patch(1), |p| {
         let mut r = HoloFlickReader::open(p).unwrap();
@@ -496,7 +605,7 @@ fn references_to_non_key_or_later_frames() {
     let mut b = bytes.clone();
     let kref3 = find(&bytes, b"KREF", 4);
     b[kref3 + 8..kref3 + 12].copy_from_slice(&77u32.to_le_bytes());
-    with_bytes(&b, |p| {
+    with_bytes(&reseal(b), |p| {
         let e = HoloFlickReader::open(p).unwrap().read_frame(3).unwrap_err().to_string();
         assert!(e.contains("frame 3: object 77 refers to frame 0: the key frame holds no such object"), "{e}");
     });
@@ -514,12 +623,12 @@ fn versions_and_unknown_chunks() {
     let patch = |at: usize, new: &[u8]| {
         let mut b = bytes.clone();
         b[at..at + new.len()].copy_from_slice(new);
-        b
+        reseal(b)
     };
     with_bytes(&patch(8, &2u16.to_le_bytes()), |p| {
         let e = HoloFlickReader::open(p).unwrap_err();
         assert!(matches!(e, ContainerError::UnsupportedVersion { .. }));
-        assert!(e.to_string().contains("HoloFlick version 2.0; this reader reads 1.x"), "{e}");
+        assert!(e.to_string().contains("HoloFlick version 2.1; this reader reads 1.x"), "{e}");
     });
     // A newer minor version reads.
     with_bytes(&patch(10, &7u16.to_le_bytes()), |p| {

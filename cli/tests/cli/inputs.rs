@@ -184,3 +184,35 @@ fn gltf_extensions_holo_does_not_read_are_named() {
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(text(&o).contains("draco.gltf") && text(&o).contains("KHR_draco_mesh_compression"), "{}", text(&o));
 }
+
+/// A bit flipped in a HoloFlick after it was written is an error naming the
+/// file, the frame and the object, in every command that reads the frame;
+/// the file as written still reads.
+#[test]
+fn a_flipped_bit_in_a_holoflick_is_an_error_naming_frame_and_object() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let spot = spot();
+    ok(holo(&["holoflick", "pack", &spot, &spot, "-o", "cow.hflk", "--position-bits", "10"], d));
+    ok(holo(&["holoflick", "info", "cow.hflk"], d));
+    let mut bytes = std::fs::read(d.join("cow.hflk")).unwrap();
+    // Frame 0's geometry object (frame 1 refers to it): a bit of its stream.
+    let geom = bytes.windows(4).position(|w| w == b"GEOM").unwrap();
+    let id = u32::from_le_bytes(bytes[geom + 8..geom + 12].try_into().unwrap());
+    bytes[geom + 8 + 144 + 8 + 1000] ^= 0x10;
+    std::fs::write(d.join("flipped.hflk"), &bytes).unwrap();
+    for args in [
+        &["holoflick", "info", "flipped.hflk"][..],
+        &["holoflick", "unpack", "flipped.hflk", "--frame", "0", "-o", "x.ply"],
+        &["convert", "holoflick", "flipped.hflk", "--layout", "mark1", "-o", "x.holo", "--supersample", "1"],
+    ] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        let said = text(&o);
+        assert!(
+            said.contains(&format!("flipped.hflk: frame 0: damaged: object {id} (its GEOM chunk")),
+            "{args:?}: {said}"
+        );
+        assert!(!d.join("x.ply").exists() && !d.join("x.holo").exists(), "{args:?} left a file");
+    }
+}

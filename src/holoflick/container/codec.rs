@@ -194,17 +194,25 @@ pub(crate) fn decode_text(payload: &[u8]) -> Result<(String, String), Problem> {
 
 // ---- frames (spec §6) ----
 
-/// The whole `FRAM` chunk of frame `number`, padding included. The frame
-/// must have passed [`check_frame`].
+/// The whole `FRAM` chunk of frame `number`, padding included, its `sums`
+/// chunk first. The frame must have passed [`check_frame`].
 pub(crate) fn encode_frame(number: u32, frame: &Frame) -> Vec<u8> {
+    let mut head = Vec::with_capacity(8);
+    put_u32(&mut head, number);
+    put_u32(&mut head, frame.key_frame as u32);
+    // The sub-chunks, and where each lies (for its checksum, spec §3.3).
     let mut p = Vec::new();
-    put_u32(&mut p, number);
-    put_u32(&mut p, frame.key_frame as u32);
+    let mut chunks = Vec::with_capacity(4 + frame.objects.len());
+    let mut put = |p: &mut Vec<u8>, tag: [u8; 4], payload: &[u8]| {
+        let start = p.len();
+        put_chunk(p, tag, payload);
+        chunks.push(start..start + CHUNK_HEADER + payload.len());
+    };
 
     let mut q = Vec::with_capacity(COUCH_BYTES);
     put_f64s(&mut q, &frame.couch.min_m);
     put_f64s(&mut q, &frame.couch.max_m);
-    put_chunk(&mut p, *b"COUC", &q);
+    put(&mut p, *b"COUC", &q);
 
     q.clear();
     put_u32(&mut q, frame.lights.len() as u32);
@@ -219,7 +227,7 @@ pub(crate) fn encode_frame(number: u32, frame: &Frame) -> Vec<u8> {
         put_f64s(&mut q, vector);
         put_f64s(&mut q, colour);
     }
-    put_chunk(&mut p, *b"LGHT", &q);
+    put(&mut p, *b"LGHT", &q);
 
     q.clear();
     put_u32(&mut q, frame.materials.len() as u32);
@@ -230,7 +238,7 @@ pub(crate) fn encode_frame(number: u32, frame: &Frame) -> Vec<u8> {
         put_f64s(&mut q, &m.specular);
         put_f64s(&mut q, &[m.exponent]);
     }
-    put_chunk(&mut p, *b"MATL", &q);
+    put(&mut p, *b"MATL", &q);
 
     q.clear();
     put_u32(&mut q, frame.bindings.len() as u32);
@@ -243,7 +251,7 @@ pub(crate) fn encode_frame(number: u32, frame: &Frame) -> Vec<u8> {
             put_u32(&mut q, l);
         }
     }
-    put_chunk(&mut p, *b"BIND", &q);
+    put(&mut p, *b"BIND", &q);
 
     for object in &frame.objects {
         q.clear();
@@ -254,18 +262,19 @@ pub(crate) fn encode_frame(number: u32, frame: &Frame) -> Vec<u8> {
                 put_f64s(&mut q, &[o.radiance_scale]);
                 put_matrix(&mut q, &o.world_from_object);
                 q.extend_from_slice(o.block.cg_record());
-                put_chunk(&mut p, *b"GEOM", &q);
+                put(&mut p, *b"GEOM", &q);
             }
             ObjectRecord::Reference(r) => {
                 put_u32(&mut q, r.id);
                 put_u32(&mut q, r.key_frame);
                 put_matrix(&mut q, &r.world_from_object);
-                put_chunk(&mut p, *b"KREF", &q);
+                put(&mut p, *b"KREF", &q);
             }
         }
     }
-    let mut out = Vec::with_capacity(CHUNK_HEADER + p.len());
-    put_chunk(&mut out, *b"FRAM", &p);
+    let payload = super::checksum::seal_frame(&head, &p, &chunks);
+    let mut out = Vec::with_capacity(CHUNK_HEADER + payload.len());
+    put_chunk(&mut out, *b"FRAM", &payload);
     out
 }
 
@@ -633,13 +642,18 @@ mod tests {
         let bytes = encode_frame(3, &f);
         assert_eq!(decode_frame(&bytes).unwrap(), (3, f.clone()));
 
-        // Insert an unknown ancillary sub-chunk after COUC and fix the FRAM length.
+        // Insert an unknown ancillary sub-chunk after COUC and fix the FRAM
+        // length (the checksums are not this decoder's business).
         let mut payload = bytes[8..16].to_vec();
         let mut rest = Cursor::new(&bytes[16..]);
+        let (tag, sums) = rest.chunk().unwrap().unwrap();
+        assert_eq!(tag, *b"sums");
         let (tag, couc) = rest.chunk().unwrap().unwrap();
+        assert_eq!(tag, *b"COUC");
         put_chunk(&mut payload, tag, couc);
         put_chunk(&mut payload, *b"zzzz", b"from a later minor version");
-        payload.extend_from_slice(&bytes[16 + 8 + couc.len()..]);
+        let after = 16 + 8 + sums.len() + padding(sums.len() as u64) as usize + 8 + couc.len();
+        payload.extend_from_slice(&bytes[after..]);
         let mut longer = Vec::new();
         put_chunk(&mut longer, *b"FRAM", &payload);
         assert_eq!(decode_frame(&longer).unwrap(), (3, f));

@@ -49,6 +49,18 @@ pub enum ContainerError {
         /// The rule broken, as one sentence.
         problem: String,
     },
+    /// The bytes do not match the checksum written with them (spec §3.3):
+    /// the file changed after it was written.
+    #[error("{}{at}: damaged: {what} (the file changed after it was written)", .path.display())]
+    Damaged {
+        /// The file concerned.
+        path: PathBuf,
+        /// The frame, when the damage is inside one.
+        at: At,
+        /// What is damaged, as one sentence: the chunk, and the object id
+        /// as stored when the chunk holds an object.
+        what: String,
+    },
     /// A declared count or size exceeds the format's limits (spec §10).
     #[error("{}{at}: {what} is {value}, more than the limit of {limit}", .path.display())]
     TooLarge {
@@ -163,6 +175,7 @@ pub(crate) enum Problem {
     Invalid(String),
     TooLarge { what: &'static str, value: u64, limit: u64 },
     UnknownChunk([u8; 4]),
+    Damaged(String),
 }
 
 impl Problem {
@@ -183,6 +196,7 @@ impl Problem {
             Problem::Invalid(problem) => ContainerError::Invalid { path, at, problem },
             Problem::TooLarge { what, value, limit } => ContainerError::TooLarge { path, at, what, value, limit },
             Problem::UnknownChunk(tag) => ContainerError::UnknownChunk { path, at, tag: tag_text(tag) },
+            Problem::Damaged(what) => ContainerError::Damaged { path, at, what },
         }
     }
 }

@@ -10,6 +10,7 @@ use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
+use super::checksum;
 use super::codec::{self, check_tag, is_critical, padding};
 use super::error::{tag_text, At, ContainerError, Problem};
 use super::model::{Frame, GeometryBlock, Info, ObjectRecord, ResolvedFrame, ResolvedObject};
@@ -38,6 +39,15 @@ pub struct HoloFlickReader {
     index: Vec<IndexEntry>,
     /// The stored objects of the key frames used last, most recent first.
     cache: Vec<(u32, KeyFrameObjects)>,
+    /// The file header's checksums of the index and of the file-level
+    /// chunks (spec §3.3), in a file of version 1.1 or later.
+    header_sums: Option<HeaderSums>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct HeaderSums {
+    index: u32,
+    file_chunks: u32,
 }
 
 /// What the HEAD chunk says: the frame rate (numerator, denominator) and the
@@ -59,10 +69,12 @@ impl HoloFlickReader {
             info: Info { version: (0, 0), frames_per_second: (0, 0), geometry_version: [0; 3], text: Vec::new() },
             index: Vec::new(),
             cache: Vec::new(),
+            header_sums: None,
         };
         let (index_offset, count) = reader.read_file_header(file_bytes)?;
         reader.index = reader.read_index(index_offset, count, file_bytes)?;
         let first_frame = reader.index.first().map_or(index_offset, |e| e.offset);
+        reader.check_file_chunks_sum(first_frame)?;
         let head = reader.read_file_chunks(first_frame)?;
         let fail = |p: Problem| p.at(&path, None);
         let (fps, geometry_version) =
@@ -107,6 +119,10 @@ impl HoloFlickReader {
             });
         }
         self.info.version = (major, minor);
+        if minor >= 1 {
+            let le32 = |i: usize| u32::from_le_bytes([header[i], header[i + 1], header[i + 2], header[i + 3]]);
+            self.header_sums = Some(HeaderSums { index: le32(12), file_chunks: le32(28) });
+        }
         let index_offset = u64::from_le_bytes(header[16..24].try_into().unwrap_or([0; 8]));
         let count = u32::from_le_bytes(header[24..28].try_into().unwrap_or([0; 4])) as u64;
         if index_offset == 0 {
@@ -139,6 +155,9 @@ impl HoloFlickReader {
             ))));
         }
         let raw = self.read_at(index_offset, index_bytes as usize, None)?;
+        if self.header_sums.is_some_and(|sums| checksum::crc32(&raw) != sums.index) {
+            return Err(fail(Problem::Damaged("the frame index does not match its checksum".into())));
+        }
         let mut c = codec::Cursor::new(&raw);
         let (tag, payload) = c.chunk().map_err(fail)?.ok_or_else(|| fail(Problem::Truncated("the index".into())))?;
         if &tag != b"INDX" {
@@ -180,6 +199,25 @@ impl HoloFlickReader {
             }
         }
         Ok(index)
+    }
+
+    /// Check the file-level chunks' bytes (from the end of the file header
+    /// to the first frame) against the file header's checksum (spec §3.3),
+    /// read in blocks so that memory does not grow with them.
+    fn check_file_chunks_sum(&mut self, first_frame: u64) -> Result<()> {
+        let Some(sums) = self.header_sums else { return Ok(()) };
+        let mut crc = crc32fast::Hasher::new();
+        let mut position = FILE_HEADER_BYTES;
+        while position < first_frame {
+            let block = (first_frame - position).min(1 << 20);
+            crc.update(&self.read_at(position, block as usize, None)?);
+            position += block;
+        }
+        if crc.finalize() != sums.file_chunks {
+            return Err(Problem::Damaged("the file-level chunks (HEAD, text) do not match their checksum".into())
+                .at(&self.path, None));
+        }
+        Ok(())
     }
 
     /// The file-level chunks (spec §5) between the header and the first
@@ -277,6 +315,9 @@ impl HoloFlickReader {
         })?;
         let bytes = self.read_at(entry.offset, entry.length as usize, Some(n))?;
         let fail = |p: Problem| p.at(&self.path, Some(n));
+        // Damage is found before the bytes are interpreted (spec §3.3).
+        let required = self.header_sums.is_some();
+        checksum::verify_frame(bytes.get(codec::CHUNK_HEADER..).unwrap_or(&[]), required).map_err(fail)?;
         let (number, frame) = codec::decode_frame(&bytes).map_err(fail)?;
         if number != n {
             return Err(fail(Problem::Invalid(format!("the frame's chunk says it is frame {number}"))));

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use crate::output::AtomicFile;
 
+use super::checksum;
 use super::codec::{self, put_chunk};
 use super::error::{At, ContainerError};
 use super::model::{text_problem, Frame, GeometryBlock, ObjectRecord};
@@ -93,13 +94,16 @@ impl HoloFlickWriter {
         head.extend_from_slice(&MAGIC);
         head.extend_from_slice(&VERSION_MAJOR.to_le_bytes());
         head.extend_from_slice(&VERSION_MINOR.to_le_bytes());
-        head.extend_from_slice(&[0; 4]); // reserved
+        head.extend_from_slice(&[0; 4]); // the index's checksum, set by finish
         head.extend_from_slice(&[0; 8]); // index offset, set by finish
-        head.extend_from_slice(&[0; 8]); // frame count, reserved
+        head.extend_from_slice(&[0; 4]); // frame count, set by finish
+        head.extend_from_slice(&[0; 4]); // the file-level chunks' checksum, below
         put_chunk(&mut head, *b"HEAD", &codec::encode_head(options.frames_per_second));
         for (key, value) in &options.text {
             put_chunk(&mut head, *b"text", &codec::encode_text(key, value));
         }
+        let file_chunks_sum = checksum::crc32(&head[FILE_HEADER_BYTES as usize..]);
+        head[28..32].copy_from_slice(&file_chunks_sum.to_le_bytes());
         let mut writer = HoloFlickWriter {
             path: path.to_path_buf(),
             overwrite: options.overwrite,
@@ -196,7 +200,8 @@ impl HoloFlickWriter {
         self.put(&chunk)?;
         let temp_path = self.out.temporary_path().to_path_buf();
         let io = |e| ContainerError::Io { path: temp_path.clone(), source: e };
-        self.out.seek(SeekFrom::Start(16)).map_err(io)?;
+        self.out.seek(SeekFrom::Start(12)).map_err(io)?;
+        self.out.write_all(&checksum::crc32(&chunk).to_le_bytes()).map_err(io)?;
         self.out.write_all(&index_offset.to_le_bytes()).map_err(io)?;
         self.out.write_all(&count.to_le_bytes()).map_err(io)?;
         let file_bytes = self.position;
