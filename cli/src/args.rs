@@ -405,6 +405,48 @@ impl From<BlendChoice> for holo::cameras::resample::Blend {
     }
 }
 
+/// `convert cameras --framing`: how big the capture is shown.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FramingChoice {
+    /// The middle camera's view at the focus fits the emitter plane, its shape kept.
+    Fit,
+    /// The middle camera's view at the focus covers the emitter plane, its overflowing edges cut.
+    Fill,
+    /// The middle camera's view at the focus fills the display's width.
+    Width,
+    /// The cameras as far from the focus as the viewer is from the display.
+    Viewer,
+}
+
+impl From<FramingChoice> for holo::cameras::resample::Framing {
+    fn from(c: FramingChoice) -> Self {
+        match c {
+            FramingChoice::Fit => Self::Fit,
+            FramingChoice::Fill => Self::Fill,
+            FramingChoice::Width => Self::FillWidth,
+            FramingChoice::Viewer => Self::CamerasAtViewer,
+        }
+    }
+}
+
+/// `convert cameras --parallax`: how the capture's directions meet the display's views.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ParallaxChoice {
+    /// The cameras' span spread across the eye positions that see the display.
+    Fit,
+    /// The display's ray directions as they are: where no camera looked, rays stay black.
+    True,
+}
+
+impl From<ParallaxChoice> for holo::cameras::resample::Parallax {
+    fn from(c: ParallaxChoice) -> Self {
+        match c {
+            ParallaxChoice::Fit => Self::Fit,
+            ParallaxChoice::True => Self::True,
+        }
+    }
+}
+
 /// `assemble --format`: how fringe images are stored.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum FringeFormatChoice {

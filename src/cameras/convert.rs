@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::read::OpenOptions;
-use super::resample::{CameraOptions, CameraReport, CameraView, RigResampler};
+use super::resample::{CameraOptions, CameraReport, CameraView, RigResampler, Unseen};
 use super::{Camera, Rig};
 use crate::format::{WriteOptions, WriteReport};
 use crate::geometry::Geometry;
@@ -82,7 +82,7 @@ pub fn convert_cameras(
         inputs: Vec::new(),
         resampler: &resampler,
         options,
-        unseen: 0,
+        unseen: Unseen::default(),
         mask: Vec::new(),
         unseen_grey: Vec::new(),
     };
@@ -110,7 +110,7 @@ struct CameraSource<'a> {
     resampler: &'a RigResampler<'a>,
     options: &'a CameraConvertOptions,
     /// Rays no camera sees, over the bands done.
-    unseen: u64,
+    unseen: Unseen,
     /// Per ray, unseen (when asked for).
     mask: Vec<bool>,
     /// The unseen picture's grey levels, over the bands done.
@@ -134,7 +134,7 @@ impl Source for CameraSource<'_> {
 
     fn provenance(&self) -> String {
         let (rig, resample) = (self.rig, &self.options.resample);
-        let words = self.resampler.report(0, None);
+        let words = self.resampler.report(Unseen::default(), None);
         let depth = resample.use_depth && rig.cameras.iter().any(|c| c.depth.is_some());
         format!(
             "holo convert cameras {} ({}; {} blending{}; {})",

@@ -82,6 +82,40 @@ pub struct Placement {
     pub scale: f64,
 }
 
+/// How big the capture is shown: which display metres per capture unit
+/// (unless the user gives the scale).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Framing {
+    /// The middle camera's view at the focus fits the emitter plane, its
+    /// shape kept: everything the capture saw is shown, as large as it fits.
+    #[default]
+    Fit,
+    /// The middle camera's view at the focus covers the emitter plane, its
+    /// shape kept: no border, the capture's overflowing edges cut.
+    Fill,
+    /// The middle camera's view at the focus fills the display's width
+    /// (its top and bottom may be cut).
+    FillWidth,
+    /// The cameras as far from the focus as the viewer line is from the
+    /// emitter plane: the capture's own perspective, whatever it frames.
+    CamerasAtViewer,
+}
+
+/// How the capture's directions meet the display's views.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Parallax {
+    /// Each eye position on the viewer line sees what one point of the
+    /// camera surface saw: the cameras' span across the eye positions from
+    /// which the display is seen (a narrow rig's parallax enlarged, a wide
+    /// one's reduced); a ring much wider than the display's views keeps its
+    /// true angles around its middle camera.
+    #[default]
+    Fit,
+    /// The display's ray directions, rotated and scaled into the capture, as
+    /// they are: where the cameras did not look, rays are unseen.
+    True,
+}
+
 /// What the user asked for (each `None`: chosen from the rig).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PlacementRequest {
@@ -91,9 +125,10 @@ pub struct PlacementRequest {
     pub centre: Option<[f64; 3]>,
     /// Focus distance from the cameras, capture units.
     pub focus: Option<f64>,
-    /// Scale so the middle camera's view at the focus fills the display's
-    /// width, instead of putting the cameras at the viewer's distance.
-    pub fill_width: bool,
+    /// How big the capture is shown when `scale` is not given.
+    pub framing: Framing,
+    /// How the capture's directions meet the display's views.
+    pub parallax: Parallax,
 }
 
 /// Options of [`resample_rig`].
@@ -156,6 +191,10 @@ pub struct CameraReport {
     pub rays: u64,
     /// Rays no camera sees (left zero).
     pub unseen: u64,
+    /// Of those, the rays of emitters outside the capture's frame (the
+    /// middle camera's picture at the focus): the borders a framing that
+    /// keeps the capture's shape leaves on a display of another shape.
+    pub unseen_outside_frame: u64,
     /// Per ray (hololine, emitter, view order), `true` where unseen, on request.
     pub mask: Option<Vec<bool>>,
     /// Things the user should know (cameras listed twice, ...).
@@ -173,11 +212,16 @@ pub const MAX_EMITTER_TAPS: usize = 64;
 pub struct RigGeometry {
     placement: Placement,
     surface: Surface,
+    /// Eye positions to camera-surface points ([`Parallax::Fit`]); `None`:
+    /// ray directions as they are.
+    eye_map: Option<EyeMap>,
     cameras_on_surface: Interpolator,
     /// The focus plane (capture).
     focus: Plane,
     /// Words for the report.
     placement_words: String,
+    /// The camera whose picture frames the display (the middle one).
+    frame_camera: usize,
     /// The middle camera's pixel at the focus, display metres.
     pixel_at_focus_m: f64,
     /// Cameras that do not see the focus point.
@@ -191,6 +235,56 @@ enum Surface {
     /// Rays are located by their direction, cameras by theirs from
     /// `centre`: azimuth and elevation in the display-aligned frame.
     Directions { centre: [f64; 3] },
+}
+
+/// Where on the camera surface each eye position on the viewer line looks
+/// from ([`Parallax::Fit`]). A display ray from emitter-plane `x` with slope
+/// `sx` reaches the viewer line at eye position `e = x + D sx`; the capture
+/// ray leaves the ray's focus-plane point toward the camera-surface point of
+/// `e`, so every ray one eye sees comes from one place among the cameras
+/// (for horizontal parallax, at the cameras' middle height).
+struct EyeMap {
+    /// Emitter plane to viewer line, display metres (`D`).
+    viewer_span_m: f64,
+    /// Eye positions (display `x`, metres) from which some emitter is seen,
+    /// lowest first.
+    eyes_m: [f64; 2],
+    target: EyeTarget,
+}
+
+enum EyeTarget {
+    /// A rail or grid: the cameras' range along the plane's `u` axis, taken
+    /// across the eyes' range, at `v`.
+    Plane { u: [f64; 2], v: f64 },
+    /// Cameras around the scene at `radius` from the surface's centre: the
+    /// azimuth range (radians) taken across the eyes' range, or `None` for
+    /// each eye's own azimuth from the display's middle; at `elevation`.
+    Sphere { azimuth: Option<[f64; 2]>, elevation: f64, radius: f64 },
+}
+
+impl EyeMap {
+    /// The fraction of the way across the eyes' range of the eye that ray
+    /// `(x, sx)` reaches.
+    fn eye_fraction(&self, x: f64, sx: f64) -> f64 {
+        let e = x + self.viewer_span_m * sx;
+        (e - self.eyes_m[0]) / (self.eyes_m[1] - self.eyes_m[0])
+    }
+}
+
+/// Rays no camera sees, over the hololines filled so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Unseen {
+    /// Every ray left zero.
+    pub rays: u64,
+    /// Those of emitters outside the capture's frame.
+    pub outside_frame: u64,
+}
+
+impl std::ops::AddAssign for Unseen {
+    fn add_assign(&mut self, other: Unseen) {
+        self.rays += other.rays;
+        self.outside_frame += other.outside_frame;
+    }
 }
 
 /// A worker's reusable state for [`Interpolator::weights`].
@@ -289,11 +383,20 @@ impl RigGeometry {
         // right, y against their mean down, z against their mean view.
         let right = mean(&rig.cameras.iter().map(|c| c.pose.rotation[0]).collect::<Vec<_>>());
         let down = mean(&rig.cameras.iter().map(|c| c.pose.rotation[1]).collect::<Vec<_>>());
-        let z_d =
-            if axes_agree { normalized(scale(mean_axis, -1.0)) } else { normalized(cross(right, scale(down, -1.0))) };
-        let x_d = normalized(sub(right, scale(z_d, dot(right, z_d))));
-        let y_d = cross(z_d, x_d);
-        let rotation = [x_d, y_d, z_d];
+        let ring = (!axes_agree && n >= 3 && spread[2] <= 0.25 * spread[1]).then(|| ring_frame(rig, axes[2], down));
+        let (rotation, ring_words) = match ring {
+            Some((rotation, words)) => (rotation, Some(words)),
+            None => {
+                let z_d = if axes_agree {
+                    normalized(scale(mean_axis, -1.0))
+                } else {
+                    normalized(cross(right, scale(down, -1.0)))
+                };
+                let x_d = normalized(sub(right, scale(z_d, dot(right, z_d))));
+                ([x_d, cross(z_d, x_d), z_d], None)
+            }
+        };
+        let [x_d, y_d, z_d] = rotation;
         // Where the capture is in focus: on the mean axis at the focus
         // distance, or where inward-looking axes meet.
         let focus_distance = request.focus.or(rig.focus_distance);
@@ -358,9 +461,16 @@ impl RigGeometry {
         // the display's (HPO images are astigmatic, docs/optics.md §1.3), so content
         // off the focus plane keeps its vertical perspective. `fill_width`
         // instead fills the display's width with the middle camera's view.
-        let middle = (0..n)
-            .min_by(|&a, &b| length(sub(centres[a], mean_centre)).total_cmp(&length(sub(centres[b], mean_centre))))
-            .expect("cameras");
+        // The camera that frames the display: the one nearest the rig's
+        // middle, or on a ring the one the display faces.
+        let middle = if ring_words.is_some() {
+            let facing = |i: usize| dot(normalized(sub(centres[i], focus_point)), z_d);
+            (0..n).max_by(|&a, &b| facing(a).total_cmp(&facing(b)))
+        } else {
+            (0..n)
+                .min_by(|&a, &b| length(sub(centres[a], mean_centre)).total_cmp(&length(sub(centres[b], mean_centre))))
+        }
+        .expect("cameras");
         let (scale_d, scale_words, focus_depth) = display_scale(rig, g, request, middle, focus_point)?;
         let cam = &rig.cameras[middle];
         let centre = request.centre.unwrap_or(focus_point);
@@ -370,6 +480,11 @@ impl RigGeometry {
             centre[0], centre[1], centre[2]
         );
         let pixel_at_focus_m = focus_depth / cam.intrinsics.fx * scale_d;
+        let (eye_map, parallax_words) = eye_map(rig, g, request, &surface, &points, x_d);
+        let placement_words = match ring_words {
+            Some(ring) => format!("{ring}; {placement_words}; {parallax_words}"),
+            None => format!("{placement_words}; {parallax_words}"),
+        };
         // Every camera should see the part of the scene the display shows.
         let blind: Vec<&str> = rig
             .cameras
@@ -398,9 +513,11 @@ impl RigGeometry {
         Ok(RigGeometry {
             placement,
             surface,
+            eye_map,
             cameras_on_surface,
             focus: Plane { point: focus_point, normal: z_d },
             placement_words,
+            frame_camera: middle,
             pixel_at_focus_m,
             warnings,
         })
@@ -424,14 +541,35 @@ impl RigGeometry {
     }
 
     /// Capture-space origin and direction (toward the viewer) of display
-    /// ray from `(x, y, z_e)` with direction `(sx, sy, 1)`.
-    fn capture_ray(&self, x: f64, y: f64, sx: f64, sy: f64) -> ([f64; 3], [f64; 3]) {
+    /// ray from `(x, y, z_e)` with direction `(sx, sy, 1)`, and, when the
+    /// eye map chose it, the ray's point on the camera surface.
+    fn capture_ray(&self, x: f64, y: f64, sx: f64, sy: f64) -> ([f64; 3], [f64; 3], Option<[f64; 2]>) {
         let p = &self.placement;
         let r = &p.rotation;
         let d_display = [x / p.scale, y / p.scale, 0.0];
         let origin = add(p.centre, mat3_transpose_apply(r, d_display));
-        let dir = normalized(mat3_transpose_apply(r, [sx, sy, 1.0]));
-        (origin, dir)
+        let Some(map) = &self.eye_map else {
+            return (origin, normalized(mat3_transpose_apply(r, [sx, sy, 1.0])), None);
+        };
+        let t = map.eye_fraction(x, sx);
+        let (target, at) = match (&map.target, &self.surface) {
+            (EyeTarget::Plane { u, v: v_at }, Surface::Plane { plane, u: u_axis, v: v_axis }) => {
+                let u_at = u[0] + t * (u[1] - u[0]);
+                (add(plane.point, add(scale(*u_axis, u_at), scale(*v_axis, *v_at))), [u_at, *v_at])
+            }
+            (EyeTarget::Sphere { azimuth, elevation, radius }, Surface::Directions { centre }) => {
+                let a = match azimuth {
+                    Some(range) => range[0] + t * (range[1] - range[0]),
+                    None => (x / map.viewer_span_m + sx).atan(),
+                };
+                let (ce, se) = (elevation.cos(), elevation.sin());
+                let toward = mat3_transpose_apply(r, [ce * a.sin(), se, ce * a.cos()]);
+                (add(*centre, scale(toward, *radius)), [a, *elevation])
+            }
+            // The map is made for its surface.
+            _ => return (origin, normalized(mat3_transpose_apply(r, [sx, sy, 1.0])), None),
+        };
+        (origin, normalized(sub(target, origin)), Some(at))
     }
 
     /// The ray's point on the camera surface, or `None` when it misses it.
@@ -443,6 +581,16 @@ impl RigGeometry {
             }
             Surface::Directions { .. } => Some(direction_coords(dir, &self.placement.rotation)),
         }
+    }
+
+    /// Whether emitter-plane point `(x, y)` shows a part of the capture's
+    /// frame: its focus-plane point inside the middle camera's picture.
+    fn in_frame(&self, rig: &Rig, x: f64, y: f64) -> bool {
+        let (origin, _, _) = self.capture_ray(x, y, 0.0, 0.0);
+        let cam = &rig.cameras[self.frame_camera];
+        cam.project(origin).is_some_and(|(px, _)| {
+            px[0] >= -0.5 && px[1] >= -0.5 && px[0] <= cam.width as f64 - 0.5 && px[1] <= cam.height as f64 - 0.5
+        })
     }
 
     /// Where the ray crosses the focus plane.
@@ -721,7 +869,7 @@ impl<'a> RigResampler<'a> {
     /// begins the phase, of the geometry's hololines). Returns
     /// the rays no camera sees (left zero) and, when the options ask for a
     /// mask, which they are (band's hololine, emitter, view order).
-    pub fn fill(&self, band: &mut Band, progress: &dyn Progress) -> (u64, Vec<bool>) {
+    pub fn fill(&self, band: &mut Band, progress: &dyn Progress) -> (Unseen, Vec<bool>) {
         use rayon::prelude::*;
         let g = &self.g;
         let lines = band.hololines();
@@ -731,17 +879,18 @@ impl<'a> RigResampler<'a> {
             rows[i % lines.len()].push(row);
         }
         let want_mask = self.options.want_mask;
-        let per_line: Vec<(u64, Vec<bool>)> = rows
+        let per_line: Vec<(Unseen, Vec<bool>)> = rows
             .into_par_iter()
             .zip(lines.clone())
             .map(|(mut rows, j)| {
                 let y = g.hololine_y_m(j);
                 let sy = g.ray_slope_y(y);
                 let mut mask = if want_mask { vec![false; e * v] } else { Vec::new() };
-                let mut unseen = 0u64;
+                let mut unseen = Unseen::default();
                 let (mut w, mut scratch) = (Vec::new(), Scratch::default());
                 for ei in 0..e {
                     let x = g.emitter_x_m(ei);
+                    let in_frame = self.geo.in_frame(&self.rig, x, y);
                     for (vi, &sx) in self.slopes.iter().enumerate() {
                         let (mut sum, mut seen) = ([0.0f64; 3], 0usize);
                         for dx in &self.tap_x_m {
@@ -773,7 +922,8 @@ impl<'a> RigResampler<'a> {
                             for row in rows.iter_mut() {
                                 row[at] = 0.0;
                             }
-                            unseen += 1;
+                            unseen.rays += 1;
+                            unseen.outside_frame += u64::from(!in_frame);
                             if want_mask {
                                 mask[at] = true;
                             }
@@ -785,12 +935,13 @@ impl<'a> RigResampler<'a> {
                 (unseen, mask)
             })
             .collect();
-        let unseen = per_line.iter().map(|l| l.0).sum();
+        let mut unseen = Unseen::default();
+        per_line.iter().for_each(|l| unseen += l.0);
         (unseen, per_line.into_iter().flat_map(|l| l.1).collect())
     }
 
     /// The report of a resampling that left `unseen` rays unseen.
-    pub fn report(&self, unseen: u64, mask: Option<Vec<bool>>) -> CameraReport {
+    pub fn report(&self, unseen: Unseen, mask: Option<Vec<bool>>) -> CameraReport {
         let g = &self.g;
         CameraReport {
             placement: self.geo.placement_words.clone(),
@@ -800,7 +951,8 @@ impl<'a> RigResampler<'a> {
             warnings: self.warnings.clone(),
             surface: self.geo.surface_words(self.rig.cameras.len()),
             rays: (g.hololines * g.emitters * g.views.count) as u64,
-            unseen,
+            unseen: unseen.rays,
+            unseen_outside_frame: unseen.outside_frame,
             mask,
         }
     }
@@ -820,8 +972,11 @@ fn ray_radiance(
     w: &mut Vec<(usize, f64)>,
     scratch: &mut Scratch,
 ) -> Option<[f64; 3]> {
-    let (origin, dir) = geo.capture_ray(x, y, sx, sy);
-    let q = geo.surface_point(origin, dir)?;
+    let (origin, dir, on_surface) = geo.capture_ray(x, y, sx, sy);
+    let q = match on_surface {
+        Some(q) => q,
+        None => geo.surface_point(origin, dir)?,
+    };
     if options.reference {
         geo.cameras_on_surface.weights_reference(q, options.blend, w, scratch);
     } else {
@@ -1053,12 +1208,32 @@ fn display_scale(
     let cam = &rig.cameras[middle];
     let focus_depth = dot(sub(focus_point, cam.pose.centre), cam.axis()).abs();
     let view_width = cam.width as f64 / cam.intrinsics.fx * focus_depth;
+    let view_height = cam.height as f64 / cam.intrinsics.fy * focus_depth;
     let display_width = g.emitters as f64 * g.emitter_pitch_m;
+    let display_height = g.hololines as f64 * g.hololine_pitch_m;
     let viewer_span = g.viewer_distance_m - g.emitter_z_m;
+    let no_viewer_line = viewer_span.is_nan() || viewer_span <= 0.0;
     let (scale_d, scale_words) = match request.scale {
         Some(s) if s > 0.0 && s.is_finite() => (s, format!("scale {s} m per unit (given)")),
         Some(s) => return Err(Error::argument("scale", format!("the scale must be a positive number of display metres per capture unit, not {s}"))),
-        None if request.fill_width || viewer_span.is_nan() || viewer_span <= 0.0 => (
+        None if matches!(request.framing, Framing::Fit | Framing::Fill) => {
+            let (width_fits, height_fits) = (display_width / view_width, display_height / view_height);
+            let (s, verb) = if request.framing == Framing::Fit {
+                (width_fits.min(height_fits), "fits")
+            } else {
+                (width_fits.max(height_fits), "covers")
+            };
+            (
+                s,
+                format!(
+                    "scale {s:.4e} m per unit: camera {}'s view at the focus ({view_width:.4} × {view_height:.4} units) {verb} the display's {:.1} × {:.1} mm",
+                    cam.name,
+                    display_width * 1e3,
+                    display_height * 1e3
+                ),
+            )
+        }
+        None if request.framing == Framing::FillWidth || no_viewer_line => (
             display_width / view_width,
             format!(
                 "scale {:.4e} m per unit: camera {}'s view at the focus ({view_width:.4} units wide) fills the display's {:.1} mm",
@@ -1082,6 +1257,111 @@ fn display_scale(
         }
     };
     Ok((scale_d, scale_words, focus_depth))
+}
+
+/// The display frame for cameras on a ring around the scene (`normal`: the
+/// normal of the plane of their centres): up along the ring's axis, toward
+/// the cameras' mean up when they agree on it, else toward the rig's `+y`
+/// (the convention of most capture software: a ring of rolled cameras, as
+/// Middlebury's, agrees on no up); the display faces the middle of an arc,
+/// or the first camera of a closed ring. Rows: display `x`, `y`, `z`.
+fn ring_frame(rig: &Rig, normal: [f64; 3], mean_down: [f64; 3]) -> (Mat3, String) {
+    let up_hint = scale(mean_down, -1.0);
+    let (y_d, up_words) = if dot(normal, up_hint).abs() >= 0.5 {
+        (if dot(normal, up_hint) > 0.0 { normal } else { scale(normal, -1.0) }, "the cameras' up")
+    } else {
+        (if normal[1] >= 0.0 { normal } else { scale(normal, -1.0) }, "the rig's +y")
+    };
+    let centres: Vec<[f64; 3]> = rig.cameras.iter().map(|c| c.pose.centre).collect();
+    let centre = axes_meet(&rig.cameras).unwrap_or_else(|| mean(&centres));
+    let flat: Vec<[f64; 3]> = centres
+        .iter()
+        .map(|&c| {
+            let d = sub(c, centre);
+            normalized(sub(d, scale(y_d, dot(d, y_d))))
+        })
+        .collect();
+    let middle = mean(&flat);
+    let (z_d, facing) = if length(middle) >= 0.5 {
+        (normalized(middle), "the middle of the arc".to_string())
+    } else {
+        (flat[0], format!("camera {}", rig.cameras[0].name))
+    };
+    (
+        [cross(y_d, z_d), y_d, z_d],
+        format!("cameras on a ring: up along its axis ({up_words}), the display facing {facing}"),
+    )
+}
+
+/// The eye map of [`Parallax::Fit`] for the cameras at `points` on
+/// `surface`, and its words; `None` for [`Parallax::True`], one camera, or a
+/// display without a viewer line.
+fn eye_map(
+    rig: &Rig,
+    g: &Geometry,
+    request: &PlacementRequest,
+    surface: &Surface,
+    points: &[[f64; 2]],
+    x_d: [f64; 3],
+) -> (Option<EyeMap>, String) {
+    let viewer_span_m = g.viewer_distance_m - g.emitter_z_m;
+    if request.parallax == Parallax::True {
+        return (None, "ray directions as captured (true parallax)".into());
+    }
+    if points.len() < 2 || !(viewer_span_m > 0.0 && viewer_span_m.is_finite()) {
+        return (None, "ray directions as captured".into());
+    }
+    let (xs, slopes) = (
+        [g.emitter_x_m(0), g.emitter_x_m(g.emitters - 1)],
+        [g.ray_slope_x(0.0), g.ray_slope_x((g.views.count - 1) as f64)],
+    );
+    let eyes_m = [
+        xs[0].min(xs[1]) + viewer_span_m * slopes[0].min(slopes[1]),
+        xs[0].max(xs[1]) + viewer_span_m * slopes[0].max(slopes[1]),
+    ];
+    let range =
+        |k: usize| points.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |r, p| [r[0].min(p[k]), r[1].max(p[k])]);
+    let eyes_words =
+        format!("eyes from {:+.0} to {:+.0} mm at {:.0} mm", eyes_m[0] * 1e3, eyes_m[1] * 1e3, viewer_span_m * 1e3);
+    match surface {
+        Surface::Plane { u: u_axis, .. } => {
+            let [lo, hi] = range(0);
+            let v = range(1);
+            // Left eyes see from the left cameras: u oriented along display x.
+            let u = if dot(*u_axis, x_d) >= 0.0 { [lo, hi] } else { [hi, lo] };
+            let words = format!("parallax fitted: the cameras' {:.4} units across the {eyes_words}", hi - lo);
+            (Some(EyeMap { viewer_span_m, eyes_m, target: EyeTarget::Plane { u, v: 0.5 * (v[0] + v[1]) } }), words)
+        }
+        Surface::Directions { centre } => {
+            let [lo, hi] = range(0);
+            let el = range(1);
+            let eye_azimuth = [(eyes_m[0] / viewer_span_m).atan(), (eyes_m[1] / viewer_span_m).atan()];
+            let eye_span = eye_azimuth[1] - eye_azimuth[0];
+            let radius =
+                rig.cameras.iter().map(|c| length(sub(c.pose.centre, *centre))).sum::<f64>() / rig.cameras.len() as f64;
+            let (azimuth, words) = if hi - lo <= 2.0 * eye_span {
+                (
+                    Some([lo, hi]),
+                    format!(
+                        "parallax fitted: the cameras' {:.1}° across the {eyes_words} ({:.1}°)",
+                        (hi - lo).to_degrees(),
+                        eye_span.to_degrees()
+                    ),
+                )
+            } else {
+                (
+                    None,
+                    format!(
+                        "true angles: the cameras span {:.0}°, more than twice the {eyes_words} ({:.1}°)",
+                        (hi - lo).to_degrees(),
+                        eye_span.to_degrees()
+                    ),
+                )
+            };
+            let target = EyeTarget::Sphere { azimuth, elevation: 0.5 * (el[0] + el[1]), radius };
+            (Some(EyeMap { viewer_span_m, eyes_m, target }), words)
+        }
+    }
 }
 
 /// Where the cameras' axes come closest to meeting (least squares), if

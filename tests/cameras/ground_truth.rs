@@ -6,7 +6,7 @@
 //! blending, for a rail, a grid, scattered positions and a ring.
 
 use holo::cameras::image::Picture;
-use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView, PlacementRequest};
+use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView, Parallax, PlacementRequest};
 use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
 use holo::geometry::{rgb_channels, Geometry, Views};
 use holo::mesh::camera::camera_picture;
@@ -159,7 +159,12 @@ fn camera_arrays_of_a_mesh_match_direct_conversion() {
                 blend,
                 use_depth: depth,
                 want_mask: true,
-                placement: PlacementRequest { scale: Some(1.0), centre: Some(target), ..PlacementRequest::default() },
+                placement: PlacementRequest {
+                    scale: Some(1.0),
+                    centre: Some(target),
+                    parallax: Parallax::True,
+                    ..PlacementRequest::default()
+                },
                 ..CameraOptions::default()
             };
             let (m, report) = resample_rig(rig, &views, &g, &options, &holo::progress::Silent).unwrap();

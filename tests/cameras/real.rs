@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use holo::cameras::convert::{convert_camera_files, load_view, CameraConvertOptions};
 use holo::cameras::quilt::{quilt_from_modulation, QuiltSpec};
 use holo::cameras::read::OpenOptions;
-use holo::cameras::resample::{resample_rig, CameraOptions, CameraView, PlacementRequest};
+use holo::cameras::resample::{resample_rig, CameraOptions, CameraView, Parallax, PlacementRequest};
 use holo::geometry::{rgb_channels, Geometry, Views};
 use holo::reconstruct::files::{view_file, EyeAt};
 
@@ -53,7 +53,10 @@ fn real_captures_convert_and_dino_is_seen_through_the_display() {
         for w in &r.warnings {
             println!("  warning: {w}");
         }
-        assert!(r.unseen < r.rays, "{name}: some rays are seen");
+        // By default the capture fills the display: what is unseen is the
+        // border a capture of another shape leaves, not missing views.
+        assert!(100 * (r.unseen - r.unseen_outside_frame) < r.rays, "{name}: {} of {} unseen", r.unseen, r.rays);
+        assert!(4 * r.unseen_outside_frame < r.rays, "{name}: {} outside the frame", r.unseen_outside_frame);
         let m = holo::read(&output).unwrap();
         assert!(m.samples().iter().any(|&v| v > 0.0), "{name}: not black");
         if name == "dino" {
@@ -98,7 +101,12 @@ fn quilt_round_trip_keeps_the_views() {
     g.viewer_height_m = 0.0;
     let views: Vec<CameraView> = rig.cameras.iter().map(|c| load_view(c, rig.linear, false).unwrap()).collect();
     let options = CameraOptions {
-        placement: PlacementRequest { scale: Some(distance_m), centre: Some([0.0; 3]), ..PlacementRequest::default() },
+        placement: PlacementRequest {
+            scale: Some(distance_m),
+            centre: Some([0.0; 3]),
+            parallax: Parallax::True,
+            ..PlacementRequest::default()
+        },
         use_depth: false,
         ..CameraOptions::default()
     };

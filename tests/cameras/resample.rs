@@ -3,7 +3,7 @@
 //! each modulation ray has a known answer.
 
 use holo::cameras::image::Picture;
-use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView, PlacementRequest};
+use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView, Framing, Parallax, PlacementRequest};
 use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
 use holo::geometry::{rgb_channels, Geometry, Views};
 
@@ -84,14 +84,20 @@ fn expected(g: &Geometry, scale: f64, centre: [f64; 3], plane_z: f64, j: usize, 
 
 /// (mean |error| over seen rays / mean value, fraction unseen).
 fn error_against_plane(n: usize, blend: Blend, plane_z: f64, use_depth: bool) -> (f64, f64, f64) {
-    error_with(n, blend, plane_z, use_depth, PlacementRequest::default())
+    error_with(n, blend, plane_z, use_depth, physical())
+}
+
+/// The placement whose rays the test's `expected` traces: the cameras at the
+/// viewer's distance, ray directions as captured.
+fn physical() -> PlacementRequest {
+    PlacementRequest { framing: Framing::CamerasAtViewer, parallax: Parallax::True, ..PlacementRequest::default() }
 }
 
 fn error_with(n: usize, blend: Blend, plane_z: f64, use_depth: bool, placement: PlacementRequest) -> (f64, f64, f64) {
     let g = display();
     let rig = rail(n);
     let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, plane_z)).collect();
-    let fill = placement.fill_width;
+    let fill = placement.framing == Framing::FillWidth;
     let options = CameraOptions { blend, use_depth, want_mask: true, placement, ..CameraOptions::default() };
     let (m, report) = resample_rig(&rig, &views, &g, &options, &holo::progress::Silent).unwrap();
     // Auto placement: the focus point (0, 0, 0) at the emitter plane, the
@@ -145,7 +151,7 @@ fn off_focus_planes_need_many_cameras_or_depth() {
         let (err_depth, _, _) = error_against_plane(n, Blend::Linear, -0.1, true);
         // Filling the width puts the cameras nearer than the viewer line: the vertical
         // perspective of off-focus content then differs from the display's.
-        let fill = PlacementRequest { fill_width: true, ..PlacementRequest::default() };
+        let fill = PlacementRequest { framing: Framing::FillWidth, ..physical() };
         let (err_fill, _, _) = error_with(n, Blend::Linear, -0.1, false, fill);
         println!("{n} cameras, plane 0.1 m off focus: linear {err:.2e}, depth-aware {err_depth:.2e}; cameras nearer than the viewer: {err_fill:.2e}");
         assert!(err < last, "more cameras, less error");
@@ -164,7 +170,7 @@ fn rays_beyond_the_rail_are_unseen_and_zero() {
         c.pose.centre[0] = -0.05 + 0.05 * i as f64;
     }
     let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, 0.0)).collect();
-    let options = CameraOptions { want_mask: true, ..CameraOptions::default() };
+    let options = CameraOptions { want_mask: true, placement: physical(), ..CameraOptions::default() };
     let (m, report) = resample_rig(&rig, &views, &g, &options, &holo::progress::Silent).unwrap();
     let mask = report.mask.unwrap();
     assert!(report.unseen > report.rays / 2, "{} of {}", report.unseen, report.rays);
@@ -269,4 +275,94 @@ fn fast_location_equals_the_brute_force_reference_on_a_scattered_grid() {
         assert!(seen > ra.rays / 4, "the grid sees a good part of the display");
         assert!(worst < 1e-5, "{blend:?}: {worst}");
     }
+}
+
+/// A picture of one flat colour: which camera a ray came from.
+fn flat(value: f32) -> CameraView {
+    CameraView { picture: Picture { width: W, height: H, rgb: vec![[value; 3]; W * H] }, depth_z: None }
+}
+
+/// By default a narrow rail's cameras are spread across the eye positions
+/// that see the display: every ray an eye sees comes from one place on the
+/// rail, left eyes from left cameras, and no ray inside the capture's frame
+/// is unseen.
+#[test]
+fn the_default_spreads_a_narrow_rail_across_the_eyes() {
+    let g = display();
+    let mut rig = rail(5);
+    for (i, c) in rig.cameras.iter_mut().enumerate() {
+        c.pose.centre[0] = -0.04 + 0.02 * i as f64;
+    }
+    let views: Vec<CameraView> = (0..5).map(|i| flat(i as f32 + 1.0)).collect();
+    let options = CameraOptions { blend: Blend::Nearest, want_mask: true, ..CameraOptions::default() };
+    let (m, report) = resample_rig(&rig, &views, &g, &options, &holo::progress::Silent).unwrap();
+    println!(
+        "{}; {} of {} unseen, {} outside the frame",
+        report.placement, report.unseen, report.rays, report.unseen_outside_frame
+    );
+    // Unseen: the frame's borders, and a sliver at its sides the outer cameras' pictures miss.
+    assert!(report.unseen - report.unseen_outside_frame < report.rays / 50, "{}", report.unseen);
+    // The pictures (200 × 120, 1 m × 0.6 m at the focus) fit the 48 × 21 mm display by its height.
+    assert!((report.scale - 0.021 / 0.6).abs() < 1e-12, "{}", report.scale);
+    let d = g.viewer_distance_m - g.emitter_z_m;
+    let (e_n, v_n) = (g.emitters, g.views.count);
+    let j = g.hololines / 2;
+    let mut by_eye: Vec<(f64, f32)> = Vec::new();
+    for e in 0..e_n {
+        for v in 0..v_n {
+            let i = (j * e_n + e) * v_n + v;
+            if !report.mask.as_ref().unwrap()[i] {
+                by_eye.push((g.emitter_x_m(e) + d * g.ray_slope_x(v as f64), m.samples()[i]));
+            }
+        }
+    }
+    by_eye.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert!(by_eye.windows(2).all(|w| w[0].1 <= w[1].1), "each eye position sees from one camera, in order");
+    assert_eq!((by_eye[0].1, by_eye[by_eye.len() - 1].1), (1.0, 5.0), "the outer eyes see from the outer cameras");
+    // With true parallax the same rail covers only the middle views.
+    let true_parallax = CameraOptions {
+        placement: PlacementRequest { parallax: Parallax::True, ..PlacementRequest::default() },
+        ..options
+    };
+    let (_, report) = resample_rig(&rig, &views, &g, &true_parallax, &holo::progress::Silent).unwrap();
+    assert!(report.unseen > report.rays / 2, "{} of {}", report.unseen, report.rays);
+}
+
+/// A ring of cameras rolled a quarter turn (their right is the ring's axis,
+/// as in Middlebury's temple): the display's up is the ring's axis and its
+/// horizontal runs along the ring, so the views see round the scene.
+#[test]
+fn a_ring_of_rolled_cameras_is_shown_upright_around_its_axis() {
+    let g = display();
+    let cameras: Vec<Camera> = (0..12)
+        .map(|i| {
+            let a = i as f64 * std::f64::consts::TAU / 12.0;
+            let centre = [a.sin(), 0.0, a.cos()];
+            let forward = [-a.sin(), 0.0, -a.cos()];
+            // Rolled: picture right = +y (up), picture down = the ring's tangent.
+            let down = [a.cos(), 0.0, -a.sin()];
+            let mut c = camera(format!("ring{i}"), centre);
+            c.pose.rotation = look_rotation(forward, down);
+            c
+        })
+        .collect();
+    assert!((cameras[3].pose.rotation[0][1] - 1.0).abs() < 1e-9, "the cameras' right is +y");
+    let rig =
+        Rig { source: "synthetic ring".into(), cameras, metres_per_unit: 1.0, focus_distance: None, linear: true };
+    let views: Vec<CameraView> = (0..12).map(|i| flat(i as f32 + 1.0)).collect();
+    let (m, report) = resample_rig(&rig, &views, &g, &CameraOptions::default(), &holo::progress::Silent).unwrap();
+    println!("{}; {}; {} of {} rays unseen", report.surface, report.placement, report.unseen, report.rays);
+    assert!(report.placement.contains("cameras on a ring: up along its axis (the rig's +y)"), "{}", report.placement);
+    assert!(report.placement.contains("the display facing camera ring0"), "{}", report.placement);
+    assert!(report.placement.contains("true angles"), "a closed ring keeps its angles: {}", report.placement);
+    assert!(report.unseen - report.unseen_outside_frame < report.rays / 20, "{}", report.unseen);
+    // Across the views of the middle emitter the eye moves round the ring:
+    // camera 0 in the middle, blended toward camera 11 (value 12) on the
+    // display's left and camera 1 (value 2) on its right, 30° away.
+    let (e_n, v_n) = (g.emitters, g.views.count);
+    let at = |v: usize| m.samples()[((g.hololines / 2) * e_n + e_n / 2) * v_n + v];
+    let seen: Vec<f32> = (0..v_n).map(at).collect();
+    assert!((seen[v_n / 2 - 1] - 1.0).abs() < 0.3 && (seen[v_n / 2] - 1.0).abs() < 0.3, "{seen:?}");
+    assert!(seen[0] > 4.0 && seen[0] < 12.0, "left eyes see toward camera 11: {seen:?}");
+    assert!(seen[v_n - 1] > 1.3 && seen[v_n - 1] < 2.0, "right eyes see toward camera 1: {seen:?}");
 }

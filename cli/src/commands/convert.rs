@@ -18,7 +18,9 @@ use holo::mesh::render::{Engine, RenderOptions, Supersample};
 use holo::mesh::shade::{parse_light, read_lights, Lighting};
 
 use super::{check_output, Outcome};
-use crate::args::{self, layout_geometry, layout_help, BlendChoice, SpecularChoice, WriteArgs};
+use crate::args::{
+    self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, SpecularChoice, WriteArgs,
+};
 use crate::out::{say, warn};
 use crate::progress::Reporter;
 
@@ -230,15 +232,24 @@ pub struct CamerasArgs {
     /// Focus distance from the cameras, in the rig's units (default: what the capture says).
     #[arg(long, value_parser = args::positive())]
     focus: Option<f64>,
-    /// Display millimetres per rig unit (default: cameras at the viewer's distance).
+    /// Display millimetres per rig unit (default: from --framing).
     #[arg(long = "scale", value_parser = args::positive_millimetres())]
     scale_m: Option<f64>,
     /// The rig point shown at the middle of the emitter plane, rig units: X,Y,Z (default: the focus point).
     #[arg(long, value_parser = args::triple("X,Y,Z in rig units"), allow_hyphen_values = true)]
     center: Option<[f64; 3]>,
-    /// Scale so the middle camera's view at the focus fills the display's width.
-    #[arg(long)]
+    /// How big the capture is shown: fit (all the middle camera saw at the focus, as large as fits),
+    /// fill (covering the display, the overflow cut), width (filling the display's width),
+    /// viewer (the cameras at the viewer's distance).
+    #[arg(long, value_enum, default_value = "fit")]
+    framing: FramingChoice,
+    /// Same as --framing width.
+    #[arg(long, conflicts_with = "framing")]
     fill_width: bool,
+    /// How the capture's directions meet the display's views: fit (the cameras' span across the
+    /// eye positions that see the display) or true (as captured; rays no camera saw stay black).
+    #[arg(long, value_enum, default_value = "fit")]
+    parallax: ParallaxChoice,
     /// Ignore the rig's depth maps.
     #[arg(long)]
     no_depth: bool,
@@ -282,7 +293,13 @@ fn cameras(a: CamerasArgs) -> Outcome {
     open.stanford.camera = camera;
     open.quilt.view_cone_deg = a.view_cone_deg;
     open.quilt.vertical_fov_deg = a.quilt_fov_deg;
-    let placement = PlacementRequest { scale: a.scale_m, centre: a.center, focus: a.focus, fill_width: a.fill_width };
+    let placement = PlacementRequest {
+        scale: a.scale_m,
+        centre: a.center,
+        focus: a.focus,
+        framing: if a.fill_width { FramingChoice::Width.into() } else { a.framing.into() },
+        parallax: a.parallax.into(),
+    };
     let options = CameraConvertOptions {
         resample: CameraOptions {
             blend: a.blend.into(),
@@ -302,12 +319,30 @@ fn cameras(a: CamerasArgs) -> Outcome {
     let (input, output, seconds) = (a.input.display(), report.path.display(), started.elapsed().as_secs_f64());
     say!("converted {input} ({}) into {output} in {seconds:.2} s", r.surface);
     say!("placement: {}", r.placement);
+    let percent = |n: u64| 100.0 * n as f64 / r.rays.max(1) as f64;
+    let inside = r.unseen - r.unseen_outside_frame;
     say!(
-        "{} rays, {} taps per emitter; {} ({:.1}%) seen by no camera and left black",
+        "{} rays, {} taps per emitter; {} ({:.1}%) seen by no camera and left black: {:.1}% outside the capture's frame, {:.1}% inside it",
         r.rays,
         r.emitter_taps,
         r.unseen,
-        100.0 * r.unseen as f64 / r.rays.max(1) as f64
+        percent(r.unseen),
+        percent(r.unseen_outside_frame),
+        percent(inside)
     );
+    // What would fix many unseen rays, by cause.
+    if percent(r.unseen_outside_frame) >= 10.0 && a.scale_m.is_none() {
+        say!("the capture's frame does not have the display's shape: --framing fill covers the display (cutting the capture's overflowing edges)");
+    }
+    if percent(inside) >= 10.0 {
+        match a.parallax {
+            ParallaxChoice::True => say!(
+                "the cameras did not look along many of the display's views: --parallax fit spreads them across the viewer's positions"
+            ),
+            ParallaxChoice::Fit => say!(
+                "the cameras do not see many points the display shows (outside their pictures, or hidden by their depth maps): check --focus and --center, or --no-depth"
+            ),
+        }
+    }
     Ok(ExitCode::SUCCESS)
 }

@@ -216,3 +216,46 @@ fn a_flipped_bit_in_a_holoflick_is_an_error_naming_frame_and_object() {
         assert!(!d.join("x.ply").exists() && !d.join("x.holo").exists(), "{args:?} left a file");
     }
 }
+
+/// A capture converts to fill the display by default; what is left unseen is
+/// said by cause, with the option that would change it.
+#[test]
+fn unseen_rays_are_said_by_cause_with_what_would_fix_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    let layout = profile.to_str().unwrap();
+    // A quilt made from a pattern: 48 views 3:4 tall, on a display 8 hololines high.
+    ok(holo(&["pattern", "--layout", "mark3", "--kind", "view-ramp", "-o", "p.holo"], d));
+    ok(holo(&["export-quilt", "p.holo", "-o", "p_qs8x6a0.75.png", "--tile", "96x128"], d));
+    let o = ok(holo(&["convert", "cameras", "p_qs8x6a0.75.png", "--layout", layout, "-o", "fit.holo"], d));
+    let said = text(&o);
+    assert!(said.contains("fits the display's 80.0 × 1.1 mm") && said.contains("parallax fitted"), "{said}");
+    assert!(said.contains("outside the capture's frame, 0.0% inside it"), "{said}");
+    assert!(said.contains("--framing fill covers the display"), "{said}");
+    let o = ok(holo(
+        &["convert", "cameras", "p_qs8x6a0.75.png", "--layout", layout, "-o", "fill.holo", "--framing", "fill"],
+        d,
+    ));
+    assert!(text(&o).contains("covers the display's") && !text(&o).contains("--framing"), "{}", text(&o));
+    // True parallax over a narrow quilt: most views unseen, and the fix said.
+    let o = ok(holo(
+        &[
+            "convert",
+            "cameras",
+            "p_qs8x6a0.75.png",
+            "--layout",
+            layout,
+            "-o",
+            "true.holo",
+            "--framing",
+            "fill",
+            "--parallax",
+            "true",
+            "--view-cone",
+            "5",
+        ],
+        d,
+    ));
+    assert!(text(&o).contains("--parallax fit spreads them across the viewer's positions"), "{}", text(&o));
+}
