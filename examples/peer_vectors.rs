@@ -19,7 +19,9 @@ use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use holo::format::{channel_name, view_digits, write_frames, Compression, Radiometry, SampleType, WriteOptions};
+use holo::format::{
+    channel_name, view_digits, write_frames, Compression, FormatVersion, Radiometry, SampleType, WriteOptions,
+};
 use holo::geometry::{rgb_channels, ColourChannel, Geometry, Parallax, ViewSpacing, Views};
 use holo::Modulation;
 use rand::{Rng, SeedableRng};
@@ -40,6 +42,8 @@ struct Case {
     radiometry: Radiometry,
     source: &'static str,
     seed: u64,
+    /// 1.1 (the pixel aspect ratio the emitter grid's), or 1.0 (square).
+    version: FormatVersion,
 }
 
 fn geometry(
@@ -91,6 +95,7 @@ fn cases() -> Vec<Case> {
             radiometry: Radiometry::default(),
             source: "",
             seed: 1,
+            version: FormatVersion::V1_1,
         },
         Case {
             name: "rgb_f32_piz",
@@ -111,6 +116,7 @@ fn cases() -> Vec<Case> {
             radiometry: Radiometry { encoding: "linear".into(), scale: 2.5e-3, unit: "W/(sr m^2)".into() },
             source: "peer_vectors: pseudo-random samples (ChaCha8, seed 2)",
             seed: 2,
+            version: FormatVersion::V1_0,
         },
         Case {
             name: "rgb_f16_none_cropped",
@@ -136,6 +142,7 @@ fn cases() -> Vec<Case> {
             radiometry: Radiometry::default(),
             source: "",
             seed: 3,
+            version: FormatVersion::V1_1,
         },
         Case {
             name: "multi3_rgb_f16_zip",
@@ -156,6 +163,7 @@ fn cases() -> Vec<Case> {
             radiometry: Radiometry::default(),
             source: "",
             seed: 4,
+            version: FormatVersion::V1_1,
         },
         Case {
             name: "views1001_mono_f16",
@@ -176,6 +184,7 @@ fn cases() -> Vec<Case> {
             radiometry: Radiometry::default(),
             source: "",
             seed: 5,
+            version: FormatVersion::V1_1,
         },
     ]
 }
@@ -232,7 +241,7 @@ fn string(name: &str, s: &str) -> Value {
 fn shared_attributes(case: &Case) -> Vec<Value> {
     let g = &case.geometry;
     let mut a = vec![
-        json!({"name": "holo.version", "type": "v2i", "value": [1, 0]}),
+        json!({"name": "holo.version", "type": "v2i", "value": [1, if case.version == FormatVersion::V1_0 { 0 } else { 1 }]}),
         string("holo.parallax", "horizontal"),
         int("holo.hololines", g.hololines as i64),
         int("holo.emitters", g.emitters as i64),
@@ -284,6 +293,7 @@ fn run(out: &Path) -> Result<Vec<PathBuf>, String> {
             frames_per_second: case.frames_per_second,
             first_frame_number: case.first_frame_number,
             overwrite: true,
+            version: case.version,
         };
         let report = write_frames(&path, g, case.frames, &options, |i| Ok(Cow::Borrowed(&frames[i])))
             .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -359,6 +369,8 @@ fn run(out: &Path) -> Result<Vec<PathBuf>, String> {
             "exr_pixel_type": match case.sample_type { SampleType::F16 => "HALF", SampleType::F32 => "FLOAT" },
             "compression": case.compression.name(),
             "display_window": window(0, 0, g.emitters - 1, g.hololines - 1),
+            // A pixel's width over its height (spec §3.1), as the f32 the header holds.
+            "pixel_aspect": if case.version == FormatVersion::V1_0 { 1.0 } else { (g.emitter_pitch_m / g.hololine_pitch_m) as f32 as f64 },
             "channels": channels,
             "frames_per_second": case.frames_per_second.map(|(n, d)| json!([n, d])),
             "shared_attributes": shared_attributes(&case),

@@ -54,7 +54,14 @@ impl fmt::Display for Info {
         let g = &i.geometry;
         let mm = |m: f64| m * 1e3;
         writeln!(f, "{}", i.path.display())?;
-        writeln!(f, "  format        .holo {}.{} (OpenEXR), {} frame(s)", i.version.0, i.version.1, i.frames.len())?;
+        writeln!(
+            f,
+            "  format        .holo {}.{} (OpenEXR), {} frame(s), pixel aspect ratio {}",
+            i.version.0,
+            i.version.1,
+            i.frames.len(),
+            i.pixel_aspect
+        )?;
         writeln!(
             f,
             "  size          {} hololines × {} emitters × {} views, {:?} parallax",

@@ -284,6 +284,21 @@ pub struct WriteArgs {
     /// Replace an existing output file.
     #[arg(long)]
     pub force: bool,
+    /// Format version to write: 1.1 (pixels at the emitter grid's proportions in EXR viewers) or
+    /// 1.0 (square pixels, for readers of version 1.0).
+    #[arg(long = "format-version", value_enum, default_value = "1.1")]
+    pub format_version: FormatVersionChoice,
+}
+
+/// `--format-version`: which version of the .holo format to write.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FormatVersionChoice {
+    /// Version 1.1.
+    #[value(name = "1.1")]
+    V1_1,
+    /// Version 1.0.
+    #[value(name = "1.0")]
+    V1_0,
 }
 
 impl WriteArgs {
@@ -295,6 +310,10 @@ impl WriteArgs {
             compression: self.compression.0,
             source,
             overwrite: self.force,
+            version: match self.format_version {
+                FormatVersionChoice::V1_1 => holo::format::FormatVersion::V1_1,
+                FormatVersionChoice::V1_0 => holo::format::FormatVersion::V1_0,
+            },
             ..WriteOptions::default()
         }
     }

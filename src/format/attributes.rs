@@ -9,8 +9,8 @@ use exr::meta::attribute::{AttributeValue, Text};
 
 use crate::geometry::{ColourChannel, Geometry, Parallax, ViewSpacing, Views};
 
-/// Format version written by this library.
-pub const VERSION: (i32, i32) = (1, 0);
+/// Format version written by this library (and the newest it reads).
+pub const VERSION: (i32, i32) = (1, 1);
 
 /// Attribute names (spec §4, table 1).
 pub mod name {
@@ -100,13 +100,17 @@ pub fn ascii_only(s: &str) -> String {
 }
 
 /// The geometry and radiometry attributes shared by every part of a file.
-pub fn geometry_attributes(g: &Geometry, radiometry: &Radiometry) -> HashMap<Text, AttributeValue> {
+pub fn geometry_attributes(
+    g: &Geometry,
+    radiometry: &Radiometry,
+    version: (i32, i32),
+) -> HashMap<Text, AttributeValue> {
     use name::*;
     let mut a = HashMap::new();
     let mut put = |k: &str, v: AttributeValue| {
         a.insert(Text::new_or_panic(k), v);
     };
-    put(VERSION, AttributeValue::IntVec2(Vec2(VERSION_TUPLE.0, VERSION_TUPLE.1)));
+    put(VERSION, AttributeValue::IntVec2(Vec2(version.0, version.1)));
     put(
         PARALLAX,
         text(match g.parallax {
@@ -139,8 +143,6 @@ pub fn geometry_attributes(g: &Geometry, radiometry: &Radiometry) -> HashMap<Tex
     put(UNIT, text(&radiometry.unit));
     a
 }
-
-const VERSION_TUPLE: (i32, i32) = VERSION;
 
 /// Typed look-ups into a header's attributes; each failure is one sentence.
 pub struct Attributes<'a> {

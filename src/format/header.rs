@@ -49,6 +49,9 @@ pub struct FileInfo {
     pub path: PathBuf,
     /// Format version (major, minor).
     pub version: (i32, i32),
+    /// OpenEXR's `pixelAspectRatio`: a pixel's width over its height as
+    /// viewers show it (spec §3.1; 1 in version 1.0).
+    pub pixel_aspect: f32,
     /// The geometry shared by all frames.
     pub geometry: Geometry,
     /// Stored sample type.
@@ -180,6 +183,7 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
     }
     problems.extend(geometry.problems());
     check_channels(first, &geometry, &mut problems);
+    check_pixel_aspect(first.shared_attributes.pixel_aspect, version, &geometry, &mut problems, &mut warnings);
 
     let radiometry = attrs.radiometry().unwrap_or_else(|e| {
         problems.push(e);
@@ -221,6 +225,7 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
     let info = FileInfo {
         path: path.into(),
         version,
+        pixel_aspect: first.shared_attributes.pixel_aspect,
         geometry,
         sample_type,
         compression,
@@ -299,9 +304,6 @@ fn check_part(
     if !inside {
         problems.push(format!("{prefix}data window {dw}×{dh} at ({dx}, {dy}) is not inside the display window"));
     }
-    if header.shared_attributes.pixel_aspect != 1.0 {
-        problems.push(format!("{prefix}pixel aspect ratio is {}; it must be 1", header.shared_attributes.pixel_aspect));
-    }
     let number = match here.optional(name::FRAME, Attributes::int) {
         Ok(n) => i64::from(n.unwrap_or(part as i32)),
         Err(e) => {
@@ -340,6 +342,30 @@ fn check_part(
 }
 
 /// The colour suffixes (in R, G, B, Y order) and the sample type of a part.
+/// The pixel aspect ratio (shared by every part): fixed at 1 in version 1.0;
+/// from 1.1 the emitter grid's proportions, any positive value read (spec
+/// §3.1). It never changes what a sample means.
+fn check_pixel_aspect(
+    aspect: f32,
+    version: (i32, i32),
+    g: &Geometry,
+    problems: &mut Vec<String>,
+    warnings: &mut Vec<String>,
+) {
+    let physical = (g.emitter_pitch_m / g.hololine_pitch_m) as f32;
+    if version < (1, 1) {
+        if aspect != 1.0 {
+            problems.push(format!("pixel aspect ratio is {aspect}; version 1.0 requires 1"));
+        }
+    } else if !(aspect.is_finite() && aspect > 0.0) {
+        problems.push(format!("pixel aspect ratio is {aspect}; it must be a positive number"));
+    } else if (aspect / physical - 1.0).abs() > 1e-6 {
+        warnings.push(format!(
+            "pixel aspect ratio is {aspect}, not the emitter grid's {physical} (emitter pitch over hololine pitch): viewers show the picture out of proportion"
+        ));
+    }
+}
+
 fn channel_list(header: &Header) -> Result<(Vec<String>, SampleType), String> {
     let list = &header.channels.list;
     if list.is_empty() {

@@ -21,7 +21,7 @@ pub use digest::frame_digest;
 pub use header::{FileInfo, FrameInfo, Window};
 pub use read::{read, HoloFile, Region};
 pub use validate::{validate, Validation};
-pub use write::{write, write_frame_in_bands, write_frames, WriteOptions, WriteReport};
+pub use write::{write, write_frame_in_bands, write_frames, FormatVersion, WriteOptions, WriteReport};
 
 use serde::Serialize;
 

@@ -39,6 +39,39 @@ pub struct WriteOptions {
     pub first_frame_number: i32,
     /// Replace an existing file at the destination (default: refuse).
     pub overwrite: bool,
+    /// The format version to write (spec §9): 1.1, or 1.0 for readers of 1.0.
+    pub version: FormatVersion,
+}
+
+/// Which version of the format a writer writes (spec §9).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FormatVersion {
+    /// 1.1: the pixel aspect ratio is the emitter grid's own (spec §3.1), so
+    /// EXR viewers show it at its physical proportions.
+    #[default]
+    V1_1,
+    /// 1.0: square pixels, for readers of version 1.0 (which refuse any other
+    /// pixel aspect ratio); the content is the same.
+    V1_0,
+}
+
+impl FormatVersion {
+    /// `(major, minor)`, as `holo.version` stores it.
+    pub fn number(self) -> (i32, i32) {
+        match self {
+            FormatVersion::V1_1 => (1, 1),
+            FormatVersion::V1_0 => (1, 0),
+        }
+    }
+
+    /// OpenEXR's `pixelAspectRatio` for `g`: a pixel's width over its height
+    /// as the display shows it (emitter pitch over hololine pitch; 1 in 1.0).
+    pub fn pixel_aspect(self, g: &Geometry) -> f32 {
+        match self {
+            FormatVersion::V1_1 => (g.emitter_pitch_m / g.hololine_pitch_m) as f32,
+            FormatVersion::V1_0 => 1.0,
+        }
+    }
 }
 
 impl Default for WriteOptions {
@@ -51,6 +84,7 @@ impl Default for WriteOptions {
             frames_per_second: None,
             first_frame_number: 0,
             overwrite: false,
+            version: FormatVersion::default(),
         }
     }
 }
@@ -457,7 +491,8 @@ fn part_header(
         .with_encoding(options.compression.to_exr(), BlockDescription::ScanLines, LineOrder::Increasing)
         .with_display_window(full_window(g))
         .with_attributes(own);
-    header.shared_attributes.other = geometry_attributes(g, &options.radiometry);
+    header.shared_attributes.other = geometry_attributes(g, &options.radiometry, options.version.number());
+    header.shared_attributes.pixel_aspect = options.version.pixel_aspect(g);
     header
 }
 

@@ -322,7 +322,8 @@ def check_file(c, directory, expect_path):
         ew = exp["data_window"]
         edw = (ew["min"][0], ew["min"][1], ew["max"][0], ew["max"][1])
         c.check(window(h["dataWindow"]) == edw, f"{pl}: data window {edw}", f"found {window(h['dataWindow'])}")
-        c.check(h.get("pixelAspectRatio") == 1.0, f"{pl}: pixel aspect ratio 1", f"found {h.get('pixelAspectRatio')}")
+        c.check(h.get("pixelAspectRatio") == ex["pixel_aspect"], f"{pl}: pixel aspect ratio {ex['pixel_aspect']}",
+                f"found {h.get('pixelAspectRatio')}")
         c.check(h.get("lineOrder") == OpenEXR.INCREASING_Y, f"{pl}: line order increasing y", f"found {h.get('lineOrder')}")
 
         chans = [ch.name for ch in h["channels"]]

@@ -85,6 +85,24 @@ fn pictures_show_a_square_square() {
         assert!((w / h - 1.0).abs() < 0.02, "{what}: the square is {w:.1} × {h:.1}, {:.3} wide for its height", w / h);
     };
 
+    // The .holo file itself: one pixel per emitter and hololine, shown at its
+    // pixelAspectRatio (a pixel's width over its height) by EXR viewers.
+    let file = holo::HoloFile::open(d.join("square.holo")).unwrap();
+    let aspect = file.info().pixel_aspect;
+    let frame = file.read_frame(0).unwrap();
+    let (mut columns, mut rows) = (std::collections::BTreeSet::new(), std::collections::BTreeSet::new());
+    for j in 0..g.hololines {
+        for e in 0..g.emitters {
+            if frame.get(0, j, e, g.views.count / 2) > 0.5 {
+                columns.insert(e);
+                rows.insert(j);
+            }
+        }
+    }
+    square_within(".holo (pixelAspectRatio)", (columns.len() as f64 * f64::from(aspect), rows.len() as f64));
+    let o = ok(holo(&["validate", "square.holo"], d));
+    assert!(!text(&o).contains("pixel aspect"), "{}", text(&o));
+
     // export-views: one pixel per emitter and hololine, the physical size in pHYs.
     ok(holo(&["export-views", "square.holo", "-o", "views"], d));
     let png = std::fs::read(d.join("views/view_048.png")).unwrap();
