@@ -1,11 +1,16 @@
-//! HoloFlick playback into modulation (issue 7): one frame of about 400 000
-//! lit micropolygons (the bundled Spot, encoded for Mark III by `holoflick
+//! HoloFlick playback into modulation: one frame of about 400 000 lit
+//! micropolygons (the bundled Spot, encoded for Mark III by `holoflick
 //! encode`) drawn into a Mark III frame — decode, place, cull, render — in
 //! frames per second, beside the 15 frames/s Deering reports for real-time
-//! playback of such frames on 1998 graphics hardware (seed 001 §10, one
-//! view; here every view of every emitter).
+//! playback of such frames on 1998 graphics hardware (Deering, *HoloFlicks*
+//! §10, one view; here every view of every emitter).
 //!
-//! `cargo bench --bench movie` (`-- --test`: one quick pass).
+//! Then the micropolygon size against error (the table behind
+//! `holoflick encode`'s default): the bundled Spot and morphing cube encoded
+//! for Mark III at each size, drawn, and compared with `convert mesh` of the
+//! same frame.
+//!
+//! `cargo bench --bench movie` (`-- --test`: one quick pass, sizes 8 and 4 only).
 
 use std::path::Path;
 
@@ -85,5 +90,59 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+/// Σ|a − b| / Σ|b| over every sample.
+fn relative_error(a: &Modulation, b: &Modulation) -> f64 {
+    let diff: f64 = a.samples().iter().zip(b.samples()).map(|(x, y)| (*x as f64 - *y as f64).abs()).sum();
+    diff / b.samples().iter().map(|y| (*y as f64).abs()).sum::<f64>()
+}
+
+/// Micropolygon size against error, bytes and time, frame 0 of each scene on Mark III.
+fn micropolygon_table(quick: bool) {
+    use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
+    use holo::mesh::convert::{convert_mesh, ConvertOptions, SceneFramesOptions};
+    let g = holo::layout::Layout::load("mark3").expect("mark3").geometry;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh");
+    let frames = SceneFramesOptions { frames: Some(0..1), ..SceneFramesOptions::default() };
+    println!(
+        "scene | micropolygon size | micropolygons | .hflk bytes | encode s | draw s | error against convert mesh"
+    );
+    for scene in ["spot/spot.obj", "AnimatedMorphCube.glb"] {
+        let input = fixtures.join(scene);
+        let direct = dir.path().join("direct.holo");
+        let mut options = ConvertOptions { scene: frames.clone(), ..ConvertOptions::default() };
+        options.write.overwrite = true;
+        convert_mesh(&input, &g, &direct, &options, &holo::progress::Silent).expect("convert mesh");
+        let truth = holo::read(&direct).expect("read");
+        let sizes: &[f64] = if quick { &[8.0, 4.0] } else { &[8.0, 4.0, 2.0, 1.0] };
+        for &size in sizes {
+            let (hflk, out) = (dir.path().join("f.hflk"), dir.path().join("f.holo"));
+            let options = HoloFlickEncodeOptions {
+                micropolygon: size,
+                scene: frames.clone(),
+                overwrite: true,
+                ..HoloFlickEncodeOptions::default()
+            };
+            let started = std::time::Instant::now();
+            let encoded = encode_holoflick(&input, &g, &hflk, &options, &holo::progress::Silent).expect("encode");
+            let encode_s = started.elapsed().as_secs_f64();
+            let mut convert = HoloFlickConvertOptions::default();
+            convert.write.overwrite = true;
+            let started = std::time::Instant::now();
+            convert_holoflick(&hflk, &g, &out, &convert, &holo::progress::Silent).expect("draw");
+            let draw_s = started.elapsed().as_secs_f64();
+            let error = relative_error(&holo::read(&out).expect("read"), &truth);
+            println!(
+                "{scene} | {size} | {} | {} | {encode_s:.2} | {draw_s:.2} | {error:.4}",
+                encoded.micropolygons, encoded.pack.file_bytes
+            );
+        }
+    }
+}
+
+fn table(_: &mut Criterion) {
+    micropolygon_table(std::env::args().any(|a| a == "--test"));
+}
+
+criterion_group!(benches, bench, table);
 criterion_main!(benches);

@@ -24,10 +24,18 @@ use crate::geometry::Geometry;
 use crate::mesh::convert::{SceneFrames, SceneFramesOptions, SceneStage};
 use crate::mesh::place::Placed;
 use crate::mesh::render::RenderOptions;
-use crate::mesh::Scene;
+use crate::mesh::{Light, Scene};
 use crate::pipeline;
 use crate::progress::Progress;
 use crate::{Error, Result};
+
+/// The default micropolygon edge, as a multiple of what the display
+/// resolves at its depth: the knee of the measured error against size (the
+/// bundled Spot on Mark III, BENCHMARKS.md "HoloFlick micropolygon size"):
+/// from 4 to 2 the error halves for 3.7 times the bytes; from 2 to 1 it
+/// falls by a third for 3.7 times the bytes again, near the floor the
+/// codec's quantization sets.
+pub const DEFAULT_MICROPOLYGON: f64 = 2.0;
 
 /// How to encode.
 #[derive(Clone, Debug)]
@@ -53,7 +61,7 @@ impl Default for HoloFlickEncodeOptions {
     fn default() -> Self {
         HoloFlickEncodeOptions {
             scene: SceneFramesOptions::default(),
-            micropolygon: 1.0,
+            micropolygon: DEFAULT_MICROPOLYGON,
             smooth: true,
             shadows: false,
             encode: EncodeOptions::default(),
@@ -91,8 +99,8 @@ pub fn display_couch(g: &Geometry) -> ViewerCouch {
 
 /// Encode `input` for `geometry` into the HoloFlick `output`: scenes
 /// through [`Encode`] and [`crate::pipeline`]. `progress` counts the frames
-/// of a movie; of a single frame, its stages (dicing and baking, then the
-/// objects compressed).
+/// of a movie and, within each, its stages: input triangles diced, vertices
+/// lit, objects compressed.
 pub fn encode_holoflick(
     input: &Path,
     geometry: &Geometry,
@@ -171,11 +179,14 @@ impl SceneStage for Encode<'_> {
         // Baked with the lights a render of the scene uses, as `convert mesh`
         // lights it.
         let lights = RenderOptions::default().lighting_for(&scene).lights;
-        stages.phase("micropolygons (dice and bake)", 1);
-        let dice = DiceOptions { smooth: o.smooth, ..DiceOptions::default() };
+        // Directional and ambient light without shadows is affine across a
+        // flat untextured triangle: such triangles need no dicing.
+        let affine_shading =
+            !o.shadows && lights.iter().all(|l| matches!(l, Light::Directional { .. } | Light::Ambient { .. }));
+        let dice = DiceOptions { smooth: o.smooth, affine_shading, ..DiceOptions::default() };
         let bake = BakeOptions { shadows: o.shadows };
-        let (micro, specular_lights, micro_report) = micropolygons(&scene, &lights, &*self.budget, &dice, &bake)?;
-        stages.advance(1);
+        let (micro, specular_lights, micro_report) =
+            micropolygons(&scene, &lights, &*self.budget, &dice, &bake, stages)?;
         self.micropolygons += micro_report.dice.triangles_out;
         self.shadowed += micro_report.bake.shadowed;
         let is_key = self.keys.start_frame(index, o.key_interval);

@@ -303,3 +303,43 @@ fn objects_get_their_bound_lights_and_lobes() {
     let changed = together.samples().iter().zip(every_light.samples()).filter(|(a, b)| (*a - *b).abs() > 1e-3).count();
     assert!(changed > lit(&together) / 4, "the light lists matter: {changed} samples differ");
 }
+
+/// Phases a call reported: name, total, the most done.
+#[derive(Default)]
+struct Phases(std::sync::Mutex<Vec<(String, u64, u64)>>);
+
+impl holo::progress::Progress for Phases {
+    fn phase(&self, name: &str, total: u64) {
+        self.0.lock().unwrap().push((name.to_string(), total, 0));
+    }
+    fn advance(&self, done: u64) {
+        if let Some(last) = self.0.lock().unwrap().last_mut() {
+            last.2 = last.2.max(done);
+        }
+    }
+}
+
+/// The bundled morphing cube at the default micropolygon size: its flat
+/// faces under the default (directional and ambient) light are left whole,
+/// and the encoding reports its progress within each frame.
+#[test]
+fn flat_faces_encode_whole_with_progress_within_the_frame() {
+    use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
+    let g = display();
+    let dir = tempfile::tempdir().unwrap();
+    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/AnimatedMorphCube.glb");
+    let phases = Phases::default();
+    let options = HoloFlickEncodeOptions {
+        scene: holo::mesh::convert::SceneFramesOptions { frames: Some(0..1), ..Default::default() },
+        ..HoloFlickEncodeOptions::default()
+    };
+    let report = encode_holoflick(&cube, &g, &dir.path().join("cube.hflk"), &options, &phases).unwrap();
+    println!("{} micropolygons, {} bytes", report.micropolygons, report.pack.file_bytes);
+    assert_eq!(report.micropolygons, 12, "the cube's 12 flat triangles, whole");
+    let seen = phases.0.into_inner().unwrap();
+    println!("{seen:?}");
+    for name in ["triangles diced", "vertices lit", "objects compressed"] {
+        let (_, total, done) = seen.iter().find(|p| p.0.ends_with(name)).unwrap_or_else(|| panic!("{name}: {seen:?}"));
+        assert!(*total > 0 && done == total, "{name}: {done} of {total}");
+    }
+}

@@ -276,3 +276,61 @@ fn dicing_is_bounded() {
         assert_eq!(d[0].triangles.len(), 20);
     }
 }
+
+/// A cube of 12 triangles, each face with its own vertices and normal.
+fn flat_cube() -> Object {
+    let mut o = Object { name: "cube".into(), ..Object::default() };
+    for axis in 0..3 {
+        for sign in [-1.0, 1.0] {
+            let n: [f64; 3] = std::array::from_fn(|k| if k == axis { sign } else { 0.0 });
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let base = o.positions.len() as u32;
+            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let mut p = n;
+                p[u] = a;
+                p[v] = b;
+                o.positions.push(p);
+                o.normals.push(n.map(|x| x as f32));
+            }
+            let quad = [[base, base + 1, base + 2], [base, base + 2, base + 3]];
+            o.triangles.extend(if sign > 0.0 { quad } else { quad.map(|[a, b, c]| [a, c, b]) });
+        }
+    }
+    o
+}
+
+/// Under light that is affine across flat faces, flat untextured triangles
+/// are drawn whole; beside curved ones they split only where their edge is
+/// shared, and no crack opens.
+#[test]
+fn flat_faces_under_affine_light_are_left_whole() {
+    let affine = DiceOptions { affine_shading: true, ..DiceOptions::default() };
+    let (diced, report) = dice(&[flat_cube()], &budget, &affine).unwrap();
+    assert_eq!((report.triangles_in, report.triangles_out, report.affine_triangles), (12, 12, 12));
+    let sorted = |mut t: Vec<[u32; 3]>| {
+        t.sort();
+        t
+    };
+    assert_eq!(sorted(diced[0].triangles.clone()), sorted(flat_cube().triangles));
+    // A textured cube is diced as before.
+    let mut textured = flat_cube();
+    textured.material.base_colour_texture =
+        Some(holo::mesh::TextureRef { texture: 0, uv_set: 0, transform: Default::default() });
+    let (_, report) = dice(&[textured], &budget, &affine).unwrap();
+    assert!(report.triangles_out > 20 * report.triangles_in, "{report:?}");
+    // The cylinder: flat caps beside curved sides.
+    let coarse = vec![cylinder(8)];
+    let (whole, report) = dice(&coarse, &budget, &affine).unwrap();
+    let (all, _) = dice(&coarse, &budget, &DiceOptions::default()).unwrap();
+    let count = |d: &[Object]| d.iter().map(|o| o.triangles.len()).sum::<usize>();
+    let (open, through) = (open_edges(&whole), rays_through(&coarse, &whole, 3000, 7));
+    println!(
+        "cylinder, caps whole: {} triangles ({} affine in), every triangle diced: {}; open edges {open}; rays through {through}",
+        count(&whole),
+        report.affine_triangles,
+        count(&all)
+    );
+    assert_eq!(report.affine_triangles, 16, "the caps' triangles");
+    assert!(count(&whole) < count(&all), "the caps are diced less");
+    assert_eq!((open, through), (0, 0), "no crack between whole caps and diced sides");
+}

@@ -69,8 +69,15 @@ fn micropolygons_render_like_the_mesh_and_converge() {
     let mut errors = Vec::new();
     for factor in [4.0, 2.0, 1.0, 0.5] {
         let budget = display_budget(&g, factor);
-        let (micro, specular_lights, report) =
-            micropolygons(&scene, &lights(), &budget, &DiceOptions::default(), &BakeOptions::default()).unwrap();
+        let (micro, specular_lights, report) = micropolygons(
+            &scene,
+            &lights(),
+            &budget,
+            &DiceOptions::default(),
+            &BakeOptions::default(),
+            &holo::progress::Silent,
+        )
+        .unwrap();
         assert!(specular_lights.iter().all(|l| !matches!(l, Light::Ambient { .. })));
         let (m, _) = render(&micro, &g, &options(specular_lights), &holo::progress::Silent).unwrap();
         let e = relative_error(&m, &direct);
@@ -94,9 +101,15 @@ fn deferred_specular_moves_across_views_like_direct_rendering() {
     }
     let sun = vec![Light::Directional { direction: [0.1, -0.2, -1.0], irradiance: [3.0; 3], name: "sun".into() }];
     let (direct, _) = render(&scene, &g, &options(sun.clone()), &holo::progress::Silent).unwrap();
-    let (micro, specular_lights, _) =
-        micropolygons(&scene, &sun, &display_budget(&g, 0.5), &DiceOptions::default(), &BakeOptions::default())
-            .unwrap();
+    let (micro, specular_lights, _) = micropolygons(
+        &scene,
+        &sun,
+        &display_budget(&g, 0.5),
+        &DiceOptions::default(),
+        &BakeOptions::default(),
+        &holo::progress::Silent,
+    )
+    .unwrap();
     let (m, _) = render(&micro, &g, &options(specular_lights), &holo::progress::Silent).unwrap();
     let (mut same, mut compared) = (0, 0);
     for j in 0..g.hololines {
@@ -133,9 +146,15 @@ fn chosen_lights_are_renumbered_into_the_specular_lights() {
     let lights = [sun.clone(), ambient, lamp.clone()];
     scene.objects[0].material.lights = Some(vec![2, 1]);
     scene.objects[0].material.specular_model = Some(SpecularModel::Phong);
-    let (micro, specular, _) =
-        micropolygons(&scene, &lights, &display_budget(&g, 4.0), &DiceOptions::default(), &BakeOptions::default())
-            .unwrap();
+    let (micro, specular, _) = micropolygons(
+        &scene,
+        &lights,
+        &display_budget(&g, 4.0),
+        &DiceOptions::default(),
+        &BakeOptions::default(),
+        &holo::progress::Silent,
+    )
+    .unwrap();
     assert_eq!(specular, vec![sun, lamp]);
     assert_eq!(micro.objects[0].material.lights, Some(vec![1]), "lamp: 2 → 1; the ambient, baked, is dropped");
     assert_eq!(micro.objects[0].material.specular_model, Some(SpecularModel::Phong));

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use clap::{Args, Subcommand};
 use holo::holoflick::cg::EncodeOptions;
 use holo::holoflick::container::ViewerCouch;
-use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
+use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions, DEFAULT_MICROPOLYGON};
 use holo::holoflick::tools::{info, pack, unpack, PackOptions, PackReport};
 use holo::mesh::convert::SceneFramesOptions;
 
@@ -150,8 +150,9 @@ pub struct EncodeArgs {
     output: PathBuf,
     #[arg(long, default_value = "mark3", help = layout_help(""))]
     layout: String,
-    /// Micropolygon edge as a multiple of what the display resolves at its depth.
-    #[arg(long, default_value = "1", value_parser = args::positive())]
+    /// Micropolygon edge as a multiple of what the display resolves at its depth (1: finest that
+    /// shows; flat, untextured faces under directional light are left whole at any size).
+    #[arg(long, default_value_t = DEFAULT_MICROPOLYGON, value_parser = args::positive())]
     micropolygon: f64,
     /// Keep micropolygons flat (do not bend them onto the surface the normals describe).
     #[arg(long)]

@@ -39,6 +39,22 @@ pub struct BakeReport {
 /// material chooses lights ([`crate::mesh::Material::lights`], indices into
 /// `lights`) gets only those. Vertices no triangle uses get zero.
 pub fn bake_diffuse(scene: &Scene, lights: &[Light], options: &BakeOptions) -> (Vec<Vec<[f32; 4]>>, BakeReport) {
+    bake_diffuse_reporting(scene, lights, options, &crate::progress::Silent)
+}
+
+/// Vertices lit per progress report: enough that reporting costs nothing.
+const BAKE_CHUNK: usize = 4096;
+
+/// [`bake_diffuse`], counting the vertices lit in the phase `vertices lit`
+/// of `progress`.
+pub fn bake_diffuse_reporting(
+    scene: &Scene,
+    lights: &[Light],
+    options: &BakeOptions,
+    progress: &dyn crate::progress::Progress,
+) -> (Vec<Vec<[f32; 4]>>, BakeReport) {
+    progress.phase("vertices lit", scene.objects.iter().map(|o| o.positions.len() as u64).sum());
+    let lit = std::sync::atomic::AtomicU64::new(0);
     // The reference shader with specular reflectance zero: view-independent.
     let mut matte = scene.clone();
     for o in &mut matte.objects {
@@ -68,8 +84,13 @@ pub fn bake_diffuse(scene: &Scene, lights: &[Light], options: &BakeOptions) -> (
                 }
             }
             let per_vertex: Vec<([f32; 4], usize)> = corner
-                .par_iter()
+                .par_chunks(BAKE_CHUNK)
                 .enumerate()
+                .flat_map_iter(|(chunk, corners)| {
+                    let done = lit.fetch_add(corners.len() as u64, std::sync::atomic::Ordering::Relaxed);
+                    progress.advance(done + corners.len() as u64);
+                    corners.iter().enumerate().map(move |(k, c)| (chunk * BAKE_CHUNK + k, c))
+                })
                 .map(|(i, c)| {
                     let Some((t, k)) = *c else { return ([0.0; 4], 0) };
                     let hit = Hit { object: oi as u32, triangle: t, b1: f64::from(k == 1), b2: f64::from(k == 2) };

@@ -16,6 +16,15 @@
 //! so such edges are split flat: the stitch. Splits are longest-edge
 //! bisections by pattern (one, two or three edges split at once), so a
 //! triangle never has a T-junction with its neighbours.
+//!
+//! No work where the scene needs none: when the light to be baked is affine
+//! across a flat triangle (only directional and ambient light, no shadows,
+//! no textures: [`DiceOptions::affine_shading`]), a triangle whose three
+//! normals are equal is drawn exactly as it is, so an edge is split only if
+//! some triangle on it is not such a one. The decision stays a function of
+//! the edge (its sides are known before dicing, halves of a split edge
+//! inherit it, edges inside a triangle follow the triangle), so cracks stay
+//! impossible.
 
 use std::collections::HashMap;
 
@@ -33,12 +42,27 @@ pub struct DiceOptions {
     pub stitch: bool,
     /// Refuse to produce more than this many triangles per object.
     pub max_triangles: usize,
+    /// The light to be baked is affine across a flat triangle (directional
+    /// and ambient lights only, no shadows): untextured triangles with equal
+    /// normals at their corners are left whole unless a neighbour needs
+    /// their edge split.
+    pub affine_shading: bool,
 }
 
 impl Default for DiceOptions {
     fn default() -> Self {
-        DiceOptions { smooth: true, stitch: true, max_triangles: 50_000_000 }
+        DiceOptions { smooth: true, stitch: true, max_triangles: 50_000_000, affine_shading: false }
     }
+}
+
+/// Whether triangle `t` of `o` shades affinely when the light does
+/// ([`DiceOptions::affine_shading`]): no texture on its material, and its
+/// corners' normals equal (or none: flat).
+fn shades_affinely(o: &Object, t: &[u32; 3]) -> bool {
+    let m = &o.material;
+    let untextured = m.base_colour_texture.is_none() && m.normal_texture.is_none() && m.emissive_texture.is_none();
+    let normals = t.map(|i| o.normals.get(i as usize).copied());
+    untextured && normals[0] == normals[1] && normals[1] == normals[2]
 }
 
 /// What dicing did.
@@ -50,6 +74,9 @@ pub struct DiceReport {
     pub triangles_out: usize,
     /// Edges split flat because their sides disagree or one is missing.
     pub stitched_edges: usize,
+    /// Input triangles left whole or split only where a neighbour needed it,
+    /// their shading being exact as it is.
+    pub affine_triangles: usize,
 }
 
 /// The bits of a position, so edges are keyed by where they are.
@@ -79,7 +106,20 @@ pub fn dice(
     max_edge_m: &(dyn Fn([f64; 3]) -> f64 + Sync),
     options: &DiceOptions,
 ) -> Result<(Vec<Object>, DiceReport)> {
+    dice_reporting(objects, max_edge_m, options, &crate::progress::Silent)
+}
+
+/// [`dice`], counting the input triangles diced in the phase
+/// `triangles diced` of `progress`.
+pub fn dice_reporting(
+    objects: &[Object],
+    max_edge_m: &(dyn Fn([f64; 3]) -> f64 + Sync),
+    options: &DiceOptions,
+    progress: &dyn crate::progress::Progress,
+) -> Result<(Vec<Object>, DiceReport)> {
     let mut report = DiceReport::default();
+    progress.phase("triangles diced", objects.iter().map(|o| o.triangles.len() as u64).sum());
+    let mut done = 0u64;
     // The normals each side of every edge gives its ends: edges whose sides
     // agree (and that have two sides) may bend; the rest are stitched flat.
     let mut sides: HashMap<(PositionKey, PositionKey), EdgeSides> = HashMap::new();
@@ -95,12 +135,17 @@ pub fn dice(
                 };
                 let (na, nb) = (o.normals.get(i).copied(), o.normals.get(j).copied());
                 let ends = if key(a) <= key(b) { (na, nb) } else { (nb, na) };
-                sides.entry(edge_key(a, b)).or_default().add(ends);
+                let side = sides.entry(edge_key(a, b)).or_default();
+                side.add(ends);
+                side.curved |= !(options.affine_shading && shades_affinely(o, t));
             }
         }
     }
     // Halves of an edge split flat are split flat too, in whichever object.
     let mut flat: std::collections::HashSet<(PositionKey, PositionKey)> = Default::default();
+    // Whether each edge of the input (and, as they are made, each half of
+    // one) is curved: some triangle on it does not shade affinely.
+    let mut curved: HashMap<(PositionKey, PositionKey), bool> = sides.iter().map(|(k, s)| (*k, s.curved)).collect();
     let mut out = Vec::with_capacity(objects.len());
     for o in objects {
         report.triangles_in += o.triangles.len();
@@ -109,60 +154,76 @@ pub fn dice(
             midpoints: HashMap::new(),
             sides: &sides,
             flat: &mut flat,
+            curved: &mut curved,
             smooth: options.smooth,
             stitch: options.stitch,
             stitched: 0,
         };
         d.o.triangles.clear();
-        let mut work: Vec<[u32; 3]> = o.triangles.clone();
-        while let Some(t) = work.pop() {
-            if d.o.triangles.len() + work.len() > options.max_triangles {
-                return Err(Error::argument(
-                    "micropolygon budget",
-                    format!(
-                        "object \"{}\": dicing makes more than {} micropolygons; coarsen the budget",
-                        o.name, options.max_triangles
-                    ),
-                ));
-            }
-            let p = t.map(|i| d.o.positions[i as usize]);
-            let split: [bool; 3] = std::array::from_fn(|k| {
-                let (a, b) = (p[k], p[(k + 1) % 3]);
-                let m = midpoint(a, b);
-                let length = distance(a, b);
-                let budget = max_edge_m(m);
-                // Not finite or not positive: leave the edge alone.
-                length > budget && budget > 0.0 && budget.is_finite()
-            });
-            match split.iter().filter(|s| **s).count() {
-                0 => d.o.triangles.push(t),
-                1 => {
-                    // Rotate so the split edge is (a, b).
-                    let k = split.iter().position(|s| *s).unwrap_or(0);
-                    let [a, b, c] = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
-                    let m = d.midpoint(a, b)?;
-                    work.extend([[a, m, c], [m, b, c]]);
+        // Each triangle to do, with whether its shading is affine (children
+        // inherit it from the input triangle).
+        // One input triangle at a time, so progress counts them.
+        let mut work: Vec<([u32; 3], bool)> = Vec::new();
+        for input in &o.triangles {
+            let affine = options.affine_shading && shades_affinely(o, input);
+            report.affine_triangles += usize::from(affine);
+            work.push((*input, affine));
+            while let Some((t, affine)) = work.pop() {
+                if d.o.triangles.len() + work.len() > options.max_triangles {
+                    return Err(Error::argument(
+                        "micropolygon budget",
+                        format!(
+                            "object \"{}\": dicing makes more than {} micropolygons; coarsen the budget",
+                            o.name, options.max_triangles
+                        ),
+                    ));
                 }
-                2 => {
-                    // Rotate so the unsplit edge is (c, a): split (a, b) and (b, c).
-                    let k = (split.iter().position(|s| !*s).unwrap_or(0) + 1) % 3;
-                    let [a, b, c] = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
-                    let (mab, mbc) = (d.midpoint(a, b)?, d.midpoint(b, c)?);
-                    work.push([mab, b, mbc]);
-                    // The quad (a, mab, mbc, c) along its shorter diagonal.
-                    let pos = |i: u32| d.o.positions[i as usize];
-                    if distance(pos(a), pos(mbc)) <= distance(pos(mab), pos(c)) {
-                        work.extend([[a, mab, mbc], [a, mbc, c]]);
-                    } else {
-                        work.extend([[a, mab, c], [mab, mbc, c]]);
+                let p = t.map(|i| d.o.positions[i as usize]);
+                let split: [bool; 3] = std::array::from_fn(|k| {
+                    let (a, b) = (p[k], p[(k + 1) % 3]);
+                    // An edge of the input, or half of one, is curved when a
+                    // triangle on either side is; one inside a triangle when it is.
+                    let curved = d.curved.get(&edge_key(a, b)).copied().unwrap_or(!affine);
+                    let m = midpoint(a, b);
+                    let length = distance(a, b);
+                    let budget = max_edge_m(m);
+                    // Not finite or not positive: leave the edge alone.
+                    curved && length > budget && budget > 0.0 && budget.is_finite()
+                });
+                match split.iter().filter(|s| **s).count() {
+                    0 => d.o.triangles.push(t),
+                    1 => {
+                        // Rotate so the split edge is (a, b).
+                        let k = split.iter().position(|s| *s).unwrap_or(0);
+                        let [a, b, c] = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
+                        let m = d.midpoint(a, b)?;
+                        work.extend([([a, m, c], affine), ([m, b, c], affine)]);
+                    }
+                    2 => {
+                        // Rotate so the unsplit edge is (c, a): split (a, b) and (b, c).
+                        let k = (split.iter().position(|s| !*s).unwrap_or(0) + 1) % 3;
+                        let [a, b, c] = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
+                        let (mab, mbc) = (d.midpoint(a, b)?, d.midpoint(b, c)?);
+                        work.push(([mab, b, mbc], affine));
+                        // The quad (a, mab, mbc, c) along its shorter diagonal.
+                        let pos = |i: u32| d.o.positions[i as usize];
+                        if distance(pos(a), pos(mbc)) <= distance(pos(mab), pos(c)) {
+                            work.extend([([a, mab, mbc], affine), ([a, mbc, c], affine)]);
+                        } else {
+                            work.extend([([a, mab, c], affine), ([mab, mbc, c], affine)]);
+                        }
+                    }
+                    _ => {
+                        let [a, b, c] = t;
+                        let (mab, mbc, mca) = (d.midpoint(a, b)?, d.midpoint(b, c)?, d.midpoint(c, a)?);
+                        work.extend(
+                            [[a, mab, mca], [mab, b, mbc], [mca, mbc, c], [mab, mbc, mca]].map(|t| (t, affine)),
+                        );
                     }
                 }
-                _ => {
-                    let [a, b, c] = t;
-                    let (mab, mbc, mca) = (d.midpoint(a, b)?, d.midpoint(b, c)?, d.midpoint(c, a)?);
-                    work.extend([[a, mab, mca], [mab, b, mbc], [mca, mbc, c], [mab, mbc, mca]]);
-                }
             }
+            done += 1;
+            progress.advance(done);
         }
         report.triangles_out += d.o.triangles.len();
         report.stitched_edges += d.stitched;
@@ -180,6 +241,8 @@ struct EdgeSides {
     count: u32,
     ends: Option<EndNormals>,
     agree: bool,
+    /// A triangle on it does not shade affinely: split it by the budget.
+    curved: bool,
 }
 
 impl EdgeSides {
@@ -205,6 +268,7 @@ struct Dicer<'a> {
     midpoints: HashMap<(u32, u32), u32>,
     sides: &'a HashMap<(PositionKey, PositionKey), EdgeSides>,
     flat: &'a mut std::collections::HashSet<(PositionKey, PositionKey)>,
+    curved: &'a mut HashMap<(PositionKey, PositionKey), bool>,
     smooth: bool,
     stitch: bool,
     stitched: usize,
@@ -235,6 +299,10 @@ impl Dicer<'_> {
             self.stitched += 1;
             self.flat.insert(edge_key(a, p));
             self.flat.insert(edge_key(p, b));
+        }
+        if let Some(&curved) = self.curved.get(&here) {
+            self.curved.insert(edge_key(a, p), curved);
+            self.curved.insert(edge_key(p, b), curved);
         }
         let m = u32::try_from(o.positions.len()).map_err(|_| {
             Error::argument("object", format!("object \"{}\": more than 2³² vertices after dicing", o.name))

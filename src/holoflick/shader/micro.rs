@@ -12,8 +12,8 @@
 //! Normal maps are baked into the diffuse light and then dropped: the
 //! deferred specular term sees the interpolated vertex normals.
 
-use super::bake::{bake_diffuse, BakeOptions, BakeReport};
-use super::dice::{dice, with_flat_normals, DiceOptions, DiceReport};
+use super::bake::{bake_diffuse_reporting, BakeOptions, BakeReport};
+use super::dice::{dice_reporting, with_flat_normals, DiceOptions, DiceReport};
 use crate::mesh::{Light, Material, Scene};
 use crate::Result;
 
@@ -36,11 +36,12 @@ pub fn micropolygons(
     max_edge_m: &(dyn Fn([f64; 3]) -> f64 + Sync),
     dice_options: &DiceOptions,
     bake_options: &BakeOptions,
+    progress: &dyn crate::progress::Progress,
 ) -> Result<(Scene, Vec<Light>, MicroReport)> {
     let flat: Vec<_> = scene.objects.iter().map(with_flat_normals).collect();
-    let (objects, dice_report) = dice(&flat, max_edge_m, dice_options)?;
+    let (objects, dice_report) = dice_reporting(&flat, max_edge_m, dice_options, progress)?;
     let diced = Scene { objects, ..scene.clone() };
-    let (colours, bake_report) = bake_diffuse(&diced, lights, bake_options);
+    let (colours, bake_report) = bake_diffuse_reporting(&diced, lights, bake_options, progress);
     let mut out = Scene { source: scene.source.clone(), warnings: scene.warnings.clone(), ..Scene::default() };
     // Each light's index among the specular lights returned (ambient ones are dropped).
     let mut kept = 0u32;
