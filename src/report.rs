@@ -56,7 +56,7 @@ impl fmt::Display for Info {
         writeln!(f, "{}", i.path.display())?;
         writeln!(
             f,
-            "  format        .holo {}.{} (OpenEXR), {} frame(s), pixel aspect ratio {}",
+            "  format        .holo {}.{} (OpenEXR), {} frame(s), pixel aspect ratio {:.4}",
             i.version.0,
             i.version.1,
             i.frames.len(),

@@ -1000,3 +1000,53 @@ fn quantized_positions_load_and_unknown_extensions_are_named() {
     let e = err_of(&required);
     assert!(e.contains("required.gltf") && e.contains("KHR_draco_mesh_compression"), "{e}");
 }
+
+/// OBJ as the common readers (assimp, trimesh, tinyobjloader) accept it:
+/// each variant loads to the triangles it means, and what is skipped or
+/// missing is said, naming the file.
+#[test]
+fn obj_variants_the_common_readers_accept() {
+    let dir = tempfile::tempdir().unwrap();
+    let quad = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n";
+    let cases: &[(&str, String, usize, &str)] = &[
+        ("bom", format!("\u{feff}{quad}f 1 2 3\n"), 1, ""),
+        ("negative indices", format!("{quad}f -4 -3 -2\n"), 1, ""),
+        ("v//vn", format!("{quad}vn 0 0 1\nf 1//1 2//1 3//1\n"), 1, ""),
+        ("n-gon", format!("{quad}v 0 1.5 0\nf 1 2 3 5 4\n"), 3, ""),
+        ("vertex colours", "v -1 -1 0 1 0 0\nv 1 -1 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n".into(), 1, ""),
+        ("w coordinate", "v -1 -1 0 1\nv 1 -1 0 1\nv 0 1 0 1\nf 1 2 3\n".into(), 1, ""),
+        ("3-component vt", format!("{quad}vt 0 0 0\nvt 1 0 0\nvt 1 1 0\nf 1/1 2/2 3/3\n"), 1, ""),
+        ("continued line", format!("{quad}f 1 2 \\\n 3\n"), 1, ""),
+        ("comments at line ends", "v -1 -1 0 # a\nv 1 -1 0\nv 0 1 0\nf 1 2 3 # face\n".into(), 1, ""),
+        ("tabs and spaces", "v\t-1\t-1\t0\nv  1 -1  0\n   v 0 1 0\nf\t1 2\t3\n".into(), 1, ""),
+        ("number forms", "v -1e0 -1.0E+0 .0\nv +1 -1 0\nv 0 1. 0\nf 1 2 3\n".into(), 1, ""),
+        ("trailing slashes", format!("{quad}f 1/ 2/ 3/\n"), 1, ""),
+        (
+            "groups, smoothing, lines, points",
+            format!("{quad}o a\ng b\ns off\nl 1 2\np 1\nf 1 2 3\n"),
+            1,
+            "were ignored",
+        ),
+        ("unknown material", format!("{quad}usemtl nothing\nf 1 2 3\n"), 1, "material \"nothing\" (usemtl)"),
+        ("two-corner face", format!("{quad}f 1 2\nf 1 2 3\n"), 1, "fewer than 3 corners"),
+        (
+            "missing texture",
+            format!("mtllib m.mtl\n{quad}vt 0 0\nvt 1 0\nvt 1 1\nusemtl skin\nf 1/1 2/2 3/3\n"),
+            1,
+            "m.mtl: material \"skin\": map_Kd texture \"gone.png\" not found",
+        ),
+    ];
+    std::fs::write(dir.path().join("m.mtl"), "newmtl skin\nKd 1 1 1\nmap_Kd gone.png\n").unwrap();
+    for (name, text, triangles, warning) in cases {
+        let path = dir.path().join(format!("{}.obj", name.replace([' ', '/', ','], "_")));
+        std::fs::write(&path, text).unwrap();
+        let scene = load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(scene.triangle_count(), *triangles, "{name}");
+        let said = scene.warnings.join("\n");
+        if warning.is_empty() {
+            assert!(said.is_empty(), "{name}: {said}");
+        } else {
+            assert!(said.contains(warning), "{name}: {said}");
+        }
+    }
+}

@@ -604,3 +604,23 @@ fn output_is_o_everywhere_and_out_still_works() {
         assert!(text(&o).contains("r.holo"), "{flag}: {}", text(&o));
     }
 }
+
+/// Files are written as format 1.1 (pixels at the emitter grid's proportions)
+/// unless version 1.0 (square pixels, for 1.0 readers) is asked for; both
+/// validate and hold the same samples.
+#[test]
+fn format_versions_differ_only_in_the_pixel_aspect_ratio() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = super::small_profile(d, 4);
+    let layout = profile.to_str().unwrap();
+    ok(holo(&["pattern", "--layout", layout, "--kind", "view-ramp", "-o", "new.holo"], d));
+    ok(holo(&["pattern", "--layout", layout, "--kind", "view-ramp", "-o", "old.holo", "--format-version", "1.0"], d));
+    let new = text(&ok(holo(&["info", "new.holo"], d)));
+    let old = text(&ok(holo(&["info", "old.holo"], d)));
+    assert!(new.contains(".holo 1.1 (OpenEXR), 1 frame(s), pixel aspect ratio 1.7460"), "{new}");
+    assert!(old.contains(".holo 1.0 (OpenEXR), 1 frame(s), pixel aspect ratio 1.0000\n"), "{old}");
+    ok(holo(&["validate", "new.holo", "old.holo"], d));
+    let both = text(&ok(holo(&["info", "new.holo", "old.holo"], d)));
+    assert!(both.to_lowercase().contains("same content"), "{both}");
+}

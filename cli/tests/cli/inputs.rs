@@ -30,6 +30,20 @@ fn an_old_blender_ply_converts_with_a_warning_naming_the_line() {
         .unwrap();
     let o = ok(holo(&["convert", "mesh", "nomtl.obj", "--layout", profile.to_str().unwrap(), "-o", "nomtl.holo"], d));
     assert!(text(&o).contains("nomtl.obj: line 1: material library \"gone.mtl\" (mtllib) not found"), "{}", text(&o));
+    // A texture the material library names but the folder lacks: drawn without it, said.
+    std::fs::write(d.join("skin.mtl"), "newmtl skin\nKd 1 1 1\nmap_Kd gone.png\n").unwrap();
+    std::fs::write(
+        d.join("notex.obj"),
+        "mtllib skin.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl skin\nf 1/1 2/2 3/3\n",
+    )
+    .unwrap();
+    let o = ok(holo(&["convert", "mesh", "notex.obj", "--layout", profile.to_str().unwrap(), "-o", "notex.holo"], d));
+    assert!(
+        text(&o).contains("skin.mtl: material \"skin\": map_Kd texture \"gone.png\" not found (looked in")
+            && text(&o).contains("drawn without it"),
+        "{}",
+        text(&o)
+    );
 }
 
 /// Every lossy compression converts the bundled Spot, says it is lossy, and

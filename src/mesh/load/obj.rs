@@ -26,8 +26,10 @@ struct Builder {
 }
 
 /// Logical lines: `\r\n` accepted, `\` continues a line, `#` starts a
-/// comment. Yields (first physical line number, text).
+/// comment, a UTF-8 byte-order mark (as Windows editors write) skipped.
+/// Yields (first physical line number, text).
 fn logical_lines(text: &str) -> Vec<(usize, String)> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut out = Vec::new();
     let mut cur = String::new();
     let mut start = 0;
@@ -535,7 +537,12 @@ impl MtlLibrary {
                 "map_kd" | "map_ke" | "norm" => {
                     let spec = parse_map(args);
                     let srgb = kw != "norm";
-                    let t = self.texture(path, &dir, &mname, kw_as_written, &spec, srgb, limits, warnings)?;
+                    // A texture file that is missing is said and left out,
+                    // as assimp and trimesh read such files.
+                    let Some(t) = self.texture(path, &dir, &mname, kw_as_written, &spec, srgb, limits, warnings)?
+                    else {
+                        continue;
+                    };
                     let r = TextureRef { texture: t, uv_set: 0, transform: spec.transform };
                     match kw.as_str() {
                         "map_kd" => m.base_colour_texture = Some(r),
@@ -574,7 +581,7 @@ impl MtlLibrary {
         srgb: bool,
         limits: &LoadLimits,
         warnings: &mut Vec<String>,
-    ) -> Result<usize> {
+    ) -> Result<Option<usize>> {
         let file = file_name(mtl);
         let name = spec.file.trim();
         let found = resolve_file(dir, name).or_else(|| {
@@ -588,15 +595,17 @@ impl MtlLibrary {
             Some(p)
         });
         let Some(p) = found else {
-            return Err(Error::scene(
-                mtl,
-                format!("material \"{material}\": {kw} texture \"{name}\" not found (looked in {})", dir.display()),
+            let folder = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
+            warnings.push(format!(
+                "{file}: material \"{material}\": {kw} texture \"{name}\" not found (looked in {}); drawn without it",
+                folder.display()
             ));
+            return Ok(None);
         };
         let wrap = if spec.clamp { [Wrap::ClampToEdge; 2] } else { [Wrap::Repeat; 2] };
         let key = (p.clone(), srgb, wrap.map(|w| w as u8));
         if let Some(&i) = self.cache.get(&key) {
-            return Ok(i);
+            return Ok(Some(i));
         }
         let bytes = std::fs::read(&p).map_err(|e| {
             Error::scene(mtl, format!("material \"{material}\": {kw} texture \"{name}\" cannot be read: {e}"))
@@ -605,6 +614,6 @@ impl MtlLibrary {
             .map_err(|e| Error::scene(mtl, format!("material \"{material}\": {kw} texture \"{name}\" {e}")))?;
         self.textures.push(t);
         self.cache.insert(key, self.textures.len() - 1);
-        Ok(self.textures.len() - 1)
+        Ok(Some(self.textures.len() - 1))
     }
 }
