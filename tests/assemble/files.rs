@@ -108,3 +108,32 @@ fn bytes_are_reproducible_and_mismatches_are_named() {
     let stats = r.resampled.unwrap();
     assert!(stats.total == 4 * 336 * 96 && stats.outside > 0, "{stats:?}");
 }
+
+/// `holo.scale` says what absolute radiance a sample stands for; fringes are
+/// normalised to the quantizer's range, so two files that differ only in it
+/// assemble to the same bytes (spec/layouts.md §4.1).
+#[test]
+fn holo_scale_does_not_change_the_fringes() {
+    let dir = tempfile::tempdir().unwrap();
+    let layout = small_layout(dir.path());
+    let m = random(&layout, 3);
+    let options = AssembleOptions { frames: None, format: FringeFormat::Raw, overwrite: false, resample: false };
+    let mut files = Vec::new();
+    for (name, scale) in [("one", 1.0), ("bright", 2.5e3)] {
+        let input = dir.path().join(format!("{name}.holo"));
+        let mut write = WriteOptions::default();
+        write.radiometry.scale = scale;
+        holo::format::write(&input, &m, &write).unwrap();
+        assert_eq!(holo::HoloFile::open(&input).unwrap().info().radiometry.scale, scale);
+        files.push(assemble_file(&input, &layout, &dir.path().join(name), &options, &holo::progress::Silent).unwrap());
+    }
+    let mut compared = 0;
+    for (a, b) in files[0].files.iter().zip(&files[1].files) {
+        if a.extension().is_some_and(|x| x == "json") {
+            continue;
+        }
+        assert_eq!(std::fs::read(a).unwrap(), std::fs::read(b).unwrap(), "{}", a.display());
+        compared += 1;
+    }
+    assert!(compared > 0, "{:?}", files[0].files);
+}
