@@ -57,11 +57,8 @@ fn bench(c: &mut Criterion) {
     let encoded = encode_holoflick(&spot, g, &hflk, &options, &holo::progress::Silent).expect("encode");
     let mut reader = HoloFlickReader::open(&hflk).expect("open");
     let mut frame = Modulation::zeros(g.clone()).expect("frame");
-    let render = RenderOptions {
-        supersample: Supersample { emitter: 1, view: 1 },
-        engine: Engine::Fast,
-        ..RenderOptions::default()
-    };
+    let render =
+        RenderOptions { supersample: Supersample::new(1, 1), engine: Engine::Fast, ..RenderOptions::default() };
     let runs = if quick { 1 } else { 3 };
     let mut drawn = 0;
     let seconds = common::time(runs, || drawn = play(&mut reader, &mut frame, &render));

@@ -87,7 +87,7 @@
 //! place(&mut scene, geometry, &Placement::default())?;
 //!
 //! // One frame of modulation: the radiance along every display ray.
-//! let options = RenderOptions { supersample: Supersample { emitter: 1, view: 1 }, ..RenderOptions::default() };
+//! let options = RenderOptions { supersample: Supersample::new(1, 1), ..RenderOptions::default() };
 //! let (frame, _stats) = render(&scene, geometry, &options, &Silent)?;
 //! assert_eq!(frame.geometry(), geometry);
 //!

@@ -325,7 +325,7 @@ mod tests {
             assert!(seen > g.hololines * g.emitters, "the surface fills most of the picture ({seen})");
         }
         // The same through TraceRenderer::trace, in f64, for one ray per view.
-        let rays = Rays::new(&g, Supersample { emitter: 1, view: 1 }).unwrap();
+        let rays = Rays::new(&g, Supersample::new(1, 1)).unwrap();
         let weights = channel_weights(&["R", "G", "B"]);
         let tracer = TraceRenderer::new(Shading {
             scene: &s,

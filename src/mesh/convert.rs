@@ -319,9 +319,13 @@ impl SceneStage for MeshRender {
             None => (0, 0, String::new()),
         };
         format!(
-            "holo convert mesh {name} ({triangles} triangles, {objects} objects; {placed}; supersampling {}x{}, {} lobe)",
+            "holo convert mesh {name} ({triangles} triangles, {objects} objects; {placed}; supersampling {}x{}{}, {} lobe)",
             self.render.supersample.emitter,
             self.render.supersample.view,
+            match self.render.supersample.hololine {
+                1 => String::new(),
+                h => format!(", {h} lines per hololine"),
+            },
             self.render.lighting.model.name()
         )
     }

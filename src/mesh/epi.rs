@@ -577,7 +577,7 @@ mod tests {
                 ],
                 model,
             };
-            let rays = Rays::new(&g, Supersample { emitter: 2, view: 2 }).unwrap();
+            let rays = Rays::new(&g, Supersample::new(2, 2)).unwrap();
             let weights = channel_weights(&["R", "G", "B"]);
             let shading =
                 || Shading { scene: &scene, lighting: &lighting, weights: &weights, rays: &rays, geometry: &g };

@@ -34,13 +34,24 @@ pub struct Supersample {
     pub emitter: usize,
     /// Sub-rays across a view's angular interval.
     pub view: usize,
+    /// Sub-hololines across a hololine's height, averaged: antialiasing of
+    /// edges near the horizontal (a hololine otherwise samples the scene on
+    /// one line at its centre).
+    pub hololine: usize,
+}
+
+impl Supersample {
+    /// `emitter × view` sub-rays, one line per hololine.
+    pub const fn new(emitter: usize, view: usize) -> Supersample {
+        Supersample { emitter, view, hololine: 1 }
+    }
 }
 
 impl Default for Supersample {
     /// 2 × 2: the knob table in the README shows it removes most of the
     /// aliasing of 1 × 1 at 2–3 times the cost.
     fn default() -> Self {
-        Supersample { emitter: 2, view: 2 }
+        Supersample::new(2, 2)
     }
 }
 
@@ -137,9 +148,11 @@ pub struct Rays {
     pub sub_emitter_x_m: Vec<f64>,
     /// `tan θ` of every sub-view, `V·S_v` of them.
     pub sub_view_slope: Vec<f64>,
-    /// `y_j` per hololine.
+    /// `y` of every sub-hololine, `H·S_h` of them, evenly spaced downward:
+    /// sub-hololine `j·S_h + t` is at `y_j + pitch · (½ − (t + ½)/S_h)`
+    /// (`y_j` itself when `S_h` is 1).
     pub hololine_y_m: Vec<f64>,
-    /// `k_j = dy/dz` per hololine.
+    /// `k = dy/dz` per sub-hololine.
     pub hololine_slope: Vec<f64>,
     /// `z_e`.
     pub emitter_z_m: f64,
@@ -154,10 +167,13 @@ pub struct Rays {
 impl Rays {
     /// The rays of `g` at factor `s`.
     pub fn new(g: &Geometry, s: Supersample) -> Result<Rays> {
-        if s.emitter == 0 || s.view == 0 || s.emitter > 64 || s.view > 64 {
+        if [s.emitter, s.view, s.hololine].iter().any(|&k| k == 0 || k > 64) {
             return Err(Error::argument(
                 "supersampling",
-                format!("supersampling {}x{} is out of range: each factor must be 1 to 64", s.emitter, s.view),
+                format!(
+                    "supersampling {}x{} with {} per hololine is out of range: each factor must be 1 to 64",
+                    s.emitter, s.view, s.hololine
+                ),
             ));
         }
         let problems = g.problems();
@@ -180,7 +196,12 @@ impl Rays {
                 g.ray_slope_x(v as f64 + (k as f64 + 0.5) / s.view as f64 - 0.5)
             })
             .collect();
-        let hololine_y_m: Vec<f64> = (0..g.hololines).map(|j| g.hololine_y_m(j)).collect();
+        let hololine_y_m: Vec<f64> = (0..g.hololines * s.hololine)
+            .map(|i| {
+                let (j, t) = (i / s.hololine, i % s.hololine);
+                g.hololine_y_m(j) + g.hololine_pitch_m * (0.5 - (t as f64 + 0.5) / s.hololine as f64)
+            })
+            .collect();
         let hololine_slope = hololine_y_m.iter().map(|&y| g.ray_slope_y(y)).collect();
         Ok(Rays {
             sub_emitter_x_m,
@@ -237,9 +258,10 @@ pub fn render_into(
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);
     let shading = Shading { scene, lighting: &lighting, weights: &weights, rays: &rays, geometry };
+    let per_hololine = options.supersample.hololine;
     let stats = match options.engine {
-        Engine::Fast => run(&super::epi::EpiRenderer::new(shading), frame, progress),
-        Engine::Reference => run(&super::trace::TraceRenderer::new(shading), frame, progress),
+        Engine::Fast => run(&super::epi::EpiRenderer::new(shading), per_hololine, frame, progress),
+        Engine::Reference => run(&super::trace::TraceRenderer::new(shading), per_hololine, frame, progress),
     };
     if progress.cancelled() {
         return Err(Error::Cancelled);
@@ -256,7 +278,14 @@ pub(crate) struct Shading<'a> {
     pub geometry: &'a Geometry,
 }
 
-fn run(engine: &dyn HololineRenderer, frame: &mut Modulation, progress: &dyn Progress) -> RenderStats {
+/// Every hololine of `frame` from `engine`, whose rays have `per_hololine`
+/// sub-hololines per hololine ([`Rays::hololine_y_m`]): their mean.
+fn run(
+    engine: &dyn HololineRenderer,
+    per_hololine: usize,
+    frame: &mut Modulation,
+    progress: &dyn Progress,
+) -> RenderStats {
     let g = frame.geometry();
     let (h, e, v, c) = (g.hololines, g.emitters, g.views.count, g.channels.len());
     let steps = Steps::begin(progress, "hololines", h);
@@ -274,7 +303,23 @@ fn run(engine: &dyn HololineRenderer, frame: &mut Modulation, progress: &dyn Pro
             if steps.cancelled() {
                 return RenderStats::default();
             }
-            let stats = engine.render_hololine(j, &mut rows);
+            let stats = if per_hololine == 1 {
+                engine.render_hololine(j, &mut rows)
+            } else {
+                // Each sub-hololine into a scratch row, their mean into the frame.
+                let mut stats = RenderStats::default();
+                let mut scratch: Vec<Vec<f32>> = rows.iter().map(|r| vec![0.0; r.len()]).collect();
+                rows.iter_mut().for_each(|r| r.fill(0.0));
+                let share = 1.0 / per_hololine as f32;
+                for t in 0..per_hololine {
+                    let mut sub: Vec<&mut [f32]> = scratch.iter_mut().map(|r| r.as_mut_slice()).collect();
+                    stats += engine.render_hololine(j * per_hololine + t, &mut sub);
+                    for (row, sub) in rows.iter_mut().zip(&scratch) {
+                        row.iter_mut().zip(sub).for_each(|(a, b)| *a += share * b);
+                    }
+                }
+                stats
+            };
             steps.step();
             stats
         })

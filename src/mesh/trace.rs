@@ -89,7 +89,7 @@ pub fn eye_picture(
     pupil_samples: usize,
 ) -> crate::Result<Vec<f32>> {
     use rayon::prelude::*;
-    let rays = super::render::Rays::new(geometry, super::render::Supersample { emitter: 1, view: 1 })?;
+    let rays = super::render::Rays::new(geometry, super::render::Supersample::new(1, 1))?;
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = crate::geometry::channel_weights(&names);
     let s = Shading { scene, lighting, weights: &weights, rays: &rays, geometry };

@@ -89,11 +89,8 @@ fn camera_arrays_of_a_mesh_match_direct_conversion() {
     let g = display();
     let scene = spot(&g);
     let lighting = Lighting { lights: Lighting::default_lights(), model: Default::default() };
-    let render_options = RenderOptions {
-        supersample: Supersample { emitter: 4, view: 4 },
-        lighting: lighting.clone(),
-        ..RenderOptions::default()
-    };
+    let render_options =
+        RenderOptions { supersample: Supersample::new(4, 4), lighting: lighting.clone(), ..RenderOptions::default() };
     let (truth, _) = render(&scene, &g, &render_options, &holo::progress::Silent).unwrap();
     let (d, y_v) = (g.viewer_distance_m, g.viewer_height_m);
     let target = [0.0, 0.0, g.emitter_z_m];

@@ -93,11 +93,7 @@ fn write_movie(path: &Path, frames: &[Vec<Object>], key_every: usize) {
 
 fn options() -> HoloFlickConvertOptions {
     HoloFlickConvertOptions {
-        render: RenderOptions {
-            supersample: Supersample { emitter: 1, view: 1 },
-            engine: Engine::Fast,
-            ..RenderOptions::default()
-        },
+        render: RenderOptions { supersample: Supersample::new(1, 1), engine: Engine::Fast, ..RenderOptions::default() },
         ..HoloFlickConvertOptions::default()
     }
 }
@@ -160,11 +156,8 @@ fn encoded_movies_convert_like_the_mesh() {
     let d = dir.path();
     // A glTF-like scene with a specular material: Spot as OBJ with its MTL.
     let spot = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/spot/spot.obj");
-    let render = RenderOptions {
-        supersample: Supersample { emitter: 2, view: 2 },
-        engine: Engine::Fast,
-        ..RenderOptions::default()
-    };
+    let render =
+        RenderOptions { supersample: Supersample::new(2, 2), engine: Engine::Fast, ..RenderOptions::default() };
     let mesh_options = ConvertOptions {
         render: RenderOptions {
             lighting: holo::mesh::shade::Lighting { lights: vec![], model: Default::default() },

@@ -52,7 +52,7 @@ fn quilt_tiles_agree_with_camera_pictures_of_the_scene() {
     };
     let lighting = Lighting { lights: vec![], model: SpecularModel::Blinn };
     let options = RenderOptions {
-        supersample: Supersample { emitter: 1, view: 1 },
+        supersample: Supersample::new(1, 1),
         engine: Engine::Reference,
         ..RenderOptions::lit_exactly(lighting.clone())
     };

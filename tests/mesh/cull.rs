@@ -110,11 +110,8 @@ fn culled_frames_give_the_same_samples_with_less_work() {
         ],
         ..Scene::default()
     };
-    let options = RenderOptions {
-        supersample: Supersample { emitter: 2, view: 2 },
-        engine: Engine::Fast,
-        ..RenderOptions::default()
-    };
+    let options =
+        RenderOptions { supersample: Supersample::new(2, 2), engine: Engine::Fast, ..RenderOptions::default() };
     let (all, all_stats) = render(&scene, &g, &options, &holo::progress::Silent).unwrap();
     let mut culled = scene.clone();
     culled.objects.retain(|o| object_bounds(o).is_some_and(|(lo, hi)| display_sees_box(&g, lo, hi)));

@@ -48,7 +48,7 @@ fn lights() -> Vec<Light> {
 
 fn options(lights: Vec<Light>) -> RenderOptions {
     RenderOptions {
-        supersample: Supersample { emitter: 2, view: 2 },
+        supersample: Supersample::new(2, 2),
         engine: Engine::Fast,
         ..RenderOptions::lit_exactly(Lighting { lights, model: SpecularModel::Blinn })
     }

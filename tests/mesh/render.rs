@@ -121,9 +121,10 @@ fn lighting(model: SpecularModel) -> Lighting {
 #[test]
 fn fast_equals_reference_on_random_scenes() {
     for (seed, z_e, model, ss) in [
-        (1, 0.0, SpecularModel::Blinn, Supersample { emitter: 1, view: 1 }),
-        (2, 0.01, SpecularModel::Phong, Supersample { emitter: 2, view: 3 }),
-        (3, -0.02, SpecularModel::Blinn, Supersample { emitter: 3, view: 1 }),
+        (1, 0.0, SpecularModel::Blinn, Supersample::new(1, 1)),
+        (2, 0.01, SpecularModel::Phong, Supersample::new(2, 3)),
+        (3, -0.02, SpecularModel::Blinn, Supersample::new(3, 1)),
+        (9, 0.01, SpecularModel::Blinn, Supersample { emitter: 2, view: 1, hololine: 3 }),
     ] {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let scene = random_scene(&mut rng, 60);
@@ -167,7 +168,7 @@ fn occlusion_has_the_known_answer_in_every_view() {
         rgb_channels(),
     );
     let options = RenderOptions {
-        supersample: Supersample { emitter: 1, view: 1 },
+        supersample: Supersample::new(1, 1),
         engine: Engine::Fast,
         ..RenderOptions::lit_exactly(Lighting { lights: vec![], model: SpecularModel::Blinn })
     };
@@ -233,7 +234,7 @@ fn highlights_move_across_views_as_the_formulas_say() {
     );
     for model in [SpecularModel::Phong, SpecularModel::Blinn] {
         let options = RenderOptions {
-            supersample: Supersample { emitter: 1, view: 1 },
+            supersample: Supersample::new(1, 1),
             engine: Engine::Fast,
             ..RenderOptions::lit_exactly(Lighting {
                 lights: vec![Light::Point { position: [light_x, 0.0, light_z], intensity: [1.0; 3], name: "p".into() }],
@@ -305,7 +306,7 @@ fn bad_scenes_are_errors_naming_the_object() {
     let mut empty = Scene { source: "empty.obj".into(), ..Scene::default() };
     let e = holo::mesh::place::place(&mut empty, &g, &Default::default()).unwrap_err().to_string();
     assert!(e.contains("empty.obj") && e.contains("no triangles"), "{e}");
-    let options = RenderOptions { supersample: Supersample { emitter: 0, view: 1 }, ..RenderOptions::default() };
+    let options = RenderOptions { supersample: Supersample::new(0, 1), ..RenderOptions::default() };
     assert!(render(&random_scene(&mut rng, 9), &g, &options, &holo::progress::Silent).is_err());
 }
 
@@ -358,7 +359,7 @@ fn fast_equals_reference_on_real_models_at_several_layouts() {
             // Fit to the whole layout, then render the band.
             place(&mut scene, &layout.geometry, &placement).unwrap();
             let options = RenderOptions {
-                supersample: Supersample { emitter: 1, view: 1 },
+                supersample: Supersample::new(1, 1),
                 engine: Engine::Fast,
                 ..RenderOptions::lit_exactly(lighting(SpecularModel::Blinn))
             };
@@ -384,9 +385,9 @@ fn fast_equals_reference_on_real_models_at_several_layouts() {
 #[test]
 fn fast_equals_reference_with_directional_lights_and_vertex_normals() {
     for (seed, z_e, model, ss, smooth) in [
-        (4, 0.0, SpecularModel::Blinn, Supersample { emitter: 1, view: 1 }, true),
-        (5, 0.01, SpecularModel::Phong, Supersample { emitter: 2, view: 3 }, true),
-        (6, -0.02, SpecularModel::Blinn, Supersample { emitter: 3, view: 1 }, false),
+        (4, 0.0, SpecularModel::Blinn, Supersample::new(1, 1), true),
+        (5, 0.01, SpecularModel::Phong, Supersample::new(2, 3), true),
+        (6, -0.02, SpecularModel::Blinn, Supersample::new(3, 1), false),
     ] {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut scene = random_scene(&mut rng, 60);
@@ -431,10 +432,9 @@ fn fast_equals_reference_with_directional_lights_and_vertex_normals() {
 #[test]
 fn fast_equals_reference_with_textures_in_and_out_of_the_batch() {
     use holo::mesh::{Texture, TextureRef, UvTransform, Wrap};
-    for (seed, model, ss) in [
-        (7, SpecularModel::Blinn, Supersample { emitter: 1, view: 1 }),
-        (8, SpecularModel::Phong, Supersample { emitter: 2, view: 2 }),
-    ] {
+    for (seed, model, ss) in
+        [(7, SpecularModel::Blinn, Supersample::new(1, 1)), (8, SpecularModel::Phong, Supersample::new(2, 2))]
+    {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut scene = random_scene(&mut rng, 90);
         let wraps =
@@ -512,14 +512,14 @@ fn fast_equals_reference_with_per_material_lobes_and_lights() {
             10,
             vec![key.clone(), fill.clone(), ambient.clone()],
             SpecularModel::Blinn,
-            Supersample { emitter: 1, view: 1 },
+            Supersample::new(1, 1),
             [(Some(vec![0, 2]), Some(SpecularModel::Phong)), (Some(vec![1]), None), (None, Some(SpecularModel::Phong))],
         ),
         (
             11,
             vec![key.clone(), point.clone(), fill.clone(), ambient.clone()],
             SpecularModel::Phong,
-            Supersample { emitter: 2, view: 2 },
+            Supersample::new(2, 2),
             [
                 (Some(vec![1, 3]), Some(SpecularModel::Blinn)),
                 (Some(vec![0]), Some(SpecularModel::Phong)),
@@ -530,7 +530,7 @@ fn fast_equals_reference_with_per_material_lobes_and_lights() {
             12,
             vec![point, key, ambient, fill],
             SpecularModel::Blinn,
-            Supersample { emitter: 3, view: 1 },
+            Supersample::new(3, 1),
             [(Some(vec![3, 2]), None), (Some(vec![]), Some(SpecularModel::Phong)), (Some(vec![1]), None)],
         ),
     ];
@@ -593,7 +593,7 @@ fn a_library_render_uses_the_scenes_lights_as_convert_mesh_does() {
     let mut scene = SceneSource::open(&path).unwrap().scene_at(0.0).unwrap();
     assert!(!scene.lights.is_empty(), "the fixture defines lights");
     place(&mut scene, &g, &Placement::default()).unwrap();
-    let options = RenderOptions { supersample: Supersample { emitter: 1, view: 1 }, ..RenderOptions::default() };
+    let options = RenderOptions { supersample: Supersample::new(1, 1), ..RenderOptions::default() };
     let (library, _) = render(&scene, &g, &options, &holo::progress::Silent).unwrap();
     assert!(library.samples().iter().any(|&v| v > 0.0), "the band sees the scene");
 
@@ -608,4 +608,63 @@ fn a_library_render_uses_the_scenes_lights_as_convert_mesh_does() {
     let (default_lit, _) =
         render(&scene, &g, &RenderOptions { scene_lights: false, ..options }, &holo::progress::Silent).unwrap();
     assert!(default_lit.samples() != library.samples(), "the scene's lights are not the default lights");
+}
+
+/// An emissive half-plane whose top edge rises 1 hololine pitch over 24
+/// emitters, on the emitter plane: each hololine's footprint (a pitch tall)
+/// is covered by a known fraction along the edge. One line per hololine
+/// samples it as a hard step; lines across the hololine's height average
+/// it toward the covered fraction.
+#[test]
+fn hololine_supersampling_antialiases_edges_near_the_horizontal() {
+    let g = small_geometry(0.0);
+    let pitch = g.hololine_pitch_m;
+    let (x0, x1) = (g.emitter_x_m(0) - 0.01, g.emitter_x_m(g.emitters - 1) + 0.01);
+    // Edge y = y_edge + slope · x, between two hololines' centres in the middle.
+    let slope = pitch / (24.0 * g.emitter_pitch_m);
+    let y_edge = g.hololine_y_m(10) - 0.5 * pitch;
+    let top = |x: f64| y_edge + slope * x;
+    let scene = Scene {
+        objects: vec![Object {
+            name: "half-plane".into(),
+            positions: vec![[x0, -0.05, 0.0], [x1, -0.05, 0.0], [x1, top(x1), 0.0], [x0, top(x0), 0.0]],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            material: Material { base_colour: [0.0; 4], emissive: [1.0; 3], specular: [0.0; 3], ..Material::default() },
+            ..Object::default()
+        }],
+        ..Scene::default()
+    };
+    let mid_view = g.views.count / 2;
+    // Mean |rendered − covered fraction| and the share of partly covered
+    // samples, over the hololines the edge crosses, in the middle view.
+    let measure = |hololine: usize| {
+        let options = RenderOptions {
+            supersample: Supersample { emitter: 1, view: 1, hololine },
+            ..RenderOptions::lit_exactly(Lighting { lights: vec![], model: SpecularModel::Blinn })
+        };
+        let (m, _) = render(&scene, &g, &options, &holo::progress::Silent).unwrap();
+        let (mut error, mut partial, mut n) = (0.0, 0, 0);
+        for j in 8..13 {
+            let y = g.hololine_y_m(j);
+            for e in 0..g.emitters {
+                let x = g.emitter_x_m(e);
+                let covered = ((top(x) - (y - 0.5 * pitch)) / pitch).clamp(0.0, 1.0);
+                let got = f64::from(m.get(0, j, e, mid_view));
+                error += (got - covered).abs();
+                partial += usize::from(got > 0.05 && got < 0.95);
+                n += 1;
+            }
+        }
+        (error / n as f64, partial as f64 / n as f64)
+    };
+    let (hard, hard_partial) = measure(1);
+    let (smooth, smooth_partial) = measure(8);
+    println!(
+        "edge near the horizontal: 1 line per hololine, mean error {hard:.3}, {:.0}% partly covered; 8 lines, {smooth:.4}, {:.0}%",
+        100.0 * hard_partial,
+        100.0 * smooth_partial
+    );
+    // The edge crosses two of the five hololines measured.
+    assert!(hard_partial < 0.02 && smooth_partial > 0.12, "{hard_partial} {smooth_partial}");
+    assert!(smooth < hard / 4.0 && smooth < 0.02, "{hard} {smooth}");
 }

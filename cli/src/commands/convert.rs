@@ -48,9 +48,9 @@ pub struct Target {
     write: WriteArgs,
 }
 
-/// Sub-rays per sample, as `--supersample` gives them.
-fn supersample((emitter, view): (usize, usize)) -> Supersample {
-    Supersample { emitter, view }
+/// Sub-rays per sample, as `--supersample` and `--hololine-supersample` give them.
+fn supersample((emitter, view): (usize, usize), hololine: usize) -> Supersample {
+    Supersample { emitter, view, hololine }
 }
 
 /// Draw a HoloFlick's lit micropolygons for every emitter and view of a
@@ -67,6 +67,9 @@ pub struct HoloflickArgs {
     /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN.
     #[arg(long, default_value = "2x2", value_parser = args::by(64, true))]
     supersample: (usize, usize),
+    /// Lines across each hololine's height, averaged (antialiases edges near the horizontal), 1 to 64.
+    #[arg(long, default_value = "1", value_parser = args::whole(1, 64))]
+    hololine_supersample: usize,
     /// Fit the content to the display even when it was made for it.
     #[arg(long)]
     fit: bool,
@@ -77,7 +80,7 @@ fn holoflick(a: HoloflickArgs) -> Outcome {
     let g = layout_geometry(&a.target.layout)?;
     let options = HoloFlickConvertOptions {
         frames: a.frames,
-        render: RenderOptions { supersample: supersample(a.supersample), ..Default::default() },
+        render: RenderOptions { supersample: supersample(a.supersample, a.hololine_supersample), ..Default::default() },
         write: a.target.write.options(String::new()),
         fit: a.fit,
     };
@@ -122,6 +125,9 @@ pub struct MeshArgs {
     /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN.
     #[arg(long, default_value = "2x2", value_parser = args::by(64, true))]
     supersample: (usize, usize),
+    /// Lines across each hololine's height, averaged (antialiases edges near the horizontal), 1 to 64.
+    #[arg(long, default_value = "1", value_parser = args::whole(1, 64))]
+    hololine_supersample: usize,
     /// Specular lobe.
     #[arg(long, value_enum, default_value = "blinn")]
     specular: SpecularChoice,
@@ -184,7 +190,7 @@ fn mesh(a: MeshArgs) -> Outcome {
             smooth_normals_deg: a.smooth_normals,
         },
         render: RenderOptions {
-            supersample: supersample(a.supersample),
+            supersample: supersample(a.supersample, a.hololine_supersample),
             lighting: Lighting { lights: user_lights, model: a.specular.into() },
             scene_lights: !a.no_scene_lights,
             default_lights: true,
