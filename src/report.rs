@@ -119,7 +119,7 @@ impl fmt::Display for Info {
             i.compression.name()
         )?;
         if let Some(fps) = i.frames_per_second {
-            writeln!(f, "  frame rate    {}/{} per second", fps.0, fps.1)?;
+            writeln!(f, "  frame rate    {}", frame_rate_text(fps.0.into(), fps.1.into()))?;
         }
         writeln!(f, "  written by    {}", i.software.as_deref().unwrap_or("(unknown)"))?;
         if let Some(s) = &i.source {
@@ -385,5 +385,41 @@ impl fmt::Display for Demo {
             self.holo_file.display(),
             self.holo_file.with_file_name("views").display()
         )
+    }
+}
+
+/// A frame rate stored as the fraction `numerator / denominator` frames a
+/// second, as a number with its unit: `24 frames/s`, `0.5 frames/s`; a
+/// fraction that is not a whole number of thousandths is given as well,
+/// `23.976 frames/s (24000/1001)`.
+pub fn frame_rate_text(numerator: i64, denominator: u64) -> String {
+    if denominator == 0 {
+        return format!("{numerator}/0 frames/s (no rate)");
+    }
+    let rate = numerator as f64 / denominator as f64;
+    if (i128::from(numerator) * 1000) % i128::from(denominator) == 0 {
+        let text = format!("{rate:.3}");
+        format!("{} frames/s", text.trim_end_matches('0').trim_end_matches('.'))
+    } else {
+        format!("{rate:.3} frames/s ({numerator}/{denominator})")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::frame_rate_text;
+
+    #[test]
+    fn frame_rates_are_numbers_with_units() {
+        for (n, d, text) in [
+            (24, 1, "24 frames/s"),
+            (1, 2, "0.5 frames/s"),
+            (2997, 100, "29.97 frames/s"),
+            (24000, 1001, "23.976 frames/s (24000/1001)"),
+            (30000, 1001, "29.970 frames/s (30000/1001)"),
+            (1, 3, "0.333 frames/s (1/3)"),
+        ] {
+            assert_eq!(frame_rate_text(n, d), text);
+        }
     }
 }
