@@ -569,6 +569,8 @@ fn holoflick_pack_info_unpack() {
     let o = holo(&["holoflick", "info", "cow.hflk"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(text(&o).contains("frame 1: 1 objects (1 from key frames), 500 triangles"), "{}", text(&o));
+    // The frame rate as a number with its unit.
+    assert!(text(&o).contains("2 frames at 30 frames/s"), "{}", text(&o));
     let o = holo(&["convert", "holoflick", "cow.hflk", "--layout", "mark1", "-o", "cow.holo", "--supersample", "1"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(text(&o).contains("reused from key frames 1"), "{}", text(&o));
