@@ -117,6 +117,7 @@
 
 pub mod assemble;
 pub mod cameras;
+pub mod demo;
 mod error;
 pub mod format;
 pub mod geometry;

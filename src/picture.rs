@@ -298,27 +298,86 @@ pub fn encode_png_samples(
     samples: Samples<'_>,
     tags: PngTags,
 ) -> Result<Vec<u8>> {
+    encode_frames(width, height, colour, &[samples], None, tags)
+}
+
+/// The frames of an animated PNG: how many, how long each is shown, and
+/// how often the animation plays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Animation {
+    /// Frames.
+    pub frames: usize,
+    /// Seconds each frame is shown (stored as a fraction: milliseconds over 1000).
+    pub frame_seconds: f64,
+    /// Times the animation plays; 0 is forever.
+    pub plays: u32,
+}
+
+/// An animated PNG (APNG): `animation.frames` frames of `width × height` pixels, each
+/// tone-mapped by `tone` from `pixel(frame, x, y)`'s linear samples as
+/// [`encode_png`] does one picture. The first frame is also the still
+/// picture viewers without APNG support show.
+pub fn encode_apng(
+    width: usize,
+    height: usize,
+    colour: Colour,
+    tone: &Tone,
+    pixel_size_m: Option<[f64; 2]>,
+    animation: Animation,
+    pixel: impl Fn(usize, usize, usize) -> [f32; 3] + Sync,
+) -> Result<Vec<u8>> {
+    png_size(width, height)?;
+    let frames = animation.frames;
+    if frames == 0 {
+        return Err(Error::argument("picture", "an animated PNG needs at least one frame"));
+    }
+    let codes: Vec<Vec<u16>> =
+        (0..frames).map(|k| tone_codes(width, height, colour, tone, |x, y| pixel(k, x, y))).collect();
+    let tags = PngTags { srgb: true, pixel_size_m };
+    let bytes: Vec<Vec<u8>> = match tone.bits() {
+        Bits::Eight => codes.iter().map(|c| to_bytes(c)).collect(),
+        Bits::Sixteen => Vec::new(),
+    };
+    let samples: Vec<Samples<'_>> = match tone.bits() {
+        Bits::Sixteen => codes.iter().map(|c| Samples::Sixteen(c)).collect(),
+        Bits::Eight => bytes.iter().map(|b| Samples::Eight(b)).collect(),
+    };
+    encode_frames(width, height, colour, &samples, Some(animation), tags)
+}
+
+/// One PNG of one or (with `animation`) several frames of samples.
+fn encode_frames(
+    width: usize,
+    height: usize,
+    colour: Colour,
+    frames: &[Samples<'_>],
+    animation: Option<Animation>,
+    tags: PngTags,
+) -> Result<Vec<u8>> {
     let (w, h) = png_size(width, height)?;
     let n = width * height * colour.components();
-    let length = match samples {
-        Samples::Eight(s) => s.len(),
-        Samples::Sixteen(s) => s.len(),
-    };
-    if length != n {
-        return Err(Error::argument(
-            "picture",
-            format!("a {width}×{height} {colour:?} picture has {n} samples, not the {length} given"),
-        ));
-    }
-    let big_endian;
-    let (bytes, depth) = match samples {
-        Samples::Eight(s) => (s, png::BitDepth::Eight),
-        Samples::Sixteen(s) => {
-            // PNG stores 16-bit samples most significant byte first.
-            big_endian = s.iter().flat_map(|c| c.to_be_bytes()).collect::<Vec<u8>>();
-            (big_endian.as_slice(), png::BitDepth::Sixteen)
+    let mut depth = png::BitDepth::Eight;
+    let mut data: Vec<std::borrow::Cow<'_, [u8]>> = Vec::with_capacity(frames.len());
+    for samples in frames {
+        let length = match samples {
+            Samples::Eight(s) => s.len(),
+            Samples::Sixteen(s) => s.len(),
+        };
+        if length != n {
+            return Err(Error::argument(
+                "picture",
+                format!("a {width}×{height} {colour:?} picture has {n} samples, not the {length} given"),
+            ));
         }
-    };
+        data.push(match samples {
+            Samples::Eight(s) => std::borrow::Cow::Borrowed(*s),
+            Samples::Sixteen(s) => {
+                // PNG stores 16-bit samples most significant byte first.
+                depth = png::BitDepth::Sixteen;
+                std::borrow::Cow::Owned(s.iter().flat_map(|c| c.to_be_bytes()).collect())
+            }
+        });
+    }
     let failed =
         |e: png::EncodingError| Error::argument("picture", format!("cannot encode a {width}×{height} PNG: {e}"));
     let mut png = Vec::new();
@@ -336,10 +395,47 @@ pub fn encode_png_samples(
             unit: png::Unit::Meter,
         }));
     }
+    if let Some(a) = animation {
+        let frames = u32::try_from(data.len()).map_err(|_| Error::argument("picture", "too many frames"))?;
+        encoder.set_animated(frames, a.plays).map_err(failed)?;
+        // Milliseconds: the delay is a u16 fraction of a second.
+        let ms = (a.frame_seconds * 1000.0).round().clamp(1.0, f64::from(u16::MAX)) as u16;
+        encoder.set_frame_delay(ms, 1000).map_err(failed)?;
+    }
     let mut writer = encoder.write_header().map_err(failed)?;
-    writer.write_image_data(bytes).map_err(failed)?;
+    for bytes in &data {
+        writer.write_image_data(bytes).map_err(failed)?;
+    }
     writer.finish().map_err(failed)?;
     Ok(png)
+}
+
+/// Codes of 8-bit depth as bytes (each is at most 255 there).
+fn to_bytes(codes: &[u16]) -> Vec<u8> {
+    codes.iter().map(|&c| c as u8).collect()
+}
+
+/// The codes of a `width × height` picture of `colour`, tone-mapped by
+/// `tone` from `pixel(x, y)`'s linear samples, row by row from the top.
+fn tone_codes(
+    width: usize,
+    height: usize,
+    colour: Colour,
+    tone: &Tone,
+    pixel: impl Fn(usize, usize) -> [f32; 3] + Sync,
+) -> Vec<u16> {
+    let components = colour.components();
+    let row = |y: usize, out: &mut [u16]| {
+        for (x, codes) in out.chunks_exact_mut(components).enumerate() {
+            let p = pixel(x, y);
+            for (code, &sample) in codes.iter_mut().zip(&p) {
+                *code = tone.code(sample);
+            }
+        }
+    };
+    let mut codes = vec![0u16; width * height * components];
+    codes.par_chunks_mut(width * components).enumerate().for_each(|(y, out)| row(y, out));
+    codes
 }
 
 /// A `width × height` PNG of `colour` tone-mapped by `tone`: `pixel(x, y)`
@@ -355,25 +451,11 @@ pub fn encode_png(
     pixel: impl Fn(usize, usize) -> [f32; 3] + Sync,
 ) -> Result<Vec<u8>> {
     png_size(width, height)?;
-    let components = colour.components();
-    let row = |y: usize, out: &mut [u16]| {
-        for (x, codes) in out.chunks_exact_mut(components).enumerate() {
-            let p = pixel(x, y);
-            for (code, &sample) in codes.iter_mut().zip(&p) {
-                *code = tone.code(sample);
-            }
-        }
-    };
-    let mut codes = vec![0u16; width * height * components];
-    codes.par_chunks_mut(width * components).enumerate().for_each(|(y, out)| row(y, out));
+    let codes = tone_codes(width, height, colour, tone, pixel);
     let tags = PngTags { srgb: true, pixel_size_m };
     match tone.bits() {
         Bits::Sixteen => encode_png_samples(width, height, colour, Samples::Sixteen(&codes), tags),
-        Bits::Eight => {
-            // Each code is at most 255 here.
-            let bytes: Vec<u8> = codes.iter().map(|&c| c as u8).collect();
-            encode_png_samples(width, height, colour, Samples::Eight(&bytes), tags)
-        }
+        Bits::Eight => encode_png_samples(width, height, colour, Samples::Eight(&to_bytes(&codes)), tags),
     }
 }
 
@@ -536,5 +618,34 @@ mod tests {
         let err =
             encode_png_samples(2, 2, Colour::Rgb, Samples::Eight(&[0; 4]), PngTags::default()).unwrap_err().to_string();
         assert!(err.contains("12 samples"), "{err}");
+    }
+
+    #[test]
+    fn animated_pngs_hold_every_frame() {
+        let (w, h, frames) = (4, 3, 5);
+        let value = |k: usize, x: usize, y: usize| [(k * 10 + x + y) as f32 / 60.0; 3];
+        let tone = Tone::unit(Bits::Eight);
+        let animation = Animation { frames, frame_seconds: 0.25, plays: 0 };
+        let apng = encode_apng(w, h, Colour::Grey, &tone, Some([2e-4, 1e-4]), animation, value).unwrap();
+        let mut reader = png::Decoder::new(std::io::Cursor::new(&apng)).read_info().unwrap();
+        let control = reader.info().animation_control.expect("an acTL chunk");
+        assert_eq!((control.num_frames, control.num_plays), (5, 0));
+        let dims = reader.info().pixel_dims.expect("a pHYs chunk");
+        assert_eq!((dims.xppu, dims.yppu), (5000, 10000));
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        for k in 0..frames {
+            reader.next_frame(&mut buf).unwrap();
+            let fc = reader.info().frame_control.expect("an fcTL chunk");
+            assert_eq!((fc.delay_num, fc.delay_den), (250, 1000));
+            for y in 0..h {
+                for x in 0..w {
+                    assert_eq!(u16::from(buf[y * w + x]), tone.code(value(k, x, y)[0]), "frame {k} ({x}, {y})");
+                }
+            }
+        }
+        assert!(reader.next_frame(&mut buf).is_err(), "no sixth frame");
+        let none = Animation { frames: 0, ..animation };
+        let err = encode_apng(w, h, Colour::Grey, &tone, None, none, value).unwrap_err().to_string();
+        assert!(err.contains("at least one frame"), "{err}");
     }
 }

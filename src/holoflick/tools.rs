@@ -446,11 +446,11 @@ pub fn info(input: &Path) -> Result<String> {
     let frames = reader.frame_count();
     let _ = writeln!(
         out,
-        "{}: HoloFlick {}.{}, {frames} frames at {} frames/s, geometry {}.{}.{}, {bytes} bytes",
+        "{}: HoloFlick {}.{}, {frames} frames at {}, geometry {}.{}.{}, {bytes} bytes",
         input.display(),
         info.version.0,
         info.version.1,
-        if d == 1 { format!("{n}") } else { format!("{n}/{d}") },
+        crate::report::frame_rate_text(n.into(), d.into()),
         info.geometry_version[0],
         info.geometry_version[1],
         info.geometry_version[2]

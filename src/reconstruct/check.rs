@@ -254,6 +254,11 @@ pub fn view(a: &Assembler, images: FrameRef<'_>, eyes: &[Eye], progress: &dyn Pr
             for (c, optics) in optics.iter().enumerate() {
                 let signals = &unpacked[group_of(a, c)];
                 let slices: Vec<&[f32]> = (0..signals.signals).map(|s| signals.row(s, j)).collect();
+                // A dark hololine sends no light: its row stays black, and
+                // the propagation and spectra (most of the work) are skipped.
+                if slices.iter().all(|s| s.iter().all(|&v| v == 0.0)) {
+                    continue;
+                }
                 let field = optics.emitter_plane(&slices)?;
                 for e in 0..g.emitters {
                     let spectrum = optics.spectrum(&field, e);

@@ -18,7 +18,7 @@ pub struct DemoArgs {
 }
 
 pub fn run(a: DemoArgs) -> Outcome {
-    let demo = holo::report::demo(&a.output, &Reporter::on_stderr())?;
+    let demo = holo::demo::demo(&a.output, &Reporter::on_stderr())?;
     put!("{demo}");
     Ok(ExitCode::SUCCESS)
 }

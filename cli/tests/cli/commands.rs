@@ -226,38 +226,149 @@ fn info_tells_whether_two_files_hold_the_same_content() {
     assert!(text(&o).contains("same content: no"), "{}", text(&o));
 }
 
+/// The frames of a PNG or APNG, decoded to RGB(A) bytes, with their width and height.
+fn png_frames(path: &Path) -> (usize, usize, Vec<Vec<u8>>) {
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder.read_info().unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let count = reader.info().animation_control.map_or(1, |a| a.num_frames as usize);
+    let mut frames = Vec::new();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    for k in 0..count {
+        let info = reader.next_frame(&mut buf).unwrap_or_else(|e| panic!("{} frame {k}: {e}", path.display()));
+        frames.push(buf[..info.buffer_size()].to_vec());
+    }
+    let (w, h) = reader.info().size();
+    (w as usize, h as usize, frames)
+}
+
+/// The pixel `(x, y)` of an RGB frame `w` wide.
+fn rgb(frame: &[u8], w: usize, x: usize, y: usize) -> [u8; 3] {
+    frame[(y * w + x) * 3..][..3].try_into().unwrap()
+}
+
+/// The outlines of the display drawn in a picture (blue, no scene's colour):
+/// each as the box inside it, (left, top, width, height), found by scanning
+/// rows for an outline's top edge.
+fn display_outlines(frame: &[u8], w: usize, h: usize) -> Vec<(usize, usize, usize, usize)> {
+    let edge = |x: usize, y: usize| {
+        let [r, g, b] = rgb(frame, w, x, y);
+        b > 60 && r < 10 && g < 40
+    };
+    let mut boxes: Vec<(usize, usize, usize, usize)> = Vec::new();
+    for y in 0..h {
+        let mut x = 0;
+        while x < w {
+            let inside =
+                |b: &&(usize, usize, usize, usize)| x + 1 >= b.0 && x <= b.0 + b.2 && y + 1 >= b.1 && y <= b.1 + b.3;
+            if edge(x, y) && !boxes.iter().any(|b| inside(&b)) {
+                let right = (x..w).take_while(|&xx| edge(xx, y)).last().unwrap();
+                let bottom = (y..h).take_while(|&yy| edge(x, yy)).last().unwrap();
+                boxes.push((x + 1, y + 1, right - x - 1, bottom - y - 1));
+                x = right;
+            }
+            x += 1;
+        }
+    }
+    boxes
+}
+
+/// The demo, run once: every file its text names is there and is what it
+/// says; eyes across the viewing zone see different pictures; every picture
+/// of the display is at its physical proportions; counts and rates are true.
 #[test]
 fn demo_runs_and_says_where_its_files_are() {
     let dir = tempfile::tempdir().unwrap();
-    // The folder already holds what an earlier run left (another file and its
-    // whole fringe set, as a run of an older holo would have): the demo
-    // replaces its own files, and the set it leaves is its own.
+    // The folder already holds what an earlier run left: the demo replaces its own files.
     let d = dir.path().join("holo-demo");
     std::fs::create_dir(&d).unwrap();
     ok(holo(&["pattern", "--layout", "mark3", "--kind", "view-ramp", "-o", "demo.holo"], &d));
-    ok(holo(&["assemble", "demo.holo", "--layout", "mark3", "-o", "fringes"], &d));
     let earlier = std::fs::read(d.join("demo.holo")).unwrap();
     let o = holo(&["demo", "-o", "holo-demo"], dir.path());
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
-    assert!(text(&o).contains("holo-demo/demo.holo"));
-    assert!(text(&o).contains("holo-demo/view-x+0mm.png"), "{}", text(&o));
+    let said = String::from_utf8_lossy(&o.stdout).into_owned();
     assert!(std::fs::read(d.join("demo.holo")).unwrap() != earlier);
     assert!(holo::format::validate(d.join("demo.holo")).unwrap().is_valid());
-    // The fringe set is whole and made from the new file.
-    let set = holo::assemble::output::read_sidecar(&d.join("fringes")).unwrap();
-    let file = holo::HoloFile::open(d.join("demo.holo")).unwrap();
-    assert_eq!(set.frames.len(), 1);
-    assert_eq!(set.frames[0].source_digest, file.info().frames[0].digest);
-    for f in ["fringes/frame0000-head1.png", "fringes/frame0000-head2.png", "view-x-40mm.png", "view-x+40mm.png"] {
-        assert!(d.join(f).is_file(), "{f}");
-    }
-    // The movie path: animated glTF → HoloFlick → three .holo frames → fringes → a view.
     let movie = holo::HoloFile::open(d.join("movie/cube.holo")).unwrap();
     assert_eq!(movie.info().frames.len(), 3);
-    assert!(holo::format::validate(d.join("movie/cube.holo")).unwrap().is_valid());
-    for f in ["movie/cube.hflk", "movie/fringes/frame0002-head2.png", "movie/view-frame1-x+0mm.png"] {
-        assert!(d.join(f).is_file(), "{f}");
+
+    // One line a file, each file there; the pictures valid PNGs.
+    let named: Vec<&str> = said
+        .lines()
+        .filter_map(|l| l.trim_start().strip_prefix("holo-demo/"))
+        .map(|l| l.split(':').next().unwrap())
+        .collect();
+    for f in [
+        "demo.holo",
+        "demo_qs8x6a0.75.png",
+        "fringe.png",
+        "eyes.png",
+        "eyes-moving.png",
+        "movie/cube.hflk",
+        "movie/frames.png",
+    ] {
+        assert!(named.contains(&f), "{f} not named in:\n{said}");
     }
+    for f in &named {
+        assert!(d.join(f).is_file(), "{f} is named but not there:\n{said}");
+        if f.ends_with(".png") {
+            let (_, _, frames) = png_frames(&d.join(f));
+            assert!(!frames.is_empty(), "{f}");
+        }
+    }
+
+    // The eye moving: an animation, there and back, each frame labelled and different.
+    let (w, h, moving) = png_frames(&d.join("eyes-moving.png"));
+    assert!(said.contains(&format!("an animated PNG of {} frames", moving.len())), "{said}");
+    assert!(moving.len() > 10, "{} frames", moving.len());
+    // Parallax: the first and last tiles of the contact sheet differ, and
+    // so do the ends of the sweep, by more than a few pixels' worth.
+    let differ = |a: &[u8], b: &[u8]| a.iter().zip(b).filter(|(x, y)| x.abs_diff(**y) > 16).count();
+    let ends = differ(&moving[0], &moving[moving.len() / 2]);
+    assert!(ends > w * h / 50, "the ends of the sweep differ in {ends} of {} values", w * h * 3);
+
+    // Every picture of the display at its physical proportions: the outline
+    // of the display (its emitter plane, 80 × 60 mm on Mark III) within 2%.
+    let g = holo::layout::mark3().geometry;
+    let physical = (g.emitters as f64 * g.emitter_pitch_m) / (g.hololines as f64 * g.hololine_pitch_m);
+    let (sw, sh, sheet) = png_frames(&d.join("eyes.png"));
+    let (mw, mh, movie_frames) = png_frames(&d.join("movie/frames.png"));
+    for (what, frame, w, h, count) in [
+        ("eyes.png", &sheet[0], sw, sh, 9),
+        ("eyes-moving.png", &moving[0], w, h, 1),
+        ("movie/frames.png", &movie_frames[0], mw, mh, 3),
+    ] {
+        let outlines = display_outlines(frame, w, h);
+        assert_eq!(outlines.len(), count, "{what}: {outlines:?}");
+        for (x, y, bw, bh) in &outlines {
+            let aspect = *bw as f64 / *bh as f64;
+            assert!(
+                (aspect / physical - 1.0).abs() < 0.02,
+                "{what}: the display at ({x}, {y}) is {bw} × {bh} pixels, {aspect:.3} wide for its height, not {physical:.3}"
+            );
+        }
+        if what == "eyes.png" {
+            // The contact sheet's first and last tiles see the cow differently.
+            let (a, b) = (outlines[0], outlines[count - 1]);
+            let tile = |(x, y, _, _): (usize, usize, usize, usize)| -> Vec<u8> {
+                (0..a.3).flat_map(|yy| (0..a.2).flat_map(move |xx| rgb(frame, w, x + xx, y + yy))).collect()
+            };
+            let n = differ(&tile(a), &tile(b));
+            assert!(n > a.2 * a.3 / 50, "the leftmost and rightmost eyes' tiles differ in {n} values");
+        }
+    }
+
+    // True counts and rates with units.
+    assert!(said.contains("(2 fringe images)") && said.contains("(6 fringe images)"), "{said}");
+    assert!(said.contains("3 frames taken at 0.5 frames/s"), "{said}");
+    assert!(!said.contains("/1000") && !said.contains("per second"), "{said}");
+    let o = ok(holo(&["info", "holo-demo/movie/cube.holo"], dir.path()));
+    assert!(text(&o).contains("frame rate    0.5 frames/s"), "{}", text(&o));
+    // The command the text gives for the fringes names the layout and a folder beside the file.
+    let assemble = said.lines().find_map(|l| l.trim_start().strip_prefix("holo assemble holo-demo/demo.holo")).unwrap();
+    let args: Vec<&str> = assemble.split("    ").next().unwrap().split_whitespace().collect();
+    assert_eq!(args, ["--layout", "mark3", "-o", "holo-demo/fringes"], "{said}");
 }
 
 #[test]
@@ -458,6 +569,8 @@ fn holoflick_pack_info_unpack() {
     let o = holo(&["holoflick", "info", "cow.hflk"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(text(&o).contains("frame 1: 1 objects (1 from key frames), 500 triangles"), "{}", text(&o));
+    // The frame rate as a number with its unit.
+    assert!(text(&o).contains("2 frames at 30 frames/s"), "{}", text(&o));
     let o = holo(&["convert", "holoflick", "cow.hflk", "--layout", "mark1", "-o", "cow.holo", "--supersample", "1"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(text(&o).contains("reused from key frames 1"), "{}", text(&o));

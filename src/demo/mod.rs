@@ -1,0 +1,318 @@
+//! `holo demo`: the whole chain on built-in defaults, told in pictures.
+//!
+//! The bundled cow is rendered for every Mark III emitter and view into a
+//! `.holo` file (the light field), which is shown as a Looking Glass quilt;
+//! the frame is assembled into the fringes the display is sent (held in
+//! memory, as `holo assemble` would write them, and pictured: `fringe.rs`);
+//! and what eyes across the whole viewing zone see of those fringes is
+//! simulated by scalar diffraction ([`crate::reconstruct`]), as a labelled
+//! contact sheet and an animated PNG of an eye moving (`canvas.rs`, with
+//! labels in a built-in font, `font.rs`). The movie path (`movie.rs`) takes
+//! the bundled animated glTF through a HoloFlick to `.holo` frames and shows
+//! each frame as an eye sees it. Every picture has square pixels on the
+//! display, so the scene is at its physical proportions.
+//!
+//! The fringe images themselves are not written (two of 4080 × 3386 a
+//! frame, mostly the quantization's mid-grey): the text says how to make
+//! them with `holo assemble`.
+
+pub mod canvas;
+pub mod font;
+pub mod fringe;
+mod movie;
+mod text;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::assemble::Assembler;
+use crate::layout;
+use crate::progress::{Labelled, Progress};
+use crate::reconstruct::check::{view, FrameRef};
+use crate::reconstruct::picture::Picture;
+use crate::reconstruct::viewer::Eye;
+use crate::Result;
+
+use canvas::{Canvas, WHITE};
+pub use movie::DemoMovie;
+
+/// What `holo demo` made.
+#[derive(Clone, Debug, Serialize)]
+pub struct Demo {
+    /// The folder of its files.
+    pub dir: PathBuf,
+    /// The bundled scene, written out so it can be looked at and converted again.
+    pub scene: PathBuf,
+    /// Triangles in it.
+    pub triangles: usize,
+    /// Where the scene was placed.
+    pub placement: String,
+    /// Seconds spent rendering it into modulation.
+    pub convert_seconds: f64,
+    /// The `.holo` file written.
+    pub holo_file: PathBuf,
+    /// Its hololines, emitters and views.
+    pub size: [usize; 3],
+    /// The layout's name (for the command that assembles the fringes).
+    pub layout: String,
+    /// The quilt of its views.
+    pub quilt: PathBuf,
+    /// Tiles in the quilt.
+    pub quilt_tiles: usize,
+    /// The picture of the assembled fringes.
+    pub fringe_picture: PathBuf,
+    /// Fringe images a frame (frame-buffer images), their width and height.
+    pub fringe_images: (usize, usize, usize),
+    /// The hololine and samples the fringe picture zooms into.
+    pub fringe_zoom: (usize, std::ops::Range<usize>),
+    /// Seconds spent assembling the frame.
+    pub assemble_seconds: f64,
+    /// The eyes' distance from the hologram plane, millimetres.
+    pub eye_distance_mm: f64,
+    /// The contact sheet of what eyes across the viewing zone see.
+    pub eyes_sheet: PathBuf,
+    /// Its eyes' x, millimetres, left to right.
+    pub sheet_eyes_x_mm: Vec<f64>,
+    /// The animated PNG of an eye sweeping across the viewing zone.
+    pub eyes_moving: PathBuf,
+    /// Its eyes' x, millimetres, in the order shown (there and back).
+    pub moving_eyes_x_mm: Vec<f64>,
+    /// Seconds spent simulating what the eyes see.
+    pub view_seconds: f64,
+    /// The movie path: an animated scene through a HoloFlick.
+    pub movie: DemoMovie,
+    /// Seconds for the whole demo.
+    pub seconds: f64,
+}
+
+/// The bundled scene: Spot the cow (Keenan Crane, public domain), decimated
+/// to 500 triangles, with its texture (fixtures/SOURCES.md).
+const DEMO_SCENE: [(&str, &[u8]); 3] = [
+    ("spot.obj", include_bytes!("../../fixtures/mesh/spot/spot.obj")),
+    ("spot.mtl", include_bytes!("../../fixtures/mesh/spot/spot.mtl")),
+    ("spot_texture.png", include_bytes!("../../fixtures/mesh/spot/spot_texture.png")),
+];
+
+/// Eyes along the viewing zone simulated: the animation's frames one way.
+/// Every eye costs about as much as another hololine pass of the
+/// reconstruction's last step; this many keep the demo within its time.
+const SWEEP_EYES: usize = 25;
+/// Every this many of the sweep's eyes is a tile of the contact sheet (9).
+const SHEET_EVERY: usize = 3;
+/// Contact sheet tiles a row.
+const SHEET_COLUMNS: usize = 3;
+/// The sheet's tiles are what an eye sees shrunk this many times each way.
+const SHEET_SHRINK: usize = 2;
+/// Seconds each frame of the animation is shown.
+const SWEEP_FRAME_SECONDS: f64 = 0.08;
+/// An eye's pupil, metres.
+const PUPIL_M: f64 = 4e-3;
+/// Each font pixel of a label is this many pixels.
+const LABEL_SCALE: usize = 2;
+/// Room round tiles and labels, pixels.
+const GAP: usize = 8;
+
+/// The main job on built-in defaults: the bundled textured mesh rendered for
+/// every Mark III emitter and view into `dir/demo.holo`, its quilt,
+/// assembled into Mark III fringes (in memory, pictured in
+/// `dir/fringe.png`), and reconstructed by scalar diffraction into what eyes
+/// across the viewing zone see (`dir/eyes.png`, `dir/eyes-moving.png`); then
+/// the movie path ([`DemoMovie`]). An earlier demo's files are replaced.
+/// Each step's phases go to `progress`.
+pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {
+    use crate::mesh::convert::{convert_mesh, ConvertOptions};
+    let started_demo = Instant::now();
+    let dir = dir.as_ref();
+    let scene_dir = dir.join("spot");
+    std::fs::create_dir_all(&scene_dir).map_err(|e| crate::Error::io(&scene_dir, e))?;
+    for (name, bytes) in DEMO_SCENE {
+        crate::output::write_bytes_beside(&scene_dir.join(name), bytes, true)?;
+    }
+    let scene = scene_dir.join("spot.obj");
+    let layout = layout::mark3();
+    let g = &layout.geometry;
+    let holo_file = dir.join("demo.holo");
+    let mut options = ConvertOptions::default();
+    options.write.overwrite = true;
+    // Turn the cow to show its side and face.
+    options.scene.placement.rotate_deg = [0.0, -60.0, 0.0];
+    let started = Instant::now();
+    let converted = convert_mesh(&scene, g, &holo_file, &options, &Labelled::new(progress, "mesh"))?;
+    let convert_seconds = started.elapsed().as_secs_f64();
+
+    let (quilt, quilt_tiles) = quilt(&holo_file)?;
+
+    let m = crate::HoloFile::open(&holo_file)?.read_frame(0)?;
+    let started = Instant::now();
+    let assembler = Assembler::new(&layout)?;
+    let (images, _) = assembler.assemble::<u8>(&m)?;
+    let assemble_seconds = started.elapsed().as_secs_f64();
+    let eyes_x_m = viewing_zone_eyes_x_m(&m, SWEEP_EYES);
+    drop(m);
+    let fringe = fringe::fringe_picture(&assembler, &images)?;
+    let fringe_picture = dir.join("fringe.png");
+    crate::output::write_bytes_beside(&fringe_picture, &fringe.canvas.png()?, true)?;
+
+    let started = Instant::now();
+    let eyes: Vec<Eye> = eyes_x_m
+        .iter()
+        .map(|&x_m| Eye { x_m, y_m: g.viewer_height_m, z_m: g.viewer_distance_m, pupil_m: PUPIL_M })
+        .collect();
+    let pictures = view(&assembler, FrameRef::Bytes(&images), &eyes, &Labelled::new(progress, "eyes"))?;
+    drop(images);
+    let view_seconds = started.elapsed().as_secs_f64();
+    let label = |x_m: f64| format!("eye x = {:+.0} mm", x_m * 1e3);
+
+    let sheet: Vec<(String, &Picture)> =
+        eyes_x_m.iter().zip(&pictures).step_by(SHEET_EVERY).map(|(&x, p)| (label(x), p)).collect();
+    let eyes_sheet = dir.join("eyes.png");
+    crate::output::write_bytes_beside(&eyes_sheet, &contact_sheet(&sheet, SHEET_COLUMNS, SHEET_SHRINK).png()?, true)?;
+
+    // There and back, the ends shown once.
+    let order: Vec<usize> = (0..eyes.len()).chain((1..eyes.len().saturating_sub(1)).rev()).collect();
+    let frames: Vec<Canvas> = order.iter().map(|&k| labelled(&pictures[k], 1, &label(eyes_x_m[k]))).collect();
+    let eyes_moving = dir.join("eyes-moving.png");
+    crate::output::write_bytes_beside(&eyes_moving, &canvas::apng(&frames, SWEEP_FRAME_SECONDS, 0)?, true)?;
+
+    let movie = movie::demo_movie(&dir.join("movie"), &layout, &Labelled::new(progress, "movie"))?;
+    let fb = &layout.fringe.as_ref().expect("Mark III has a fringe side").frame_buffer;
+    let mm = |x: &f64| x * 1e3;
+    Ok(Demo {
+        dir: dir.to_path_buf(),
+        scene,
+        triangles: converted.triangles,
+        placement: converted.placed.to_string(),
+        convert_seconds,
+        holo_file,
+        size: [g.hololines, g.emitters, g.views.count],
+        layout: layout.name.clone(),
+        quilt,
+        quilt_tiles,
+        fringe_picture,
+        fringe_images: (fb.image_names.len(), fb.width, fb.height),
+        fringe_zoom: (fringe.hololine, fringe.samples),
+        assemble_seconds,
+        eye_distance_mm: g.viewer_distance_m * 1e3,
+        sheet_eyes_x_mm: eyes_x_m.iter().step_by(SHEET_EVERY).map(mm).collect(),
+        eyes_sheet,
+        moving_eyes_x_mm: order.iter().map(|&k| mm(&eyes_x_m[k])).collect(),
+        eyes_moving,
+        view_seconds,
+        movie,
+        seconds: started_demo.elapsed().as_secs_f64(),
+    })
+}
+
+/// `count` eye positions on the viewer line, evenly spaced left to right
+/// over the whole stretch from which every lit emitter of `m` is seen
+/// within the views: the first and last eyes see the scene's near edge in
+/// the first and last views. Beyond it the far side of the scene would be
+/// seen outside the views, where no light was steered. With nothing lit,
+/// or a scene wider than that stretch allows, the stretch from which the
+/// middle of the emitter plane is seen in the views.
+pub fn viewing_zone_eyes_x_m(m: &crate::Modulation, count: usize) -> Vec<f64> {
+    let g = m.geometry();
+    let lit = |e: usize| {
+        (0..g.channels.len()).any(|c| (0..g.hololines).any(|j| m.views_of(c, j, e).iter().any(|&v| v > 0.0)))
+    };
+    let first = (0..g.emitters).find(|&e| lit(e));
+    let last = (0..g.emitters).rev().find(|&e| lit(e));
+    let last_view = g.views.count.saturating_sub(1) as f64;
+    // Where the light of an emitter at `x_m` reaches the viewer line in the first and last views.
+    let reach = |x_m: f64| {
+        let [a, b] = [0.0, last_view].map(|v| g.ray_at(x_m, g.viewer_height_m, v).at_z(g.viewer_distance_m)[0]);
+        (a.min(b), a.max(b))
+    };
+    let centre = reach(0.5 * (g.emitter_x_m(0) + g.emitter_x_m(g.emitters - 1)));
+    let (left, right) = match (first, last) {
+        (Some(a), Some(b)) => {
+            let ((l1, r1), (l2, r2)) = (reach(g.emitter_x_m(a)), reach(g.emitter_x_m(b)));
+            if l1.max(l2) < r1.min(r2) {
+                (l1.max(l2), r1.min(r2))
+            } else {
+                centre
+            }
+        }
+        _ => centre,
+    };
+    match count {
+        0 => vec![],
+        1 => vec![0.5 * (left + right)],
+        n => (0..n).map(|k| left + (right - left) * k as f64 / (n - 1) as f64).collect(),
+    }
+}
+
+/// The outline drawn round each picture of the display: the edge of its
+/// emitter plane, so the scene's size and place on it show (and, the
+/// display's width and height being known, its proportions can be
+/// measured). Blue, a colour no grey scene has.
+pub const DISPLAY_EDGE: [f32; 3] = [0.0, 0.02, 0.3];
+
+/// `picture` shrunk `shrink` times, outlined by [`DISPLAY_EDGE`] one pixel
+/// outside it, with `label` under it.
+fn labelled(picture: &Picture, shrink: usize, label: &str) -> Canvas {
+    let tile = Canvas::from_picture(picture, shrink);
+    let label_height = font::GLYPH_SIZE.1 * LABEL_SCALE + 2 * GAP;
+    let (w, h) = (tile.width + 2, tile.height + 2);
+    let mut c = Canvas::new(w, h + label_height, tile.grey);
+    c.fill(0, 0, w, h, DISPLAY_EDGE);
+    c.paste(1, 1, &tile);
+    let x = w.saturating_sub(font::width(label) * LABEL_SCALE) / 2;
+    c.text(x, h + GAP, LABEL_SCALE, label, WHITE);
+    c
+}
+
+/// Labelled tiles of `pictures`, `columns` a row, each shrunk `shrink`
+/// times, on black with a gap between them.
+pub fn contact_sheet(pictures: &[(String, &Picture)], columns: usize, shrink: usize) -> Canvas {
+    let tiles: Vec<Canvas> = pictures.iter().map(|(label, p)| labelled(p, shrink, label)).collect();
+    let (w, h) = tiles.first().map_or((0, 0), |t| (t.width, t.height));
+    let columns = columns.clamp(1, tiles.len().max(1));
+    let rows = tiles.len().div_ceil(columns);
+    let mut sheet = Canvas::new(columns * (w + GAP) + GAP, rows * (h + GAP) + GAP, tiles.iter().all(|t| t.grey));
+    for (k, t) in tiles.iter().enumerate() {
+        sheet.paste(GAP + (k % columns) * (w + GAP), GAP + (k / columns) * (h + GAP), t);
+    }
+    sheet
+}
+
+/// The demo file's quilt, at `holo export-quilt`'s defaults (Looking Glass
+/// Portrait, spanning the file's own views): its path and tiles.
+fn quilt(holo_file: &Path) -> Result<(PathBuf, usize)> {
+    use crate::cameras::quilt::{export_quilt, quilt_file_name, view_cone_deg_for, QuiltOptions, QuiltSpec};
+    let mut spec = QuiltSpec::portrait();
+    spec.view_cone_deg = view_cone_deg_for(&crate::HoloFile::open(holo_file)?.info().geometry.views);
+    let path = holo_file.with_file_name(quilt_file_name("demo", &spec));
+    let report =
+        export_quilt(holo_file, 0, &spec, &path, &QuiltOptions { overwrite: true, ..QuiltOptions::default() })?;
+    Ok((report.path, report.views))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_eyes_span_where_the_whole_scene_is_seen() {
+        let layout = layout::mark3();
+        let g = &layout.geometry;
+        let d = g.viewer_distance_m - g.emitter_z_m;
+        let half_tan = g.views.last_theta_rad.tan();
+        // Emitters lit from −10 to +10 mm: seen in the views from eyes within
+        // ±(d·tan θ_last − 10 mm).
+        let m = crate::Modulation::from_fn(g.clone(), |_, _, e, _| f32::from(g.emitter_x_m(e).abs() <= 0.010)).unwrap();
+        let eyes = viewing_zone_eyes_x_m(&m, 5);
+        let x_lit = (0..g.emitters).map(|e| g.emitter_x_m(e)).filter(|x| x.abs() <= 0.010);
+        let (lo, hi) = x_lit.fold((f64::MAX, f64::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)));
+        assert!((eyes[0] - (hi - d * half_tan)).abs() < 1e-9, "{eyes:?}");
+        assert!((eyes[4] - (lo + d * half_tan)).abs() < 1e-9, "{eyes:?}");
+        assert!((eyes[2] - 0.5 * (eyes[0] + eyes[4])).abs() < 1e-12);
+        // Nothing lit: the zone of the middle of the display.
+        let dark = crate::Modulation::zeros(g.clone()).unwrap();
+        let eyes = viewing_zone_eyes_x_m(&dark, 2);
+        let middle = 0.5 * (g.emitter_x_m(0) + g.emitter_x_m(g.emitters - 1));
+        assert!((eyes[1] - (middle + d * half_tan)).abs() < 1e-9, "{eyes:?}");
+    }
+}
