@@ -1,4 +1,4 @@
-//! Compressed geometry (issue 6): bytes per triangle, encode time and decode
+//! Compressed geometry: bytes per triangle, encode time and decode
 //! speed (fast and reference decoders, Java-order and streaming) for real
 //! meshes of 5.8k–6.3k triangles at 16/9/6 and 10/8/6 bits
 //! (position/colour/normal), RGBA colours and per-vertex normals, as Java 3D's

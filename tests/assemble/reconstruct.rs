@@ -96,7 +96,7 @@ fn seen(layout: &Layout, m: &Modulation, file: &str) -> Picture {
 /// Whether a centred Mark III viewer sees emitter `e` through fringe samples
 /// that fall in (or near) the horizontal blanking: 16 of every 4096 samples
 /// never reach the display, and the views they carried are partly missing
-/// (seed 004 §5.1: "partial missing views"). Such emitters look darker.
+/// (Smithwick et al. 2009 §5.1: "partial missing views"). Such emitters look darker.
 fn mark3_blanked(layout: &Layout, e: usize) -> bool {
     let g = &layout.geometry;
     let p = layout.fringe.as_ref().unwrap().sample_pitch_m;

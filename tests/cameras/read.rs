@@ -1,4 +1,4 @@
-//! Camera rigs read from the conventions captures come in (issue 5): the
+//! Camera rigs read from the conventions captures come in: the
 //! geometry each reader builds is checked against what the capture's own
 //! documentation says (HCI: zero disparity at the focus distance, 60 mm
 //! steps; Middlebury: a ring of cameras aimed at the temple; quilts: view 0

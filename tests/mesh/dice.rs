@@ -1,4 +1,4 @@
-//! Dicing into micropolygons (seed 001 §8): closed surfaces stay closed.
+//! Dicing into micropolygons (Deering, *HoloFlicks* §8): closed surfaces stay closed.
 //! Checked two ways on a smooth sphere cut into two objects with duplicated
 //! seam vertices and on a cylinder with hard rims: every edge of the diced surface
 //! has exactly two triangles (no T-junction, no gap), and rays from outside

@@ -1,4 +1,4 @@
-//! Micropolygons (seed 001 §8) render like the scene they come from: the
+//! Micropolygons (Deering, *HoloFlicks* §8) render like the scene they come from: the
 //! bundled Spot, diced to fractions of the display's resolution, lit once
 //! (diffuse baked into vertex colours) and rendered with only the specular
 //! term per view, against rendering the mesh directly. The error shrinks
