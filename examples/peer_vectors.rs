@@ -294,6 +294,7 @@ fn run(out: &Path) -> Result<Vec<PathBuf>, String> {
             first_frame_number: case.first_frame_number,
             overwrite: true,
             version: case.version,
+            placement: None,
         };
         let report = write_frames(&path, g, case.frames, &options, |i| Ok(Cow::Borrowed(&frames[i])))
             .map_err(|e| format!("{}: {e}", path.display()))?;

@@ -72,6 +72,13 @@ pub trait Source {
     /// output as its provenance; called after [`Source::place`]).
     fn provenance(&self) -> String;
 
+    /// The transform from the input's coordinates to display metres
+    /// (row-major, points as columns) that [`Source::place`] chose, written
+    /// exactly as `holo.placement`; `None` when the source places nothing.
+    fn placement(&self) -> Option<crate::math::Mat4> {
+        None
+    }
+
     /// Render a single frame a band of this many hololines at a time (memory
     /// is then one band, not the frame); `None` renders whole frames.
     fn band_hololines(&self) -> Option<usize> {
@@ -112,6 +119,8 @@ pub struct Job {
     pub frames: Range<usize>,
     /// The source's provenance.
     pub provenance: String,
+    /// The source's placement ([`Source::placement`]).
+    pub placement: Option<crate::math::Mat4>,
     /// The source's frame rate.
     pub frames_per_second: Option<(u32, u32)>,
     /// Bands of a single frame (see [`Source::band_hololines`]).
@@ -151,6 +160,7 @@ where
     let job = Job {
         frames: frames.clone(),
         provenance: source.provenance(),
+        placement: source.placement(),
         frames_per_second: source.frames_per_second(),
         band_hololines: if frames.len() == 1 { source.band_hololines() } else { None },
     };
@@ -311,6 +321,9 @@ impl Sink<Band> for HoloSink<'_> {
         let (g, mut options) = (self.geometry, self.options);
         if options.source.is_empty() {
             options.source = job.provenance.clone();
+        }
+        if options.placement.is_none() {
+            options.placement = job.placement;
         }
         if options.frames_per_second.is_none() && job.frames.len() > 1 {
             options.frames_per_second = job.frames_per_second.and_then(|(n, d)| Some((i32::try_from(n).ok()?, d)));

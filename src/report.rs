@@ -123,6 +123,12 @@ impl fmt::Display for Info {
         if let Some(s) = &i.source {
             writeln!(f, "  source        {s}")?;
         }
+        if let Some(m) = &i.placement {
+            // Exactly (shortest round-trip form), row by row, in the form
+            // `convert mesh --matrix` takes.
+            let all: Vec<String> = m.iter().flatten().map(|x| x.to_string()).collect();
+            writeln!(f, "  placement     input to display metres, row by row: {}", all.join(","))?;
+        }
         for (k, frame) in i.frames.iter().enumerate() {
             let w = frame.data_window;
             write!(

@@ -146,6 +146,10 @@ impl Source for CameraSource<'_> {
         )
     }
 
+    fn placement(&self) -> Option<crate::math::Mat4> {
+        Some(self.resampler.display_from_capture())
+    }
+
     fn band_hololines(&self) -> Option<usize> {
         Some(4 * rayon::current_num_threads().max(4))
     }

@@ -940,6 +940,20 @@ impl<'a> RigResampler<'a> {
         (unseen, per_line.into_iter().flat_map(|l| l.1).collect())
     }
 
+    /// Capture coordinates to display metres (row-major, points as columns):
+    /// `P_d = scale · R (P_c − centre) + (0, 0, z_e)`, the placement of the
+    /// focus plane's points. (With [`Parallax::Fit`] the rays' directions are
+    /// mapped apart from it, by the eye map.)
+    pub fn display_from_capture(&self) -> crate::math::Mat4 {
+        let p = self.geo.placement();
+        let mut m = crate::math::IDENTITY4;
+        for (i, row) in p.rotation.iter().enumerate() {
+            let shift = if i == 2 { self.g.emitter_z_m } else { 0.0 };
+            m[i] = [p.scale * row[0], p.scale * row[1], p.scale * row[2], shift - p.scale * dot(*row, p.centre)];
+        }
+        m
+    }
+
     /// The report of a resampling that left `unseen` rays unseen.
     pub fn report(&self, unseen: Unseen, mask: Option<Vec<bool>>) -> CameraReport {
         let g = &self.g;

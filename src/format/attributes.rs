@@ -39,6 +39,7 @@ pub mod name {
     pub const FRAME_COUNT: &str = "holo.frameCount";
     pub const DIGEST: &str = "holo.digest";
     pub const SOURCE: &str = "holo.source";
+    pub const PLACEMENT: &str = "holo.placement";
 }
 
 /// Every attribute name this version defines (wavelengths by prefix).
@@ -68,6 +69,7 @@ pub fn is_known(attribute: &str) -> bool {
         FRAME_COUNT,
         DIGEST,
         SOURCE,
+        PLACEMENT,
     ]
     .contains(&attribute)
         || attribute.strip_prefix(WAVELENGTH_PREFIX).is_some_and(|c| crate::geometry::CHANNEL_NAMES.contains(&c))
@@ -97,6 +99,21 @@ pub(crate) fn text(s: &str) -> AttributeValue {
 /// Attribute text must be ASCII (spec §4); anything else is replaced by `?`.
 pub fn ascii_only(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii() && c != '\0' { c } else { '?' }).collect()
+}
+
+/// `holo.placement` (spec §4.3): `display_from_input` (row-major, points as
+/// columns: translation in the last column) as OpenEXR's `m44d`, whose
+/// layout follows Imath's row-vector convention (translation in the last
+/// row): the transpose, 16 little-endian doubles.
+pub fn placement_attribute(display_from_input: &[[f64; 4]; 4]) -> AttributeValue {
+    let bytes = crate::math::transpose(display_from_input).iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+    AttributeValue::Custom { kind: Text::new_or_panic("m44d"), bytes }
+}
+
+/// The matrix [`placement_attribute`] stores, back in the crate's
+/// convention (points as columns).
+pub fn placement_from_m44d(stored: &[[f64; 4]; 4]) -> [[f64; 4]; 4] {
+    crate::math::transpose(stored)
 }
 
 /// The geometry and radiometry attributes shared by every part of a file.
@@ -211,6 +228,25 @@ impl<'a> Attributes<'a> {
             other => Err(Self::wrong(k, "v2i", other)),
         }
     }
+    /// An `m44d` attribute (OpenEXR's 4×4 double matrix, which the `exr`
+    /// crate reads as a custom type): the 16 doubles as stored, row by row.
+    pub fn m44d(&self, k: &str) -> Result<[[f64; 4]; 4], String> {
+        match self.get(k)? {
+            AttributeValue::Custom { kind, bytes } if kind.as_slice() == b"m44d" && bytes.len() == 128 => {
+                let mut m = [[0.0; 4]; 4];
+                for (i, chunk) in bytes.chunks_exact(8).enumerate() {
+                    m[i / 4][i % 4] = f64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
+                }
+                if m.iter().flatten().all(|x| x.is_finite()) {
+                    Ok(m)
+                } else {
+                    Err(format!("attribute {k} holds a value that is not finite"))
+                }
+            }
+            other => Err(Self::wrong(k, "m44d", other)),
+        }
+    }
+
     /// An optional attribute: `Ok(None)` when absent.
     pub fn optional<T>(&self, k: &str, f: impl Fn(&Self, &str) -> Result<T, String>) -> Result<Option<T>, String> {
         if self.has(k) {

@@ -64,6 +64,9 @@ pub struct FileInfo {
     pub software: Option<String>,
     /// `holo.source`: what the content was made from, and how.
     pub source: Option<String>,
+    /// `holo.placement`: input coordinates to display metres (row-major,
+    /// points as columns), when the writer recorded it.
+    pub placement: Option<[[f64; 4]; 4]>,
     /// Frame rate (`framesPerSecond`), as numerator / denominator.
     pub frames_per_second: Option<(i32, u32)>,
     /// Frames, in part order.
@@ -235,6 +238,13 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
             problems.push(e);
             None
         }),
+        placement: attrs
+            .optional(name::PLACEMENT, Attributes::m44d)
+            .unwrap_or_else(|e| {
+                problems.push(e);
+                None
+            })
+            .map(|m| super::attributes::placement_from_m44d(&m)),
         frames_per_second: first.own_attributes.frames_per_second.map(|r| (r.0, r.1)),
         frames,
         file_bytes,

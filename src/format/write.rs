@@ -41,6 +41,11 @@ pub struct WriteOptions {
     pub overwrite: bool,
     /// The format version to write (spec §9): 1.1, or 1.0 for readers of 1.0.
     pub version: FormatVersion,
+    /// `holo.placement` (spec §4.3): the transform from the converter's input
+    /// coordinates to display metres (row-major, points as columns), when
+    /// the content was placed; written exactly, so the conversion can be
+    /// made again.
+    pub placement: Option<[[f64; 4]; 4]>,
 }
 
 /// Which version of the format a writer writes (spec §9).
@@ -85,6 +90,7 @@ impl Default for WriteOptions {
             first_frame_number: 0,
             overwrite: false,
             version: FormatVersion::default(),
+            placement: None,
         }
     }
 }
@@ -492,6 +498,9 @@ fn part_header(
         .with_display_window(full_window(g))
         .with_attributes(own);
     header.shared_attributes.other = geometry_attributes(g, &options.radiometry, options.version.number());
+    if let Some(m) = &options.placement {
+        header.shared_attributes.other.insert(Text::new_or_panic(name::PLACEMENT), attributes::placement_attribute(m));
+    }
     header.shared_attributes.pixel_aspect = options.version.pixel_aspect(g);
     header
 }

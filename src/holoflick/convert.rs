@@ -200,6 +200,12 @@ impl Source for HoloFlickSource<'_> {
         format!("holo convert holoflick {} (frames {}..{})", self.input.display(), self.frames.start, self.frames.end)
     }
 
+    /// World metres to display metres: the fit when the file was fitted,
+    /// else the identity (a HoloFlick made for the display is in its frame).
+    fn placement(&self) -> Option<crate::math::Mat4> {
+        Some(self.state.placed.as_ref().map_or(crate::math::IDENTITY4, |p| p.matrix))
+    }
+
     fn render(&mut self, number: usize, band: &mut Band, progress: &dyn Progress, _: &mut Warnings) -> Result<()> {
         let frame = self.reader.read_frame(number as u32)?;
         let (zone_lo, zone_hi) = viewing_zone(self.geometry);

@@ -246,6 +246,10 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
         self.stage.provenance(self.source.path())
     }
 
+    fn placement(&self) -> Option<crate::math::Mat4> {
+        self.placed.as_ref().map(|p| p.matrix)
+    }
+
     fn render(
         &mut self,
         number: usize,

@@ -366,3 +366,26 @@ fn a_ring_of_rolled_cameras_is_shown_upright_around_its_axis() {
     assert!(seen[0] > 4.0 && seen[0] < 12.0, "left eyes see toward camera 11: {seen:?}");
     assert!(seen[v_n - 1] > 1.3 && seen[v_n - 1] < 2.0, "right eyes see toward camera 1: {seen:?}");
 }
+
+/// The placement a camera conversion records: the capture's focus point at
+/// the middle of the emitter plane, capture units scaled to display metres.
+#[test]
+fn the_recorded_placement_puts_the_focus_point_on_the_emitter_plane() {
+    let g = display();
+    let rig = rail(5);
+    let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, 0.0)).collect();
+    let resampler = holo::cameras::resample::RigResampler::new(&rig, &views, &g, &CameraOptions::default()).unwrap();
+    let m = resampler.display_from_capture();
+    let report = resampler.report(Default::default(), None);
+    let at =
+        |p: [f64; 3]| -> [f64; 3] { std::array::from_fn(|i| (0..3).map(|k| m[i][k] * p[k]).sum::<f64>() + m[i][3]) };
+    let centre = at(report.centre);
+    assert!(
+        centre[0].abs() < 1e-12 && centre[1].abs() < 1e-12 && (centre[2] - g.emitter_z_m).abs() < 1e-12,
+        "{centre:?}"
+    );
+    // One capture unit along x is `scale` display metres.
+    let step = at([report.centre[0] + 1.0, report.centre[1], report.centre[2]]);
+    assert!(((step[0] - centre[0]).abs() - report.scale).abs() < 1e-12, "{step:?} {}", report.scale);
+    assert_eq!(m[3], [0.0, 0.0, 0.0, 1.0]);
+}

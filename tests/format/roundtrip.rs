@@ -399,3 +399,33 @@ fn banded_writes_refuse_bad_samples_and_keep_what_was_there() {
     assert!(!out.exists());
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "only the user's file remains");
 }
+
+/// `holo.placement` round-trips bit for bit (any finite doubles), is absent
+/// when not given, and stored as OpenEXR's `m44d` (Imath's row-vector
+/// layout: the translation in the last row of what is stored).
+#[test]
+fn the_placement_round_trips_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = random(geometry(2, 3, 2, false), 4);
+    let placement = [
+        [0.1 + f64::EPSILON, -2.5e-7, 3.0, 0.0123456789012345],
+        [1e-300, 7.0, -0.25, -1.5],
+        [0.0, 0.333_333_333_333_333_3, 1e10, 2.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ];
+    let path = dir.path().join("placed.holo");
+    write(&path, &m, &WriteOptions { placement: Some(placement), ..WriteOptions::default() }).unwrap();
+    let file = HoloFile::open(&path).unwrap();
+    assert_eq!(file.info().placement, Some(placement));
+    assert!(holo::format::validate(&path).unwrap().is_valid());
+    // The bytes after the type name: the transpose, little-endian.
+    let bytes = std::fs::read(&path).unwrap();
+    let at = bytes.windows(5).position(|w| w == b"m44d\0").unwrap() + 5 + 4;
+    let stored: Vec<f64> = bytes[at..at + 128].chunks(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect();
+    assert_eq!(stored[3 * 4], placement[0][3], "translation x in the last stored row");
+    assert_eq!(stored[1], placement[1][0]);
+    // Not given: absent.
+    let plain = dir.path().join("plain.holo");
+    write(&plain, &m, &WriteOptions::default()).unwrap();
+    assert_eq!(HoloFile::open(&plain).unwrap().info().placement, None);
+}

@@ -94,3 +94,27 @@ fn a_cancelled_conversion_leaves_nothing_behind() {
     assert!(!out.exists());
     assert_eq!(left.len(), 2, "only the input is left: {left:?}");
 }
+
+/// The placement a conversion chose is in the file exactly (`holo.placement`,
+/// OpenEXR's `m44d`), so the conversion can be made again from the file: the
+/// same matrix given back places the scene the same way, and the samples
+/// are the same.
+#[test]
+fn the_placement_is_recorded_exactly_and_remakes_the_conversion() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = instanced_tile(dir.path(), 2);
+    let out = dir.path().join("tiles.holo");
+    let report = convert_mesh(&scene, &small_display(), &out, &ConvertOptions::default(), &Silent).unwrap();
+    let file = holo::HoloFile::open(&out).unwrap();
+    let stored = file.info().placement.expect("holo.placement");
+    assert_eq!(stored, report.placed.matrix, "bit for bit");
+    assert!(holo::format::validate(&out).unwrap().is_valid());
+    // Again, placed by the stored matrix alone.
+    let mut again = ConvertOptions::default();
+    again.scene.placement.matrix = Some(stored);
+    let out2 = dir.path().join("again.holo");
+    convert_mesh(&scene, &small_display(), &out2, &again, &Silent).unwrap();
+    let (a, b) = (holo::HoloFile::open(&out2).unwrap(), file);
+    assert_eq!(a.info().placement, Some(stored));
+    assert_eq!(a.info().frames[0].digest, b.info().frames[0].digest, "the same samples");
+}

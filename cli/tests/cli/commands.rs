@@ -737,3 +737,23 @@ fn format_versions_differ_only_in_the_pixel_aspect_ratio() {
     let both = text(&ok(holo(&["info", "new.holo", "old.holo"], d)));
     assert!(both.to_lowercase().contains("same content"), "{both}");
 }
+
+/// `holo info` prints the placement a conversion recorded in the form
+/// `--matrix` takes, and converting again with it gives the same content.
+#[test]
+fn the_recorded_placement_remakes_the_conversion_from_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = super::small_profile(d, 4);
+    let layout = profile.to_str().unwrap();
+    let spot = super::spot();
+    ok(holo(&["convert", "mesh", &spot, "--layout", layout, "-o", "a.holo", "--supersample", "1"], d));
+    let info = text(&ok(holo(&["info", "a.holo"], d)));
+    let line = info.lines().find(|l| l.contains("placement")).unwrap_or_else(|| panic!("{info}"));
+    let matrix = line.rsplit(' ').next().unwrap();
+    assert_eq!(matrix.split(',').count(), 16, "{line}");
+    let matrix_arg = format!("--matrix={matrix}");
+    ok(holo(&["convert", "mesh", &spot, "--layout", layout, "-o", "b.holo", "--supersample", "1", &matrix_arg], d));
+    let both = text(&ok(holo(&["info", "a.holo", "b.holo"], d)));
+    assert!(both.to_lowercase().contains("same content"), "{both}");
+}
