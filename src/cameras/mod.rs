@@ -152,6 +152,14 @@ impl Camera {
         Some(([k.fx * c[0] / c[2] + k.cx, k.fy * c[1] / c[2] + k.cy], c[2]))
     }
 
+    /// Whether world point `p` lies in front of the camera and inside its
+    /// picture (pixel centres at whole numbers, edges half a pixel out).
+    pub fn sees(&self, p: [f64; 3]) -> bool {
+        self.project(p).is_some_and(|(px, _)| {
+            px[0] >= -0.5 && px[1] >= -0.5 && px[0] <= self.width as f64 - 0.5 && px[1] <= self.height as f64 - 0.5
+        })
+    }
+
     /// The viewing direction (unit, world).
     pub fn axis(&self) -> [f64; 3] {
         self.pose.rotation[2]

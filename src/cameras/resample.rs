@@ -486,17 +486,7 @@ impl RigGeometry {
             None => format!("{placement_words}; {parallax_words}"),
         };
         // Every camera should see the part of the scene the display shows.
-        let blind: Vec<&str> = rig
-            .cameras
-            .iter()
-            .filter(|c| {
-                let seen = c.project(focus_point).is_some_and(|(px, _)| {
-                    px[0] >= -0.5 && px[1] >= -0.5 && px[0] <= c.width as f64 - 0.5 && px[1] <= c.height as f64 - 0.5
-                });
-                !seen
-            })
-            .map(|c| c.name.as_str())
-            .collect();
+        let blind: Vec<&str> = rig.cameras.iter().filter(|c| !c.sees(focus_point)).map(|c| c.name.as_str()).collect();
         if blind.len() == n {
             return Err(Error::rig(&rig.source, format!(
                 "no camera sees the focus point ({:.4}, {:.4}, {:.4}) that the display would show (cameras {}); check the poses, the focus distance and the centre",
@@ -544,13 +534,10 @@ impl RigGeometry {
     /// ray from `(x, y, z_e)` with direction `(sx, sy, 1)`, and, when the
     /// eye map chose it, the ray's point on the camera surface.
     fn capture_ray(&self, x: f64, y: f64, sx: f64, sy: f64) -> ([f64; 3], [f64; 3], Option<[f64; 2]>) {
-        let p = &self.placement;
-        let r = &p.rotation;
-        let d_display = [x / p.scale, y / p.scale, 0.0];
-        let origin = add(p.centre, mat3_transpose_apply(r, d_display));
-        let Some(map) = &self.eye_map else {
-            return (origin, normalized(mat3_transpose_apply(r, [sx, sy, 1.0])), None);
-        };
+        let r = &self.placement.rotation;
+        let origin = self.capture_point(x, y);
+        let as_they_are = || (origin, normalized(mat3_transpose_apply(r, [sx, sy, 1.0])), None);
+        let Some(map) = &self.eye_map else { return as_they_are() };
         let t = map.eye_fraction(x, sx);
         let (target, at) = match (&map.target, &self.surface) {
             (EyeTarget::Plane { u, v: v_at }, Surface::Plane { plane, u: u_axis, v: v_axis }) => {
@@ -567,7 +554,7 @@ impl RigGeometry {
                 (add(*centre, scale(toward, *radius)), [a, *elevation])
             }
             // The map is made for its surface.
-            _ => return (origin, normalized(mat3_transpose_apply(r, [sx, sy, 1.0])), None),
+            _ => return as_they_are(),
         };
         (origin, normalized(sub(target, origin)), Some(at))
     }
@@ -583,14 +570,17 @@ impl RigGeometry {
         }
     }
 
+    /// The capture point the placement puts at emitter-plane point `(x, y)`
+    /// (on the focus plane when the centre is the focus point).
+    fn capture_point(&self, x: f64, y: f64) -> [f64; 3] {
+        let p = &self.placement;
+        add(p.centre, mat3_transpose_apply(&p.rotation, [x / p.scale, y / p.scale, 0.0]))
+    }
+
     /// Whether emitter-plane point `(x, y)` shows a part of the capture's
-    /// frame: its focus-plane point inside the middle camera's picture.
+    /// frame: its capture point inside the middle camera's picture.
     fn in_frame(&self, rig: &Rig, x: f64, y: f64) -> bool {
-        let (origin, _, _) = self.capture_ray(x, y, 0.0, 0.0);
-        let cam = &rig.cameras[self.frame_camera];
-        cam.project(origin).is_some_and(|(px, _)| {
-            px[0] >= -0.5 && px[1] >= -0.5 && px[0] <= cam.width as f64 - 0.5 && px[1] <= cam.height as f64 - 0.5
-        })
+        rig.cameras[self.frame_camera].sees(self.capture_point(x, y))
     }
 
     /// Where the ray crosses the focus plane.
