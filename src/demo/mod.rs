@@ -158,7 +158,7 @@ pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {
     let started = Instant::now();
     let eyes: Vec<Eye> = eyes_x_m
         .iter()
-        .map(|&x_m| Eye { x_m, y_m: g.viewer_height_m, z_m: g.viewer_distance_m, pupil_m: PUPIL_M })
+        .map(|&x_m| Eye { x_m, y_m: g.viewer_height_m, z_m: g.viewer_distance_m, pupil_m: PUPIL_M, coherent: false })
         .collect();
     let pictures = view(&assembler, FrameRef::Bytes(&images), &eyes, &Labelled::new(progress, "eyes"))?;
     drop(images);

@@ -78,7 +78,8 @@ pub(super) fn demo_movie(dir: &Path, layout: &Layout, progress: &dyn Progress) -
 
     // Each frame assembled in memory, as the display would receive it, and seen.
     let started = Instant::now();
-    let eye = EyeAt { x_m: 0.0, y_m: layout.geometry.viewer_height_m, distance_m: None, pupil_m: PUPIL_M };
+    let eye =
+        EyeAt { x_m: 0.0, y_m: layout.geometry.viewer_height_m, distance_m: None, pupil_m: PUPIL_M, coherent: false };
     let mut seen = Vec::new();
     for k in 0..encoded.pack.frames {
         let frame_progress = Labelled::new(progress, format!("frame {k}"));

@@ -245,6 +245,11 @@ pub fn view(a: &Assembler, images: FrameRef<'_>, eyes: &[Eye], progress: &dyn Pr
     let unpacked = images.unpack(a, g.hololines)?;
     let colours = g.channels.len();
     let optics = (0..colours).map(|c| ColourOptics::new(a, c)).collect::<Result<Vec<_>>>()?;
+    // What a lone emitter looks like to each coherent eye, per colour.
+    let calibrations: Vec<Vec<Option<Vec<f64>>>> = optics
+        .iter()
+        .map(|o| eyes.iter().map(|eye| eye.coherent.then(|| o.coherent_calibration(eye)).transpose()).collect())
+        .collect::<Result<_>>()?;
     let steps = Steps::begin(progress, "hololines", g.hololines);
     // rows[j][eye][e · colours + c]
     let rows: Vec<Vec<Vec<f32>>> = (0..g.hololines)
@@ -260,10 +265,19 @@ pub fn view(a: &Assembler, images: FrameRef<'_>, eyes: &[Eye], progress: &dyn Pr
                     continue;
                 }
                 let field = optics.emitter_plane(&slices)?;
-                for e in 0..g.emitters {
-                    let spectrum = optics.spectrum(&field, e);
-                    for (row, eye) in rows.iter_mut().zip(eyes) {
-                        row[e * colours + c] = optics.seen(&spectrum, e, eye) as f32;
+                for (k, eye) in eyes.iter().enumerate() {
+                    if let Some(calibration) = &calibrations[c][k] {
+                        for (e, seen) in optics.seen_coherently(&field, eye, calibration)?.into_iter().enumerate() {
+                            rows[k][e * colours + c] = seen as f32;
+                        }
+                    }
+                }
+                if eyes.iter().any(|eye| !eye.coherent) {
+                    for e in 0..g.emitters {
+                        let spectrum = optics.spectrum(&field, e);
+                        for (row, eye) in rows.iter_mut().zip(eyes).filter(|(_, eye)| !eye.coherent) {
+                            row[e * colours + c] = optics.seen(&spectrum, e, eye) as f32;
+                        }
                     }
                 }
             }

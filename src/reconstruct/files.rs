@@ -183,6 +183,9 @@ pub struct EyeAt {
     pub distance_m: Option<f64>,
     /// Pupil diameter, metres.
     pub pupil_m: f64,
+    /// Whether the eye adds neighbouring emitters' light as amplitudes
+    /// (spec/layouts.md §9.2), not as powers.
+    pub coherent: bool,
 }
 
 /// The pictures viewers at `eyes` see of frame `frame` of `input`: a `.holo`
@@ -212,7 +215,13 @@ pub fn view_file(
     let g = &fringes.assembler.layout().geometry;
     let eyes: Vec<Eye> = eyes
         .iter()
-        .map(|e| Eye { x_m: e.x_m, y_m: e.y_m, z_m: e.distance_m.unwrap_or(g.viewer_distance_m), pupil_m: e.pupil_m })
+        .map(|e| Eye {
+            x_m: e.x_m,
+            y_m: e.y_m,
+            z_m: e.distance_m.unwrap_or(g.viewer_distance_m),
+            pupil_m: e.pupil_m,
+            coherent: e.coherent,
+        })
         .collect();
     view(&fringes.assembler, fringes.frame(), &eyes, progress)
 }

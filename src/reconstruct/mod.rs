@@ -6,6 +6,7 @@
 //! angular spectrum method, and the angular spectrum of a window of it.
 
 pub mod check;
+pub mod coherent;
 pub(crate) mod field;
 pub mod files;
 pub mod picture;

@@ -373,7 +373,7 @@ pub fn intensity_peak(field: &Field1d) -> Result<(f64, f64)> {
 }
 
 /// The smallest `2^a · 3^b ≥ n`, a length rustfft transforms fast.
-fn fast_len(n: usize) -> usize {
+pub(crate) fn fast_len(n: usize) -> usize {
     let mut best = n.next_power_of_two();
     let mut p3 = 3;
     while p3 < best {

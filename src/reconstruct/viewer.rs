@@ -18,6 +18,7 @@ use std::sync::Arc;
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
+use super::coherent::{CoherentImage, FocusedEye};
 use super::field::FieldPlan;
 use super::propagate::{Field1d, Propagator};
 use crate::assemble::{Assembler, ColourBasis};
@@ -36,6 +37,10 @@ pub struct Eye {
     pub z_m: f64,
     /// Pupil diameter, metres.
     pub pupil_m: f64,
+    /// Whether the light of neighbouring emitters adds as amplitudes (the
+    /// eye images the emitter plane through its pupil, spec/layouts.md §9.2)
+    /// rather than as powers (§9).
+    pub coherent: bool,
 }
 
 /// Power per direction of one emitter's light, on a uniform grid of `sin θ`.
@@ -80,6 +85,10 @@ pub struct ColourOptics {
     field: FieldPlan,
     /// From the hologram to the emitter plane (none for hogels).
     to_emitters: Option<Propagator>,
+    /// The calibration emitter (alone on its hololine) and its field on the
+    /// emitter plane, for the coherent eye.
+    calibration_emitter: usize,
+    calibration_field: Field1d,
 }
 
 impl std::fmt::Debug for ColourOptics {
@@ -131,6 +140,8 @@ impl ColourOptics {
             view_gain: Vec::new(),
             field,
             to_emitters,
+            calibration_emitter: 0,
+            calibration_field: Field1d { samples: Vec::new(), pitch_m: 1.0, x0_m: 0.0 },
         };
         // Calibration: the middle emitter of one hololine, every view at 1.
         geometry.hololines = 1;
@@ -142,6 +153,8 @@ impl ColourOptics {
         let rows: Vec<&[f32]> = (0..signals.signals).map(|s| signals.row(s, 0)).collect();
         let field = optics.emitter_plane(&rows)?;
         optics.calibration = optics.spectrum(&field, e);
+        optics.calibration_emitter = e;
+        optics.calibration_field = field;
         optics.view_gain = (0..optics.basis.views)
             .map(|v| {
                 let (lo, hi) = optics.basis.view_sin_edges[v];
@@ -172,8 +185,7 @@ impl ColourOptics {
 
     /// The angular spectrum of emitter `e`'s window of an emitter-plane field.
     pub fn spectrum(&self, field: &Field1d, e: usize) -> EmitterSpectrum {
-        let x_lo = self.geometry.emitter_x_m(e) - self.geometry.emitter_pitch_m / 2.0;
-        let first = ((x_lo - field.x0_m) / field.pitch_m).round() as i64;
+        let first = self.window_start(field, e);
         let len = self.fft.len();
         let mut buf = vec![Complex64::new(0.0, 0.0); len];
         for (k, b) in buf.iter_mut().enumerate().take(self.window) {
@@ -221,5 +233,68 @@ impl ColourOptics {
     /// The calibration emitter's power in each view's interval.
     pub fn view_gain(&self) -> &[f64] {
         &self.view_gain
+    }
+
+    /// The eye in the emitter plane's coordinates.
+    fn focused(&self, eye: &Eye) -> FocusedEye {
+        FocusedEye { x_m: eye.x_m, distance_m: eye.z_m - self.geometry.emitter_z_m, pupil_m: eye.pupil_m }
+    }
+
+    /// The first fine sample of emitter `e`'s window on `field`'s grid.
+    fn window_start(&self, field: &Field1d, e: usize) -> i64 {
+        let x_lo = self.geometry.emitter_x_m(e) - self.geometry.emitter_pitch_m / 2.0;
+        ((x_lo - field.x0_m) / field.pitch_m).round() as i64
+    }
+
+    /// What a fully lit emitter alone looks like to a coherent `eye`, for
+    /// every emitter `e` (spec/layouts.md §9.2): the calibration emitter
+    /// imaged by an eye moved so that it sees it as `eye` sees `e`, its
+    /// image's power over its own window. Computed once per eye: it does not
+    /// depend on the hololine.
+    pub fn coherent_calibration(&self, eye: &Eye) -> Result<Vec<f64>> {
+        let c = self.calibration_emitter;
+        let field = &self.calibration_field;
+        let x_c = self.geometry.emitter_x_m(c);
+        // The calibration emitter's light is all within a few pitches of it
+        // (the chirp focuses there); ±32 windows hold it to far below 1e-4.
+        let reach = 32 * self.window as i64;
+        let first = self.window_start(field, c);
+        let lo = (first - reach).max(0) as usize;
+        let hi = ((first + self.window as i64 + reach) as usize).min(field.samples.len());
+        let crop = Field1d { samples: field.samples[lo..hi].to_vec(), pitch_m: field.pitch_m, x0_m: field.x_m(lo) };
+        let lambda = self.basis.wavelength_m;
+        (0..self.geometry.emitters)
+            .map(|e| {
+                let moved = Eye { x_m: eye.x_m + x_c - self.geometry.emitter_x_m(e), ..*eye };
+                let focused = self.focused(&moved);
+                let band = focused.band(x_c, lambda);
+                let image = CoherentImage::new(&crop, &focused, lambda, band)?;
+                Ok(image.power(first - lo as i64, self.window, band, crop.pitch_m))
+            })
+            .collect()
+    }
+
+    /// How bright every emitter looks to a coherent `eye` (spec/layouts.md
+    /// §9.2): the emitter-plane field imaged through the pupil, the image's
+    /// power over each emitter's window, divided by `calibration`
+    /// ([`ColourOptics::coherent_calibration`] for the same eye).
+    pub fn seen_coherently(&self, field: &Field1d, eye: &Eye, calibration: &[f64]) -> Result<Vec<f64>> {
+        let focused = self.focused(eye);
+        let lambda = self.basis.wavelength_m;
+        let emitters = self.geometry.emitters;
+        let bands: Vec<(f64, f64)> =
+            (0..emitters).map(|e| focused.band(self.geometry.emitter_x_m(e), lambda)).collect();
+        let union = bands.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |u, b| (u.0.min(b.0), u.1.max(b.1)));
+        let image = CoherentImage::new(field, &focused, lambda, union)?;
+        Ok((0..emitters)
+            .map(|e| {
+                let power = image.power(self.window_start(field, e), self.window, bands[e], field.pitch_m);
+                if calibration[e] > 0.0 {
+                    power / calibration[e]
+                } else {
+                    0.0
+                }
+            })
+            .collect())
     }
 }

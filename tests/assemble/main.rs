@@ -4,6 +4,7 @@
 //! One test binary for this stage of the data flow (each file a module), so a
 //! clean build links a few binaries rather than one per file.
 
+mod coherent;
 mod examples;
 mod files;
 mod layouts;

@@ -87,7 +87,7 @@ fn artefact(name: &str) -> PathBuf {
 fn seen(layout: &Layout, m: &Modulation, file: &str) -> Picture {
     let a = Assembler::new(layout).unwrap();
     let (bytes, _) = a.assemble::<u8>(m).unwrap();
-    let eye = Eye { x_m: 0.0, y_m: 0.0, z_m: layout.geometry.viewer_distance_m, pupil_m: 4e-3 };
+    let eye = Eye { x_m: 0.0, y_m: 0.0, z_m: layout.geometry.viewer_distance_m, pupil_m: 4e-3, coherent: false };
     let picture = view(&a, FrameRef::Bytes(&bytes), &[eye], &holo::progress::Silent).unwrap().remove(0);
     picture.write_png(&artefact(file), 1.0, true).unwrap();
     picture

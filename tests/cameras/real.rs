@@ -61,7 +61,7 @@ fn real_captures_convert_and_dino_is_seen_through_the_display() {
         assert!(m.samples().iter().any(|&v| v > 0.0), "{name}: not black");
         if name == "dino" {
             // What an eye at the middle of the viewer line sees on Mark III.
-            let eyes = [EyeAt { x_m: 0.0, y_m: 0.0, distance_m: None, pupil_m: 4e-3 }];
+            let eyes = [EyeAt { x_m: 0.0, y_m: 0.0, distance_m: None, pupil_m: 4e-3, coherent: false }];
             let picture = &view_file(&output, Some(&layout), 0, &eyes, &holo::progress::Silent).unwrap()[0];
             let path = artefacts().join("dino-mark3-view-x0mm.png");
             picture.write_png(&path, picture.data.iter().fold(0.0f32, |a, &b| a.max(b)).max(1e-6), true).unwrap();

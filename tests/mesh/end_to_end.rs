@@ -44,7 +44,7 @@ fn end_to_end(layout: &Layout, bound: f64) {
     let pupil_m = 4e-3;
     let eyes_mm = [-30.0, 0.0, 30.0];
     let eyes: Vec<EyeAt> =
-        eyes_mm.iter().map(|x| EyeAt { x_m: x * 1e-3, y_m: 0.0, distance_m: None, pupil_m }).collect();
+        eyes_mm.iter().map(|x| EyeAt { x_m: x * 1e-3, y_m: 0.0, distance_m: None, pupil_m, coherent: false }).collect();
     let pictures = view_file(&holo_path, Some(layout), 0, &eyes, &holo::progress::Silent).unwrap();
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("mesh-end-to-end");
     std::fs::create_dir_all(&out).unwrap();

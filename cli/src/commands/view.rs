@@ -31,6 +31,11 @@ pub struct ViewArgs {
     /// Pupil diameter in millimetres.
     #[arg(long, default_value = "4", value_parser = args::positive_millimetres())]
     pupil: f64,
+    /// A coherent eye: the pupil images the emitter plane and the light of
+    /// neighbouring emitters interferes (slower; default: each emitter's
+    /// light added as power).
+    #[arg(long)]
+    coherent: bool,
     /// Frame index (in the source .holo file).
     #[arg(long, default_value = "0", value_parser = args::at_least(0))]
     frame: usize,
@@ -53,7 +58,7 @@ pub fn run(a: ViewArgs) -> Outcome {
     };
     check_output(&a.output, &[&a.input], a.force)?;
     let (x_m, y_m) = a.eye;
-    let eye = EyeAt { x_m, y_m, distance_m: a.distance, pupil_m: a.pupil };
+    let eye = EyeAt { x_m, y_m, distance_m: a.distance, pupil_m: a.pupil, coherent: a.coherent };
     let picture = view_file(&a.input, layout.as_ref(), a.frame, &[eye], &Reporter::on_stderr())?.remove(0);
     let white = a.white.level(picture.data.iter().copied());
     picture.write_png(&a.output, white, a.force)?;

@@ -116,6 +116,14 @@ fn pictures_show_a_square_square() {
     ok(holo(&["view", "square.holo", "--layout", profile.to_str().unwrap(), "-o", "eye.png"], d));
     let img = image::open(d.join("eye.png")).unwrap();
     square_within("view", lit_box(&img, (0, 0, img.width(), img.height())));
+    // view --coherent: the same shape, another picture (neighbours interfere).
+    ok(holo(
+        &["view", "square.holo", "--layout", profile.to_str().unwrap(), "--coherent", "-o", "eye-coherent.png"],
+        d,
+    ));
+    let coherent = image::open(d.join("eye-coherent.png")).unwrap();
+    square_within("view --coherent", lit_box(&coherent, (0, 0, coherent.width(), coherent.height())));
+    assert_ne!(coherent.to_rgb8().into_raw(), img.to_rgb8().into_raw(), "--coherent changed nothing");
 
     // export-quilt: the middle tile, shown at the preset's aspect (square pixels).
     ok(holo(&["export-quilt", "square.holo", "-o", "q.png"], d));
