@@ -11,12 +11,14 @@
 //! modulator's diffracted field scales with drive amplitude and a viewer sees
 //! intensity (docs/optics.md §4.3).
 
+use std::f64::consts::{FRAC_PI_2, PI};
+
 use rustfft::num_complex::Complex64;
 
 use super::chirp::ZonedChirp;
-use super::hogel::HogelGratings;
+use super::hogel::{pseudo_random_phase_rad, HogelGratings};
 use crate::geometry::Geometry;
-use crate::layout::{Basis, Fringe, Layout, SignalKind};
+use crate::layout::{Basis, EmitterPhases, Fringe, Layout, SignalKind};
 
 /// The element shapes of a basis.
 #[derive(Clone, Debug, PartialEq)]
@@ -62,6 +64,9 @@ pub struct ColourBasis {
     pub view_sin_edges: Vec<(f64, f64)>,
     /// The in-signal carrier, cycles per sample (zero for I/Q).
     pub carrier: f64,
+    /// The constant phase of each emitter's elements, radians (§4.6); empty
+    /// when every phase is 0.
+    pub emitter_phases_rad: Vec<f64>,
 }
 
 /// A chirp basis's shape as the layout gives it.
@@ -135,6 +140,31 @@ fn chirp_elements(
         }
     }
     Some(c)
+}
+
+/// Every emitter's phase at `wavelength_m`, radians (spec/layouts.md
+/// §4.6); empty for [`EmitterPhases::Zero`].
+fn emitter_phases_rad(phases: EmitterPhases, g: &Geometry, wavelength_m: f64) -> Vec<f64> {
+    if phases == EmitterPhases::Zero || g.emitters == 0 {
+        return Vec::new();
+    }
+    let centre_m = (g.emitter_x_m(0) + g.emitter_x_m(g.emitters - 1)) / 2.0;
+    let distance_m = g.viewer_distance_m - g.emitter_z_m;
+    (0..g.emitters)
+        .map(|e| match phases {
+            EmitterPhases::Zero => 0.0,
+            EmitterPhases::Random => pseudo_random_phase_rad(e as i64),
+            EmitterPhases::Quadrature => FRAC_PI_2 * (e % 2) as f64,
+            EmitterPhases::Viewer => {
+                // Minus the emitter's path to the viewer line's centre beyond
+                // the distance (`r − d` without cancellation), reduced to
+                // whole turns before scaling.
+                let u = g.emitter_x_m(e) - centre_m;
+                let turns = u * u / ((u * u + distance_m * distance_m).sqrt() + distance_m) / wavelength_m;
+                -2.0 * PI * turns.fract()
+            }
+        })
+        .collect()
 }
 
 impl ColourBasis {
@@ -252,6 +282,7 @@ impl ColourBasis {
             wavelength_m,
             view_sin_edges,
             carrier,
+            emitter_phases_rad: emitter_phases_rad(f.emitter_phases, g, wavelength_m),
         })
     }
 
@@ -320,8 +351,20 @@ impl ColourBasis {
     }
 
     /// The exact value of element (`e`, `v`) at hololine sample `n` (inside
-    /// its segment), from the physics in f64. Real signals use the real part.
+    /// its segment), from the physics in f64, with its emitter's phase.
+    /// Real signals use the real part.
     pub fn value(&self, e: usize, v: usize, n: usize) -> Complex64 {
+        self.unphased_value(e, v, n) * Complex64::from_polar(1.0, self.emitter_phase_rad(e))
+    }
+
+    /// The constant phase of emitter `e`'s elements, radians (spec/layouts.md §4.6).
+    pub fn emitter_phase_rad(&self, e: usize) -> f64 {
+        self.emitter_phases_rad.get(e).copied().unwrap_or(0.0)
+    }
+
+    /// [`ColourBasis::value`] without the emitter's phase: the same for every
+    /// emitter, shifted (what the fast path tabulates once).
+    pub fn unphased_value(&self, e: usize, v: usize, n: usize) -> Complex64 {
         match &self.elements {
             Elements::Chirp(c) => {
                 let (zone, _) = c.segment_of_view(v);

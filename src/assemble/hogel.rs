@@ -27,9 +27,10 @@ pub struct HogelGratings {
     pub gratings: Vec<Vec<(i64, f64)>>,
 }
 
-/// The pseudo-random phase of the grating of `b` cycles per hogel:
-/// `2π · splitmix64(b) / 2⁶⁴` (spec/layouts.md, "Hogel basis").
-pub fn grating_phase_rad(b: i64) -> f64 {
+/// A pseudo-random phase for index `b`, `2π · splitmix64(b) / 2⁶⁴`: the
+/// phase of the grating of `b` cycles per hogel (spec/layouts.md §4.3), and of
+/// emitter `b` with random emitter phases (§4.6).
+pub fn pseudo_random_phase_rad(b: i64) -> f64 {
     let mut z = (b as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -64,7 +65,7 @@ impl HogelGratings {
                     let sin = (b as f64 / w as f64 - carrier) * wavelength_m / pitch_m;
                     sin >= lo && sin < hi
                 })
-                .map(|b| (b, grating_phase_rad(b)))
+                .map(|b| (b, pseudo_random_phase_rad(b)))
                 .collect();
             if in_view.is_empty() {
                 let f = |s: f64| s * pitch_m / wavelength_m + carrier;

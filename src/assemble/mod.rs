@@ -563,6 +563,95 @@ mod tests {
     }
 
     #[test]
+    fn emitter_phases_agree_with_the_f64_reference_in_every_path() {
+        // Complex weights run the kernel twice (I/Q) or against the
+        // imaginary table (real signals); the reference multiplies each
+        // element by its emitter's phase. Fast, portable, frame path (floats
+        // in the frame buffer, read back) and the least-squares adjoint.
+        use crate::layout::EmitterPhases;
+        use rayon::prelude::*;
+        let cases = [
+            (mark3(), EmitterPhases::Random),
+            (mark1(), EmitterPhases::Quadrature),
+            (mark1_hogel(), EmitterPhases::Random),
+            (mark4(), EmitterPhases::Quadrature),
+        ];
+        cases.into_par_iter().for_each(|(layout, phases)| {
+            let mut layout = with_hololines(layout, 2);
+            let unphased = Assembler::new(&layout).unwrap();
+            layout.fringe.as_mut().unwrap().emitter_phases = phases;
+            let a = Assembler::new(&layout).unwrap();
+            let portable = a.clone().with_simd(Simd::Portable);
+            let m = random(&layout, 5, true);
+            for colour in 0..layout.geometry.channels.len() {
+                let reference = a.signals_reference(&m, colour, 0..2).unwrap();
+                let (fast, fast_portable) = (a.signals(&m, colour).unwrap(), portable.signals(&m, colour).unwrap());
+                let without = unphased.signals(&m, colour).unwrap();
+                let (mut worst, mut largest, mut changed) = (0f64, 0f64, 0f64);
+                for (j, want) in reference.iter().enumerate() {
+                    for (s, want) in want.iter().enumerate() {
+                        for (n, r) in want.iter().enumerate() {
+                            largest = largest.max(r.abs());
+                            worst = worst.max((f64::from(fast.row(s, j)[n]) - r).abs());
+                            worst = worst.max((f64::from(fast_portable.row(s, j)[n]) - r).abs());
+                            changed = changed.max((f64::from(without.row(s, j)[n]) - r).abs());
+                        }
+                    }
+                }
+                assert!(largest > 0.05, "{}: the signal is not trivially small ({largest})", layout.name);
+                assert!(worst < 2e-6, "{} colour {colour} {phases:?}: worst {worst}", layout.name);
+                assert!(changed > 0.05, "{} colour {colour}: the phases changed nothing ({changed})", layout.name);
+            }
+            // The frame path writes what the signals say.
+            let (images, _) = a.assemble::<f32>(&m).unwrap();
+            let unpacked = a.unpack(&images, 2).unwrap();
+            // With summed colours the frame buffer holds every colour's sum.
+            let mut colour_signals = a.signals(&m, 0).unwrap();
+            if a.colours_summed() {
+                for c in 1..layout.geometry.channels.len() {
+                    let more = a.signals(&m, c).unwrap();
+                    colour_signals.data.iter_mut().zip(&more.data).for_each(|(x, y)| *x += y);
+                }
+            }
+            let group = &unpacked[0];
+            let fb = &layout.fringe.as_ref().unwrap().frame_buffer;
+            let mut worst = 0f32;
+            for s in 0..colour_signals.signals.min(group.signals) {
+                for n in 0..a.samples() {
+                    if n % fb.line_samples >= fb.width {
+                        continue;
+                    }
+                    worst = worst.max((group.row(s, 0)[n] - colour_signals.row(s, 0)[n]).abs());
+                }
+            }
+            assert!(worst < 1e-6, "{}: frame path against signals {worst}", layout.name);
+            // The adjoint is the forward map's: ⟨F w, s⟩ = ⟨w, F* s⟩ on random vectors.
+            let plan = a.plan(0);
+            let basis = plan.basis();
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+            let w: Vec<f32> = (0..basis.emitters * basis.views).map(|_| rng.gen_range(0.0..1.0)).collect();
+            let s: Vec<Vec<f32>> =
+                (0..2).map(|_| (0..basis.samples).map(|_| rng.gen_range(-1.0..1.0)).collect()).collect();
+            for zone in 0..basis.zones() {
+                let (mut re, mut im) = (vec![0f32; basis.samples], vec![0f32; basis.samples]);
+                plan.zone(&w, zone, &mut re, &mut im);
+                let mut forward: f64 = re.iter().zip(&s[0]).map(|(a, b)| f64::from(a * b)).sum();
+                if basis.lanes() == 2 {
+                    forward += im.iter().zip(&s[1]).map(|(a, b)| f64::from(a * b)).sum::<f64>();
+                }
+                let mut adjoint = vec![0f64; w.len()];
+                plan.zone_adjoint(zone, &s[0], &s[1], &mut adjoint);
+                let back: f64 = adjoint.iter().zip(&w).map(|(a, b)| a * f64::from(*b)).sum();
+                assert!(
+                    (forward - back).abs() < 1e-4 * forward.abs().max(1.0),
+                    "{} zone {zone}: {forward} against {back}",
+                    layout.name
+                );
+            }
+        });
+    }
+
+    #[test]
     fn the_kernel_blocks_are_as_wide_as_the_bases_allow() {
         let block = |l: Layout| Assembler::new(&l).unwrap().plan(0).block();
         assert_eq!(block(mark3()), 32, "32-sample view segments");

@@ -26,6 +26,8 @@ use std::arch::x86_64::{
     _mm256_storeu_ps,
 };
 
+use rustfft::num_complex::Complex64;
+
 use super::basis::ColourBasis;
 use crate::layout::SignalKind;
 use crate::simd::Simd;
@@ -148,6 +150,13 @@ pub struct Plan {
     padding: (usize, usize),
     /// Which kernels the processor may run (the portable one when forced).
     simd: Simd,
+    /// `(cos ψ_e, sin ψ_e)` of every emitter's phase (spec/layouts.md §4.6);
+    /// empty when every phase is 0.
+    phases: Vec<(f32, f32)>,
+    /// For real signals with emitter phases: the same plan tabulating the
+    /// imaginary parts of the basis (`Re(−i B) = Im B`), which a phase mixes
+    /// into the real signal.
+    quadrature: Option<Box<Plan>>,
 }
 
 /// The most emitter steps the vector kernel takes at a time (its `G`).
@@ -215,6 +224,24 @@ fn gcd(a: usize, b: usize) -> usize {
 impl Plan {
     /// Tabulate `basis` (values computed in f64, stored as f32).
     pub fn new(basis: ColourBasis) -> Self {
+        let mut plan = Plan::tabulate(basis, false);
+        if !plan.basis.emitter_phases_rad.is_empty() {
+            plan.phases = (0..plan.basis.emitters)
+                .map(|e| {
+                    let (sin, cos) = plan.basis.emitter_phase_rad(e).sin_cos();
+                    (cos as f32, sin as f32)
+                })
+                .collect();
+            if plan.basis.signal == SignalKind::Real {
+                plan.quadrature = Some(Box::new(Plan::tabulate(plan.basis.clone(), true)));
+            }
+        }
+        plan
+    }
+
+    /// The plan of `basis` without emitter phases, its values turned by
+    /// `−π/2` when `quarter` (so a real signal's table holds `Im B`).
+    fn tabulate(basis: ColourBasis, quarter: bool) -> Self {
         // The block: the largest power of two up to 64 that divides the step,
         // the hololine and every element's start and length.
         let mut g = gcd(basis.step, basis.samples);
@@ -225,7 +252,8 @@ impl Plan {
             g = gcd(gcd(g, s.start), s.len);
             offsets.push(table_re.len());
             for n in s.start..s.start + s.len {
-                let x = basis.value(0, v, n);
+                let x = basis.unphased_value(0, v, n);
+                let x = if quarter { Complex64::new(x.im, -x.re) } else { x };
                 table_re.push(x.re as f32);
                 if basis.signal == SignalKind::Iq {
                     table_im.push(x.im as f32);
@@ -285,13 +313,27 @@ impl Plan {
         let min_back = lists().map(|t| t.min_back).min().unwrap_or(0);
         let steps = (basis.samples / block).div_ceil(period);
         let padding = (before, (steps + GROUP - 1).saturating_sub(min_back + basis.emitters));
-        Plan { basis, block, period, table_re, table_im, lanes, terms, norm, padding, simd: Simd::Detect }
+        Plan {
+            basis,
+            block,
+            period,
+            table_re,
+            table_im,
+            lanes,
+            terms,
+            norm,
+            padding,
+            simd: Simd::Detect,
+            phases: Vec::new(),
+            quadrature: None,
+        }
     }
 
     /// The same plan, its kernel chosen by `simd` ([`Simd::Portable`]: the
     /// portable kernel even where AVX2 is present, for checking it).
     pub fn with_simd(mut self, simd: Simd) -> Self {
         self.simd = simd;
+        self.quadrature = self.quadrature.map(|q| Box::new(q.with_simd(simd)));
         self
     }
 
@@ -374,6 +416,54 @@ impl Plan {
     fn zone_into<S: LaneSink>(&self, weights: &[f32], before: usize, zone: usize, sink: &mut S) {
         // The kernels read weights unchecked where every term names a weight of the buffer.
         assert!(weights.len() >= (before + self.basis.emitters) * self.basis.views, "one weight per element");
+        if self.phases.is_empty() {
+            return self.zone_unphased(weights, before, zone, sink);
+        }
+        // With emitter phases the weights are complex, `w e^{iψ}`: the
+        // kernel runs once with `w cos ψ` and once with `w sin ψ`, and
+        // `s = Σ w cos ψ B + i Σ w sin ψ B` is put together from the two,
+        // then handed on block by block, in order.
+        let samples = self.basis.samples;
+        let views = self.basis.views;
+        let (mut cos_w, mut sin_w) = (vec![0f32; weights.len()], vec![0f32; weights.len()]);
+        for (e, &(cos, sin)) in self.phases.iter().enumerate() {
+            let at = (before + e) * views;
+            for v in at..at + views {
+                cos_w[v] = weights[v] * cos;
+                sin_w[v] = weights[v] * sin;
+            }
+        }
+        let pass = |plan: &Plan, w: &[f32]| {
+            let (mut re, mut im) = (vec![0f32; samples], vec![0f32; samples]);
+            plan.zone_unphased(w, before, zone, &mut [&mut re[..], &mut im[..]]);
+            (re, im)
+        };
+        let (mut re, mut im) = pass(self, &cos_w);
+        match &self.quadrature {
+            // Real: Re(e^{iψ} B) = cos ψ Re B − sin ψ Im B.
+            Some(q) => {
+                let (im_b, _) = pass(q, &sin_w);
+                re.iter_mut().zip(&im_b).for_each(|(r, x)| *r -= x);
+            }
+            // I/Q: the real part takes −(sin-pass Q), the imaginary part +(sin-pass I).
+            None => {
+                let (re_s, im_s) = pass(self, &sin_w);
+                re.iter_mut().zip(&im_s).for_each(|(r, x)| *r -= x);
+                im.iter_mut().zip(&re_s).for_each(|(i, x)| *i += x);
+            }
+        }
+        let lanes = self.basis.lanes();
+        let bl = self.block;
+        for b in 0..samples / bl {
+            sink.put(0, b * bl, &re[b * bl..(b + 1) * bl]);
+            if lanes == 2 {
+                sink.put(1, b * bl, &im[b * bl..(b + 1) * bl]);
+            }
+        }
+    }
+
+    /// [`Plan::zone_into`] with every emitter at phase 0: the kernels.
+    fn zone_unphased<S: LaneSink>(&self, weights: &[f32], before: usize, zone: usize, sink: &mut S) {
         let iq = self.basis.signal == SignalKind::Iq;
         #[cfg(target_arch = "x86_64")]
         if self.simd.avx2_fma() {
@@ -622,6 +712,34 @@ impl Plan {
     /// `out[e · views + v]` (`im` is ignored for real signals). With the
     /// forward map it solves for the weights that made a signal.
     pub fn zone_adjoint(&self, zone: usize, re: &[f32], im: &[f32], out: &mut [f64]) {
+        if self.phases.is_empty() {
+            return self.zone_adjoint_unphased(zone, re, im, out);
+        }
+        // The forward map is `w ↦ Σ w (cos ψ B + i sin ψ B)`, so its adjoint
+        // is `cos ψ ⟨B, s⟩ + sin ψ ⟨i B, s⟩`: for I/Q, `⟨i B, (I, Q)⟩ =
+        // ⟨B, (Q, −I)⟩`; for real signals `⟨Re(i B), s⟩ = −⟨Im B, s⟩`.
+        let views = self.basis.views;
+        let mut with_cos = vec![0f64; out.len()];
+        let mut with_sin = vec![0f64; out.len()];
+        self.zone_adjoint_unphased(zone, re, im, &mut with_cos);
+        match &self.quadrature {
+            Some(q) => {
+                q.zone_adjoint_unphased(zone, re, im, &mut with_sin);
+                with_sin.iter_mut().for_each(|x| *x = -*x);
+            }
+            None => {
+                let minus_re: Vec<f32> = re.iter().map(|x| -x).collect();
+                self.zone_adjoint_unphased(zone, im, &minus_re, &mut with_sin);
+            }
+        }
+        for (e, &(cos, sin)) in self.phases.iter().enumerate() {
+            for k in e * views..(e + 1) * views {
+                out[k] += f64::from(cos) * with_cos[k] + f64::from(sin) * with_sin[k];
+            }
+        }
+    }
+
+    fn zone_adjoint_unphased(&self, zone: usize, re: &[f32], im: &[f32], out: &mut [f64]) {
         let iq = self.basis.signal == SignalKind::Iq;
         let bl = self.block;
         for b in 0..self.basis.samples / bl {
@@ -645,6 +763,10 @@ impl Plan {
     /// for every output sample, gather its elements from the tables, one
     /// sample at a time, no zero skipping.
     pub fn zone_straightforward(&self, weights: &[f32], zone: usize, re: &mut [f32], im: &mut [f32]) {
+        assert!(
+            self.phases.is_empty(),
+            "the straightforward loop is the kernel's reference with every emitter phase 0"
+        );
         let iq = self.basis.signal == SignalKind::Iq;
         for n in 0..self.basis.samples {
             let (b, u) = (n / self.block, n % self.block);

@@ -2,7 +2,7 @@
 //! gives are marked *assumption* here and in spec/layouts.md, with the
 //! reasoning.
 
-use super::{Basis, ChannelSlot, ColourSignals, FrameBuffer, Fringe, Layout, Quantization, SignalKind};
+use super::{Basis, ChannelSlot, ColourSignals, EmitterPhases, FrameBuffer, Fringe, Layout, Quantization, SignalKind};
 use crate::geometry::{mono_channel, rgb_channels, Geometry, Views};
 
 /// Names of the built-in layouts.
@@ -74,6 +74,7 @@ pub fn mark3() -> Layout {
         signal: SignalKind::Iq,
         carrier_cycles_per_sample: Vec::new(),
         colours: ColourSignals::Separate,
+        emitter_phases: EmitterPhases::Zero,
         frame_buffer: FrameBuffer {
             image_names: vec!["head1".into(), "head2".into()],
             width: 4080,
@@ -177,6 +178,7 @@ fn mark1_fringe(basis: Basis) -> Fringe {
         signal: SignalKind::Real,
         carrier_cycles_per_sample: vec![0.25],
         colours: ColourSignals::Separate,
+        emitter_phases: EmitterPhases::Zero,
         frame_buffer: mark1_frame_buffer(),
         quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
     }
@@ -261,6 +263,7 @@ pub fn mark2() -> Layout {
             signal: SignalKind::Real,
             carrier_cycles_per_sample: vec![0.25],
             colours: ColourSignals::Separate,
+            emitter_phases: EmitterPhases::Zero,
             frame_buffer: FrameBuffer {
                 image_names: (0..3).flat_map(|card| (0..2).map(move |head| format!("card{card}-head{head}"))).collect(),
                 width: 2045,
@@ -323,6 +326,7 @@ pub fn mark4() -> Layout {
             signal: SignalKind::Real,
             carrier_cycles_per_sample: vec![0.085, 0.225, 0.39],
             colours: ColourSignals::Summed,
+            emitter_phases: EmitterPhases::Zero,
             frame_buffer: FrameBuffer {
                 image_names: (1..=6).map(|h| format!("head{h}")).collect(),
                 width: 3552,

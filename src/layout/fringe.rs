@@ -29,6 +29,9 @@ pub struct Fringe {
     /// its own band, which must not overlap another's).
     #[serde(default, skip_serializing_if = "ColourSignals::is_separate")]
     pub colours: ColourSignals,
+    /// The constant phase each emitter's basis starts with.
+    #[serde(default, skip_serializing_if = "EmitterPhases::is_zero")]
+    pub emitter_phases: EmitterPhases,
     /// Where the signals go.
     pub frame_buffer: FrameBuffer,
     /// Float signal to stored integer.
@@ -62,6 +65,34 @@ pub enum Basis {
         /// Samples per hogel (= between emitters).
         hogel_samples: usize,
     },
+}
+
+/// The constant phase each emitter's basis is multiplied by (spec/layouts.md
+/// §4.6): where the light of neighbouring emitters meets, in a coherent eye
+/// (§9.2), their relative phase decides whether it adds or cancels.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum EmitterPhases {
+    /// Every emitter at phase 0.
+    #[default]
+    Zero,
+    /// Emitter `e` at `2π · splitmix64(e) / 2⁶⁴`, the generator of the hogel
+    /// gratings' phases.
+    Random,
+    /// `0, π/2, 0, π/2, …`: every emitter in quadrature with both
+    /// neighbours.
+    Quadrature,
+    /// Minus each emitter's path to the centre of the viewer line, in
+    /// phase: the emitters' light arrives at the viewer distance as from one
+    /// flat array, so from every eye position on the line identical
+    /// neighbours interfere alike and a uniform hololine looks uniform.
+    Viewer,
+}
+
+impl EmitterPhases {
+    fn is_zero(&self) -> bool {
+        *self == EmitterPhases::Zero
+    }
 }
 
 /// The kind of signal a display takes.

@@ -19,7 +19,9 @@ use serde::{Deserialize, Serialize};
 use crate::geometry::Geometry;
 use crate::{Error, Result};
 pub use builtin::{builtin, mark1, mark1_hogel, mark2, mark3, mark4, segment_centre_views, BUILTIN};
-pub use fringe::{Basis, ChannelSlot, ColourSignals, FrameBuffer, Fringe, Pixel, Quantization, SignalKind};
+pub use fringe::{
+    Basis, ChannelSlot, ColourSignals, EmitterPhases, FrameBuffer, Fringe, Pixel, Quantization, SignalKind,
+};
 
 /// A display profile.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
