@@ -45,6 +45,14 @@ fn bench(c: &mut Criterion) {
         group.throughput(Throughput::Elements(1));
         let mut bytes = a.blank_images::<u8>();
         group.bench_function("fast_u8_frame_buffer", |b| b.iter(|| a.assemble_into(&m, &mut bytes).unwrap()));
+        // Emitter phases other than zero (spec/layouts.md §4.6) cost a
+        // second kernel pass per zone: side by side with the line above.
+        let mut phased_layout = layout.clone();
+        phased_layout.fringe.as_mut().unwrap().emitter_phases = holo::layout::EmitterPhases::Viewer;
+        let phased = Assembler::new(&phased_layout).unwrap();
+        group.bench_function("fast_u8_frame_buffer_viewer_phases", |b| {
+            b.iter(|| phased.assemble_into(&m, &mut bytes).unwrap())
+        });
         group.bench_function("fast_f32_signals", |b| b.iter(|| a.signals(&m, 0).unwrap()));
         group.bench_function("straightforward_one_thread", |b| b.iter(|| straightforward(&a, &m)));
         group.finish();

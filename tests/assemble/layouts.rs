@@ -1,5 +1,5 @@
 //! The frame-buffer layouts of Mark II and Mark IV against an independent
-//! index computation written here from the layout equations of DESIGN.md §4
+//! index computation written here from the layout equations of spec/layouts.md §7
 //! (the public MIT code's layouts), and the numerical stability of chirp
 //! phases on long hololines against an f64 reference in global coordinates.
 
@@ -53,7 +53,7 @@ fn mark2_hololines_land_where_the_mit_layout_puts_them() {
     let n = 262144;
     assert_eq!(signals.len(), 144);
     for (i, signal) in signals.iter().enumerate() {
-        // DESIGN.md §4: line i → card i%3, colour (i/3)%3, head (i/9)%2,
+        // spec/layouts.md §7.4: line i → card i%3, colour (i/3)%3, head (i/9)%2,
         // sweep i/18; 204 blank rows, then 128 rows of hololine and 48 blank
         // rows per sweep; 2045 of 2048 clocks shown; odd sweeps reversed.
         let (card, colour, head, sweep) = (i % 3, (i / 3) % 3, (i / 9) % 2, i / 18);
@@ -89,7 +89,7 @@ fn mark4_hololines_land_where_the_mit_layout_puts_them() {
     let n = 355200;
     assert_eq!(signals.len(), 468);
     for (y, signal) in signals.iter().enumerate() {
-        // DESIGN.md §4: hololine y → channel a = y%18, line y/18, head a/3,
+        // spec/layouts.md §7.5: hololine y → channel a = y%18, line y/18, head a/3,
         // byte a%3; 100 rows of 3552 samples per hololine, from row 0.
         let (a, line) = (y % 18, y / 18);
         let (head, byte) = (a / 3, a % 3);

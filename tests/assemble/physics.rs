@@ -1,4 +1,4 @@
-//! Physics checked against physics (PHYSICS.md §6): fringes assembled by the
+//! Physics checked against physics (docs/optics.md §8.5): fringes assembled by the
 //! fast path, reconstructed by scalar diffraction, against closed forms.
 //!
 //! - One chirp focuses to a diffraction-limited spot at its emitter.
@@ -206,7 +206,7 @@ fn each_view_of_one_emitter_lights_its_own_direction() {
 
 #[test]
 fn reconstructed_intensity_is_proportional_to_stored_radiance() {
-    // Weights are sqrt(m) (PHYSICS.md §4): doubling a view's radiance must
+    // Weights are sqrt(m) (docs/optics.md §4.3): doubling a view's radiance must
     // double its reconstructed intensity.
     for name in ["mark3", "mark1-hogel"] {
         let layout = one_hololine(name);
