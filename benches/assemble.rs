@@ -53,6 +53,17 @@ fn bench(c: &mut Criterion) {
         group.bench_function("fast_u8_frame_buffer_viewer_phases", |b| {
             b.iter(|| phased.assemble_into(&m, &mut bytes).unwrap())
         });
+        // Segments cross-faded over a whole segment (spec/layouts.md §4.7).
+        let mut tapered_layout = layout.clone();
+        if let holo::layout::Basis::Chirp { segment_taper_samples, views_per_zone, chirp_samples, .. } =
+            &mut tapered_layout.fringe.as_mut().unwrap().basis
+        {
+            *segment_taper_samples = *chirp_samples / *views_per_zone;
+        }
+        let tapered = Assembler::new(&tapered_layout).unwrap();
+        group.bench_function("fast_u8_frame_buffer_segment_taper", |b| {
+            b.iter(|| tapered.assemble_into(&m, &mut bytes).unwrap())
+        });
         group.bench_function("fast_f32_signals", |b| b.iter(|| a.signals(&m, 0).unwrap()));
         group.bench_function("straightforward_one_thread", |b| b.iter(|| straightforward(&a, &m)));
         group.finish();

@@ -76,6 +76,7 @@ struct ChirpShape {
     slot_samples: usize,
     zones: usize,
     views_per_zone: usize,
+    segment_taper_samples: usize,
 }
 
 /// The zoned chirp of one colour, or `None` when its shape cannot be built;
@@ -88,7 +89,7 @@ fn chirp_elements(
     carrier: f64,
     problems: &mut Vec<String>,
 ) -> Option<ZonedChirp> {
-    let ChirpShape { chirp_samples, slot_samples, zones, views_per_zone } = shape;
+    let ChirpShape { chirp_samples, slot_samples, zones, views_per_zone, segment_taper_samples } = shape;
     let shape_ok = zones > 0
         && views_per_zone > 0
         && chirp_samples > 0
@@ -112,7 +113,14 @@ fn chirp_elements(
         zones,
         views_per_zone,
         carrier_cycles_per_sample: carrier,
+        taper_samples: segment_taper_samples,
     };
+    if segment_taper_samples % 2 == 1 || segment_taper_samples > c.samples_per_view() {
+        problems.push(format!(
+            "segment_taper_samples {segment_taper_samples} must be even and at most a view segment ({} samples)",
+            c.samples_per_view()
+        ));
+    }
     if zones * views_per_zone != g.views.count {
         problems.push(format!("{zones} zone(s) × {views_per_zone} views ≠ the geometry's {} views", g.views.count));
     } else if let Some(v) =
@@ -227,8 +235,8 @@ impl ColourBasis {
             ));
         }
         let elements = match f.basis {
-            Basis::Chirp { chirp_samples, slot_samples, zones, views_per_zone } => {
-                let shape = ChirpShape { chirp_samples, slot_samples, zones, views_per_zone };
+            Basis::Chirp { chirp_samples, slot_samples, zones, views_per_zone, segment_taper_samples } => {
+                let shape = ChirpShape { chirp_samples, slot_samples, zones, views_per_zone, segment_taper_samples };
                 match chirp_elements(shape, f, g, wavelength_m, carrier, &mut p) {
                     Some(c) => Elements::Chirp(c),
                     None => return Err(p),
@@ -271,7 +279,7 @@ impl ColourBasis {
                 .collect(),
             Elements::Hogel(_) => view_sin_edges(&g.views),
         };
-        Ok(ColourBasis {
+        let basis = ColourBasis {
             elements,
             signal: f.signal,
             samples: f.samples_per_hololine,
@@ -283,7 +291,21 @@ impl ColourBasis {
             view_sin_edges,
             carrier,
             emitter_phases_rad: emitter_phases_rad(f.emitter_phases, g, wavelength_m),
-        })
+        };
+        if let Some(limit) = f.max_folded_energy {
+            if !(0.0..=1.0).contains(&limit) {
+                return Err(vec![format!("max_folded_energy {limit} must be a fraction between 0 and 1")]);
+            }
+            let (worst, v) = basis.largest_folded_energy();
+            if worst > limit {
+                return Err(vec![format!(
+                    "view {v}'s elements fold {worst:.2e} of their energy past half the sampling rate at {:.0} nm; \
+                     the layout accepts {limit:.2e} (segment_taper_samples shapes the segments to fold less)",
+                    wavelength_m * 1e9
+                )]);
+            }
+        }
+        Ok(basis)
     }
 
     /// Zones (signals, or I/Q pairs, per hololine).
@@ -312,7 +334,7 @@ impl ColourBasis {
     /// full scale for a sum of gratings with random phases.
     pub fn normalisation(&self) -> f64 {
         match &self.elements {
-            Elements::Chirp(c) => c.overlap() as f64,
+            Elements::Chirp(c) => c.largest_window_sum(),
             Elements::Hogel(_) => 3.0 * (self.views as f64).sqrt(),
         }
     }
@@ -331,6 +353,19 @@ impl ColourBasis {
     pub fn signal_band(&self, zone: usize) -> (f64, f64) {
         let c = self.signal_carrier(zone);
         let to_signal = |sin: f64| sin * self.pitch_m / self.wavelength_m + c;
+        if let Elements::Chirp(chirp) = &self.elements {
+            // Every sample an element covers, its cross-fades included.
+            let (lo, hi) = (0..self.views).filter(|&v| self.segment(0, v).zone == zone).fold(
+                (f64::INFINITY, f64::NEG_INFINITY),
+                |(lo, hi), v| {
+                    let (_, first, len) = chirp.element_extent(v);
+                    let edge = |u: f64| to_signal(chirp.sin_theta(chirp.offset_samples(zone, u)));
+                    let (a, b) = (edge(first as f64 - 0.5), edge((first + len as i64) as f64 - 0.5));
+                    (lo.min(a.min(b)), hi.max(a.max(b)))
+                },
+            );
+            return (lo, hi);
+        }
         let in_zone = (0..self.views).filter(|&v| self.segment(0, v).zone == zone);
         let (lo, hi) = in_zone.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
             let (a, b) = self.view_sin_edges[v];
@@ -339,12 +374,63 @@ impl ColourBasis {
         (lo, hi)
     }
 
+    /// The fraction of element (`e`, `v`)'s energy that its samples fold
+    /// past half the sampling rate (spec/layouts.md §4.7): for I/Q signals
+    /// the energy at frequencies more than ½ cycle per sample from the
+    /// element's own (the middle of its view's interval in the signal), for
+    /// real signals at negative frequencies (the display's first order
+    /// shows them mirrored). Exact: the spectrum's energy over an interval
+    /// from the samples' products, in f64.
+    pub fn folded_energy(&self, e: usize, v: usize) -> f64 {
+        let seg = self.segment(e, v);
+        let x: Vec<Complex64> = (seg.start..seg.start + seg.len).map(|n| self.value(e, v, n)).collect();
+        let zone = seg.zone;
+        let (lo, hi) = self.view_sin_edges[v];
+        let own = ((lo + hi) / 2.0) * self.pitch_m / self.wavelength_m + self.signal_carrier(zone);
+        let (a, b) = match self.signal {
+            SignalKind::Real => (-0.5, 0.0),
+            SignalKind::Iq if own >= 0.0 => (-0.5, own - 0.5),
+            SignalKind::Iq => (own + 0.5, 0.5),
+        };
+        // ∫_a^b |Σ x_n e^{−i2πfn}|² df = Σ_{n,m} x_n x̄_m ∫_a^b e^{−i2πf(n−m)} df.
+        let kernel = |k: i64| -> Complex64 {
+            if k == 0 {
+                Complex64::new(b - a, 0.0)
+            } else {
+                let w = -2.0 * PI * k as f64;
+                (Complex64::from_polar(1.0, w * b) - Complex64::from_polar(1.0, w * a)) / Complex64::new(0.0, w)
+            }
+        };
+        let mut folded = Complex64::new(0.0, 0.0);
+        for (n, xn) in x.iter().enumerate() {
+            for (m, xm) in x.iter().enumerate() {
+                folded += xn * xm.conj() * kernel(n as i64 - m as i64);
+            }
+        }
+        let total: f64 = x.iter().map(|x| x.norm_sqr()).sum();
+        if total > 0.0 {
+            folded.re / total
+        } else {
+            0.0
+        }
+    }
+
+    /// The largest [`ColourBasis::folded_energy`] of an emitter's elements,
+    /// and its view, for an emitter away from the hololine's ends.
+    pub fn largest_folded_energy(&self) -> (f64, usize) {
+        let e = self.emitters / 2;
+        (0..self.views).map(|v| (self.folded_energy(e, v), v)).fold((0.0, 0), |w, x| if x.0 > w.0 { x } else { w })
+    }
+
     /// Where element (`e`, `v`) lies.
     pub fn segment(&self, e: usize, v: usize) -> Segment {
         match &self.elements {
             Elements::Chirp(c) => {
-                let (zone, first) = c.segment_of_view(v);
-                Segment { zone, start: e * self.step + zone * c.chirp_samples + first, len: c.samples_per_view() }
+                // The element's extent lies within the chirp's span, so the
+                // start is never before the emitter's first sample.
+                let (zone, first, len) = c.element_extent(v);
+                let start = (e * self.step + zone * c.chirp_samples) as i64 + first;
+                Segment { zone, start: start as usize, len }
             }
             Elements::Hogel(h) => Segment { zone: 0, start: e * self.step, len: h.hogel_samples },
         }
@@ -368,8 +454,8 @@ impl ColourBasis {
         match &self.elements {
             Elements::Chirp(c) => {
                 let (zone, _) = c.segment_of_view(v);
-                let u = n - (e * self.step + zone * c.chirp_samples);
-                Complex64::from_polar(1.0, c.phase_rad(zone, u as f64))
+                let u = n as i64 - (e * self.step + zone * c.chirp_samples) as i64;
+                Complex64::from_polar(c.window(v, u), c.phase_rad(zone, u as f64))
             }
             Elements::Hogel(h) => h.value(v, n - e * self.step),
         }

@@ -41,6 +41,9 @@ pub struct ZonedChirp {
     pub views_per_zone: usize,
     /// In-signal carrier, cycles per sample (zero for I/Q signals).
     pub carrier_cycles_per_sample: f64,
+    /// Samples over which adjacent segments cross-fade (even, at most a
+    /// segment; 0: hard edges).
+    pub taper_samples: usize,
 }
 
 impl ZonedChirp {
@@ -137,6 +140,86 @@ impl ZonedChirp {
         let along = if self.emitter_z_m > 0.0 { self.views() - 1 - v } else { v };
         (along / self.views_per_zone, (along % self.views_per_zone) * self.samples_per_view())
     }
+    /// Where view `v`'s element lies, in samples from the start of its
+    /// zone piece: `[first, first + len)`, its segment widened by half the
+    /// taper on every side that has a neighbour (another segment, or the
+    /// next zone's piece); `first` is negative for a zone piece's first
+    /// segment that fades in from the zone before.
+    pub fn element_extent(&self, v: usize) -> (usize, i64, usize) {
+        let (zone, first) = self.segment_of_view(v);
+        let half = (self.taper_samples / 2) as i64;
+        let (at_chirp_start, at_chirp_end) = self.at_chirp_ends(zone, first);
+        let lo = first as i64 - if at_chirp_start { 0 } else { half };
+        let hi = (first + self.samples_per_view()) as i64 + if at_chirp_end { 0 } else { half };
+        (zone, lo, (hi - lo) as usize)
+    }
+    /// Whether the segment starting at `first` of zone `zone` starts the
+    /// whole chirp, and whether it ends it.
+    fn at_chirp_ends(&self, zone: usize, first: usize) -> (bool, bool) {
+        (zone == 0 && first == 0, zone + 1 == self.zones && first + self.samples_per_view() == self.chirp_samples)
+    }
+    /// The weight of view `v`'s element at sample `u` of its zone piece
+    /// (`u` may lie before or after the piece, within
+    /// [`ZonedChirp::element_extent`]): 1 inside the segment away from its
+    /// edges; across each boundary with a neighbour a raised cosine
+    /// `½ (1 + sin(π t / T))`, `t` the sample centre's distance past the
+    /// boundary, so that two neighbours' weights add to 1; at the chirp's own
+    /// two ends the same shape over `T/2` samples, inside the segment.
+    pub fn window(&self, v: usize, u: i64) -> f64 {
+        let t_samples = self.taper_samples as f64;
+        if self.taper_samples == 0 {
+            return 1.0;
+        }
+        let (zone, first) = self.segment_of_view(v);
+        let (at_start, at_end) = self.at_chirp_ends(zone, first);
+        let rise = |t: f64, width: f64| 0.5 * (1.0 + (PI * (t / width).clamp(-0.5, 0.5)).sin());
+        let centre = u as f64 + 0.5;
+        let (a, b) = (first as f64, (first + self.samples_per_view()) as f64);
+        let up =
+            if at_start { rise(centre - a - t_samples / 4.0, t_samples / 2.0) } else { rise(centre - a, t_samples) };
+        let down =
+            if at_end { rise(b - centre - t_samples / 4.0, t_samples / 2.0) } else { rise(b - centre, t_samples) };
+        up * down
+    }
+    /// The largest sum of element weights at one sample of a zone's signal
+    /// over all the chirps that overlap it (every view lit at 1): what the
+    /// signal is normalised by. Without a taper, the overlap.
+    pub fn largest_window_sum(&self) -> f64 {
+        if self.taper_samples == 0 {
+            return self.overlap() as f64;
+        }
+        let half = (self.taper_samples / 2) as i64;
+        let (l, s) = (self.chirp_samples as i64, self.slot_samples as i64);
+        let mut largest: f64 = 0.0;
+        for zone in 0..self.zones {
+            let views: Vec<usize> = (0..self.views()).filter(|&v| self.segment_of_view(v).0 == zone).collect();
+            // Per sample of the piece (and its fades): the sum over its views.
+            let piece = |u: i64| -> f64 {
+                views
+                    .iter()
+                    .filter(|&&v| {
+                        let (_, lo, len) = self.element_extent(v);
+                        u >= lo && u < lo + len as i64
+                    })
+                    .map(|&v| self.window(v, u))
+                    .sum()
+            };
+            // Sample n of one slot period, every chirp that reaches it.
+            for n in 0..s {
+                let mut total = 0.0;
+                let mut k = -((l + 2 * half) / s + 2);
+                while k * s <= l + half {
+                    let u = n - k * s;
+                    if u >= -half && u < l + half {
+                        total += piece(u);
+                    }
+                    k += 1;
+                }
+                largest = largest.max(total);
+            }
+        }
+        largest
+    }
     /// `tan θ` at the middle of view `v`'s segment: the direction the
     /// modulation of view `v` must have been rendered for.
     pub fn view_centre_tan(&self, v: usize) -> f64 {
@@ -161,6 +244,7 @@ mod tests {
             zones: 3,
             views_per_zone: 32,
             carrier_cycles_per_sample: 0.0,
+            taper_samples: 0,
         }
     }
 

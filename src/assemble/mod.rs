@@ -651,6 +651,84 @@ mod tests {
         });
     }
 
+    /// `layout` with its chirp segments cross-faded over `taper` samples.
+    fn tapered(mut layout: Layout, taper: usize) -> Layout {
+        if let crate::layout::Basis::Chirp { segment_taper_samples, .. } = &mut layout.fringe.as_mut().unwrap().basis {
+            *segment_taper_samples = taper;
+        }
+        layout
+    }
+
+    #[test]
+    fn tapered_segments_agree_with_the_f64_reference_and_fold_less() {
+        use rayon::prelude::*;
+        [mark3(), mark1(), mark2()].into_par_iter().for_each(|layout| {
+            // The widest taper: a whole segment.
+            let taper = {
+                let a = Assembler::new(&layout).unwrap();
+                let super::basis::Elements::Chirp(c) = &a.plan(0).basis().elements else { unreachable!() };
+                c.samples_per_view()
+            };
+            let hard = Assembler::new(&with_hololines(layout.clone(), 2)).unwrap();
+            let layout = with_hololines(tapered(layout, taper), 2);
+            let a = Assembler::new(&layout).unwrap();
+            let portable = a.clone().with_simd(Simd::Portable);
+            let m = random(&layout, 3, true);
+            let reference = a.signals_reference(&m, 0, 0..2).unwrap();
+            let (fast, fast_portable) = (a.signals(&m, 0).unwrap(), portable.signals(&m, 0).unwrap());
+            let (mut worst, mut largest) = (0f64, 0f64);
+            for (j, want) in reference.iter().enumerate() {
+                for (s, want) in want.iter().enumerate() {
+                    for (n, r) in want.iter().enumerate() {
+                        largest = largest.max(r.abs());
+                        worst = worst.max((f64::from(fast.row(s, j)[n]) - r).abs());
+                        worst = worst.max((f64::from(fast_portable.row(s, j)[n]) - r).abs());
+                    }
+                }
+            }
+            assert!(largest > 0.05 && worst < 2e-6, "{}: worst {worst}, largest {largest}", layout.name);
+            // Inside the chirp the segments' weights add to 1, across zone
+            // boundaries too (where the two pieces meet after up-conversion):
+            // a fully lit emitter's chirp is the same with or without the
+            // taper, but for the fades at its two ends.
+            let basis = a.plan(0).basis();
+            let super::basis::Elements::Chirp(c) = &basis.elements else { unreachable!() };
+            let span = (c.zones * c.chirp_samples) as i64;
+            let half = (taper / 2) as i64;
+            for x in half..span - half {
+                let sum: f64 = (0..c.views())
+                    .filter_map(|v| {
+                        let (zone, first, len) = c.element_extent(v);
+                        let u = x - (zone * c.chirp_samples) as i64;
+                        (u >= first && u < first + len as i64).then(|| c.window(v, u))
+                    })
+                    .sum();
+                assert!((sum - 1.0).abs() < 1e-12, "{}: weights at chirp sample {x} add to {sum}", layout.name);
+            }
+            // The band-edge elements fold far less.
+            let (folded_hard, v_hard) = hard.plan(0).basis().largest_folded_energy();
+            let (folded, v) = basis.largest_folded_energy();
+            eprintln!("{}: largest folded energy {folded_hard:.1e} (view {v_hard}) hard, {folded:.1e} (view {v}) with a {taper}-sample taper", layout.name);
+            assert!(folded < folded_hard / 30.0, "{}: {folded} against {folded_hard}", layout.name);
+        });
+    }
+
+    #[test]
+    fn a_profile_states_the_folded_energy_it_accepts() {
+        let mut layout = mark3();
+        layout.fringe.as_mut().unwrap().max_folded_energy = Some(1e-3);
+        let refused = Assembler::new(&layout).unwrap_err().to_string();
+        assert!(refused.contains("fold") && refused.contains("view"), "{refused}");
+        let layout = tapered(layout, 32);
+        Assembler::new(&layout).unwrap();
+        let mut wrong = layout.clone();
+        wrong.fringe.as_mut().unwrap().max_folded_energy = Some(-1.0);
+        assert!(Assembler::new(&wrong).unwrap_err().to_string().contains("max_folded_energy"));
+        let mut odd = mark3();
+        odd = tapered(odd, 31);
+        assert!(Assembler::new(&odd).unwrap_err().to_string().contains("segment_taper_samples"));
+    }
+
     #[test]
     fn the_kernel_blocks_are_as_wide_as_the_bases_allow() {
         let block = |l: Layout| Assembler::new(&l).unwrap().plan(0).block();

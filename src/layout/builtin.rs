@@ -70,11 +70,18 @@ pub fn mark3() -> Layout {
     let fringe = Fringe {
         sample_pitch_m,
         samples_per_hololine: 24576,
-        basis: Basis::Chirp { chirp_samples: 1024, slot_samples: 64, zones: 3, views_per_zone: 32 },
+        basis: Basis::Chirp {
+            chirp_samples: 1024,
+            slot_samples: 64,
+            zones: 3,
+            views_per_zone: 32,
+            segment_taper_samples: 0,
+        },
         signal: SignalKind::Iq,
         carrier_cycles_per_sample: Vec::new(),
         colours: ColourSignals::Separate,
         emitter_phases: EmitterPhases::Zero,
+        max_folded_energy: None,
         frame_buffer: FrameBuffer {
             image_names: vec!["head1".into(), "head2".into()],
             width: 4080,
@@ -164,6 +171,7 @@ pub fn mark1() -> Layout {
             slot_samples: slot,
             zones: 1,
             views_per_zone: 5,
+            segment_taper_samples: 0,
         })),
     }
 }
@@ -179,6 +187,7 @@ fn mark1_fringe(basis: Basis) -> Fringe {
         carrier_cycles_per_sample: vec![0.25],
         colours: ColourSignals::Separate,
         emitter_phases: EmitterPhases::Zero,
+        max_folded_energy: None,
         frame_buffer: mark1_frame_buffer(),
         quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
     }
@@ -259,11 +268,18 @@ pub fn mark2() -> Layout {
         fringe: Some(Fringe {
             sample_pitch_m: pitch_m,
             samples_per_hololine: samples,
-            basis: Basis::Chirp { chirp_samples: chirp, slot_samples: slot, zones: 1, views_per_zone: views },
+            basis: Basis::Chirp {
+                chirp_samples: chirp,
+                slot_samples: slot,
+                zones: 1,
+                views_per_zone: views,
+                segment_taper_samples: 0,
+            },
             signal: SignalKind::Real,
             carrier_cycles_per_sample: vec![0.25],
             colours: ColourSignals::Separate,
             emitter_phases: EmitterPhases::Zero,
+            max_folded_energy: None,
             frame_buffer: FrameBuffer {
                 image_names: (0..3).flat_map(|card| (0..2).map(move |head| format!("card{card}-head{head}"))).collect(),
                 width: 2045,
@@ -327,6 +343,7 @@ pub fn mark4() -> Layout {
             carrier_cycles_per_sample: vec![0.085, 0.225, 0.39],
             colours: ColourSignals::Summed,
             emitter_phases: EmitterPhases::Zero,
+            max_folded_energy: None,
             frame_buffer: FrameBuffer {
                 image_names: (1..=6).map(|h| format!("head{h}")).collect(),
                 width: 3552,

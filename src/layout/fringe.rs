@@ -32,6 +32,11 @@ pub struct Fringe {
     /// The constant phase each emitter's basis starts with.
     #[serde(default, skip_serializing_if = "EmitterPhases::is_zero")]
     pub emitter_phases: EmitterPhases,
+    /// The largest fraction of an element's energy its samples may fold
+    /// past half the sampling rate (light that leaves toward a ghost of its
+    /// emitter); a basis that folds more is refused. None: not checked.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_folded_energy: Option<f64>,
     /// Where the signals go.
     pub frame_buffer: FrameBuffer,
     /// Float signal to stored integer.
@@ -56,6 +61,12 @@ pub enum Basis {
         zones: usize,
         /// Views per zone piece.
         views_per_zone: usize,
+        /// Samples over which adjacent view segments cross-fade (a raised
+        /// cosine centred on each boundary, zone boundaries included; the
+        /// chirp's two ends fade in over half as many): 0 keeps hard
+        /// edges, whose sidelobes fold past half the sampling rate.
+        #[serde(default, skip_serializing_if = "is_zero")]
+        segment_taper_samples: usize,
     },
     /// Abutting hogels (Lucente 1994): emitter `e` is the hogel of samples
     /// `e · hogel_samples …`, on the hologram plane; within it every view is a
@@ -118,6 +129,10 @@ pub enum ColourSignals {
     /// The colours' signals are added into one, each colour in its own band
     /// (Mark IV's frequency-division colour).
     Summed,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl ColourSignals {

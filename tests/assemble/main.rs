@@ -7,6 +7,7 @@
 mod coherent;
 mod examples;
 mod files;
+mod ghosts;
 mod layouts;
 mod physics;
 mod reconstruct;
