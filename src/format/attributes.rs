@@ -101,18 +101,18 @@ pub fn ascii_only(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii() && c != '\0' { c } else { '?' }).collect()
 }
 
-/// `holo.placement` (spec §4.3): `display_from_input` (row-major, points as
-/// columns: translation in the last column) as OpenEXR's `m44d`, whose
-/// layout follows Imath's row-vector convention (translation in the last
-/// row): the transpose, 16 little-endian doubles.
-pub fn placement_attribute(display_from_input: &[[f64; 4]; 4]) -> AttributeValue {
+/// A transform such as `holo.placement` (spec §4.4): `display_from_input`
+/// (row-major, points as columns: translation in the last column) as
+/// OpenEXR's `m44d`, whose layout follows Imath's row-vector convention
+/// (translation in the last row): the transpose, 16 little-endian doubles.
+pub fn matrix_attribute(display_from_input: &[[f64; 4]; 4]) -> AttributeValue {
     let bytes = crate::math::transpose(display_from_input).iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
     AttributeValue::Custom { kind: Text::new_or_panic("m44d"), bytes }
 }
 
-/// The matrix [`placement_attribute`] stores, back in the crate's
-/// convention (points as columns).
-pub fn placement_from_m44d(stored: &[[f64; 4]; 4]) -> [[f64; 4]; 4] {
+/// The matrix [`matrix_attribute`] stores, back in the crate's convention
+/// (points as columns).
+pub fn matrix_from_m44d(stored: &[[f64; 4]; 4]) -> [[f64; 4]; 4] {
     crate::math::transpose(stored)
 }
 

@@ -244,7 +244,7 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
                 problems.push(e);
                 None
             })
-            .map(|m| super::attributes::placement_from_m44d(&m)),
+            .map(|m| super::attributes::matrix_from_m44d(&m)),
         frames_per_second: first.own_attributes.frames_per_second.map(|r| (r.0, r.1)),
         frames,
         file_bytes,

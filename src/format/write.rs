@@ -41,7 +41,7 @@ pub struct WriteOptions {
     pub overwrite: bool,
     /// The format version to write (spec §9): 1.1, or 1.0 for readers of 1.0.
     pub version: FormatVersion,
-    /// `holo.placement` (spec §4.3): the transform from the converter's input
+    /// `holo.placement` (spec §4.4): the transform from the converter's input
     /// coordinates to display metres (row-major, points as columns), when
     /// the content was placed; written exactly, so the conversion can be
     /// made again.
@@ -498,8 +498,13 @@ fn part_header(
         .with_display_window(full_window(g))
         .with_attributes(own);
     header.shared_attributes.other = geometry_attributes(g, &options.radiometry, options.version.number());
-    if let Some(m) = &options.placement {
-        header.shared_attributes.other.insert(Text::new_or_panic(name::PLACEMENT), attributes::placement_attribute(m));
+    // A file written for 1.0 readers holds only what 1.0 defines: the
+    // provenance that 1.1 added is left out with the rest of 1.1.
+    if options.version != FormatVersion::V1_0 {
+        let shared = &mut header.shared_attributes.other;
+        if let Some(m) = &options.placement {
+            shared.insert(Text::new_or_panic(name::PLACEMENT), attributes::matrix_attribute(m));
+        }
     }
     header.shared_attributes.pixel_aspect = options.version.pixel_aspect(g);
     header
