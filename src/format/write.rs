@@ -14,7 +14,7 @@ use exr::meta::header::{Header, LayerAttributes};
 use exr::meta::BlockDescription;
 use smallvec::SmallVec;
 
-use super::attributes::{self, geometry_attributes, name, Radiometry};
+use super::attributes::{self, geometry_attributes, name, ConversionRecord, Radiometry};
 use super::channels::ChannelOrder;
 use super::digest::{frame_digest, row_bytes, stored_row, RowDigest, DIGEST_PREFIX};
 use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SIDE};
@@ -23,7 +23,7 @@ use crate::output::{AtomicFile, Spool};
 use crate::{Band, Error, Modulation, Result};
 
 /// How to write.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct WriteOptions {
     /// Stored sample type (f16 by default).
     pub sample_type: SampleType,
@@ -46,6 +46,9 @@ pub struct WriteOptions {
     /// the content was placed; written exactly, so the conversion can be
     /// made again.
     pub placement: Option<[[f64; 4]; 4]>,
+    /// `holo.convert.*` (spec §4.4): which converter made the content, from
+    /// which input, with every option it was given.
+    pub conversion: Option<ConversionRecord>,
 }
 
 /// Which version of the format a writer writes (spec §9).
@@ -61,6 +64,16 @@ pub enum FormatVersion {
 }
 
 impl FormatVersion {
+    /// The version a writer of this library writes for a file of version
+    /// `number`: 1.0 for 1.0, else the newest.
+    pub fn for_number(number: (i32, i32)) -> FormatVersion {
+        if number == (1, 0) {
+            FormatVersion::V1_0
+        } else {
+            FormatVersion::V1_1
+        }
+    }
+
     /// `(major, minor)`, as `holo.version` stores it.
     pub fn number(self) -> (i32, i32) {
         match self {
@@ -91,6 +104,7 @@ impl Default for WriteOptions {
             overwrite: false,
             version: FormatVersion::default(),
             placement: None,
+            conversion: None,
         }
     }
 }
@@ -504,6 +518,9 @@ fn part_header(
         let shared = &mut header.shared_attributes.other;
         if let Some(m) = &options.placement {
             shared.insert(Text::new_or_panic(name::PLACEMENT), attributes::matrix_attribute(m));
+        }
+        for (k, v) in options.conversion.iter().flat_map(|r| &r.0) {
+            shared.insert(Text::new_or_panic(k.as_str()), v.clone());
         }
     }
     header.shared_attributes.pixel_aspect = options.version.pixel_aspect(g);

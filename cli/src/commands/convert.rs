@@ -315,11 +315,12 @@ fn cameras(a: CamerasArgs) -> Outcome {
             reference: a.reference,
             emitter_taps: a.taps,
         },
+        open,
         unseen_png: a.unseen_mask,
         write: write.options(String::new()),
     };
     let started = Instant::now();
-    let report = convert_camera_files(&a.input, &open, &g, &write.output, &options, &Reporter::on_stderr())?;
+    let report = convert_camera_files(&a.input, &g, &write.output, &options, &Reporter::on_stderr())?;
     report.resample.warnings.iter().chain(&report.written.warnings).for_each(warn);
     let r = &report.resample;
     let (input, output, seconds) = (a.input.display(), report.path.display(), started.elapsed().as_secs_f64());
