@@ -29,6 +29,7 @@ pub enum ConvertCommand {
     Holoflick(HoloflickArgs),
     Mesh(MeshArgs),
     Cameras(CamerasArgs),
+    Like(super::recorded::LikeArgs),
 }
 
 pub fn run(command: ConvertCommand) -> Outcome {
@@ -36,6 +37,7 @@ pub fn run(command: ConvertCommand) -> Outcome {
         ConvertCommand::Holoflick(a) => holoflick(a),
         ConvertCommand::Mesh(a) => mesh(a),
         ConvertCommand::Cameras(a) => cameras(a),
+        ConvertCommand::Like(a) => super::recorded::like(a),
     }
 }
 
