@@ -295,6 +295,7 @@ fn run(out: &Path) -> Result<Vec<PathBuf>, String> {
             overwrite: true,
             version: case.version,
             placement: None,
+            conversion: None,
         };
         let report = write_frames(&path, g, case.frames, &options, |i| Ok(Cow::Borrowed(&frames[i])))
             .map_err(|e| format!("{}: {e}", path.display()))?;

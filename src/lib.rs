@@ -41,8 +41,9 @@
 //! | what a viewer sees | [`reconstruct::check::check`], [`reconstruct::check::view`] | [`reconstruct::files::check_file`], [`reconstruct::files::view_file`] |
 //!
 //! The file-to-file calls all run through [`pipeline`], which checks the
-//! output before any work, picks the frames, records provenance and gathers
-//! warnings. Every file is written through [`output`]: to a temporary beside
+//! output before any work, picks the frames, records provenance (in words,
+//! and exactly: [`provenance`], which also gives a file's conversion back as
+//! options to make it again) and gathers warnings. Every file is written through [`output`]: to a temporary beside
 //! its destination, renamed into place only when complete, and never over an
 //! existing file unless asked (`overwrite` in the options). A long call takes
 //! a [`progress::Progress`] reporter, which also lets the caller cancel it
@@ -131,6 +132,7 @@ pub mod pattern;
 pub mod picture;
 pub mod pipeline;
 pub mod progress;
+pub mod provenance;
 pub mod reconstruct;
 pub mod report;
 pub mod resample;

@@ -16,9 +16,9 @@
 //!   allowed);
 //! - the frame range: all of the source's frames by default; a range asked
 //!   for must be non-empty and inside them;
-//! - provenance (what the frames were made from, written into the output
-//!   unless the caller gave its own), the first frame's number and the frame
-//!   rate of a movie;
+//! - provenance (what the frames were made from, in words and as the exact
+//!   conversion record, written into the output unless the caller gave its
+//!   own), the first frame's number and the frame rate of a movie;
 //! - warnings, each said once with how often it came up ([`Warnings`]);
 //! - progress (a movie counts frames; a single frame reports the source's own
 //!   phases) and cancellation ([`Progress::cancelled`], checked before every
@@ -34,6 +34,7 @@ use std::path::{Path, PathBuf};
 use crate::format::{write_frame_in_bands, write_frames, WriteOptions, WriteReport};
 use crate::geometry::Geometry;
 use crate::progress::{Progress, Steps};
+use crate::provenance::Conversion;
 use crate::{Band, Error, Result};
 
 /// Something frames are made from.
@@ -79,6 +80,13 @@ pub trait Source {
         None
     }
 
+    /// Which converter made the frames, from which input, with every
+    /// option (written as `holo.convert.*`; called after
+    /// [`Source::place`]); `None` when the frames are not a conversion.
+    fn conversion(&self) -> Result<Option<Conversion>> {
+        Ok(None)
+    }
+
     /// Render a single frame a band of this many hololines at a time (memory
     /// is then one band, not the frame); `None` renders whole frames.
     fn band_hololines(&self) -> Option<usize> {
@@ -121,6 +129,8 @@ pub struct Job {
     pub provenance: String,
     /// The source's placement ([`Source::placement`]).
     pub placement: Option<crate::math::Mat4>,
+    /// The source's conversion ([`Source::conversion`]).
+    pub conversion: Option<Conversion>,
     /// The source's frame rate.
     pub frames_per_second: Option<(u32, u32)>,
     /// Bands of a single frame (see [`Source::band_hololines`]).
@@ -161,6 +171,7 @@ where
         frames: frames.clone(),
         provenance: source.provenance(),
         placement: source.placement(),
+        conversion: source.conversion()?,
         frames_per_second: source.frames_per_second(),
         band_hololines: if frames.len() == 1 { source.band_hololines() } else { None },
     };
@@ -298,8 +309,9 @@ pub struct HoloSink<'a> {
 
 impl<'a> HoloSink<'a> {
     /// Write `path` for `geometry` with `options`: an empty
-    /// [`WriteOptions::source`] is filled with the source's provenance, a
-    /// movie without [`WriteOptions::frames_per_second`] gets the source's
+    /// [`WriteOptions::source`] is filled with the source's provenance (and
+    /// absent [`WriteOptions::placement`] and [`WriteOptions::conversion`]
+    /// with the source's), a movie without [`WriteOptions::frames_per_second`] gets the source's
     /// rate, and [`WriteOptions::first_frame_number`] is the first frame's.
     pub fn new(path: &'a Path, geometry: &'a Geometry, options: WriteOptions) -> Self {
         HoloSink { path, geometry, options }
@@ -324,6 +336,9 @@ impl Sink<Band> for HoloSink<'_> {
         }
         if options.placement.is_none() {
             options.placement = job.placement;
+        }
+        if options.conversion.is_none() {
+            options.conversion = job.conversion.as_ref().map(Conversion::record);
         }
         if options.frames_per_second.is_none() && job.frames.len() > 1 {
             options.frames_per_second = job.frames_per_second.and_then(|(n, d)| Some((i32::try_from(n).ok()?, d)));

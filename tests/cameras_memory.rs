@@ -102,8 +102,8 @@ fn converting_holds_a_band_not_the_frame() {
     let resample = CameraOptions { blend: Blend::Nearest, emitter_taps: Some(1), ..CameraOptions::default() };
     let options = CameraConvertOptions {
         resample: resample.clone(),
-        unseen_png: None,
         write: WriteOptions { sample_type: SampleType::F32, ..WriteOptions::default() },
+        ..CameraConvertOptions::default()
     };
     let mut peaks = Vec::new();
     for hololines in [384, 768] {

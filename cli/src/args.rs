@@ -18,8 +18,10 @@ use clap::builder::{PossibleValue, TypedValueParser};
 use clap::error::ErrorKind;
 use clap::{Arg, Args, Command, ValueEnum};
 use holo::cameras::quilt::{QuiltSpec, PRESETS};
+use holo::cameras::resample::{Blend, Framing, Parallax};
 use holo::format::{Compression, SampleType, WriteOptions};
 use holo::layout::{Layout, BUILTIN};
+use holo::mesh::shade::SpecularModel;
 use holo::pattern::PatternKind;
 use holo::picture::White;
 use holo::Geometry;
@@ -383,88 +385,51 @@ impl PresetChoice {
     }
 }
 
-/// `--specular`: the specular lobe.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum SpecularChoice {
-    /// (N·H)^n, Blinn 1977.
-    Blinn,
-    /// (R·V)^n, Phong 1975.
-    Phong,
-}
+library_choice!(
+    /// `--specular`: the specular lobe.
+    SpecularChoice(SpecularModel) = SpecularModel::ALL,
+    |m| PossibleValue::new(m.name()).help(match m {
+        SpecularModel::Blinn => "(N·H)^n, Blinn 1977",
+        SpecularModel::Phong => "(R·V)^n, Phong 1975",
+    })
+);
 
-impl From<SpecularChoice> for holo::mesh::shade::SpecularModel {
-    fn from(c: SpecularChoice) -> Self {
-        match c {
-            SpecularChoice::Blinn => Self::Blinn,
-            SpecularChoice::Phong => Self::Phong,
+library_choice!(
+    /// `--blend`: how the cameras around a ray are weighted.
+    BlendChoice(Blend) = Blend::ALL,
+    |b| {
+        let value = PossibleValue::new(b.name());
+        match b {
+            Blend::Nearest => value.help("The nearest camera"),
+            Blend::Linear => {
+                value.alias("barycentric").help("Linear along a rail, barycentric in the cameras' Delaunay triangle")
+            }
+            Blend::NaturalNeighbour => value
+                .aliases(["natural-neighbour", "natural-neighbor"])
+                .help("Sibson's natural-neighbour coordinates"),
         }
     }
-}
+);
 
-/// `--blend`: how the cameras around a ray are weighted.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum BlendChoice {
-    /// The nearest camera.
-    Nearest,
-    /// Linear along a rail, barycentric in the cameras' Delaunay triangle.
-    #[value(alias = "barycentric")]
-    Linear,
-    /// Sibson's natural-neighbour coordinates.
-    #[value(aliases = ["natural-neighbour", "natural-neighbor"])]
-    Natural,
-}
+library_choice!(
+    /// `convert cameras --framing`: how big the capture is shown.
+    FramingChoice(Framing) = Framing::ALL,
+    |f| PossibleValue::new(f.name()).help(match f {
+        Framing::Fit => "The middle camera's view at the focus fits the emitter plane, its shape kept",
+        Framing::Fill => "The middle camera's view at the focus covers the emitter plane, its overflowing edges cut",
+        Framing::FillWidth => "The middle camera's view at the focus fills the display's width",
+        Framing::CamerasAtViewer => "The cameras as far from the focus as the viewer is from the display",
+    })
+);
 
-impl From<BlendChoice> for holo::cameras::resample::Blend {
-    fn from(c: BlendChoice) -> Self {
-        match c {
-            BlendChoice::Nearest => Self::Nearest,
-            BlendChoice::Linear => Self::Linear,
-            BlendChoice::Natural => Self::NaturalNeighbour,
-        }
-    }
-}
-
-/// `convert cameras --framing`: how big the capture is shown.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum FramingChoice {
-    /// The middle camera's view at the focus fits the emitter plane, its shape kept.
-    Fit,
-    /// The middle camera's view at the focus covers the emitter plane, its overflowing edges cut.
-    Fill,
-    /// The middle camera's view at the focus fills the display's width.
-    Width,
-    /// The cameras as far from the focus as the viewer is from the display.
-    Viewer,
-}
-
-impl From<FramingChoice> for holo::cameras::resample::Framing {
-    fn from(c: FramingChoice) -> Self {
-        match c {
-            FramingChoice::Fit => Self::Fit,
-            FramingChoice::Fill => Self::Fill,
-            FramingChoice::Width => Self::FillWidth,
-            FramingChoice::Viewer => Self::CamerasAtViewer,
-        }
-    }
-}
-
-/// `convert cameras --parallax`: how the capture's directions meet the display's views.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum ParallaxChoice {
-    /// The cameras' span spread across the eye positions that see the display.
-    Fit,
-    /// The display's ray directions as they are: where no camera looked, rays stay black.
-    True,
-}
-
-impl From<ParallaxChoice> for holo::cameras::resample::Parallax {
-    fn from(c: ParallaxChoice) -> Self {
-        match c {
-            ParallaxChoice::Fit => Self::Fit,
-            ParallaxChoice::True => Self::True,
-        }
-    }
-}
+library_choice!(
+    /// `convert cameras --parallax`: how the capture's directions meet the display's views.
+    ParallaxChoice(Parallax) = Parallax::ALL,
+    |p| PossibleValue::new(p.name()).help(match p {
+        Parallax::Fit => "The cameras' span spread across the eye positions that see the display",
+        Parallax::True => "The display's ray directions as they are: where no camera looked, rays stay black",
+    })
+);
 
 /// `assemble --format`: how fringe images are stored.
 #[derive(Clone, Copy, Debug, ValueEnum)]

@@ -15,13 +15,17 @@ use crate::format::{WriteOptions, WriteReport};
 use crate::geometry::Geometry;
 use crate::pipeline::{self, HoloSink, Source, Warnings};
 use crate::progress::{Progress, Steps};
+use crate::provenance::{Conversion, ConverterOptions};
 use crate::{Band, Error, Result};
 
 /// Everything `convert cameras` takes besides the rig, geometry and output.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct CameraConvertOptions {
     /// Blending, placement, focus, depth.
     pub resample: CameraOptions,
+    /// How a capture that does not record its whole geometry is read
+    /// ([`convert_camera_files`]; a rig already read does not use them).
+    pub open: OpenOptions,
     /// Also write a PNG (emitters × hololines) whose grey level is the
     /// fraction of each emitter's views that no camera sees.
     pub unseen_png: Option<PathBuf>,
@@ -47,6 +51,20 @@ pub struct CameraConvertReport {
 /// of `progress` are `pictures` (cameras loaded) and `hololines`.
 pub fn convert_cameras(
     rig: &Rig,
+    load: &(dyn Fn(&Camera) -> Result<CameraView> + Sync),
+    geometry: &Geometry,
+    output: &Path,
+    options: &CameraConvertOptions,
+    progress: &dyn Progress,
+) -> Result<CameraConvertReport> {
+    convert(rig, None, load, geometry, output, options, progress)
+}
+
+/// [`convert_cameras`] of the rig read from `input`, when it was: its name
+/// and digest are recorded (else the rig's own name).
+fn convert(
+    rig: &Rig,
+    input: Option<&Path>,
     load: &(dyn Fn(&Camera) -> Result<CameraView> + Sync),
     geometry: &Geometry,
     output: &Path,
@@ -79,7 +97,7 @@ pub fn convert_cameras(
     let resampler = RigResampler::new(rig, &views, geometry, &resample_options)?;
     let mut source = CameraSource {
         rig,
-        inputs: Vec::new(),
+        inputs: input.map(Path::to_path_buf).into_iter().collect(),
         resampler: &resampler,
         options,
         unseen: Unseen::default(),
@@ -150,6 +168,19 @@ impl Source for CameraSource<'_> {
         Some(self.resampler.display_from_capture())
     }
 
+    fn conversion(&self) -> Result<Option<Conversion>> {
+        let mut options = self.options.clone();
+        // The samples do not depend on the outputs asked for beside them.
+        options.unseen_png = None;
+        options.resample.want_mask = false;
+        options.write = WriteOptions::default();
+        let options = ConverterOptions::Cameras(options);
+        match self.inputs.first() {
+            Some(input) => Conversion::of_input(input, options).map(Some),
+            None => Ok(Some(Conversion { input: self.rig.source.clone(), input_sha256: None, options })),
+        }
+    }
+
     fn band_hololines(&self) -> Option<usize> {
         Some(4 * rayon::current_num_threads().max(4))
     }
@@ -217,17 +248,18 @@ pub fn load_view(camera: &Camera, linear: bool, use_depth: bool) -> Result<Camer
 
 /// `holo convert cameras`: open `input` (a rig file, an HCI or Stanford
 /// folder, a Middlebury `_par.txt`, a Looking Glass quilt or a folder of
-/// images, see [`super::open_rig_with`]) and convert it.
+/// images, read with [`CameraConvertOptions::open`], see
+/// [`super::open_rig_with`]) and convert it.
 pub fn convert_camera_files(
     input: &Path,
-    open: &OpenOptions,
     geometry: &Geometry,
     output: &Path,
     options: &CameraConvertOptions,
     progress: &dyn Progress,
 ) -> Result<CameraConvertReport> {
     check_outputs(output, options, &[input])?;
-    let rig = super::open_rig_with(input, open)?;
+    let rig = super::open_rig_with(input, &options.open)?;
     let (linear, use_depth) = (rig.linear, options.resample.use_depth);
-    convert_cameras(&rig, &|cam: &Camera| load_view(cam, linear, use_depth), geometry, output, options, progress)
+    let load = |cam: &Camera| load_view(cam, linear, use_depth);
+    convert(&rig, Some(input), &load, geometry, output, options, progress)
 }

@@ -46,6 +46,9 @@ pub enum Blend {
 }
 
 impl Blend {
+    /// Every weighting.
+    pub const ALL: [Blend; 3] = [Blend::Nearest, Blend::Linear, Blend::NaturalNeighbour];
+
     /// The name on the command line.
     pub fn name(self) -> &'static str {
         match self {
@@ -101,6 +104,21 @@ pub enum Framing {
     CamerasAtViewer,
 }
 
+impl Framing {
+    /// Every framing.
+    pub const ALL: [Framing; 4] = [Framing::Fit, Framing::Fill, Framing::FillWidth, Framing::CamerasAtViewer];
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Framing::Fit => "fit",
+            Framing::Fill => "fill",
+            Framing::FillWidth => "width",
+            Framing::CamerasAtViewer => "viewer",
+        }
+    }
+}
+
 /// How the capture's directions meet the display's views.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Parallax {
@@ -114,6 +132,19 @@ pub enum Parallax {
     /// The display's ray directions, rotated and scaled into the capture, as
     /// they are: where the cameras did not look, rays are unseen.
     True,
+}
+
+impl Parallax {
+    /// Both kinds.
+    pub const ALL: [Parallax; 2] = [Parallax::Fit, Parallax::True];
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Parallax::Fit => "fit",
+            Parallax::True => "true",
+        }
+    }
 }
 
 /// What the user asked for (each `None`: chosen from the rig).

@@ -40,6 +40,105 @@ pub mod name {
     pub const DIGEST: &str = "holo.digest";
     pub const SOURCE: &str = "holo.source";
     pub const PLACEMENT: &str = "holo.placement";
+
+    /// The conversion record (spec §4.4, version 1.1): which converter made
+    /// the file, from which input, with every option it was given.
+    pub mod convert {
+        pub const PREFIX: &str = "holo.convert.";
+        pub const KIND: &str = "holo.convert.kind";
+        pub const INPUT: &str = "holo.convert.input";
+        pub const INPUT_SHA256: &str = "holo.convert.inputSha256";
+        pub const FRAMES: &str = "holo.convert.frames";
+        pub const FRAMES_PER_SECOND: &str = "holo.convert.framesPerSecond";
+        pub const SMOOTH_NORMALS_DEG: &str = "holo.convert.smoothNormalsDeg";
+        pub const ROTATE_DEG: &str = "holo.convert.rotateDeg";
+        pub const SCALE: &str = "holo.convert.scale";
+        pub const TRANSLATE: &str = "holo.convert.translate";
+        pub const MATRIX: &str = "holo.convert.matrix";
+        pub const SUPERSAMPLE: &str = "holo.convert.supersample";
+        pub const ENGINE: &str = "holo.convert.engine";
+        pub const SPECULAR: &str = "holo.convert.specular";
+        pub const SCENE_LIGHTS: &str = "holo.convert.sceneLights";
+        pub const DEFAULT_LIGHTS: &str = "holo.convert.defaultLights";
+        pub const LIGHT_COUNT: &str = "holo.convert.lightCount";
+        /// Light `i`'s properties are `holo.convert.light<i>.<property>` ([`light`]).
+        pub const LIGHT_PREFIX: &str = "holo.convert.light";
+        pub const LIGHT_PROPERTIES: [&str; 7] =
+            ["kind", "direction", "irradiance", "position", "intensity", "radiance", "name"];
+        pub const BLEND: &str = "holo.convert.blend";
+        pub const FOCUS: &str = "holo.convert.focus";
+        pub const CENTRE: &str = "holo.convert.centre";
+        pub const FRAMING: &str = "holo.convert.framing";
+        pub const PARALLAX: &str = "holo.convert.parallax";
+        pub const DEPTH_MAPS: &str = "holo.convert.depthMaps";
+        pub const EMITTER_TAPS: &str = "holo.convert.emitterTaps";
+        pub const FOLDER_BASELINE: &str = "holo.convert.folder.baseline";
+        pub const FOLDER_FOCAL_PX: &str = "holo.convert.folder.focalPx";
+        pub const FOLDER_H_FOV_DEG: &str = "holo.convert.folder.hFovDeg";
+        pub const FOLDER_FOCUS: &str = "holo.convert.folder.focus";
+        pub const FOLDER_M_PER_UNIT: &str = "holo.convert.folder.mPerUnit";
+        pub const STANFORD_FOCAL_PX: &str = "holo.convert.stanford.focalPx";
+        pub const STANFORD_H_FOV_DEG: &str = "holo.convert.stanford.hFovDeg";
+        pub const STANFORD_FOCUS: &str = "holo.convert.stanford.focus";
+        pub const STANFORD_M_PER_UNIT: &str = "holo.convert.stanford.mPerUnit";
+        pub const QUILT_VIEW_CONE_DEG: &str = "holo.convert.quilt.viewConeDeg";
+        pub const QUILT_V_FOV_DEG: &str = "holo.convert.quilt.vFovDeg";
+        pub const FIT: &str = "holo.convert.fit";
+
+        /// Every fixed name (the lights' are [`light`]'s).
+        pub const ALL: [&str; 35] = [
+            KIND,
+            INPUT,
+            INPUT_SHA256,
+            FRAMES,
+            FRAMES_PER_SECOND,
+            SMOOTH_NORMALS_DEG,
+            ROTATE_DEG,
+            SCALE,
+            TRANSLATE,
+            MATRIX,
+            SUPERSAMPLE,
+            ENGINE,
+            SPECULAR,
+            SCENE_LIGHTS,
+            DEFAULT_LIGHTS,
+            LIGHT_COUNT,
+            BLEND,
+            FOCUS,
+            CENTRE,
+            FRAMING,
+            PARALLAX,
+            DEPTH_MAPS,
+            EMITTER_TAPS,
+            FOLDER_BASELINE,
+            FOLDER_FOCAL_PX,
+            FOLDER_H_FOV_DEG,
+            FOLDER_FOCUS,
+            FOLDER_M_PER_UNIT,
+            STANFORD_FOCAL_PX,
+            STANFORD_H_FOV_DEG,
+            STANFORD_FOCUS,
+            STANFORD_M_PER_UNIT,
+            QUILT_VIEW_CONE_DEG,
+            QUILT_V_FOV_DEG,
+            FIT,
+        ];
+
+        /// `holo.convert.light<i>.<property>`.
+        pub fn light(i: usize, property: &str) -> String {
+            format!("{LIGHT_PREFIX}{i}.{property}")
+        }
+
+        /// Whether `attribute` names a light's property: `light`, a decimal
+        /// index without leading zeros, `.`, one of [`LIGHT_PROPERTIES`].
+        pub fn is_light(attribute: &str) -> bool {
+            let Some((index, property)) = attribute.strip_prefix(LIGHT_PREFIX).and_then(|r| r.split_once('.')) else {
+                return false;
+            };
+            let digits = !index.is_empty() && index.bytes().all(|b| b.is_ascii_digit());
+            digits && (index == "0" || !index.starts_with('0')) && LIGHT_PROPERTIES.contains(&property)
+        }
+    }
 }
 
 /// Every attribute name this version defines (wavelengths by prefix).
@@ -73,6 +172,8 @@ pub fn is_known(attribute: &str) -> bool {
     ]
     .contains(&attribute)
         || attribute.strip_prefix(WAVELENGTH_PREFIX).is_some_and(|c| crate::geometry::CHANNEL_NAMES.contains(&c))
+        || convert::ALL.contains(&attribute)
+        || convert::is_light(attribute)
 }
 
 /// How to turn stored values into radiance (spec §5).
@@ -101,20 +202,31 @@ pub fn ascii_only(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii() && c != '\0' { c } else { '?' }).collect()
 }
 
-/// `holo.placement` (spec §4.3): `display_from_input` (row-major, points as
-/// columns: translation in the last column) as OpenEXR's `m44d`, whose
-/// layout follows Imath's row-vector convention (translation in the last
-/// row): the transpose, 16 little-endian doubles.
-pub fn placement_attribute(display_from_input: &[[f64; 4]; 4]) -> AttributeValue {
+/// A transform such as `holo.placement` (spec §4.4): `display_from_input`
+/// (row-major, points as columns: translation in the last column) as
+/// OpenEXR's `m44d`, whose layout follows Imath's row-vector convention
+/// (translation in the last row): the transpose, 16 little-endian doubles.
+pub fn matrix_attribute(display_from_input: &[[f64; 4]; 4]) -> AttributeValue {
     let bytes = crate::math::transpose(display_from_input).iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
     AttributeValue::Custom { kind: Text::new_or_panic("m44d"), bytes }
 }
 
-/// The matrix [`placement_attribute`] stores, back in the crate's
-/// convention (points as columns).
-pub fn placement_from_m44d(stored: &[[f64; 4]; 4]) -> [[f64; 4]; 4] {
+/// The matrix [`matrix_attribute`] stores, back in the crate's convention
+/// (points as columns).
+pub fn matrix_from_m44d(stored: &[[f64; 4]; 4]) -> [[f64; 4]; 4] {
     crate::math::transpose(stored)
 }
+
+/// OpenEXR's `v3d` (three little-endian doubles), which the `exr` crate
+/// knows only as a custom type.
+pub fn v3d_attribute(v: [f64; 3]) -> AttributeValue {
+    AttributeValue::Custom { kind: Text::new_or_panic("v3d"), bytes: v.iter().flat_map(|x| x.to_le_bytes()).collect() }
+}
+
+/// The `holo.convert.*` attributes of a conversion (spec §4.4), ready to
+/// write: [`crate::provenance::Conversion::record`] makes them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ConversionRecord(pub(crate) Vec<(String, AttributeValue)>);
 
 /// The geometry and radiometry attributes shared by every part of a file.
 pub fn geometry_attributes(
@@ -228,23 +340,56 @@ impl<'a> Attributes<'a> {
             other => Err(Self::wrong(k, "v2i", other)),
         }
     }
-    /// An `m44d` attribute (OpenEXR's 4×4 double matrix, which the `exr`
-    /// crate reads as a custom type): the 16 doubles as stored, row by row.
-    pub fn m44d(&self, k: &str) -> Result<[[f64; 4]; 4], String> {
+    /// A `v3i` attribute.
+    pub fn v3i(&self, k: &str) -> Result<[i32; 3], String> {
         match self.get(k)? {
-            AttributeValue::Custom { kind, bytes } if kind.as_slice() == b"m44d" && bytes.len() == 128 => {
-                let mut m = [[0.0; 4]; 4];
+            AttributeValue::IntVec3((a, b, c)) => Ok([*a, *b, *c]),
+            other => Err(Self::wrong(k, "v3i", other)),
+        }
+    }
+    /// A `v3f` attribute, every value finite.
+    pub fn v3f(&self, k: &str) -> Result<[f32; 3], String> {
+        match self.get(k)? {
+            AttributeValue::FloatVec3((a, b, c)) if [a, b, c].iter().all(|x| x.is_finite()) => Ok([*a, *b, *c]),
+            AttributeValue::FloatVec3(_) => Err(Self::not_finite(k)),
+            other => Err(Self::wrong(k, "v3f", other)),
+        }
+    }
+    /// A `v3d` attribute (which the `exr` crate reads as a custom type),
+    /// every value finite.
+    pub fn v3d(&self, k: &str) -> Result<[f64; 3], String> {
+        let [v] = self.doubles::<3, 1>(k, "v3d")?;
+        Ok(v)
+    }
+    /// An `m44d` attribute (OpenEXR's 4×4 double matrix, which the `exr`
+    /// crate reads as a custom type): the 16 doubles as stored, row by row,
+    /// every value finite.
+    pub fn m44d(&self, k: &str) -> Result<[[f64; 4]; 4], String> {
+        self.doubles::<4, 4>(k, "m44d")
+    }
+    /// A custom attribute of type `kind` holding `R × C` little-endian
+    /// doubles, row by row, every one finite.
+    fn doubles<const C: usize, const R: usize>(&self, k: &str, kind: &str) -> Result<[[f64; C]; R], String> {
+        match self.get(k)? {
+            AttributeValue::Custom { kind: found, bytes } if found.as_slice() == kind.as_bytes() => {
+                if bytes.len() != 8 * R * C {
+                    return Err(format!("attribute {k} holds {} bytes; a {kind} holds {}", bytes.len(), 8 * R * C));
+                }
+                let mut m = [[0.0; C]; R];
                 for (i, chunk) in bytes.chunks_exact(8).enumerate() {
-                    m[i / 4][i % 4] = f64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
+                    m[i / C][i % C] = f64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
                 }
                 if m.iter().flatten().all(|x| x.is_finite()) {
                     Ok(m)
                 } else {
-                    Err(format!("attribute {k} holds a value that is not finite"))
+                    Err(Self::not_finite(k))
                 }
             }
-            other => Err(Self::wrong(k, "m44d", other)),
+            other => Err(Self::wrong(k, kind, other)),
         }
+    }
+    fn not_finite(k: &str) -> String {
+        format!("attribute {k} holds a value that is not finite")
     }
 
     /// An optional attribute: `Ok(None)` when absent.

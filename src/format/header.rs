@@ -75,6 +75,10 @@ pub struct FileInfo {
     pub file_bytes: u64,
     /// `holo.*` attributes this version does not define (ignored).
     pub unknown_attributes: Vec<String>,
+    /// `holo.convert.*`: the conversion, or why its record cannot be read
+    /// ([`FileInfo::conversion`]).
+    #[serde(serialize_with = "crate::provenance::serialize")]
+    pub(crate) conversion: Option<std::result::Result<crate::provenance::Conversion, String>>,
 }
 
 impl FileInfo {
@@ -225,6 +229,23 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
         attrs.holo_names().into_iter().filter(|n| !super::attributes::is_known(n)).map(String::from).collect();
     let text =
         |t: &Option<exr::meta::attribute::Text>| t.as_ref().map(|t| String::from_utf8_lossy(t.as_slice()).into_owned());
+    // The options' write part is what the file says of itself.
+    let written = super::WriteOptions {
+        sample_type,
+        compression,
+        radiometry: radiometry.clone(),
+        version: super::FormatVersion::for_number(version),
+        ..super::WriteOptions::default()
+    };
+    // An unreadable record leaves the samples readable: a warning, so that a
+    // newer minor version's values never make the file unreadable here.
+    let conversion = match crate::provenance::Conversion::from_attributes(&attrs, written) {
+        Ok(c) => c.map(Ok),
+        Err(e) => {
+            warnings.push(format!("{e}: the conversion record (holo.convert.*) is ignored"));
+            Some(Err(e))
+        }
+    };
     let info = FileInfo {
         path: path.into(),
         version,
@@ -244,11 +265,12 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
                 problems.push(e);
                 None
             })
-            .map(|m| super::attributes::placement_from_m44d(&m)),
+            .map(|m| super::attributes::matrix_from_m44d(&m)),
         frames_per_second: first.own_attributes.frames_per_second.map(|r| (r.0, r.1)),
         frames,
         file_bytes,
         unknown_attributes,
+        conversion,
     };
     Ok(Parsed { info: Some(info), problems, warnings })
 }

@@ -5,9 +5,9 @@
 //! Start reading at [`HoloFile::open`] (lazy reading) and [`write_frames`]
 //! (streaming writes); [`read()`] and [`write()`] are the one-call shortcuts.
 
-mod attributes;
+pub(crate) mod attributes;
 mod channels;
-mod digest;
+pub(crate) mod digest;
 mod header;
 mod read;
 mod validate;
@@ -15,7 +15,7 @@ mod write;
 
 /// Write a small file whole, atomically: [`crate::output::write_bytes_beside`].
 pub use crate::output::write_bytes_beside;
-pub use attributes::{is_known as is_known_attribute, name as attribute, Radiometry, VERSION};
+pub use attributes::{is_known as is_known_attribute, name as attribute, ConversionRecord, Radiometry, VERSION};
 pub use channels::{channel_name, parse_channel_name, view_digits, ChannelOrder};
 pub use digest::frame_digest;
 pub use header::{FileInfo, FrameInfo, Window};

@@ -14,7 +14,7 @@ use exr::meta::header::{Header, LayerAttributes};
 use exr::meta::BlockDescription;
 use smallvec::SmallVec;
 
-use super::attributes::{self, geometry_attributes, name, Radiometry};
+use super::attributes::{self, geometry_attributes, name, ConversionRecord, Radiometry};
 use super::channels::ChannelOrder;
 use super::digest::{frame_digest, row_bytes, stored_row, RowDigest, DIGEST_PREFIX};
 use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SIDE};
@@ -23,7 +23,7 @@ use crate::output::{AtomicFile, Spool};
 use crate::{Band, Error, Modulation, Result};
 
 /// How to write.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct WriteOptions {
     /// Stored sample type (f16 by default).
     pub sample_type: SampleType,
@@ -41,11 +41,14 @@ pub struct WriteOptions {
     pub overwrite: bool,
     /// The format version to write (spec §9): 1.1, or 1.0 for readers of 1.0.
     pub version: FormatVersion,
-    /// `holo.placement` (spec §4.3): the transform from the converter's input
+    /// `holo.placement` (spec §4.4): the transform from the converter's input
     /// coordinates to display metres (row-major, points as columns), when
     /// the content was placed; written exactly, so the conversion can be
     /// made again.
     pub placement: Option<[[f64; 4]; 4]>,
+    /// `holo.convert.*` (spec §4.4): which converter made the content, from
+    /// which input, with every option it was given.
+    pub conversion: Option<ConversionRecord>,
 }
 
 /// Which version of the format a writer writes (spec §9).
@@ -61,6 +64,16 @@ pub enum FormatVersion {
 }
 
 impl FormatVersion {
+    /// The version a writer of this library writes for a file of version
+    /// `number`: 1.0 for 1.0, else the newest.
+    pub fn for_number(number: (i32, i32)) -> FormatVersion {
+        if number == (1, 0) {
+            FormatVersion::V1_0
+        } else {
+            FormatVersion::V1_1
+        }
+    }
+
     /// `(major, minor)`, as `holo.version` stores it.
     pub fn number(self) -> (i32, i32) {
         match self {
@@ -91,6 +104,7 @@ impl Default for WriteOptions {
             overwrite: false,
             version: FormatVersion::default(),
             placement: None,
+            conversion: None,
         }
     }
 }
@@ -498,8 +512,16 @@ fn part_header(
         .with_display_window(full_window(g))
         .with_attributes(own);
     header.shared_attributes.other = geometry_attributes(g, &options.radiometry, options.version.number());
-    if let Some(m) = &options.placement {
-        header.shared_attributes.other.insert(Text::new_or_panic(name::PLACEMENT), attributes::placement_attribute(m));
+    // A file written for 1.0 readers holds only what 1.0 defines: the
+    // provenance that 1.1 added is left out with the rest of 1.1.
+    if options.version != FormatVersion::V1_0 {
+        let shared = &mut header.shared_attributes.other;
+        if let Some(m) = &options.placement {
+            shared.insert(Text::new_or_panic(name::PLACEMENT), attributes::matrix_attribute(m));
+        }
+        for (k, v) in options.conversion.iter().flat_map(|r| &r.0) {
+            shared.insert(Text::new_or_panic(k.as_str()), v.clone());
+        }
     }
     header.shared_attributes.pixel_aspect = options.version.pixel_aspect(g);
     header

@@ -35,10 +35,11 @@ use crate::mesh::shade::{Lighting, SpecularModel as Lobe};
 use crate::mesh::{Object, Scene};
 use crate::pipeline::{self, Source, Warnings};
 use crate::progress::Progress;
+use crate::provenance::{Conversion, ConverterOptions};
 use crate::{Band, Error, Result};
 
 /// Everything `convert holoflick` takes besides input, geometry and output.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct HoloFlickConvertOptions {
     /// Frames to convert (default all): split a movie across machines.
     pub frames: Option<Range<usize>>,
@@ -135,6 +136,8 @@ pub struct HoloFlickSource<'a> {
     geometry: &'a Geometry,
     render: RenderOptions,
     fit: bool,
+    /// The frames asked for (`None`: all), as the conversion records them.
+    frames_asked: Option<Range<usize>>,
     /// Drawn as stored: made for the display (decided on the first frame).
     made_for_display: bool,
     state: State,
@@ -154,6 +157,7 @@ impl<'a> HoloFlickSource<'a> {
             geometry,
             render: options.render.clone(),
             fit: options.fit,
+            frames_asked: options.frames.clone(),
             made_for_display: true,
             state: State { cache: HashMap::new(), work: HoloFlickWork::default(), placed: None },
             frames: 0..0,
@@ -198,6 +202,16 @@ impl Source for HoloFlickSource<'_> {
 
     fn provenance(&self) -> String {
         format!("holo convert holoflick {} (frames {}..{})", self.input.display(), self.frames.start, self.frames.end)
+    }
+
+    fn conversion(&self) -> Result<Option<Conversion>> {
+        let options = HoloFlickConvertOptions {
+            frames: self.frames_asked.clone(),
+            render: self.render.clone(),
+            write: WriteOptions::default(),
+            fit: self.fit,
+        };
+        Conversion::of_input(&self.input, ConverterOptions::HoloFlick(options)).map(Some)
     }
 
     /// World metres to display metres: the fit when the file was fitted,

@@ -17,12 +17,13 @@ use crate::format::{WriteOptions, WriteReport};
 use crate::geometry::Geometry;
 use crate::pipeline::{self, Source, Warnings};
 use crate::progress::{Labelled, Progress};
+use crate::provenance::{Conversion, ConverterOptions};
 use crate::{Band, Error, Result};
 
 /// Which moments of a scene file become frames, and where the scene goes:
 /// what every command that makes frames of a scene (`convert mesh`,
 /// `holoflick encode`) takes the same way ([`SceneFrames`]).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SceneFramesOptions {
     /// Where the scene goes, decided on the first frame of the run.
     pub placement: Placement,
@@ -49,7 +50,7 @@ impl Default for SceneFramesOptions {
 }
 
 /// Everything `convert mesh` takes besides the input, layout geometry and output.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct ConvertOptions {
     /// Placement, frames and frame rate.
     pub scene: SceneFramesOptions,
@@ -124,6 +125,13 @@ pub trait SceneStage {
     fn placed(&mut self, scene: &Scene, placed: &Placed);
     /// What the frames are made from (`input`) and how.
     fn provenance(&self, input: &Path) -> String;
+    /// The converter and its options, when the frames are a conversion
+    /// recorded in its output (`holo.convert.*`); `scene` are the options
+    /// the frames were taken with.
+    fn converter(&self, scene: &SceneFramesOptions) -> Option<ConverterOptions> {
+        let _ = scene;
+        None
+    }
     /// Make frame `number` of `scene`; `index` is its place in the run.
     fn make(
         &mut self,
@@ -148,9 +156,7 @@ const FLAT_HINT_TRIANGLES: usize = 1000;
 pub struct SceneFrames<'a, S> {
     source: SceneSource,
     geometry: &'a Geometry,
-    placement: Placement,
-    frames_per_second: f64,
-    smooth_normals_deg: Option<f64>,
+    options: SceneFramesOptions,
     /// The first frame of the run, kept from placement until it is made.
     first: Option<(usize, Scene)>,
     first_number: usize,
@@ -173,9 +179,7 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
         Ok(SceneFrames {
             source: SceneSource::open(input)?,
             geometry,
-            placement: options.placement.clone(),
-            frames_per_second,
-            smooth_normals_deg: options.smooth_normals_deg,
+            options: options.clone(),
             first: None,
             first_number: 0,
             placed: None,
@@ -193,7 +197,7 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
     fn scene_at(&self, time_s: f64) -> Result<Scene> {
         let mut scene = self.source.scene_at(time_s)?;
         for o in &mut scene.objects {
-            match self.smooth_normals_deg {
+            match self.options.smooth_normals_deg {
                 Some(deg) => {
                     crate::mesh::normals::smooth_normals(o, deg);
                 }
@@ -224,18 +228,18 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
     /// included), or one frame for a still scene.
     fn frame_count(&self) -> usize {
         match self.source.animation_duration_s() {
-            Some(d) => (d * self.frames_per_second).floor() as usize + 1,
+            Some(d) => (d * self.options.frames_per_second).floor() as usize + 1,
             None => 1,
         }
     }
 
     fn frames_per_second(&self) -> Option<(u32, u32)> {
-        Some(self.stage.frame_rate(self.frames_per_second))
+        Some(self.stage.frame_rate(self.options.frames_per_second))
     }
 
     fn place(&mut self, frames: &Range<usize>, warnings: &mut Warnings) -> Result<()> {
-        let mut scene = self.scene_at(frames.start as f64 / self.frames_per_second)?;
-        let placed = place(&mut scene, self.geometry, &self.placement)?;
+        let mut scene = self.scene_at(frames.start as f64 / self.options.frames_per_second)?;
+        let placed = place(&mut scene, self.geometry, &self.options.placement)?;
         warnings.merge_frame(&scene.warnings);
         self.stage.placed(&scene, &placed);
         (self.placed, self.first, self.first_number) = (Some(placed), Some((frames.start, scene)), frames.start);
@@ -248,6 +252,13 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
 
     fn placement(&self) -> Option<crate::math::Mat4> {
         self.placed.as_ref().map(|p| p.matrix)
+    }
+
+    fn conversion(&self) -> Result<Option<Conversion>> {
+        match self.stage.converter(&self.options) {
+            Some(options) => Conversion::of_input(self.source.path(), options).map(Some),
+            None => Ok(None),
+        }
     }
 
     fn render(
@@ -265,7 +276,7 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
                     .placed
                     .as_ref()
                     .ok_or_else(|| Error::argument("placement", "internal: the scene was not placed"))?;
-                let mut scene = self.scene_at(number as f64 / self.frames_per_second)?;
+                let mut scene = self.scene_at(number as f64 / self.options.frames_per_second)?;
                 apply(&mut scene, &placed.matrix);
                 warnings.merge_frame(&scene.warnings);
                 scene
@@ -332,6 +343,12 @@ impl SceneStage for MeshRender {
             },
             self.render.lighting.model.name()
         )
+    }
+
+    fn converter(&self, scene: &SceneFramesOptions) -> Option<ConverterOptions> {
+        let options =
+            ConvertOptions { scene: scene.clone(), render: self.render.clone(), write: WriteOptions::default() };
+        Some(ConverterOptions::Mesh(options))
     }
 
     fn make(&mut self, number: usize, _: usize, scene: Scene, frame: &mut Band, progress: &dyn Progress) -> Result<()> {

@@ -234,6 +234,18 @@ pub enum Light {
     },
 }
 
+impl Light {
+    /// Its kind, as a light spec (`crate::mesh::shade::parse_light`) and
+    /// `holo.convert.light<i>.kind` name it.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Light::Point { .. } => "point",
+            Light::Directional { .. } => "directional",
+            Light::Ambient { .. } => "ambient",
+        }
+    }
+}
+
 impl Scene {
     /// Number of triangles in all objects.
     pub fn triangle_count(&self) -> usize {

@@ -65,6 +65,19 @@ pub enum Engine {
     Reference,
 }
 
+impl Engine {
+    /// Every engine.
+    pub const ALL: [Engine; 2] = [Engine::Fast, Engine::Reference];
+
+    /// Its name, as `holo.convert.engine` stores it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Engine::Fast => "fast",
+            Engine::Reference => "reference",
+        }
+    }
+}
+
 /// Everything a render needs besides the scene and geometry.
 ///
 /// The lights a render uses are decided in one place,

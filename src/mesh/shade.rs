@@ -41,6 +41,9 @@ pub enum SpecularModel {
 }
 
 impl SpecularModel {
+    /// Every lobe.
+    pub const ALL: [SpecularModel; 2] = [SpecularModel::Blinn, SpecularModel::Phong];
+
     /// Name on the command line.
     pub fn name(self) -> &'static str {
         match self {

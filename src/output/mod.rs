@@ -27,8 +27,8 @@ use std::path::Path;
 
 pub use check::{check_output, check_set_output, same_file};
 pub use interrupt::{install_interrupt_cleanup, remove_temporaries};
-pub(crate) use set::require_manifest;
 pub use set::{check_set_complete, verify_set, FileSet, SetFile};
+pub(crate) use set::{file_sha256, require_manifest};
 pub use temporary::{AtomicFile, Spool};
 
 use crate::Result;

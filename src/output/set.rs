@@ -158,7 +158,7 @@ impl Drop for FileSet {
 }
 
 /// The SHA-256 of a file's bytes as 64 lower-case hex digits.
-fn file_sha256(path: &Path) -> Result<String> {
+pub(crate) fn file_sha256(path: &Path) -> Result<String> {
     let at = |e| Error::io(path, e);
     let mut file = File::open(path).map_err(at)?;
     let mut hasher = Sha256::new();

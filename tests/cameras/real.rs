@@ -8,7 +8,6 @@ use std::path::PathBuf;
 
 use holo::cameras::convert::{convert_camera_files, load_view, CameraConvertOptions};
 use holo::cameras::quilt::{quilt_from_modulation, QuiltSpec};
-use holo::cameras::read::OpenOptions;
 use holo::cameras::resample::{resample_rig, CameraOptions, CameraView, Parallax, PlacementRequest};
 use holo::geometry::{rgb_channels, Geometry, Views};
 use holo::reconstruct::files::{view_file, EyeAt};
@@ -35,7 +34,6 @@ fn real_captures_convert_and_dino_is_seen_through_the_display() {
         let output = dir.path().join(format!("{name}.holo"));
         let report = convert_camera_files(
             &input,
-            &OpenOptions::default(),
             &layout.geometry,
             &output,
             &CameraConvertOptions::default(),

@@ -375,3 +375,92 @@ fn a_b44_block_that_breaks_the_decoder_is_an_error() {
     let report = holo::format::validate(&path);
     assert!(report.map(|r| !r.is_valid()).unwrap_or(true));
 }
+
+/// A conversion record (`holo.convert.*`, spec §4.4) that cannot be read —
+/// an attribute of the wrong type, a value its converter would refuse, a
+/// hostile count — is named, and ignored with a warning: the samples are
+/// still read, nothing panics, nothing is allocated from the count.
+#[test]
+fn a_broken_conversion_record_is_named_and_ignored() {
+    // An attribute's EXR type and value bytes.
+    type Value = (&'static str, Vec<u8>);
+    let text = |s: &str| ("string", s.as_bytes().to_vec());
+    let bytes_of = |v: &[f64]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+    let floats = |v: [f32; 3]| ("v3f", v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>());
+    let ints = |v: [i32; 3]| ("v3i", v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>());
+    let record: Vec<(&str, Value)> = vec![
+        ("holo.convert.kind", text("mesh")),
+        ("holo.convert.input", text("scene.obj")),
+        ("holo.convert.framesPerSecond", ("double", bytes_of(&[30.0]))),
+        ("holo.convert.rotateDeg", ("v3d", bytes_of(&[0.0; 3]))),
+        ("holo.convert.translate", ("v3d", bytes_of(&[0.0; 3]))),
+        ("holo.convert.supersample", ints([2, 2, 1])),
+        ("holo.convert.engine", text("fast")),
+        ("holo.convert.specular", text("blinn")),
+        ("holo.convert.sceneLights", ("int", int(1))),
+        ("holo.convert.defaultLights", ("int", int(1))),
+        ("holo.convert.lightCount", ("int", int(1))),
+        ("holo.convert.light0.kind", text("ambient")),
+        ("holo.convert.light0.radiance", floats([0.1, 0.1, 0.1])),
+    ];
+    // The record with `changes` made (a replacement, or a new attribute).
+    let file = |changes: &[(&str, Value)]| {
+        let original = valid_bytes();
+        let (mut attributes, rest) = split(&original);
+        for (name, (kind, value)) in record.iter().chain(changes) {
+            attributes.retain(|a| a.0 != *name);
+            attributes.push((name.to_string(), kind.to_string(), value.clone()));
+        }
+        attributes.sort();
+        join(&original, &attributes, &rest)
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let open = |name: &str, bytes: &[u8]| {
+        let path = dir.path().join(format!("{name}.holo"));
+        std::fs::write(&path, bytes).unwrap();
+        let outcome = catch_unwind(AssertUnwindSafe(|| {
+            let file = HoloFile::open(&path).unwrap_or_else(|e| panic!("{name}: the samples must stay readable: {e}"));
+            file.read_frame(0).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let problem = file.info().conversion().err().map(|e| e.to_string());
+            (problem, validate(&path).unwrap())
+        }));
+        let (problem, validation) = outcome.unwrap_or_else(|_| panic!("{name}: the reader panicked"));
+        assert!(validation.is_valid(), "{name}: {:?}", validation.violations);
+        (path, problem, validation.warnings)
+    };
+
+    let (_, problem, warnings) = open("whole", &file(&[]));
+    assert_eq!((problem, warnings), (None, Vec::new()), "the record itself is well formed");
+    let future = [("holo.convert.futureOption", ("int", int(7)))];
+    let (_, problem, warnings) = open("future", &file(&future));
+    assert_eq!(problem, None, "an attribute this reader does not know is not part of what it reads");
+    assert!(warnings.iter().any(|w| w.contains("holo.convert.futureOption")), "{warnings:?}");
+
+    let cases: Vec<(&str, (&str, Value), &[&str])> = vec![
+        ("string-factors", ("holo.convert.supersample", text("2x2")), &["string", "v3i"]),
+        ("zero-factor", ("holo.convert.supersample", ints([0, 2, 1])), &["from 1 to 64"]),
+        ("engine", ("holo.convert.engine", text("warp")), &["\"warp\"", "\"fast\", \"reference\""]),
+        ("nan-rate", ("holo.convert.framesPerSecond", ("double", bytes_of(&[f64::NAN]))), &["finite and positive"]),
+        ("float-rate", ("holo.convert.framesPerSecond", ("float", 30f32.to_le_bytes().to_vec())), &["double"]),
+        ("short-v3d", ("holo.convert.rotateDeg", ("v3d", bytes_of(&[1.0, 2.0]))), &["16 bytes"]),
+        ("inf-v3d", ("holo.convert.translate", ("v3d", bytes_of(&[0.0, f64::INFINITY, 0.0]))), &["not finite"]),
+        ("kind", ("holo.convert.kind", text("teleport")), &["\"teleport\""]),
+        ("flag", ("holo.convert.sceneLights", ("int", int(2))), &["0 or 1"]),
+        ("dark-light", ("holo.convert.light0.radiance", floats([-1.0, 0.0, 0.0])), &["negative"]),
+        ("light-kind", ("holo.convert.light0.kind", text("laser")), &["\"laser\""]),
+        ("digest", ("holo.convert.inputSha256", text("sha256:abc")), &["64 hex digits"]),
+        ("frames", ("holo.convert.frames", ("v2i", [5i32, 2].iter().flat_map(|x| x.to_le_bytes()).collect())), &[]),
+    ];
+    for (name, (attribute, replacement), words) in cases {
+        let (path, problem, warnings) = open(name, &file(&[(attribute, replacement)]));
+        let problem = problem.unwrap_or_else(|| panic!("{name}: the record was read"));
+        assert!(problem.contains(attribute) && problem.contains(&path.display().to_string()), "{name}: {problem}");
+        for w in words {
+            assert!(problem.contains(w), "{name}: expected {w:?} in: {problem}");
+        }
+        assert!(warnings.iter().any(|w| w.contains(attribute) && w.contains("ignored")), "{name}: {warnings:?}");
+    }
+    // A hostile light count: the first light that is not there is named.
+    let (_, problem, _) = open("count", &file(&[("holo.convert.lightCount", ("int", int(i32::MAX)))]));
+    assert!(problem.is_some_and(|p| p.contains("holo.convert.light1.kind") && p.contains("missing")));
+}

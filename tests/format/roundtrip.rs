@@ -429,3 +429,36 @@ fn the_placement_round_trips_bit_for_bit() {
     write(&plain, &m, &WriteOptions::default()).unwrap();
     assert_eq!(HoloFile::open(&plain).unwrap().info().placement, None);
 }
+
+/// `holo.placement` and the conversion record are version 1.1's: a file
+/// written for 1.0 readers holds neither (byte for byte the file written
+/// without them), one of 1.1 both, and the record reads back whole.
+#[test]
+fn the_provenance_of_1_1_is_left_out_of_a_1_0_file() {
+    use holo::format::FormatVersion;
+    use holo::holoflick::convert::HoloFlickConvertOptions;
+    use holo::provenance::{Conversion, ConverterOptions};
+    let dir = tempfile::tempdir().unwrap();
+    let m = random(geometry(2, 3, 2, false), 5);
+    let options = HoloFlickConvertOptions { frames: Some(2..3), fit: true, ..Default::default() };
+    let conversion =
+        Conversion { input: "movie.hflk".into(), input_sha256: None, options: ConverterOptions::HoloFlick(options) };
+    let placement = [[2.0, 0.0, 0.0, 0.5], [0.0, 2.0, 0.0, -0.5], [0.0, 0.0, 2.0, 0.25], [0.0, 0.0, 0.0, 1.0]];
+    let with = |version| WriteOptions {
+        version,
+        placement: Some(placement),
+        conversion: Some(conversion.record()),
+        ..WriteOptions::default()
+    };
+    let (old, plain) = (dir.path().join("old.holo"), dir.path().join("plain.holo"));
+    write(&old, &m, &with(FormatVersion::V1_0)).unwrap();
+    write(&plain, &m, &WriteOptions { version: FormatVersion::V1_0, ..WriteOptions::default() }).unwrap();
+    assert_eq!(std::fs::read(&old).unwrap(), std::fs::read(&plain).unwrap());
+    let new = dir.path().join("new.holo");
+    write(&new, &m, &with(FormatVersion::V1_1)).unwrap();
+    let file = HoloFile::open(&new).unwrap();
+    assert_eq!(file.info().placement, Some(placement));
+    assert_eq!(file.info().conversion().unwrap(), Some(&conversion));
+    let v = holo::format::validate(&new).unwrap();
+    assert!(v.is_valid() && v.warnings.is_empty(), "{v:?}");
+}

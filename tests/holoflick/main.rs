@@ -10,4 +10,5 @@ mod cg_real;
 mod container;
 mod convert;
 mod objects;
+mod provenance;
 mod tools;

@@ -15,6 +15,7 @@ mod load;
 mod micro;
 mod normals;
 mod pipeline;
+mod provenance;
 mod render;
 mod skin;
 mod write;

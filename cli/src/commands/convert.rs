@@ -10,7 +10,7 @@ use clap::{Args, Subcommand};
 use holo::cameras::convert::{convert_camera_files, CameraConvertOptions};
 use holo::cameras::quilt::{DEFAULT_VERTICAL_FOV_DEG, DEFAULT_VIEW_CONE_DEG};
 use holo::cameras::read::{CameraHints, OpenOptions};
-use holo::cameras::resample::{CameraOptions, PlacementRequest, MAX_EMITTER_TAPS};
+use holo::cameras::resample::{CameraOptions, Framing, Parallax, PlacementRequest, MAX_EMITTER_TAPS};
 use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
 use holo::mesh::convert::{convert_mesh, ConvertOptions, SceneFramesOptions};
 use holo::mesh::place::{display_volume, Placement};
@@ -29,6 +29,7 @@ pub enum ConvertCommand {
     Holoflick(HoloflickArgs),
     Mesh(MeshArgs),
     Cameras(CamerasArgs),
+    Like(super::recorded::LikeArgs),
 }
 
 pub fn run(command: ConvertCommand) -> Outcome {
@@ -36,6 +37,7 @@ pub fn run(command: ConvertCommand) -> Outcome {
         ConvertCommand::Holoflick(a) => holoflick(a),
         ConvertCommand::Mesh(a) => mesh(a),
         ConvertCommand::Cameras(a) => cameras(a),
+        ConvertCommand::Like(a) => super::recorded::like(a),
     }
 }
 
@@ -191,7 +193,7 @@ fn mesh(a: MeshArgs) -> Outcome {
         },
         render: RenderOptions {
             supersample: supersample(a.supersample, a.hololine_supersample),
-            lighting: Lighting { lights: user_lights, model: a.specular.into() },
+            lighting: Lighting { lights: user_lights, model: a.specular.0 },
             scene_lights: !a.no_scene_lights,
             default_lights: true,
             engine: if a.reference { Engine::Reference } else { Engine::Fast },
@@ -303,23 +305,24 @@ fn cameras(a: CamerasArgs) -> Outcome {
         scale: a.scale_m,
         centre: a.center,
         focus: a.focus,
-        framing: if a.fill_width { FramingChoice::Width.into() } else { a.framing.into() },
-        parallax: a.parallax.into(),
+        framing: if a.fill_width { Framing::FillWidth } else { a.framing.0 },
+        parallax: a.parallax.0,
     };
     let options = CameraConvertOptions {
         resample: CameraOptions {
-            blend: a.blend.into(),
+            blend: a.blend.0,
             placement,
             use_depth: !a.no_depth,
             want_mask: false,
             reference: a.reference,
             emitter_taps: a.taps,
         },
+        open,
         unseen_png: a.unseen_mask,
         write: write.options(String::new()),
     };
     let started = Instant::now();
-    let report = convert_camera_files(&a.input, &open, &g, &write.output, &options, &Reporter::on_stderr())?;
+    let report = convert_camera_files(&a.input, &g, &write.output, &options, &Reporter::on_stderr())?;
     report.resample.warnings.iter().chain(&report.written.warnings).for_each(warn);
     let r = &report.resample;
     let (input, output, seconds) = (a.input.display(), report.path.display(), started.elapsed().as_secs_f64());
@@ -341,11 +344,11 @@ fn cameras(a: CamerasArgs) -> Outcome {
         say!("the capture's frame does not have the display's shape: --framing fill covers the display (cutting the capture's overflowing edges)");
     }
     if percent(inside) >= 10.0 {
-        match a.parallax {
-            ParallaxChoice::True => say!(
+        match a.parallax.0 {
+            Parallax::True => say!(
                 "the cameras did not look along many of the display's views: --parallax fit spreads them across the viewer's positions"
             ),
-            ParallaxChoice::Fit => say!(
+            Parallax::Fit => say!(
                 "the cameras do not see many points the display shows (outside their pictures, or hidden by their depth maps): check --focus and --center, or --no-depth"
             ),
         }

@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 
+use super::recorded::command_line;
 use super::Outcome;
 use crate::out::{json, put, say};
 
@@ -32,9 +33,31 @@ pub fn run(a: InfoArgs) -> Outcome {
     }
     for i in &infos {
         put!("{i}");
+        conversion(&i.file);
     }
     if let Some(same) = same {
         say!("same content: {}", if same { "yes (equal geometry, sample type and frame digests)" } else { "no" });
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The conversion a file records, as the command line that makes it again
+/// (what it cannot give said), and the input it was made from.
+fn conversion(info: &holo::format::FileInfo) {
+    match info.conversion() {
+        Ok(None) => {}
+        Ok(Some(c)) => {
+            let line = command_line(c, info);
+            say!("  conversion    {}", line.line);
+            if !line.unsaid.is_empty() {
+                say!("                (not given exactly by these flags: {})", line.unsaid.join("; "));
+            }
+            say!("                or exactly: holo convert like {} -o OUT.holo", info.path.display());
+            match &c.input_sha256 {
+                Some(digest) => say!("  input         {}, {digest}", c.input),
+                None => say!("  input         {}", c.input),
+            }
+        }
+        Err(e) => say!("  conversion    not readable: {e}"),
+    }
 }

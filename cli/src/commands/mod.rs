@@ -10,6 +10,7 @@ pub mod info;
 pub mod layout;
 pub mod pattern;
 pub mod quilt;
+pub mod recorded;
 pub mod validate;
 pub mod view;
 pub mod views;

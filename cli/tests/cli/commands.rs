@@ -757,3 +757,78 @@ fn the_recorded_placement_remakes_the_conversion_from_the_command_line() {
     let both = text(&ok(holo(&["info", "a.holo", "b.holo"], d)));
     assert!(both.to_lowercase().contains("same content"), "{both}");
 }
+
+/// `holo info` prints the conversion a file records as the command line
+/// that makes it (the scene named as recorded, the layout a stand-in when
+/// it is not built in), and that command line makes the same content.
+#[test]
+fn info_prints_the_command_line_that_makes_the_conversion_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = super::small_profile(d, 4);
+    let layout = profile.to_str().unwrap();
+    for f in ["spot.obj", "spot.mtl", "spot_texture.png"] {
+        std::fs::copy(super::fixture("mesh/spot").join(f), d.join(f)).unwrap();
+    }
+    let asked = [
+        "--supersample=2x3",
+        "--hololine-supersample=2",
+        "--specular=phong",
+        "--light=point:10,20,300:1,2,3",
+        "--light=ambient:0.1,0.2,0.3",
+        "--rotate=10,20,30",
+        "--translate=0.1,-0.3,0.2",
+        "--scale=0.7",
+        "--no-scene-lights",
+    ];
+    ok(holo(&[&["convert", "mesh", "spot.obj", "--layout", layout, "-o", "a.holo"][..], &asked].concat(), d));
+    let info = text(&ok(holo(&["info", "a.holo"], d)));
+    let line = info.lines().find_map(|l| l.strip_prefix("  conversion    holo ")).unwrap_or_else(|| panic!("{info}"));
+    assert!(line.starts_with("convert mesh spot.obj --layout LAYOUT -o OUT.holo"), "{line}");
+    for flag in asked {
+        let (name, value) = flag.split_once('=').unwrap_or((flag, ""));
+        assert!(line.contains(&format!("{name} {value}").trim().to_string()), "{flag} not in {line}");
+    }
+    assert!(info.contains("input         spot.obj, sha256:"), "{info}");
+    assert!(info.contains("holo convert like a.holo -o OUT.holo"), "{info}");
+    let args: Vec<&str> = line
+        .split(' ')
+        .map(|a| {
+            if a == "LAYOUT" {
+                layout
+            } else if a == "OUT.holo" {
+                "b.holo"
+            } else {
+                a
+            }
+        })
+        .collect();
+    ok(holo(&args, d));
+    let both = text(&ok(holo(&["info", "a.holo", "b.holo"], d)));
+    assert!(both.to_lowercase().contains("same content: yes"), "{both}");
+}
+
+/// `holo convert like` makes the conversion a file records again, for its
+/// display, and says whether the content is the same; a file that records
+/// none is refused, naming it.
+#[test]
+fn convert_like_makes_the_recorded_conversion_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let movie = super::fixture("holoflick/v1.1/movie.hflk");
+    let movie = movie.to_str().unwrap();
+    let convert = ["convert", "holoflick", movie, "--layout", "mark1", "-o", "a.holo", "--frames", "1..3", "--fit"];
+    ok(holo(&[&convert[..], &["--supersample", "1x2", "--hololine-supersample", "2"]].concat(), d));
+    let again = text(&ok(holo(&["convert", "like", "a.holo", "--input", movie, "-o", "b.holo"], d)));
+    assert!(again.contains("same content as a.holo: yes"), "{again}");
+    let both = text(&ok(holo(&["info", "--headers-only", "a.holo", "b.holo"], d)));
+    assert!(both.contains("same content: yes"), "{both}");
+    // The input where the record says, by default: here it is not.
+    let o = holo(&["convert", "like", "a.holo", "-o", "c.holo"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("movie.hflk"), "{}", text(&o));
+    mark1_ramp(d, "ramp.holo");
+    let o = holo(&["convert", "like", "ramp.holo", "-o", "c.holo"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("ramp.holo: the file does not record the conversion"), "{}", text(&o));
+}
