@@ -1,0 +1,40 @@
+"""holo: the .holo modulation-texture file of holographic stereogram displays, from Python.
+
+A ``.holo`` file (an OpenEXR file, ``spec/holo-format.md``) stores what every emitter of every hololine of a
+display sends in every view direction. This package reads and writes them as numpy arrays with the axes
+``[channel, hololine, emitter, view]``, in physical units (metres, radians)::
+
+    import holo
+    f = holo.open("scene.holo")
+    f.geometry.shape            # (channels, hololines, emitters, views)
+    frame = f.frame(0)          # numpy float32 array of that shape
+    holo.write("copy.holo", frame, f.geometry)
+
+Heavy calls release the GIL, so other Python threads run meanwhile. Errors are ``holo.HoloError`` or one of
+its kinds: ``FileError`` (the operating system refused), ``FormatError`` (not a readable .holo file) and
+``InputError`` (an argument or array that does not fit); each message is one sentence naming the file.
+"""
+
+from ._holo import (
+    FileError,
+    FormatError,
+    Geometry,
+    HoloError,
+    HoloFile,
+    InputError,
+    open,
+    validate,
+    write,
+)
+
+__all__ = [
+    "FileError",
+    "FormatError",
+    "Geometry",
+    "HoloError",
+    "HoloFile",
+    "InputError",
+    "open",
+    "validate",
+    "write",
+]

@@ -1,0 +1,115 @@
+"""Type stubs of the extension module (python/src/lib.rs); the package re-exports every name."""
+
+import os
+import pathlib
+from typing import Any, Iterable, Iterator, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+PathLike = Union[str, "os.PathLike[str]"]
+Frame = npt.NDArray[np.float32]
+
+class HoloError(Exception):
+    """Anything holo refuses or cannot do."""
+
+class FileError(HoloError):
+    """The operating system refused a read or write, or a file that must not be replaced exists."""
+
+class FormatError(HoloError):
+    """A file that is not a readable .holo file: damaged, truncated, breaking the spec, or of a newer major version."""
+
+class InputError(HoloError):
+    """An argument or array that does not fit: a wrong shape, a bad sample, an unknown name."""
+
+class Geometry:
+    """The geometry of a modulation texture, in physical units (metres, radians)."""
+
+    @property
+    def emitters(self) -> int:
+        """Emitters per hololine."""
+    @property
+    def hololines(self) -> int:
+        """Hololines (rows)."""
+    @property
+    def views(self) -> int:
+        """Views per emitter."""
+    @property
+    def channels(self) -> list[str]:
+        """Colour channel names in sample order ("R", "G", "B" or "Y")."""
+    @property
+    def wavelengths_m(self) -> list[float]:
+        """Each channel's vacuum wavelength, metres."""
+    @property
+    def shape(self) -> Tuple[int, int, int, int]:
+        """The shape of one frame's array: (channels, hololines, emitters, views)."""
+    @property
+    def emitter_pitch_m(self) -> float:
+        """Distance between emitters along a hololine, metres."""
+    @property
+    def hololine_pitch_m(self) -> float:
+        """Distance between hololines, metres."""
+    @property
+    def emitter_z_m(self) -> float:
+        """z of the emitter plane (positive: in front of the hologram), metres."""
+    @property
+    def viewer_distance_m(self) -> float:
+        """Distance of the viewer line from the hologram, metres."""
+    @property
+    def view_angles_rad(self) -> list[float]:
+        """Every view's horizontal direction, radians, ascending."""
+    @property
+    def emitter_x_m(self) -> list[float]:
+        """x of every emitter's centre, metres."""
+    def to_dict(self) -> dict[str, Any]:
+        """Every field, as the .holo spec names them; Geometry.from_dict takes it back."""
+    @staticmethod
+    def from_dict(fields: dict[str, Any]) -> "Geometry":
+        """The geometry a dict from to_dict describes (checked as a file's is)."""
+
+class HoloFile:
+    """A .holo file opened for reading: its header is read and checked, its frames are read when asked for."""
+
+    @property
+    def path(self) -> pathlib.Path:
+        """The file's path."""
+    @property
+    def geometry(self) -> Geometry:
+        """The geometry."""
+    @property
+    def frame_count(self) -> int:
+        """Frames in the file."""
+    def __len__(self) -> int: ...
+    def info(self) -> dict[str, Any]:
+        """What the header says: version, sample_type, compression, frames, frames_per_second, source,
+        software, scale, unit, file_bytes, placement."""
+    def frame(self, index: int) -> Frame:
+        """Frame `index` as a float32 array [channel, hololine, emitter, view]; its digest is checked."""
+    def region(
+        self,
+        index: int,
+        hololines: Optional[Tuple[int, int]] = None,
+        emitters: Optional[Tuple[int, int]] = None,
+    ) -> Frame:
+        """Hololines (first, end) and emitters (first, end) of frame `index`, every channel and view."""
+
+def open(path: PathLike) -> HoloFile:
+    """Open a .holo file: the header is read and checked now, frames when asked for."""
+
+def write(
+    path: PathLike,
+    frames: Union[Frame, Sequence[Frame], Iterable[Frame], Iterator[Frame]],
+    geometry: Geometry,
+    *,
+    frame_count: Optional[int] = None,
+    sample_type: str = "f16",
+    compression: str = "zip",
+    source: str = "",
+    frames_per_second: Optional[float] = None,
+    overwrite: bool = False,
+) -> None:
+    """Write frames to a new .holo file: one frame, an array of frames, a sequence, or an iterator
+    (give frame_count); frames from an iterator are taken one at a time."""
+
+def validate(path: PathLike) -> dict[str, Any]:
+    """Check a .holo file against the spec, every frame and digest: {valid, problems, warnings, frames}."""

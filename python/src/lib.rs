@@ -1,0 +1,420 @@
+//! `holo` from Python: the extension module `holo._holo` (the Python package
+//! `holo` re-exports it with its documentation, `python/holo/__init__.py`).
+//!
+//! A thin layer over the library: every call is one library call, with the
+//! GIL released while it works, numpy arrays in and out (samples in the
+//! library's own order, `[channel, hololine, emitter, view]`, so a frame
+//! becomes an array without a copy), and the library's errors as Python
+//! exceptions carrying the same one-sentence messages.
+
+use std::borrow::Cow;
+use std::path::PathBuf;
+
+use numpy::{IntoPyArray, PyArray4, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::PyException;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyIterator};
+
+use std::sync::Mutex;
+
+use holo::format::{write_frames, Compression, Region, SampleType, WriteOptions};
+
+create_exception!(holo, HoloError, PyException, "Anything holo refuses or cannot do.");
+create_exception!(
+    holo,
+    FileError,
+    HoloError,
+    "The operating system refused a read or write, or a file that must not be replaced exists."
+);
+create_exception!(
+    holo,
+    FormatError,
+    HoloError,
+    "A file that is not a readable .holo file: damaged, truncated, breaking the spec, or of a newer major version."
+);
+create_exception!(
+    holo,
+    InputError,
+    HoloError,
+    "An argument or array that does not fit: a wrong shape, a bad sample, an unknown name."
+);
+
+/// The library's error as the matching Python exception, same message.
+fn to_py(e: holo::Error) -> PyErr {
+    use holo::Error as E;
+    let message = e.to_string();
+    match e {
+        E::Io { .. } | E::Output { .. } => FileError::new_err(message),
+        E::Exr { .. }
+        | E::Invalid { .. }
+        | E::NewerMajorVersion { .. }
+        | E::TooLarge { .. }
+        | E::DigestMismatch { .. }
+        | E::NoFrame { .. } => FormatError::new_err(message),
+        _ => InputError::new_err(message),
+    }
+}
+
+/// A path from `str` or any `os.PathLike` (`pathlib.Path`).
+fn path_of(path: PathBuf) -> PathBuf {
+    path
+}
+
+/// The geometry of a modulation texture, in physical units (metres,
+/// radians): what the display's emitters, hololines and views are.
+#[pyclass(module = "holo", frozen)]
+#[derive(Clone)]
+struct Geometry {
+    inner: holo::Geometry,
+}
+
+#[pymethods]
+impl Geometry {
+    /// Emitters per hololine.
+    #[getter]
+    fn emitters(&self) -> usize {
+        self.inner.emitters
+    }
+    /// Hololines (rows).
+    #[getter]
+    fn hololines(&self) -> usize {
+        self.inner.hololines
+    }
+    /// Views per emitter.
+    #[getter]
+    fn views(&self) -> usize {
+        self.inner.views.count
+    }
+    /// Colour channel names, in sample order (`R`, `G`, `B` or `Y`).
+    #[getter]
+    fn channels(&self) -> Vec<String> {
+        self.inner.channels.iter().map(|c| c.name.clone()).collect()
+    }
+    /// Each channel's vacuum wavelength, metres.
+    #[getter]
+    fn wavelengths_m(&self) -> Vec<f64> {
+        self.inner.channels.iter().map(|c| c.wavelength_m).collect()
+    }
+    /// The shape of one frame's array: `(channels, hololines, emitters, views)`.
+    #[getter]
+    fn shape(&self) -> (usize, usize, usize, usize) {
+        let g = &self.inner;
+        (g.channels.len(), g.hololines, g.emitters, g.views.count)
+    }
+    /// Distance between emitters along a hololine, metres.
+    #[getter]
+    fn emitter_pitch_m(&self) -> f64 {
+        self.inner.emitter_pitch_m
+    }
+    /// Distance between hololines, metres.
+    #[getter]
+    fn hololine_pitch_m(&self) -> f64 {
+        self.inner.hololine_pitch_m
+    }
+    /// `z` of the emitter plane (positive: in front of the hologram), metres.
+    #[getter]
+    fn emitter_z_m(&self) -> f64 {
+        self.inner.emitter_z_m
+    }
+    /// Distance of the viewer line from the hologram, metres.
+    #[getter]
+    fn viewer_distance_m(&self) -> f64 {
+        self.inner.viewer_distance_m
+    }
+    /// Every view's horizontal direction, radians, ascending.
+    #[getter]
+    fn view_angles_rad(&self) -> Vec<f64> {
+        (0..self.inner.views.count).map(|v| self.inner.views.theta_rad(v)).collect()
+    }
+    /// `x` of every emitter's centre, metres.
+    #[getter]
+    fn emitter_x_m(&self) -> Vec<f64> {
+        (0..self.inner.emitters).map(|e| self.inner.emitter_x_m(e)).collect()
+    }
+    /// Every field, as the `.holo` spec names them (a dict of plain values;
+    /// `Geometry.from_dict` takes it back).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let text = serde_json::to_string(&self.inner).map_err(|e| HoloError::new_err(e.to_string()))?;
+        py.import("json")?.call_method1("loads", (text,))
+    }
+    /// The geometry a dict from `to_dict` describes (checked as a file's is).
+    #[staticmethod]
+    fn from_dict(py: Python<'_>, fields: &Bound<'_, PyDict>) -> PyResult<Geometry> {
+        let text: String = py.import("json")?.call_method1("dumps", (fields,))?.extract()?;
+        let inner: holo::Geometry =
+            serde_json::from_str(&text).map_err(|e| InputError::new_err(format!("the dict is not a geometry: {e}")))?;
+        holo::Modulation::zeros(inner.clone()).map_err(to_py)?;
+        Ok(Geometry { inner })
+    }
+    fn __eq__(&self, other: &Geometry) -> bool {
+        self.inner == other.inner
+    }
+    fn __repr__(&self) -> String {
+        let g = &self.inner;
+        format!(
+            "Geometry({} emitters × {} hololines × {} views, channels {:?})",
+            g.emitters,
+            g.hololines,
+            g.views.count,
+            self.channels()
+        )
+    }
+}
+
+/// A `.holo` file opened for reading: its header is read and checked, its
+/// frames are read when asked for.
+#[pyclass(module = "holo", frozen)]
+struct HoloFile {
+    inner: holo::format::HoloFile,
+}
+
+/// The name `write` takes for a sample type.
+fn sample_type_name(t: SampleType) -> &'static str {
+    match t {
+        SampleType::F16 => "f16",
+        SampleType::F32 => "f32",
+    }
+}
+
+/// A frame's samples as a numpy array, without a copy.
+fn frame_array(py: Python<'_>, m: holo::Modulation) -> PyResult<Bound<'_, PyArray4<f32>>> {
+    let g = m.geometry();
+    let shape = [g.channels.len(), g.hololines, g.emitters, g.views.count];
+    m.into_samples().into_pyarray(py).reshape(shape)
+}
+
+#[pymethods]
+impl HoloFile {
+    /// The file's path.
+    #[getter]
+    fn path(&self) -> PathBuf {
+        self.inner.path().clone()
+    }
+    /// The geometry.
+    #[getter]
+    fn geometry(&self) -> Geometry {
+        Geometry { inner: self.inner.geometry().clone() }
+    }
+    /// Frames in the file.
+    #[getter]
+    fn frame_count(&self) -> usize {
+        self.inner.info().frames.len()
+    }
+    fn __len__(&self) -> usize {
+        self.frame_count()
+    }
+    /// What the header says: format version, sample type, compression,
+    /// frame rate, provenance, radiometry, size (a dict).
+    fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let info = self.inner.info();
+        let d = PyDict::new(py);
+        d.set_item("version", info.version)?;
+        d.set_item("sample_type", sample_type_name(info.sample_type))?;
+        d.set_item("compression", info.compression.name())?;
+        d.set_item("frames", info.frames.len())?;
+        d.set_item("frames_per_second", info.frames_per_second.map(|(n, den)| f64::from(n) / f64::from(den)))?;
+        d.set_item("source", info.source.clone())?;
+        d.set_item("software", info.software.clone())?;
+        d.set_item("scale", info.radiometry.scale)?;
+        d.set_item("unit", info.radiometry.unit.clone())?;
+        d.set_item("file_bytes", info.file_bytes)?;
+        d.set_item("placement", info.placement.map(|m| m.to_vec()))?;
+        Ok(d)
+    }
+    /// Frame `index` as a float32 array of shape `geometry.shape`, axes
+    /// `[channel, hololine, emitter, view]`; its digest is checked.
+    fn frame<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray4<f32>>> {
+        let m = py.allow_threads(|| self.inner.read_frame(index)).map_err(to_py)?;
+        frame_array(py, m)
+    }
+    /// Part of frame `index`: hololines `hololines = (first, end)` and
+    /// emitters `emitters = (first, end)` (default all), every channel and
+    /// view; a float32 array `[channel, hololine, emitter, view]` of that part.
+    #[pyo3(signature = (index, hololines=None, emitters=None))]
+    fn region<'py>(
+        &self,
+        py: Python<'py>,
+        index: usize,
+        hololines: Option<(usize, usize)>,
+        emitters: Option<(usize, usize)>,
+    ) -> PyResult<Bound<'py, PyArray4<f32>>> {
+        let g = self.inner.geometry();
+        let all = Region::all(g);
+        let region = Region {
+            hololines: hololines.map_or(all.hololines.clone(), |(a, b)| a..b),
+            emitters: emitters.map_or(all.emitters.clone(), |(a, b)| a..b),
+            ..all
+        };
+        let m = py.allow_threads(|| self.inner.read_region(index, &region)).map_err(to_py)?;
+        frame_array(py, m)
+    }
+    fn __repr__(&self) -> String {
+        format!("HoloFile({:?}, {} frame(s))", self.inner.path(), self.frame_count())
+    }
+}
+
+/// Open a `.holo` file (`str` or `pathlib.Path`): the header is read and
+/// checked now, frames when asked for.
+#[pyfunction]
+fn open(py: Python<'_>, path: PathBuf) -> PyResult<HoloFile> {
+    let path = path_of(path);
+    let inner = py.allow_threads(|| holo::format::HoloFile::open(&path)).map_err(to_py)?;
+    Ok(HoloFile { inner })
+}
+
+/// A float32 array of exactly `g`'s frame shape as a modulation (copied).
+fn modulation_of(g: &holo::Geometry, array: &Bound<'_, PyAny>, index: usize) -> PyResult<holo::Modulation> {
+    let array: PyReadonlyArrayDyn<f32> = array.extract().map_err(|_| {
+        InputError::new_err(format!("frame {index}: not a float32 numpy array (use array.astype(numpy.float32))"))
+    })?;
+    let want = [g.channels.len(), g.hololines, g.emitters, g.views.count];
+    if array.shape() != want {
+        return Err(InputError::new_err(format!(
+            "frame {index}: an array of shape {:?}; the geometry's frames are {:?} [channel, hololine, emitter, view]",
+            array.shape(),
+            want
+        )));
+    }
+    let samples = match array.as_slice() {
+        Ok(s) => s.to_vec(),
+        Err(_) => array.as_array().iter().copied().collect(),
+    };
+    holo::Modulation::from_samples(g.clone(), samples).map_err(to_py)
+}
+
+/// Write frames to a new `.holo` file. `frames` is one frame (a float32
+/// array of `geometry.shape`), an array of frames (one more leading axis),
+/// a sequence of frames, or an iterator or generator of frames (give
+/// `frame_count`: the file's headers say how many frames follow). Frames from
+/// an iterator are taken one at a time, so a long movie is never in memory.
+#[pyfunction]
+#[pyo3(signature = (path, frames, geometry, *, frame_count=None, sample_type="f16", compression="zip", source="", frames_per_second=None, overwrite=false))]
+#[allow(clippy::too_many_arguments)]
+fn write(
+    py: Python<'_>,
+    path: PathBuf,
+    frames: &Bound<'_, PyAny>,
+    geometry: &Geometry,
+    frame_count: Option<usize>,
+    sample_type: &str,
+    compression: &str,
+    source: &str,
+    frames_per_second: Option<f64>,
+    overwrite: bool,
+) -> PyResult<()> {
+    let g = &geometry.inner;
+    let sample_type = match sample_type {
+        "f16" => SampleType::F16,
+        "f32" => SampleType::F32,
+        other => return Err(InputError::new_err(format!("sample_type {other:?}: give \"f16\" or \"f32\""))),
+    };
+    let compression = Compression::from_name(compression).ok_or_else(|| {
+        let names: Vec<&str> = Compression::ALL.iter().map(|c| c.name()).collect();
+        InputError::new_err(format!("compression {compression:?}: give one of {}", names.join(", ")))
+    })?;
+    let frames_per_second = match frames_per_second {
+        None => None,
+        Some(fps) if fps.is_finite() && fps > 0.0 => Some(((fps * 1000.0).round() as i32, 1000)),
+        Some(fps) => return Err(InputError::new_err(format!("frames_per_second {fps} must be positive"))),
+    };
+    let options = WriteOptions {
+        sample_type,
+        compression,
+        source: source.to_string(),
+        frames_per_second,
+        overwrite,
+        ..WriteOptions::default()
+    };
+    // One frame, an array of frames, a sequence, or an iterator.
+    let ndim = frames.getattr("ndim").ok().and_then(|n| n.extract::<usize>().ok());
+    let items: Vec<Bound<'_, PyAny>>;
+    let mut iterator: Option<Bound<'_, PyIterator>> = None;
+    let count = match ndim {
+        Some(4) => {
+            items = vec![frames.clone()];
+            1
+        }
+        Some(_) => {
+            items = frames.try_iter()?.collect::<PyResult<_>>()?;
+            items.len()
+        }
+        None if frames.hasattr("__len__")? => {
+            items = frames.try_iter()?.collect::<PyResult<_>>()?;
+            items.len()
+        }
+        None => {
+            items = Vec::new();
+            iterator = Some(frames.try_iter()?);
+            frame_count.ok_or_else(|| {
+                InputError::new_err("frames come from an iterator: give frame_count, the number it yields")
+            })?
+        }
+    };
+    if let Some(n) = frame_count {
+        if n != count {
+            return Err(InputError::new_err(format!("frame_count {n}, but {count} frames were given")));
+        }
+    }
+    // The Python error that stopped the writer (a bad frame, or the
+    // iterator's own exception), raised as it is once the writer has
+    // removed its partial file.
+    let failure: Mutex<Option<PyErr>> = Mutex::new(None);
+    let iterator = iterator.map(|it| it.unbind());
+    let items: Vec<Py<PyAny>> = items.into_iter().map(|x| x.unbind()).collect();
+    let next = |i: usize| -> holo::Result<Cow<'static, holo::Modulation>> {
+        Python::with_gil(|py| {
+            let frame = match &iterator {
+                Some(it) => it.bind(py).clone().next(),
+                None => Some(Ok(items[i].bind(py).clone())),
+            };
+            let converted = match frame {
+                Some(Ok(f)) => modulation_of(g, &f, i),
+                Some(Err(e)) => Err(e),
+                None => Err(InputError::new_err(format!("the iterator ended after {i} of {count} frames"))),
+            };
+            converted.map(Cow::Owned).map_err(|e| {
+                *failure.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
+                holo::Error::Cancelled
+            })
+        })
+    };
+    let path = path_of(path);
+    let written = py.allow_threads(|| write_frames(&path, g, count, &options, next));
+    match (written, failure.into_inner().unwrap_or_else(|p| p.into_inner())) {
+        (Ok(_), _) => Ok(()),
+        (Err(_), Some(e)) => Err(e),
+        (Err(e), None) => Err(to_py(e)),
+    }
+}
+
+/// Check a `.holo` file against the spec, reading every frame and its
+/// digest: a dict with `valid`, the rules broken (`problems`, empty when
+/// valid), `warnings` and the number of `frames`.
+#[pyfunction]
+fn validate<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
+    let path = path_of(path);
+    let v = py.allow_threads(|| holo::format::validate(&path)).map_err(to_py)?;
+    let d = PyDict::new(py);
+    d.set_item("valid", v.is_valid())?;
+    d.set_item("problems", v.violations.clone())?;
+    d.set_item("warnings", v.warnings.clone())?;
+    d.set_item("frames", v.info.as_ref().map(|i| i.frames.len()))?;
+    Ok(d)
+}
+
+/// The extension module.
+#[pymodule]
+fn _holo(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("HoloError", py.get_type::<HoloError>())?;
+    m.add("FileError", py.get_type::<FileError>())?;
+    m.add("FormatError", py.get_type::<FormatError>())?;
+    m.add("InputError", py.get_type::<InputError>())?;
+    m.add_class::<Geometry>()?;
+    m.add_class::<HoloFile>()?;
+    m.add_function(wrap_pyfunction!(open, m)?)?;
+    m.add_function(wrap_pyfunction!(write, m)?)?;
+    m.add_function(wrap_pyfunction!(validate, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,199 @@
+"""The holo Python package against OpenEXR's own Python bindings and the holo command line.
+
+Run by .ci/python.sh in a fresh virtual environment: `pip install ./python pytest OpenEXR`, then
+`HOLO_CLI=target/debug/holo pytest python/tests`. HOLO_CLI must name the command-line tool: the tests that run
+it fail, not skip, without it.
+"""
+
+import os
+import pathlib
+import subprocess
+import threading
+import time
+
+import numpy as np
+import OpenEXR
+import pytest
+
+import holo
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+FIXTURES = ROOT / "fixtures"
+
+
+def cli():
+    path = os.environ.get("HOLO_CLI")
+    assert path, "HOLO_CLI must name the holo command-line tool (e.g. target/debug/holo)"
+    return path
+
+
+def openexr_frames(path):
+    """Every part of a .holo file as [channel, hololine, emitter, view] float32, read by OpenEXR alone
+    (spec/holo-format.md: channels `v{view}.{colour}`, pixel (x, y) = emitter x on hololine y, one part per
+    frame, +0.0 outside a part's data window)."""
+    f = OpenEXR.File(str(path), separate_channels=True)
+    frames = []
+    for part in f.parts:
+        h = part.header
+        (x0, y0), (x1, y1) = (tuple(map(int, b)) for b in h["displayWindow"])
+        (dx0, dy0), (dx1, dy1) = (tuple(map(int, b)) for b in h["dataWindow"])
+        colours = sorted({name.split(".")[1] for name in part.channels})
+        order = [c for c in ["R", "G", "B", "Y"] if c in colours]
+        views = int(h["holo.views"])
+        digits = max(3, len(str(views - 1)))
+        out = np.zeros((len(order), y1 - y0 + 1, x1 - x0 + 1, views), dtype=np.float32)
+        for c, colour in enumerate(order):
+            for v in range(views):
+                pixels = part.channels[f"v{v:0{digits}d}.{colour}"].pixels.astype(np.float32)
+                out[c, dy0 - y0 : dy1 - y0 + 1, dx0 - x0 : dx1 - x0 + 1, v] = pixels
+        frames.append(out)
+    return frames
+
+
+def random_geometry():
+    """A small RGB geometry: the bundled fixture's, whose numbers are known good."""
+    return holo.open(FIXTURES / "v1.1" / "frames-rgb-f32-zip.holo").geometry
+
+
+@pytest.mark.parametrize("sample_type", ["f16", "f32"])
+@pytest.mark.parametrize("compression", ["none", "zip", "piz"])
+def test_a_written_file_reads_back_bit_exact_through_openexr_and_validates(tmp_path, sample_type, compression):
+    g = random_geometry()
+    rng = np.random.default_rng(7)
+    frames = [rng.uniform(0.0, 2.0, size=g.shape).astype(np.float32) for _ in range(3)]
+    if sample_type == "f16":
+        frames = [f.astype(np.float16).astype(np.float32) for f in frames]
+    path = tmp_path / "written.holo"
+    holo.write(path, frames, g, sample_type=sample_type, compression=compression, frames_per_second=24)
+    for want, got in zip(frames, openexr_frames(path)):
+        assert got.tobytes() == want.tobytes()
+    back = holo.open(path)
+    assert back.frame_count == 3 and back.info()["compression"] == compression
+    for i, want in enumerate(frames):
+        assert back.frame(i).tobytes() == want.tobytes()
+    assert holo.validate(path)["valid"]
+    run = subprocess.run([cli(), "validate", str(path)], capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_a_frame_read_by_the_package_equals_openexrs_samples():
+    paths = sorted((FIXTURES / "v1.1").glob("*.holo")) + sorted((FIXTURES / "v1.0").glob("*.holo"))
+    assert paths, "the bundled .holo fixtures are missing"
+    for path in paths:
+        f = holo.open(path)
+        theirs = openexr_frames(path)
+        assert f.frame_count == len(theirs)
+        for i, want in enumerate(theirs):
+            got = f.frame(i)
+            assert got.shape == f.geometry.shape and got.dtype == np.float32
+            # A lossy codec's small negative undershoot reads as +0 (spec §3.4).
+            want = np.where(want < 0, np.float32(0), want) if f.info()["compression"] in ("b44", "b44a", "dwaa", "dwab", "pxr24") else want
+            assert np.array_equal(got, want), path
+
+
+def test_a_region_is_that_part_of_the_frame():
+    f = holo.open(FIXTURES / "v1.1" / "frames-rgb-f32-zip.holo")
+    whole = f.frame(1)
+    part = f.region(1, hololines=(1, 3), emitters=(2, 5))
+    assert np.array_equal(part, whole[:, 1:3, 2:5, :])
+
+
+def test_frames_stream_from_a_generator_one_at_a_time(tmp_path):
+    g = random_geometry()
+    made = []
+
+    def frames():
+        for i in range(4):
+            made.append(i)
+            yield np.full(g.shape, i / 4, dtype=np.float32)
+
+    path = tmp_path / "stream.holo"
+    holo.write(str(path), frames(), g, frame_count=4)
+    f = holo.open(path)
+    assert made == [0, 1, 2, 3] and f.frame_count == 4
+    assert all(float(f.frame(i)[0, 0, 0, 0]) == i / 4 for i in range(4))
+
+
+def test_geometry_round_trips_through_a_dict():
+    g = random_geometry()
+    d = g.to_dict()
+    assert d["emitters"] == g.emitters and d["hololines"] == g.hololines
+    assert holo.Geometry.from_dict(d) == g
+    assert len(g.view_angles_rad) == g.views and len(g.emitter_x_m) == g.emitters
+    assert g.emitter_pitch_m > 0 and g.viewer_distance_m > 0 and all(w > 0 for w in g.wavelengths_m)
+
+
+def test_bad_input_raises_the_documented_exception_naming_the_file(tmp_path):
+    missing = tmp_path / "missing.holo"
+    with pytest.raises(holo.FileError, match="missing.holo"):
+        holo.open(missing)
+    garbage = tmp_path / "garbage.holo"
+    garbage.write_bytes(b"not an EXR file at all" * 10)
+    with pytest.raises(holo.FormatError, match="garbage.holo"):
+        holo.open(garbage)
+    truncated = tmp_path / "truncated.holo"
+    whole = (FIXTURES / "v1.1" / "frames-rgb-f32-zip.holo").read_bytes()
+    truncated.write_bytes(whole[: len(whole) // 2])
+    with pytest.raises(holo.HoloError, match="truncated.holo"):
+        holo.open(truncated).frame(1)
+    g = random_geometry()
+    with pytest.raises(holo.InputError, match="shape"):
+        holo.write(tmp_path / "x.holo", np.zeros((1, 2, 3, 4), np.float32), g)
+    with pytest.raises(holo.InputError, match="float32"):
+        holo.write(tmp_path / "x.holo", np.zeros(g.shape, np.float64), g)
+    with pytest.raises(holo.InputError, match="compression"):
+        holo.write(tmp_path / "x.holo", np.zeros(g.shape, np.float32), g, compression="gzip")
+    bad = np.zeros(g.shape, np.float32)
+    bad[0, 1, 2, 0] = np.nan
+    with pytest.raises(holo.InputError, match="hololine 1"):
+        holo.write(tmp_path / "nan.holo", bad, g)
+    assert not (tmp_path / "nan.holo").exists() and not (tmp_path / "x.holo").exists()
+    # A file that exists is not replaced unless asked.
+    kept = tmp_path / "kept.holo"
+    kept.write_bytes(b"mine")
+    with pytest.raises(holo.FileError, match="kept.holo"):
+        holo.write(kept, np.zeros(g.shape, np.float32), g)
+    assert kept.read_bytes() == b"mine"
+    # Every kind is a HoloError.
+    assert issubclass(holo.FileError, holo.HoloError) and issubclass(holo.InputError, holo.HoloError)
+
+
+def test_an_iterators_own_exception_comes_through_and_nothing_is_left(tmp_path):
+    g = random_geometry()
+
+    def frames():
+        yield np.zeros(g.shape, np.float32)
+        raise KeyError("the renderer stopped")
+
+    path = tmp_path / "partial.holo"
+    with pytest.raises(KeyError, match="renderer stopped"):
+        holo.write(path, frames(), g, frame_count=3)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_heavy_work_leaves_other_python_threads_running(tmp_path):
+    # A large frame written with zip (seconds of work in the library): while it
+    # runs, another Python thread must get the interpreter.
+    g0 = random_geometry().to_dict()
+    g0.update(emitters=600, hololines=400)
+    g0["views"]["count"] = 32
+    g = holo.Geometry.from_dict(g0)
+    frame = np.random.default_rng(1).uniform(0, 1, size=g.shape).astype(np.float32)
+    ticks = []
+    done = threading.Event()
+
+    def writer():
+        holo.write(tmp_path / "big.holo", frame, g, sample_type="f32", compression="zip")
+        done.set()
+
+    t = threading.Thread(target=writer)
+    started = time.perf_counter()
+    t.start()
+    while not done.is_set():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    t.join()
+    elapsed = time.perf_counter() - started
+    assert elapsed > 0.2, f"the write took only {elapsed:.3f} s: too short to tell"
+    # With the GIL held for the whole write, the loop above would have run once or twice.
+    assert len(ticks) > 0.3 * elapsed / 0.001 * 0.5, f"{len(ticks)} ticks in {elapsed:.2f} s"
