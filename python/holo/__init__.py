@@ -9,6 +9,9 @@ display sends in every view direction. This package reads and writes them as num
     f.geometry.shape            # (channels, hololines, emitters, views)
     frame = f.frame(0)          # numpy float32 array of that shape
     holo.write("copy.holo", frame, f.geometry)
+    mark3 = holo.Layout.load("mark3")
+    images = holo.assemble(frame, mark3)      # the display's frame-buffer images, uint8
+    seen = holo.view(frame, mark3, [0.0])     # what an eye at x = 0 sees, [hololine, emitter, channel]
 
 Heavy calls release the GIL, so other Python threads run meanwhile. Errors are ``holo.HoloError`` or one of
 its kinds: ``FileError`` (the operating system refused), ``FormatError`` (not a readable .holo file) and
@@ -22,8 +25,13 @@ from ._holo import (
     HoloError,
     HoloFile,
     InputError,
+    Layout,
+    assemble,
+    check,
+    convert_mesh,
     open,
     validate,
+    view,
     write,
 )
 
@@ -34,7 +42,12 @@ __all__ = [
     "HoloError",
     "HoloFile",
     "InputError",
+    "Layout",
+    "assemble",
+    "check",
+    "convert_mesh",
     "open",
     "validate",
+    "view",
     "write",
 ]

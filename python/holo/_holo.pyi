@@ -93,6 +93,51 @@ class HoloFile:
     ) -> Frame:
         """Hololines (first, end) and emitters (first, end) of frame `index`, every channel and view."""
 
+class Layout:
+    """A display layout (spec/layouts.md): the geometry the display expects and its frame buffer; checked when made."""
+
+    @staticmethod
+    def load(name_or_path: PathLike) -> "Layout":
+        """A built-in layout (mark3, mark1, mark1-hogel, mark2, mark4) or a .toml/.json profile."""
+    @staticmethod
+    def from_dict(fields: dict[str, Any]) -> "Layout":
+        """The layout a dict from to_dict describes, checked as a profile is."""
+    def to_dict(self) -> dict[str, Any]:
+        """Every field, as a profile file has them."""
+    @property
+    def name(self) -> str:
+        """The layout's name."""
+    @property
+    def geometry(self) -> Geometry:
+        """The modulation geometry the display expects."""
+    @property
+    def image_names(self) -> list[str]:
+        """The frame buffer's image names, in the order assemble returns them."""
+
+def assemble(frame: Frame, layout: Layout, *, samples: str = "u8") -> list[np.ndarray]:
+    """One frame into the layout's frame buffer: one array [row, column, component] per image, uint8 codes
+    ("u8") or the float signals before quantization ("f32"); the same bytes as `holo assemble`."""
+
+def view(
+    frame: Frame,
+    layout: Layout,
+    eyes_x_m: Sequence[float],
+    *,
+    distance_m: Optional[float] = None,
+    pupil_m: float = 4e-3,
+    coherent: bool = False,
+) -> list[npt.NDArray[np.float32]]:
+    """What eyes at these positions see of the frame on the display: one [hololine, emitter, channel] array
+    per eye, 1 for a fully lit emitter; coherent=True lets neighbouring emitters interfere."""
+
+def check(frame: Frame, layout: Layout) -> dict[str, Any]:
+    """The frame assembled to 8 bits and recovered two ways: {signal, optical} with relative_l2, psnr_db,
+    peak and the worst emitter."""
+
+def convert_mesh(input: PathLike, layout: Layout, output: PathLike, *, overwrite: bool = False) -> dict[str, Any]:
+    """A mesh file (glTF, OBJ, PLY) into a new .holo file for the layout's display, with `holo convert mesh`'s
+    defaults: {path, frames, triangles, warnings}."""
+
 def open(path: PathLike) -> HoloFile:
     """Open a .holo file: the header is read and checked now, frames when asked for."""
 

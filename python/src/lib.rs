@@ -10,7 +10,7 @@
 use std::borrow::Cow;
 use std::path::PathBuf;
 
-use numpy::{IntoPyArray, PyArray4, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{IntoPyArray, PyArray3, PyArray4, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
@@ -19,6 +19,7 @@ use pyo3::types::{PyDict, PyIterator};
 use std::sync::Mutex;
 
 use holo::format::{write_frames, Compression, Region, SampleType, WriteOptions};
+use holo::reconstruct::check::FrameRef;
 
 create_exception!(holo, HoloError, PyException, "Anything holo refuses or cannot do.");
 create_exception!(
@@ -403,6 +404,196 @@ fn validate<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>>
     Ok(d)
 }
 
+/// A display layout: the modulation geometry a display expects and how a
+/// modulation becomes its frame buffer (spec/layouts.md). Checked when made,
+/// its assembler (the tabulated basis) built once.
+#[pyclass(module = "holo", frozen)]
+struct Layout {
+    assembler: holo::assemble::Assembler,
+}
+
+impl Layout {
+    fn new(layout: holo::layout::Layout) -> PyResult<Layout> {
+        let problems = holo::assemble::problems(&layout);
+        if !problems.is_empty() {
+            return Err(InputError::new_err(format!("layout {}: {}", layout.name, problems.join("; "))));
+        }
+        let assembler = holo::assemble::Assembler::new(&layout).map_err(to_py)?;
+        Ok(Layout { assembler })
+    }
+    fn layout(&self) -> &holo::layout::Layout {
+        self.assembler.layout()
+    }
+}
+
+#[pymethods]
+impl Layout {
+    /// A built-in layout (`mark3`, `mark1`, `mark1-hogel`, `mark2`, `mark4`)
+    /// or a profile file (`.toml` or `.json`, `str` or `pathlib.Path`).
+    #[staticmethod]
+    fn load(py: Python<'_>, name_or_path: PathBuf) -> PyResult<Layout> {
+        let text = name_or_path.to_string_lossy().into_owned();
+        let layout = py.allow_threads(|| holo::assemble::load_layout(&text)).map_err(to_py)?;
+        py.allow_threads(|| Layout::new(layout))
+    }
+    /// The layout a dict from `to_dict` describes, checked as a profile is.
+    #[staticmethod]
+    fn from_dict(py: Python<'_>, fields: &Bound<'_, PyDict>) -> PyResult<Layout> {
+        let text: String = py.import("json")?.call_method1("dumps", (fields,))?.extract()?;
+        let layout: holo::layout::Layout = serde_json::from_str(&text)
+            .map_err(|e| InputError::new_err(format!("the dict is not a layout profile: {e}")))?;
+        py.allow_threads(|| Layout::new(layout))
+    }
+    /// Every field, as a profile file has them.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let text = serde_json::to_string(self.layout()).map_err(|e| HoloError::new_err(e.to_string()))?;
+        py.import("json")?.call_method1("loads", (text,))
+    }
+    /// The layout's name.
+    #[getter]
+    fn name(&self) -> String {
+        self.layout().name.clone()
+    }
+    /// The modulation geometry the display expects.
+    #[getter]
+    fn geometry(&self) -> Geometry {
+        Geometry { inner: self.layout().geometry.clone() }
+    }
+    /// The frame buffer's image names, in the order `assemble` returns them.
+    #[getter]
+    fn image_names(&self) -> Vec<String> {
+        self.layout().fringe.as_ref().map(|f| f.frame_buffer.image_names.clone()).unwrap_or_default()
+    }
+    fn __repr__(&self) -> String {
+        format!("Layout({:?})", self.layout().name)
+    }
+}
+
+/// A frame from an array (float32, the layout's geometry's shape).
+fn frame_for(layout: &Layout, frame: &Bound<'_, PyAny>) -> PyResult<holo::Modulation> {
+    modulation_of(&layout.layout().geometry, frame, 0)
+}
+
+/// Assemble one frame (a float32 array of `layout.geometry.shape`) into the
+/// layout's frame buffer: one array per image (`layout.image_names`),
+/// `[row, column, component]`, uint8 codes as the display takes them, or
+/// with `samples="f32"` the float signals before quantization (0 where no
+/// signal lands). The same bytes as `holo assemble`.
+#[pyfunction]
+#[pyo3(signature = (frame, layout, *, samples="u8"))]
+fn assemble<'py>(
+    py: Python<'py>,
+    frame: &Bound<'py, PyAny>,
+    layout: &Layout,
+    samples: &str,
+) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    let m = frame_for(layout, frame)?;
+    let a = &layout.assembler;
+    fn arrays<'py, T: numpy::Element + holo::assemble::FringeSample>(
+        py: Python<'py>,
+        images: holo::assemble::FrameImages<T>,
+    ) -> PyResult<Vec<Bound<'py, PyAny>>> {
+        let shape = [images.height, images.width, images.components];
+        images.images.into_iter().map(|i| Ok(i.into_pyarray(py).reshape(shape)?.into_any())).collect()
+    }
+    match samples {
+        "u8" => arrays(py, py.allow_threads(|| a.assemble::<u8>(&m)).map_err(to_py)?.0),
+        "f32" => arrays(py, py.allow_threads(|| a.assemble::<f32>(&m)).map_err(to_py)?.0),
+        other => Err(InputError::new_err(format!("samples {other:?}: give \"u8\" or \"f32\""))),
+    }
+}
+
+/// What eyes see of one frame on the display, by scalar diffraction
+/// (spec/layouts.md §9): one float32 array `[hololine, emitter, channel]` per
+/// eye, 1 for a fully lit emitter. `eyes_x_m`: horizontal eye positions on
+/// the viewer line, metres; `distance_m`: the layout's viewer distance when
+/// None; `coherent`: the eye images the emitter plane, neighbours interfere
+/// (§9.2).
+#[pyfunction]
+#[pyo3(signature = (frame, layout, eyes_x_m, *, distance_m=None, pupil_m=4e-3, coherent=false))]
+fn view<'py>(
+    py: Python<'py>,
+    frame: &Bound<'py, PyAny>,
+    layout: &Layout,
+    eyes_x_m: Vec<f64>,
+    distance_m: Option<f64>,
+    pupil_m: f64,
+    coherent: bool,
+) -> PyResult<Vec<Bound<'py, PyArray3<f32>>>> {
+    let m = frame_for(layout, frame)?;
+    let a = &layout.assembler;
+    let g = &layout.layout().geometry;
+    let eyes: Vec<holo::reconstruct::viewer::Eye> = eyes_x_m
+        .iter()
+        .map(|&x_m| holo::reconstruct::viewer::Eye {
+            x_m,
+            y_m: g.viewer_height_m,
+            z_m: distance_m.unwrap_or(g.viewer_distance_m),
+            pupil_m,
+            coherent,
+        })
+        .collect();
+    let pictures = py
+        .allow_threads(|| {
+            let (images, _) = a.assemble::<u8>(&m)?;
+            holo::reconstruct::check::view(a, FrameRef::Bytes(&images), &eyes, &holo::progress::Silent)
+        })
+        .map_err(to_py)?;
+    pictures
+        .into_iter()
+        .map(|p| {
+            let shape = [p.hololines, p.emitters, p.channels.len()];
+            p.data.into_pyarray(py).reshape(shape)
+        })
+        .collect()
+}
+
+/// Assemble one frame to the layout's 8-bit frame buffer and recover the
+/// modulation from it two ways (spec/layouts.md §9): a dict with `signal`
+/// (least squares) and `optical` (each view's light), each with
+/// `relative_l2`, `psnr_db`, `peak` and the `worst` emitter.
+#[pyfunction]
+fn check<'py>(py: Python<'py>, frame: &Bound<'py, PyAny>, layout: &Layout) -> PyResult<Bound<'py, PyAny>> {
+    let m = frame_for(layout, frame)?;
+    let a = &layout.assembler;
+    let hololines = 0..m.geometry().hololines;
+    let report = py
+        .allow_threads(|| {
+            let (images, _) = a.assemble::<u8>(&m)?;
+            holo::reconstruct::check::check(a, &m, FrameRef::Bytes(&images), hololines, &holo::progress::Silent)
+        })
+        .map_err(to_py)?;
+    let text = serde_json::to_string(&report).map_err(|e| HoloError::new_err(e.to_string()))?;
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+/// Convert a mesh file (glTF, OBJ, PLY) into a new `.holo` file for
+/// `layout`'s display, with the command line's defaults (`holo convert
+/// mesh`): the scene fitted to the display, every frame of an animation.
+/// Returns a dict: the output path, frames, triangles and warnings.
+#[pyfunction]
+#[pyo3(signature = (input, layout, output, *, overwrite=false))]
+fn convert_mesh<'py>(
+    py: Python<'py>,
+    input: PathBuf,
+    layout: &Layout,
+    output: PathBuf,
+    overwrite: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut options = holo::mesh::convert::ConvertOptions::default();
+    options.write.overwrite = overwrite;
+    let g = &layout.layout().geometry;
+    let report = py
+        .allow_threads(|| holo::mesh::convert::convert_mesh(&input, g, &output, &options, &holo::progress::Silent))
+        .map_err(to_py)?;
+    let d = PyDict::new(py);
+    d.set_item("path", report.path)?;
+    d.set_item("frames", (report.frames.start, report.frames.end))?;
+    d.set_item("triangles", report.triangles)?;
+    d.set_item("warnings", report.warnings)?;
+    Ok(d)
+}
+
 /// The extension module.
 #[pymodule]
 fn _holo(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -413,6 +604,11 @@ fn _holo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InputError", py.get_type::<InputError>())?;
     m.add_class::<Geometry>()?;
     m.add_class::<HoloFile>()?;
+    m.add_class::<Layout>()?;
+    m.add_function(wrap_pyfunction!(assemble, m)?)?;
+    m.add_function(wrap_pyfunction!(view, m)?)?;
+    m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(convert_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(open, m)?)?;
     m.add_function(wrap_pyfunction!(write, m)?)?;
     m.add_function(wrap_pyfunction!(validate, m)?)?;

@@ -197,3 +197,73 @@ def test_heavy_work_leaves_other_python_threads_running(tmp_path):
     assert elapsed > 0.2, f"the write took only {elapsed:.3f} s: too short to tell"
     # With the GIL held for the whole write, the loop above would have run once or twice.
     assert len(ticks) > 0.3 * elapsed / 0.001 * 0.5, f"{len(ticks)} ticks in {elapsed:.2f} s"
+
+
+def test_conversion_and_assembly_give_the_clis_bytes_on_the_bundled_spot(tmp_path):
+    spot = FIXTURES / "mesh" / "spot" / "spot.obj"
+    layout = holo.Layout.load("mark1")
+    report = holo.convert_mesh(spot, layout, tmp_path / "package.holo")
+    assert report["triangles"] > 100 and report["frames"] == (0, 1)
+    run = subprocess.run(
+        [cli(), "convert", "mesh", str(spot), "--layout", "mark1", "-o", str(tmp_path / "cli.holo")],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr
+    ours, theirs = holo.open(tmp_path / "package.holo"), holo.open(tmp_path / "cli.holo")
+    assert np.array_equal(ours.frame(0), theirs.frame(0))
+    assert (tmp_path / "package.holo").read_bytes() == (tmp_path / "cli.holo").read_bytes()
+    run = subprocess.run(
+        [cli(), "assemble", str(tmp_path / "cli.holo"), "--layout", "mark1", "--format", "raw", "-o", str(tmp_path / "fringes")],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr
+    images = holo.assemble(ours.frame(0), layout)
+    assert len(images) == len(layout.image_names) == 3
+    for name, image in zip(layout.image_names, images):
+        raw = (tmp_path / "fringes" / f"frame0000-{name}.raw").read_bytes()
+        assert image.dtype == np.uint8 and image.tobytes() == raw, name
+
+
+def test_layouts_view_and_check_from_python():
+    layout = holo.Layout.load("mark1")
+    d = layout.to_dict()
+    assert d["name"] == "mark1" and holo.Layout.from_dict(d).geometry == layout.geometry
+    g = layout.geometry
+    frame = np.full(g.shape, 0.5, dtype=np.float32)
+    seen = holo.view(frame, layout, [0.0, 0.02])
+    assert len(seen) == 2 and seen[0].shape == (g.hololines, g.emitters, len(g.channels))
+    middle = seen[0][:, g.emitters // 4 : 3 * g.emitters // 4, :]
+    assert abs(float(middle.mean()) - 0.5) < 0.1
+    report = holo.check(frame, layout)
+    assert report["signal"]["relative_l2"] < 0.012 and report["optical"]["relative_l2"] < 0.06
+    with pytest.raises(holo.InputError, match="layout"):
+        bad = layout.to_dict()
+        bad["geometry"]["emitters"] = 10**6
+        holo.Layout.from_dict(bad)
+    with pytest.raises(holo.HoloError, match="nosuchlayout"):
+        holo.Layout.load("nosuchlayout")
+
+
+def test_assembly_in_a_thread_does_not_block_another_python_thread():
+    layout = holo.Layout.load("mark3")
+    frame = np.random.default_rng(3).uniform(0, 1, size=layout.geometry.shape).astype(np.float32)
+    ticks = []
+    done = threading.Event()
+
+    def assembler():
+        for _ in range(5):
+            holo.assemble(frame, layout)
+        done.set()
+
+    t = threading.Thread(target=assembler)
+    started = time.perf_counter()
+    t.start()
+    while not done.is_set():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    t.join()
+    elapsed = time.perf_counter() - started
+    assert elapsed > 0.05, f"assembly took only {elapsed:.3f} s: too short to tell"
+    assert len(ticks) > 0.15 * elapsed / 0.001, f"{len(ticks)} ticks in {elapsed:.2f} s"
