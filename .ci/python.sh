@@ -20,5 +20,7 @@ bash -euxc "$commands"
 # The command-line tool the tests run beside the package.
 cargo build -q -p holo-cli
 HOLO_CLI="$PWD/target/debug/holo" .venv/bin/python -m pytest -q python/tests
+# The example a user starts from: mesh → .holo → fringes → what an eye sees.
+.venv/bin/python python/examples/mesh_to_view.py --out target/python-example
 # The side-by-side read benchmark, once, so it keeps running (figures in BENCHMARKS.md).
 .venv/bin/python python/benches/read.py

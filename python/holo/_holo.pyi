@@ -2,7 +2,7 @@
 
 import os
 import pathlib
-from typing import Any, Iterable, Iterator, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Iterable, Iterator, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -134,9 +134,25 @@ def check(frame: Frame, layout: Layout) -> dict[str, Any]:
     """The frame assembled to 8 bits and recovered two ways: {signal, optical} with relative_l2, psnr_db,
     peak and the worst emitter."""
 
-def convert_mesh(input: PathLike, layout: Layout, output: PathLike, *, overwrite: bool = False) -> dict[str, Any]:
+Progress = Callable[[str, int, int], Optional[bool]]
+
+def convert_mesh(
+    input: PathLike, layout: Layout, output: PathLike, *, overwrite: bool = False, progress: Optional[Progress] = None
+) -> dict[str, Any]:
     """A mesh file (glTF, OBJ, PLY) into a new .holo file for the layout's display, with `holo convert mesh`'s
-    defaults: {path, frames, triangles, warnings}."""
+    defaults: {path, frames, triangles, warnings}. progress(phase, done, total) is called as steps finish;
+    returning False (or raising) stops the work and leaves no file."""
+
+def render_mesh(
+    vertices: npt.NDArray[np.float64],
+    faces: npt.ArrayLike,
+    layout: Layout,
+    *,
+    colours: Optional[npt.NDArray[np.float32]] = None,
+    progress: Optional[Progress] = None,
+) -> Frame:
+    """A mesh given as arrays (vertices (n, 3), faces (m, 3), optional per-vertex linear RGB(A) colours),
+    fitted to the layout's display and rendered with the default lights: one frame for write()."""
 
 def open(path: PathLike) -> HoloFile:
     """Open a .holo file: the header is read and checked now, frames when asked for."""

@@ -571,27 +571,170 @@ fn check<'py>(py: Python<'py>, frame: &Bound<'py, PyAny>, layout: &Layout) -> Py
 /// `layout`'s display, with the command line's defaults (`holo convert
 /// mesh`): the scene fitted to the display, every frame of an animation.
 /// Returns a dict: the output path, frames, triangles and warnings.
+/// `progress(phase, done, total)` is called as steps finish; returning
+/// `False` stops the work and leaves no file.
 #[pyfunction]
-#[pyo3(signature = (input, layout, output, *, overwrite=false))]
+#[pyo3(signature = (input, layout, output, *, overwrite=false, progress=None))]
 fn convert_mesh<'py>(
     py: Python<'py>,
     input: PathBuf,
     layout: &Layout,
     output: PathBuf,
     overwrite: bool,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut options = holo::mesh::convert::ConvertOptions::default();
     options.write.overwrite = overwrite;
     let g = &layout.layout().geometry;
-    let report = py
-        .allow_threads(|| holo::mesh::convert::convert_mesh(&input, g, &output, &options, &holo::progress::Silent))
-        .map_err(to_py)?;
+    let progress = PyProgress::new(progress);
+    let converted = py.allow_threads(|| holo::mesh::convert::convert_mesh(&input, g, &output, &options, &progress));
+    let report = progress.result(converted)?;
     let d = PyDict::new(py);
     d.set_item("path", report.path)?;
     d.set_item("frames", (report.frames.start, report.frames.end))?;
     d.set_item("triangles", report.triangles)?;
     d.set_item("warnings", report.warnings)?;
     Ok(d)
+}
+
+/// Progress for the library from a Python callable `progress(phase, done,
+/// total)`, called with the GIL as steps finish. The work stops, leaving
+/// nothing behind, when the callable returns `False` or raises, and on
+/// Ctrl-C (a signal Python has pending); the exception then comes through.
+struct PyProgress {
+    callback: Option<Py<PyAny>>,
+    phase: Mutex<(String, u64)>,
+    stop: Mutex<Option<PyErr>>,
+    stopped: std::sync::atomic::AtomicBool,
+}
+
+impl PyProgress {
+    fn new(callback: Option<Py<PyAny>>) -> PyProgress {
+        PyProgress {
+            callback,
+            phase: Mutex::new((String::new(), 0)),
+            stop: Mutex::new(None),
+            stopped: std::sync::atomic::AtomicBool::new(false),
+        }
+    }
+    fn halt(&self, e: PyErr) {
+        *self.stop.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
+        self.stopped.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+    /// The library's result, or the Python exception that stopped it.
+    fn result<T>(self, r: holo::Result<T>) -> PyResult<T> {
+        match (r, self.stop.into_inner().unwrap_or_else(|p| p.into_inner())) {
+            (Ok(x), _) => Ok(x),
+            (Err(_), Some(e)) => Err(e),
+            (Err(e), None) => Err(to_py(e)),
+        }
+    }
+}
+
+impl holo::progress::Progress for PyProgress {
+    fn phase(&self, name: &str, total: u64) {
+        *self.phase.lock().unwrap_or_else(|p| p.into_inner()) = (name.to_string(), total);
+        self.advance(0);
+    }
+    fn advance(&self, done: u64) {
+        if self.stopped.load(std::sync::atomic::Ordering::Relaxed) {
+            return;
+        }
+        Python::with_gil(|py| {
+            if let Err(e) = py.check_signals() {
+                return self.halt(e);
+            }
+            let Some(callback) = &self.callback else { return };
+            let (name, total) = self.phase.lock().unwrap_or_else(|p| p.into_inner()).clone();
+            match callback.call1(py, (name, done, total)) {
+                Ok(answer) if answer.bind(py).is(&*pyo3::types::PyBool::new(py, false)) => self.halt(holo_cancelled()),
+                Ok(_) => {}
+                Err(e) => self.halt(e),
+            }
+        })
+    }
+    fn cancelled(&self) -> bool {
+        self.stopped.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
+/// What a progress callback that returned `False` gets.
+fn holo_cancelled() -> PyErr {
+    HoloError::new_err("cancelled by the progress callback; nothing was written")
+}
+
+/// Render a mesh given as arrays into one frame for `layout`'s display, as
+/// `convert_mesh` renders a file: `vertices` (n, 3) float64 in any units
+/// (the scene is fitted to the display), `faces` (m, 3) integer indices,
+/// optional `colours` (n, 3) or (n, 4) float32 linear RGB(A) per vertex (else
+/// white); lit by the default lights. Returns the frame (float32 array of
+/// `layout.geometry.shape`) for `write`.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, layout, *, colours=None, progress=None))]
+fn render_mesh<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArrayDyn<'py, f64>,
+    faces: &Bound<'py, PyAny>,
+    layout: &Layout,
+    colours: Option<PyReadonlyArrayDyn<'py, f32>>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyArray4<f32>>> {
+    let shape = vertices.shape().to_vec();
+    if shape.len() != 2 || shape[1] != 3 {
+        return Err(InputError::new_err(format!("vertices: an array of shape {shape:?}; give (n, 3)")));
+    }
+    let v = vertices.as_array();
+    let positions: Vec<[f64; 3]> = (0..shape[0]).map(|i| [v[[i, 0]], v[[i, 1]], v[[i, 2]]]).collect();
+    let faces: PyReadonlyArrayDyn<'py, i64> = faces
+        .call_method1("astype", ("int64",))?
+        .extract()
+        .map_err(|_| InputError::new_err("faces: give an integer array of shape (m, 3)"))?;
+    let fshape = faces.shape().to_vec();
+    if fshape.len() != 2 || fshape[1] != 3 {
+        return Err(InputError::new_err(format!("faces: an array of shape {fshape:?}; give (m, 3)")));
+    }
+    let f = faces.as_array();
+    let mut triangles = Vec::with_capacity(fshape[0]);
+    for t in 0..fshape[0] {
+        let mut tri = [0u32; 3];
+        for k in 0..3 {
+            let i = f[[t, k]];
+            if i < 0 || i as usize >= positions.len() {
+                return Err(InputError::new_err(format!(
+                    "faces: triangle {t} names vertex {i}; there are {} vertices",
+                    positions.len()
+                )));
+            }
+            tri[k] = i as u32;
+        }
+        triangles.push(tri);
+    }
+    let colours = match colours {
+        None => Vec::new(),
+        Some(c) => {
+            let cs = c.shape().to_vec();
+            if cs.len() != 2 || cs[0] != positions.len() || !(cs[1] == 3 || cs[1] == 4) {
+                return Err(InputError::new_err(format!(
+                    "colours: an array of shape {cs:?}; give ({}, 3) or ({}, 4), one per vertex",
+                    positions.len(),
+                    positions.len()
+                )));
+            }
+            let a = c.as_array();
+            (0..cs[0]).map(|i| [a[[i, 0]], a[[i, 1]], a[[i, 2]], if cs[1] == 4 { a[[i, 3]] } else { 1.0 }]).collect()
+        }
+    };
+    let object = holo::mesh::Object { name: "arrays".into(), positions, triangles, colours, ..Default::default() };
+    let mut scene = holo::mesh::Scene { source: "arrays".into(), objects: vec![object], ..Default::default() };
+    let g = &layout.layout().geometry;
+    let options = holo::mesh::render::RenderOptions::default();
+    let progress = PyProgress::new(progress);
+    let rendered = py.allow_threads(|| {
+        holo::mesh::place::place(&mut scene, g, &holo::mesh::place::Placement::default())?;
+        holo::mesh::render::render(&scene, g, &options, &progress)
+    });
+    let (m, _) = progress.result(rendered)?;
+    frame_array(py, m)
 }
 
 /// The extension module.
@@ -609,6 +752,7 @@ fn _holo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(view, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(convert_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(render_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(open, m)?)?;
     m.add_function(wrap_pyfunction!(write, m)?)?;
     m.add_function(wrap_pyfunction!(validate, m)?)?;

@@ -267,3 +267,25 @@ def test_assembly_in_a_thread_does_not_block_another_python_thread():
     elapsed = time.perf_counter() - started
     assert elapsed > 0.05, f"assembly took only {elapsed:.3f} s: too short to tell"
     assert len(ticks) > 0.15 * elapsed / 0.001, f"{len(ticks)} ticks in {elapsed:.2f} s"
+
+
+def test_a_mesh_from_arrays_renders_and_progress_can_stop_the_work(tmp_path):
+    layout = holo.Layout.load("mark1")
+    # A tetrahedron, red.
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float64)
+    faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    colours = np.tile(np.array([[1.0, 0.0, 0.0]], dtype=np.float32), (4, 1))
+    seen = []
+    frame = holo.render_mesh(vertices, faces, layout, colours=colours, progress=lambda p, d, t: seen.append((p, d, t)))
+    assert frame.shape == layout.geometry.shape and frame.dtype == np.float32
+    r, g, b = (float(frame[c].sum()) for c in range(3))
+    # Red but for the default material's white specular highlights.
+    assert r > 0 and g < 1e-3 * r and b < 1e-3 * r, (r, g, b)
+    assert seen and seen[-1][1] == seen[-1][2], seen[-3:]
+    with pytest.raises(holo.InputError, match="vertex 9"):
+        holo.render_mesh(vertices, np.array([[0, 1, 9]]), layout)
+    # Stopped by the callback: nothing is written.
+    out = tmp_path / "stopped.holo"
+    with pytest.raises(holo.HoloError, match="cancelled"):
+        holo.convert_mesh(FIXTURES / "mesh" / "spot" / "spot.obj", layout, out, progress=lambda p, d, t: d < 3)
+    assert not out.exists() and list(tmp_path.iterdir()) == []
