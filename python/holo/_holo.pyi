@@ -154,6 +154,20 @@ def render_mesh(
     """A mesh given as arrays (vertices (n, 3), faces (m, 3), optional per-vertex linear RGB(A) colours),
     fitted to the layout's display and rendered with the default lights: one frame for write()."""
 
+def resample_cameras(
+    pictures: Sequence[npt.NDArray[np.float32]],
+    intrinsics: Sequence[npt.ArrayLike],
+    poses: Sequence[npt.ArrayLike],
+    layout: Layout,
+    *,
+    metres_per_unit: float = 1.0,
+    focus_distance: Optional[float] = None,
+    progress: Optional[Progress] = None,
+) -> Tuple[Frame, dict[str, Any]]:
+    """Pictures of a calibrated rig (linear RGB (height, width, 3) each, 3x3 intrinsics K, 3x4 or 4x4
+    world-to-camera [R | t] in OpenCV's convention) resampled into one frame for the layout's display, as
+    `holo convert cameras` does: (frame, {placement, surface, rays, unseen, unseen_outside_frame, warnings})."""
+
 def open(path: PathLike) -> HoloFile:
     """Open a .holo file: the header is read and checked now, frames when asked for."""
 

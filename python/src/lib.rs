@@ -737,6 +737,106 @@ fn render_mesh<'py>(
     frame_array(py, m)
 }
 
+/// One float64 matrix of `rows × 3` or `rows × 4` from an array-like.
+fn matrix(m: &Bound<'_, PyAny>, what: &str, rows: usize) -> PyResult<Vec<Vec<f64>>> {
+    let a: PyReadonlyArrayDyn<'_, f64> = m
+        .call_method0("__array__")
+        .and_then(|x| x.call_method1("astype", ("float64",)))
+        .and_then(|x| x.extract())
+        .map_err(|_| InputError::new_err(format!("{what}: give a {rows}×3 or {rows}×4 array")))?;
+    let shape = a.shape().to_vec();
+    if shape.len() != 2 || shape[0] < rows || !(shape[1] == 3 || shape[1] == 4) {
+        return Err(InputError::new_err(format!("{what}: an array of shape {shape:?}; give {rows}×3 or {rows}×4")));
+    }
+    let v = a.as_array();
+    Ok((0..shape[0]).map(|i| (0..shape[1]).map(|j| v[[i, j]]).collect()).collect())
+}
+
+/// Resample pictures from a calibrated camera rig into one frame for
+/// `layout`'s display, as `holo convert cameras` does a rig file: one
+/// float32 array `(height, width, 3)` of linear RGB per camera, its 3×3
+/// intrinsic matrix `K` (pixels; pixel centres at integers, `(0, 0)` top left)
+/// and its 3×4 or 4×4 world-to-camera extrinsics `[R | t]` (OpenCV's
+/// convention: `x_camera = R x_world + t`, camera `x` right, `y` down, `z`
+/// forward), in world units of `metres_per_unit` metres. The default
+/// placement fits the middle camera's view at the focus (`focus_distance`
+/// world units, else the cameras' convergence) to the display. Returns the
+/// frame and a dict of what was done (placement, rays, unseen rays).
+#[pyfunction]
+#[pyo3(signature = (pictures, intrinsics, poses, layout, *, metres_per_unit=1.0, focus_distance=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn resample_cameras<'py>(
+    py: Python<'py>,
+    pictures: Vec<PyReadonlyArrayDyn<'py, f32>>,
+    intrinsics: Vec<Bound<'py, PyAny>>,
+    poses: Vec<Bound<'py, PyAny>>,
+    layout: &Layout,
+    metres_per_unit: f64,
+    focus_distance: Option<f64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<(Bound<'py, PyArray4<f32>>, Bound<'py, PyDict>)> {
+    use holo::cameras::{Camera, ImageSource, Intrinsics, Pose, Rig};
+    if pictures.len() != intrinsics.len() || pictures.len() != poses.len() || pictures.is_empty() {
+        return Err(InputError::new_err(format!(
+            "{} pictures, {} intrinsic matrices and {} poses: give one of each per camera",
+            pictures.len(),
+            intrinsics.len(),
+            poses.len()
+        )));
+    }
+    let mut cameras = Vec::new();
+    let mut views = Vec::new();
+    for (k, ((picture, kk), pose)) in pictures.iter().zip(&intrinsics).zip(&poses).enumerate() {
+        let shape = picture.shape().to_vec();
+        if shape.len() != 3 || shape[2] != 3 {
+            return Err(InputError::new_err(format!(
+                "picture {k}: an array of shape {shape:?}; give (height, width, 3)"
+            )));
+        }
+        let (height, width) = (shape[0], shape[1]);
+        let a = picture.as_array();
+        let rgb: Vec<[f32; 3]> = (0..height * width)
+            .map(|i| [a[[i / width, i % width, 0]], a[[i / width, i % width, 1]], a[[i / width, i % width, 2]]])
+            .collect();
+        let kk = matrix(kk, &format!("intrinsics {k}"), 3)?;
+        let rt = matrix(pose, &format!("pose {k}"), 3)?;
+        if rt[0].len() != 4 {
+            return Err(InputError::new_err(format!("pose {k}: give the 3×4 or 4×4 matrix [R | t]")));
+        }
+        let rotation = [[rt[0][0], rt[0][1], rt[0][2]], [rt[1][0], rt[1][1], rt[1][2]], [rt[2][0], rt[2][1], rt[2][2]]];
+        let t = [rt[0][3], rt[1][3], rt[2][3]];
+        // The centre of projection: −Rᵀ t.
+        let centre = [0, 1, 2].map(|j| -(rotation[0][j] * t[0] + rotation[1][j] * t[1] + rotation[2][j] * t[2]));
+        cameras.push(Camera {
+            name: format!("camera {k}"),
+            image: ImageSource::File(format!("picture {k}").into()),
+            width,
+            height,
+            intrinsics: Intrinsics { fx: kk[0][0], fy: kk[1][1], cx: kk[0][2], cy: kk[1][2] },
+            pose: Pose { rotation, centre },
+            depth: None,
+        });
+        views.push(holo::cameras::resample::CameraView {
+            picture: holo::cameras::image::Picture { width, height, rgb },
+            depth_z: None,
+        });
+    }
+    let rig = Rig { source: "arrays".into(), cameras, metres_per_unit, focus_distance, linear: true };
+    let g = &layout.layout().geometry;
+    let options = holo::cameras::resample::CameraOptions::default();
+    let progress = PyProgress::new(progress);
+    let resampled = py.allow_threads(|| holo::cameras::resample::resample_rig(&rig, &views, g, &options, &progress));
+    let (m, report) = progress.result(resampled)?;
+    let d = PyDict::new(py);
+    d.set_item("placement", report.placement)?;
+    d.set_item("surface", report.surface)?;
+    d.set_item("rays", report.rays)?;
+    d.set_item("unseen", report.unseen)?;
+    d.set_item("unseen_outside_frame", report.unseen_outside_frame)?;
+    d.set_item("warnings", report.warnings)?;
+    Ok((frame_array(py, m)?, d))
+}
+
 /// The extension module.
 #[pymodule]
 fn _holo(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -753,6 +853,7 @@ fn _holo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(convert_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(render_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(resample_cameras, m)?)?;
     m.add_function(wrap_pyfunction!(open, m)?)?;
     m.add_function(wrap_pyfunction!(write, m)?)?;
     m.add_function(wrap_pyfunction!(validate, m)?)?;

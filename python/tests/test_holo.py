@@ -289,3 +289,41 @@ def test_a_mesh_from_arrays_renders_and_progress_can_stop_the_work(tmp_path):
     with pytest.raises(holo.HoloError, match="cancelled"):
         holo.convert_mesh(FIXTURES / "mesh" / "spot" / "spot.obj", layout, out, progress=lambda p, d, t: d < 3)
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def wall_rig(colour_at, n=9, width=128, height=128, focal=100.0):
+    """Cameras along x at z = 1 looking down −z at a painted wall z = 0 (OpenCV convention: x right, y down,
+    z forward), each picture rendered here by tracing its pixels to the wall."""
+    R = np.array([[1.0, 0, 0], [0, -1.0, 0], [0, 0, -1.0]])
+    K = np.array([[focal, 0, (width - 1) / 2], [0, focal, (height - 1) / 2], [0, 0, 1.0]])
+    pictures, intrinsics, poses = [], [], []
+    v, u = np.mgrid[0:height, 0:width]
+    rays_camera = np.stack([(u - K[0, 2]) / focal, (v - K[1, 2]) / focal, np.ones_like(u, dtype=float)], axis=-1)
+    for k in range(n):
+        centre = np.array([0.04 * (k - (n - 1) / 2), 0.0, 1.0])
+        t = -R @ centre
+        rays = rays_camera @ R  # world directions: Rᵀ d for each pixel
+        s = -centre[2] / rays[..., 2]
+        x, y = centre[0] + s * rays[..., 0], centre[1] + s * rays[..., 1]
+        pictures.append(colour_at(x, y).astype(np.float32))
+        intrinsics.append(K)
+        poses.append(np.hstack([R, t[:, None]]))
+    return pictures, intrinsics, poses
+
+
+def test_a_camera_rig_from_arrays_resamples_into_a_frame():
+    layout = holo.Layout.load("mark1")
+    colour = np.array([0.3, 0.5, 0.7], dtype=np.float32)
+    pictures, intrinsics, poses = wall_rig(lambda x, y: np.broadcast_to(colour, x.shape + (3,)))
+    frame, report = holo.resample_cameras(pictures, intrinsics, poses, layout, focus_distance=1.0)
+    assert frame.shape == layout.geometry.shape
+    # Wide cameras (65°) see the whole focus plane from every eye position.
+    assert report["rays"] > 0 and report["unseen"] < 0.1 * report["rays"], report
+    # A wall of one colour is that colour wherever a camera sees it.
+    for c in range(3):
+        seen = frame[c][frame[c] > 0]
+        assert seen.size > 0.9 * frame[c].size and np.allclose(seen, colour[c], rtol=1e-5), (c, seen.min(), seen.max())
+    with pytest.raises(holo.InputError, match="one of each per camera"):
+        holo.resample_cameras(pictures, intrinsics[:2], poses, layout)
+    with pytest.raises(holo.InputError, match="picture 0"):
+        holo.resample_cameras([p[..., :2].copy() for p in pictures], intrinsics, poses, layout)
