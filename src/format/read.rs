@@ -11,7 +11,9 @@ use exr::block::BlockIndex;
 use exr::meta::MetaData;
 
 use super::channels::ChannelOrder;
-use super::digest::frame_digest;
+use half::slice::HalfFloatSliceExt;
+
+use super::digest::{frame_digest, row_bytes, RowDigest};
 use super::header::{file_info, FileInfo};
 use super::{SampleType, MAX_SAMPLES_PER_FRAME};
 use crate::geometry::{Geometry, ViewSpacing};
@@ -73,10 +75,20 @@ impl HoloFile {
 
     /// Read frame `index` (0-based part order) whole and verify its digest.
     pub fn read_frame(&self, index: usize) -> Result<Modulation> {
-        let mut m = self.read_decoded(index, &Region::all(&self.info.geometry))?;
+        let frame = self.info.frames.get(index);
+        // The digest is taken from the decoded blocks' own bytes as they come
+        // (they are the stored rows), not from the samples afterwards.
+        // (Blocks hold native-endian samples, the digest little-endian ones.)
+        let from_blocks = cfg!(target_endian = "little");
+        let mut digest =
+            frame.filter(|f| f.digest.is_some() && from_blocks).map(|f| BlockDigest::new(&self.info, f.data_window));
+        let mut m = self.read_blocks(index, &Region::all(&self.info.geometry), digest.as_mut())?;
         let frame = &self.info.frames[index];
         if let Some(stored) = &frame.digest {
-            let computed = frame_digest(&m, self.info.sample_type);
+            let computed = match digest {
+                Some(digest) => digest.finish(),
+                None => frame_digest(&m, self.info.sample_type),
+            };
             if &computed != stored {
                 return Err(Error::DigestMismatch {
                     path: self.info.path.clone(),
@@ -115,6 +127,12 @@ impl HoloFile {
     /// (for measuring a codec; [`HoloFile::read_region`] is what a reader
     /// wants).
     pub fn read_decoded(&self, index: usize, region: &Region) -> Result<Modulation> {
+        self.read_blocks(index, region, None)
+    }
+
+    /// [`HoloFile::read_decoded`], handing every decoded block's bytes to
+    /// `digest` too (whole frames only).
+    fn read_blocks(&self, index: usize, region: &Region, mut digest: Option<&mut BlockDigest>) -> Result<Modulation> {
         let path = &self.info.path;
         let g = &self.info.geometry;
         let frame = self.info.frames.get(index).ok_or_else(|| Error::no_frame(path, index, self.info.frames.len()))?;
@@ -163,7 +181,11 @@ impl HoloFile {
             .map_err(|e| Error::exr(path, e))?;
         let mut place = |block: exr::block::UncompressedBlock| -> Result<()> {
             place_block(&mut out, &block, &order, self.info.sample_type, dw.x, dw.y, region)
-                .map_err(|problem| Error::invalid(path, problem))
+                .map_err(|problem| Error::invalid(path, problem))?;
+            if let Some(digest) = digest.as_deref_mut() {
+                digest.push(dw.y + block.index.pixel_position.1, block.index.pixel_size.1, block.data);
+            }
+            Ok(())
         };
         // exr starts a thread pool per parallel read; below a megabyte that
         // costs more than it saves (and its threads outlive the call).
@@ -266,6 +288,7 @@ fn place_block(
     let views = out.geometry().views.count;
     let emitters_out = out.geometry().emitters;
     let (e_lo, e_hi) = (region.emitters.start.max(bx), region.emitters.end.min(bx + w));
+    let (mut halves, mut floats) = (Vec::with_capacity(w), Vec::with_capacity(w));
     let mut at = 0;
     for line in 0..h {
         let j = by + line;
@@ -281,15 +304,111 @@ fn place_block(
             let vv = v - region.views.start;
             let start = out.index(c, jj, 0, 0);
             let dest = &mut out.samples_mut()[start..start + emitters_out * views];
-            for e in e_lo..e_hi {
-                let k = (e - bx) * bytes;
-                let x = match sample_type {
-                    SampleType::F16 => half::f16::from_ne_bytes([row[k], row[k + 1]]).to_f32(),
-                    SampleType::F32 => f32::from_ne_bytes([row[k], row[k + 1], row[k + 2], row[k + 3]]),
-                };
-                dest[(e - region.emitters.start) * views + vv] = x;
+            // The wanted run of this channel's row, converted as a slice
+            // (F16C where the processor has it), then spread with the
+            // view stride.
+            let run = &row[(e_lo - bx) * bytes..(e_hi - bx) * bytes];
+            match sample_type {
+                SampleType::F16 => {
+                    halves.clear();
+                    halves.extend(run.chunks_exact(2).map(|b| half::f16::from_ne_bytes([b[0], b[1]])));
+                    floats.resize(halves.len(), 0.0);
+                    halves.convert_to_f32_slice(&mut floats);
+                }
+                SampleType::F32 => {
+                    floats.clear();
+                    floats.extend(run.chunks_exact(4).map(|b| f32::from_ne_bytes([b[0], b[1], b[2], b[3]])));
+                }
+            }
+            let first = e_lo - region.emitters.start;
+            for (x, d) in floats.iter().zip(dest[first * views + vv..].iter_mut().step_by(views)) {
+                *d = *x;
             }
         }
     }
     Ok(())
+}
+
+/// The frame digest (spec §7) from decoded blocks, which may come in any
+/// order: each block's rows are the stored scan lines of the data window, so
+/// they are hashed as they are (widened with +0.0 samples to the display
+/// window), row after row, zero rows above and below the data window. A
+/// block that comes early waits for the ones before it.
+pub(crate) struct BlockDigest {
+    digest: RowDigest,
+    /// The next display row to hash.
+    next: usize,
+    /// Display rows.
+    rows: usize,
+    /// The data window.
+    window: super::header::Window,
+    /// Channels, emitters of the display window, bytes per sample.
+    channels: usize,
+    emitters: usize,
+    bytes: usize,
+    /// Blocks that came early, by first display row: (rows, bytes).
+    waiting: std::collections::BTreeMap<usize, (usize, Vec<u8>)>,
+    /// One widened or zero row, reused.
+    row: Vec<u8>,
+}
+
+impl BlockDigest {
+    pub(crate) fn new(info: &super::header::FileInfo, window: super::header::Window) -> BlockDigest {
+        let g = &info.geometry;
+        BlockDigest {
+            digest: RowDigest::default(),
+            next: 0,
+            rows: g.hololines,
+            window,
+            channels: g.views.count * g.channels.len(),
+            emitters: g.emitters,
+            bytes: info.sample_type.bytes(),
+            waiting: Default::default(),
+            row: vec![0; row_bytes(g, info.sample_type)],
+        }
+    }
+
+    /// Block bytes for display rows `top .. top + rows`.
+    pub(crate) fn push(&mut self, top: usize, rows: usize, data: Vec<u8>) {
+        self.waiting.insert(top, (rows, data));
+        self.zero_rows_until(self.window.y.min(self.rows));
+        while let Some((rows, data)) = self.waiting.remove(&self.next) {
+            self.hash_block(rows, &data);
+        }
+    }
+
+    fn zero_rows_until(&mut self, end: usize) {
+        self.row.fill(0);
+        while self.next < end {
+            self.digest.update(&self.row);
+            self.next += 1;
+        }
+    }
+
+    fn hash_block(&mut self, rows: usize, data: &[u8]) {
+        let w = self.window.width;
+        let line = self.channels * w * self.bytes;
+        let full = self.window.x == 0 && w == self.emitters;
+        for r in 0..rows {
+            let stored = &data[r * line..(r + 1) * line];
+            if full {
+                self.digest.update(stored);
+            } else {
+                self.row.fill(0);
+                let (left, width) = (self.window.x * self.bytes, w * self.bytes);
+                for (slot, run) in stored.chunks_exact(width).enumerate() {
+                    let at = slot * self.emitters * self.bytes + left;
+                    self.row[at..at + width].copy_from_slice(run);
+                }
+                self.digest.update(&self.row);
+            }
+            self.next += 1;
+        }
+    }
+
+    /// The stored text, once every block has come.
+    pub(crate) fn finish(mut self) -> String {
+        self.zero_rows_until(self.rows);
+        self.digest.finish()
+    }
 }

@@ -462,3 +462,48 @@ fn the_provenance_of_1_1_is_left_out_of_a_1_0_file() {
     let v = holo::format::validate(&new).unwrap();
     assert!(v.is_valid() && v.warnings.is_empty(), "{v:?}");
 }
+
+#[test]
+fn the_digest_is_checked_from_the_stored_blocks_in_any_order() {
+    // A frame large enough for the parallel decoder (blocks may come back out
+    // of order), lit only inside a window, so the data window is smaller than
+    // the display window on every side and the digest's +0.0 padding is used.
+    for (sample_type, compression) in [(SampleType::F16, Compression::Zip), (SampleType::F32, Compression::Zips)] {
+        let g = geometry(200, 120, 24, true);
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let m = Modulation::from_fn(g.clone(), |_, j, e, _| {
+            if (13..181).contains(&j) && (7..110).contains(&e) {
+                rng.gen_range(0.0..1.0)
+            } else {
+                0.0
+            }
+        })
+        .unwrap();
+        let want = if sample_type == SampleType::F16 { rounded_to_f16(&m) } else { m.clone() };
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("window.holo");
+        write(&path, &want, &options(sample_type, compression)).unwrap();
+        assert!(std::fs::metadata(&path).unwrap().len() > 1 << 20, "big enough for the parallel decoder");
+        let f = HoloFile::open(&path).unwrap();
+        let window = f.info().frames[0].data_window;
+        assert!(window.x > 0 && window.y > 0 && window.width < 120 && window.height < 200, "{window:?}");
+        // The digest from the blocks matches the stored one, computed by the
+        // writer from the samples.
+        let back = f.read_frame(0).unwrap();
+        assert_eq!(back.samples(), want.samples());
+        assert_eq!(f.info().frames[0].digest.as_deref(), Some(holo::format::frame_digest(&back, sample_type).as_str()));
+        // One sample changed in the file's samples: the stored digest no longer matches.
+        let mut other = want.clone();
+        other.set(1, 50, 40, 3, 0.25);
+        let forged = dir.path().join("forged.holo");
+        write(&forged, &other, &options(sample_type, compression)).unwrap();
+        let mut bytes = std::fs::read(&forged).unwrap();
+        let stored = f.info().frames[0].digest.clone().unwrap();
+        let theirs = HoloFile::open(&forged).unwrap().info().frames[0].digest.clone().unwrap();
+        let at = bytes.windows(theirs.len()).position(|w| w == theirs.as_bytes()).unwrap();
+        bytes[at..at + stored.len()].copy_from_slice(stored.as_bytes());
+        std::fs::write(&forged, &bytes).unwrap();
+        let err = HoloFile::open(&forged).unwrap().read_frame(0).unwrap_err().to_string();
+        assert!(err.contains("digest"), "{err}");
+    }
+}
