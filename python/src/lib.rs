@@ -57,11 +57,6 @@ fn to_py(e: holo::Error) -> PyErr {
     }
 }
 
-/// A path from `str` or any `os.PathLike` (`pathlib.Path`).
-fn path_of(path: PathBuf) -> PathBuf {
-    path
-}
-
 /// The geometry of a modulation texture, in physical units (metres,
 /// radians): what the display's emitters, hololines and views are.
 #[pyclass(module = "holo", frozen)]
@@ -259,7 +254,6 @@ impl HoloFile {
 /// checked now, frames when asked for.
 #[pyfunction]
 fn open(py: Python<'_>, path: PathBuf) -> PyResult<HoloFile> {
-    let path = path_of(path);
     let inner = py.allow_threads(|| holo::format::HoloFile::open(&path)).map_err(to_py)?;
     Ok(HoloFile { inner })
 }
@@ -380,7 +374,6 @@ fn write(
             })
         })
     };
-    let path = path_of(path);
     let written = py.allow_threads(|| write_frames(&path, g, count, &options, next));
     match (written, failure.into_inner().unwrap_or_else(|p| p.into_inner())) {
         (Ok(_), _) => Ok(()),
@@ -394,7 +387,6 @@ fn write(
 /// valid), `warnings` and the number of `frames`.
 #[pyfunction]
 fn validate<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
-    let path = path_of(path);
     let v = py.allow_threads(|| holo::format::validate(&path)).map_err(to_py)?;
     let d = PyDict::new(py);
     d.set_item("valid", v.is_valid())?;
