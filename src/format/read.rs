@@ -85,8 +85,8 @@ impl HoloFile {
         let mut m = self.read_blocks(index, &Region::all(&self.info.geometry), digest.as_mut())?;
         let frame = &self.info.frames[index];
         if let Some(stored) = &frame.digest {
-            let computed = match digest {
-                Some(digest) => digest.finish(),
+            let computed = match digest.and_then(BlockDigest::finish) {
+                Some(computed) => computed,
                 None => frame_digest(&m, self.info.sample_type),
             };
             if &computed != stored {
@@ -333,8 +333,61 @@ fn place_block(
 /// order: each block's rows are the stored scan lines of the data window, so
 /// they are hashed as they are (widened with +0.0 samples to the display
 /// window), row after row, zero rows above and below the data window. A
-/// block that comes early waits for the ones before it.
+/// block that comes early waits for the ones before it. The hashing runs on
+/// a thread of its own, beside the decoding and placing (a SHA-256 of a
+/// frame costs about as much as placing it): blocks go to it through a short
+/// queue.
 pub(crate) struct BlockDigest {
+    queue: Option<std::sync::mpsc::SyncSender<(usize, usize, Vec<u8>)>>,
+    hasher: Option<std::thread::JoinHandle<String>>,
+}
+
+impl BlockDigest {
+    pub(crate) fn new(info: &super::header::FileInfo, window: super::header::Window) -> BlockDigest {
+        let g = &info.geometry;
+        let mut rows = OrderedRows {
+            digest: RowDigest::default(),
+            next: 0,
+            rows: g.hololines,
+            window,
+            channels: g.views.count * g.channels.len(),
+            emitters: g.emitters,
+            bytes: info.sample_type.bytes(),
+            waiting: Default::default(),
+            row: vec![0; row_bytes(g, info.sample_type)],
+        };
+        let (queue, blocks) = std::sync::mpsc::sync_channel::<(usize, usize, Vec<u8>)>(8);
+        let hasher = std::thread::Builder::new()
+            .name("holo-digest".into())
+            .spawn(move || {
+                for (top, count, data) in blocks {
+                    rows.push(top, count, data);
+                }
+                rows.finish()
+            })
+            .ok();
+        BlockDigest { queue: hasher.as_ref().map(|_| queue), hasher }
+    }
+
+    /// Block bytes for display rows `top .. top + rows`.
+    pub(crate) fn push(&mut self, top: usize, rows: usize, data: Vec<u8>) {
+        if let Some(queue) = &self.queue {
+            // A hasher that has gone (it cannot, but if it did) shows as a
+            // digest that does not match.
+            let _ = queue.send((top, rows, data));
+        }
+    }
+
+    /// The stored text, once every block has come (`None` when no hashing
+    /// thread could be started; the caller hashes the samples instead).
+    pub(crate) fn finish(mut self) -> Option<String> {
+        drop(self.queue.take());
+        self.hasher.take().and_then(|h| h.join().ok())
+    }
+}
+
+/// The rows of a frame hashed in order (see [`BlockDigest`]).
+struct OrderedRows {
     digest: RowDigest,
     /// The next display row to hash.
     next: usize,
@@ -352,24 +405,8 @@ pub(crate) struct BlockDigest {
     row: Vec<u8>,
 }
 
-impl BlockDigest {
-    pub(crate) fn new(info: &super::header::FileInfo, window: super::header::Window) -> BlockDigest {
-        let g = &info.geometry;
-        BlockDigest {
-            digest: RowDigest::default(),
-            next: 0,
-            rows: g.hololines,
-            window,
-            channels: g.views.count * g.channels.len(),
-            emitters: g.emitters,
-            bytes: info.sample_type.bytes(),
-            waiting: Default::default(),
-            row: vec![0; row_bytes(g, info.sample_type)],
-        }
-    }
-
-    /// Block bytes for display rows `top .. top + rows`.
-    pub(crate) fn push(&mut self, top: usize, rows: usize, data: Vec<u8>) {
+impl OrderedRows {
+    fn push(&mut self, top: usize, rows: usize, data: Vec<u8>) {
         self.waiting.insert(top, (rows, data));
         self.zero_rows_until(self.window.y.min(self.rows));
         while let Some((rows, data)) = self.waiting.remove(&self.next) {
@@ -390,7 +427,7 @@ impl BlockDigest {
         let line = self.channels * w * self.bytes;
         let full = self.window.x == 0 && w == self.emitters;
         for r in 0..rows {
-            let stored = &data[r * line..(r + 1) * line];
+            let Some(stored) = data.get(r * line..(r + 1) * line) else { return };
             if full {
                 self.digest.update(stored);
             } else {
@@ -406,8 +443,7 @@ impl BlockDigest {
         }
     }
 
-    /// The stored text, once every block has come.
-    pub(crate) fn finish(mut self) -> String {
+    fn finish(mut self) -> String {
         self.zero_rows_until(self.rows);
         self.digest.finish()
     }
