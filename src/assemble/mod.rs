@@ -693,6 +693,11 @@ mod tests {
             // taper, but for the fades at its two ends.
             let basis = a.plan(0).basis();
             let super::basis::Elements::Chirp(c) = &basis.elements else { unreachable!() };
+            // The cross-fades of chirps a slot apart add to 1 as well: the
+            // normalisation stays the overlap (spec/layouts.md §4.2).
+            if layout.name == "mark3" {
+                assert_eq!(basis.normalisation(), 16.0);
+            }
             let span = (c.zones * c.chirp_samples) as i64;
             let half = (taper / 2) as i64;
             for x in half..span - half {
