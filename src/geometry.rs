@@ -284,7 +284,11 @@ impl Geometry {
     }
     /// Samples in one frame (all channels).
     pub fn samples_per_frame(&self) -> u64 {
-        self.channels.len() as u64 * self.hololines as u64 * self.emitters as u64 * self.views.count as u64
+        // Saturating: a hostile geometry's product must not wrap to something small.
+        (self.channels.len() as u64)
+            .saturating_mul(self.hololines as u64)
+            .saturating_mul(self.emitters as u64)
+            .saturating_mul(self.views.count as u64)
     }
     /// Index of the channel with this suffix.
     pub fn channel_index(&self, name: &str) -> Option<usize> {

@@ -237,10 +237,37 @@ fn too_big(g: &Geometry) -> Error {
 }
 
 fn check_geometry(g: &Geometry) -> Result<()> {
-    let problems = g.problems();
+    let mut problems = g.problems();
+    // A frame larger than a .holo file may hold is refused before anything
+    // is allocated (it could not be written, and would exhaust memory).
+    let samples = g.samples_per_frame();
+    if samples > crate::format::MAX_SAMPLES_PER_FRAME {
+        problems.push(format!(
+            "a frame of {samples} samples is more than the {} a .holo frame may hold",
+            crate::format::MAX_SAMPLES_PER_FRAME
+        ));
+    }
     if problems.is_empty() {
         Ok(())
     } else {
         Err(Error::argument("geometry", format!("invalid geometry: {}", problems.join("; "))))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_frame_too_large_for_a_file_is_refused_before_it_is_allocated() {
+        let mut g = crate::layout::mark3().geometry;
+        g.emitters = 1 << 20;
+        g.hololines = 1 << 20;
+        let err = Modulation::zeros(g.clone()).unwrap_err().to_string();
+        assert!(err.contains("samples") && err.contains("more than"), "{err}");
+        // A product that would wrap around u64 saturates instead.
+        g.views.count = usize::MAX / 2;
+        assert_eq!(g.samples_per_frame(), u64::MAX);
+        assert!(Modulation::zeros(g).is_err());
     }
 }

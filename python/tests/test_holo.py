@@ -119,6 +119,10 @@ def test_geometry_round_trips_through_a_dict():
     d = g.to_dict()
     assert d["emitters"] == g.emitters and d["hololines"] == g.hololines
     assert holo.Geometry.from_dict(d) == g
+    # Checked without making a frame of it: a geometry far too large is refused, not allocated.
+    huge = dict(d, emitters=10**9, hololines=10**9)
+    with pytest.raises(holo.InputError, match="geometry"):
+        holo.Geometry.from_dict(huge)
     assert len(g.view_angles_rad) == g.views and len(g.emitter_x_m) == g.emitters
     assert g.emitter_pitch_m > 0 and g.viewer_distance_m > 0 and all(w > 0 for w in g.wavelengths_m)
 
