@@ -605,7 +605,10 @@ fn convert_mesh<'py>(
 /// Ctrl-C (a signal Python has pending); the exception then comes through.
 struct PyProgress {
     callback: Option<Py<PyAny>>,
-    phase: Mutex<(String, u64)>,
+    /// The current phase, its total, and the steps last reported: the
+    /// library's threads finish steps in any order, the callback sees the
+    /// count rise.
+    phase: Mutex<(String, u64, Option<u64>)>,
     stop: Mutex<Option<PyErr>>,
     stopped: std::sync::atomic::AtomicBool,
 }
@@ -614,7 +617,7 @@ impl PyProgress {
     fn new(callback: Option<Py<PyAny>>) -> PyProgress {
         PyProgress {
             callback,
-            phase: Mutex::new((String::new(), 0)),
+            phase: Mutex::new((String::new(), 0, None)),
             stop: Mutex::new(None),
             stopped: std::sync::atomic::AtomicBool::new(false),
         }
@@ -635,7 +638,7 @@ impl PyProgress {
 
 impl holo::progress::Progress for PyProgress {
     fn phase(&self, name: &str, total: u64) {
-        *self.phase.lock().unwrap_or_else(|p| p.into_inner()) = (name.to_string(), total);
+        *self.phase.lock().unwrap_or_else(|p| p.into_inner()) = (name.to_string(), total, None);
         self.advance(0);
     }
     fn advance(&self, done: u64) {
@@ -647,7 +650,15 @@ impl holo::progress::Progress for PyProgress {
                 return self.halt(e);
             }
             let Some(callback) = &self.callback else { return };
-            let (name, total) = self.phase.lock().unwrap_or_else(|p| p.into_inner()).clone();
+            let (name, total) = {
+                // Under the GIL, so reports cannot overtake one another.
+                let mut phase = self.phase.lock().unwrap_or_else(|p| p.into_inner());
+                if phase.2.is_some_and(|last| done <= last) {
+                    return;
+                }
+                phase.2 = Some(done);
+                (phase.0.clone(), phase.1)
+            };
             match callback.call1(py, (name, done, total)) {
                 Ok(answer) if answer.bind(py).is(&*pyo3::types::PyBool::new(py, false)) => self.halt(holo_cancelled()),
                 Ok(_) => {}
