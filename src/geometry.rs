@@ -324,6 +324,21 @@ impl Geometry {
         }
     }
 
+    /// [`Geometry::problems`], and a frame larger than a `.holo` frame may
+    /// hold: what must hold before a frame of this geometry is allocated (it
+    /// could not be written, and would exhaust memory).
+    pub fn frame_problems(&self) -> Vec<String> {
+        let mut problems = self.problems();
+        let samples = self.samples_per_frame();
+        if samples > crate::format::MAX_SAMPLES_PER_FRAME {
+            problems.push(format!(
+                "a frame of {samples} samples is more than the {} a .holo frame may hold",
+                crate::format::MAX_SAMPLES_PER_FRAME
+            ));
+        }
+        problems
+    }
+
     /// Every rule of spec §4 that concerns the geometry alone; an empty list
     /// means the geometry is valid.
     pub fn problems(&self) -> Vec<String> {

@@ -237,16 +237,7 @@ fn too_big(g: &Geometry) -> Error {
 }
 
 fn check_geometry(g: &Geometry) -> Result<()> {
-    let mut problems = g.problems();
-    // A frame larger than a .holo file may hold is refused before anything
-    // is allocated (it could not be written, and would exhaust memory).
-    let samples = g.samples_per_frame();
-    if samples > crate::format::MAX_SAMPLES_PER_FRAME {
-        problems.push(format!(
-            "a frame of {samples} samples is more than the {} a .holo frame may hold",
-            crate::format::MAX_SAMPLES_PER_FRAME
-        ));
-    }
+    let problems = g.frame_problems();
     if problems.is_empty() {
         Ok(())
     } else {

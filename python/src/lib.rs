@@ -140,14 +140,7 @@ impl Geometry {
         let text: String = py.import("json")?.call_method1("dumps", (fields,))?.extract()?;
         let inner: holo::Geometry =
             serde_json::from_str(&text).map_err(|e| InputError::new_err(format!("the dict is not a geometry: {e}")))?;
-        let mut problems = inner.problems();
-        let samples = inner.samples_per_frame();
-        if samples > holo::format::MAX_SAMPLES_PER_FRAME {
-            problems.push(format!(
-                "a frame of {samples} samples is more than the {} a .holo frame may hold",
-                holo::format::MAX_SAMPLES_PER_FRAME
-            ));
-        }
+        let problems = inner.frame_problems();
         if !problems.is_empty() {
             return Err(InputError::new_err(format!("invalid geometry: {}", problems.join("; "))));
         }

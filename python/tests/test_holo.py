@@ -175,6 +175,27 @@ def test_an_iterators_own_exception_comes_through_and_nothing_is_left(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def ticks_beside(work):
+    """Run `work` in a thread while this one ticks every millisecond: (ticks, seconds the work took)."""
+    ticks = []
+    done = threading.Event()
+
+    def run():
+        try:
+            work()
+        finally:
+            done.set()
+
+    t = threading.Thread(target=run)
+    started = time.perf_counter()
+    t.start()
+    while not done.is_set():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    t.join()
+    return ticks, time.perf_counter() - started
+
+
 def test_heavy_work_leaves_other_python_threads_running(tmp_path):
     # A large frame written with zip (seconds of work in the library): while it
     # runs, another Python thread must get the interpreter.
@@ -183,21 +204,7 @@ def test_heavy_work_leaves_other_python_threads_running(tmp_path):
     g0["views"]["count"] = 32
     g = holo.Geometry.from_dict(g0)
     frame = np.random.default_rng(1).uniform(0, 1, size=g.shape).astype(np.float32)
-    ticks = []
-    done = threading.Event()
-
-    def writer():
-        holo.write(tmp_path / "big.holo", frame, g, sample_type="f32", compression="zip")
-        done.set()
-
-    t = threading.Thread(target=writer)
-    started = time.perf_counter()
-    t.start()
-    while not done.is_set():
-        ticks.append(time.perf_counter())
-        time.sleep(0.001)
-    t.join()
-    elapsed = time.perf_counter() - started
+    ticks, elapsed = ticks_beside(lambda: holo.write(tmp_path / "big.holo", frame, g, sample_type="f32", compression="zip"))
     assert elapsed > 0.2, f"the write took only {elapsed:.3f} s: too short to tell"
     # With the GIL held for the whole write, the loop above would have run once or twice.
     assert len(ticks) > 0.3 * elapsed / 0.001 * 0.5, f"{len(ticks)} ticks in {elapsed:.2f} s"
@@ -253,22 +260,7 @@ def test_layouts_view_and_check_from_python():
 def test_assembly_in_a_thread_does_not_block_another_python_thread():
     layout = holo.Layout.load("mark3")
     frame = np.random.default_rng(3).uniform(0, 1, size=layout.geometry.shape).astype(np.float32)
-    ticks = []
-    done = threading.Event()
-
-    def assembler():
-        for _ in range(5):
-            holo.assemble(frame, layout)
-        done.set()
-
-    t = threading.Thread(target=assembler)
-    started = time.perf_counter()
-    t.start()
-    while not done.is_set():
-        ticks.append(time.perf_counter())
-        time.sleep(0.001)
-    t.join()
-    elapsed = time.perf_counter() - started
+    ticks, elapsed = ticks_beside(lambda: [holo.assemble(frame, layout) for _ in range(5)])
     assert elapsed > 0.05, f"assembly took only {elapsed:.3f} s: too short to tell"
     assert len(ticks) > 0.15 * elapsed / 0.001, f"{len(ticks)} ticks in {elapsed:.2f} s"
 

@@ -562,6 +562,23 @@ mod tests {
         });
     }
 
+    /// The largest difference of any of `fast` from the f64 `reference`
+    /// (hololine, signal, sample), and the largest reference sample.
+    fn worst_against(reference: &[Vec<Vec<f64>>], fast: &[&Signals]) -> (f64, f64) {
+        let (mut worst, mut largest) = (0f64, 0f64);
+        for (j, want) in reference.iter().enumerate() {
+            for (s, want) in want.iter().enumerate() {
+                for (n, r) in want.iter().enumerate() {
+                    largest = largest.max(r.abs());
+                    for f in fast {
+                        worst = worst.max((f64::from(f.row(s, j)[n]) - r).abs());
+                    }
+                }
+            }
+        }
+        (worst, largest)
+    }
+
     #[test]
     fn emitter_phases_agree_with_the_f64_reference_in_every_path() {
         // Complex weights run the kernel twice (I/Q) or against the
@@ -587,17 +604,8 @@ mod tests {
                 let reference = a.signals_reference(&m, colour, 0..2).unwrap();
                 let (fast, fast_portable) = (a.signals(&m, colour).unwrap(), portable.signals(&m, colour).unwrap());
                 let without = unphased.signals(&m, colour).unwrap();
-                let (mut worst, mut largest, mut changed) = (0f64, 0f64, 0f64);
-                for (j, want) in reference.iter().enumerate() {
-                    for (s, want) in want.iter().enumerate() {
-                        for (n, r) in want.iter().enumerate() {
-                            largest = largest.max(r.abs());
-                            worst = worst.max((f64::from(fast.row(s, j)[n]) - r).abs());
-                            worst = worst.max((f64::from(fast_portable.row(s, j)[n]) - r).abs());
-                            changed = changed.max((f64::from(without.row(s, j)[n]) - r).abs());
-                        }
-                    }
-                }
+                let (worst, largest) = worst_against(&reference, &[&fast, &fast_portable]);
+                let (changed, _) = worst_against(&reference, &[&without]);
                 assert!(largest > 0.05, "{}: the signal is not trivially small ({largest})", layout.name);
                 assert!(worst < 2e-6, "{} colour {colour} {phases:?}: worst {worst}", layout.name);
                 assert!(changed > 0.05, "{} colour {colour}: the phases changed nothing ({changed})", layout.name);
@@ -676,16 +684,7 @@ mod tests {
             let m = random(&layout, 3, true);
             let reference = a.signals_reference(&m, 0, 0..2).unwrap();
             let (fast, fast_portable) = (a.signals(&m, 0).unwrap(), portable.signals(&m, 0).unwrap());
-            let (mut worst, mut largest) = (0f64, 0f64);
-            for (j, want) in reference.iter().enumerate() {
-                for (s, want) in want.iter().enumerate() {
-                    for (n, r) in want.iter().enumerate() {
-                        largest = largest.max(r.abs());
-                        worst = worst.max((f64::from(fast.row(s, j)[n]) - r).abs());
-                        worst = worst.max((f64::from(fast_portable.row(s, j)[n]) - r).abs());
-                    }
-                }
-            }
+            let (worst, largest) = worst_against(&reference, &[&fast, &fast_portable]);
             assert!(largest > 0.05 && worst < 2e-6, "{}: worst {worst}, largest {largest}", layout.name);
             // Inside the chirp the segments' weights add to 1, across zone
             // boundaries too (where the two pieces meet after up-conversion):
