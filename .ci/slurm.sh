@@ -10,6 +10,9 @@
 #   .ci/slurm.sh selftest start, run a 4-task job array and cancel a
 #                         second one's task mid-run (what `holo farm` relies
 #                         on), check both, stop
+#   .ci/slurm.sh test     start, the selftest, then the tests of `holo farm`
+#                         against the cluster (cli/tests/cli/farm.rs, ignored
+#                         by a plain `cargo test`), stop
 #
 # The cluster: one node with this machine's CPUs and memory, one partition
 # `ci`; processes tracked by /proc (no cgroups in containers), no task
@@ -136,9 +139,14 @@ stop() {
 selftest() {
     start
     export SLURM_CONF=$conf
+    trap stop EXIT
+    arrays
+}
+
+# A job array runs every task; a task cancelled mid-run stays cancelled.
+arrays() {
     local out=$dir/selftest
     rm -rf "$out" && mkdir -p "$out"
-    trap stop EXIT
     local job
     job=$(sbatch --parsable --array=0-3 --cpus-per-task=1 --mem=64M -o "$out/%A_%a.out" \
         --wrap 'echo "task $SLURM_ARRAY_TASK_ID of $SLURM_ARRAY_JOB_ID"')
@@ -169,13 +177,23 @@ wait_for() {
     exit 1
 }
 
+farm_tests() {
+    start
+    export SLURM_CONF=$conf
+    trap stop EXIT
+    arrays
+    say "the tests of holo farm against the cluster"
+    cargo test -p holo-cli --test cli farm -- --ignored
+}
+
 case "${1:-}" in
 start) start ;;
 stop) stop ;;
 selftest) selftest ;;
+test) farm_tests ;;
 env) echo "export SLURM_CONF=$conf" ;;
 *)
-    echo "usage: .ci/slurm.sh start|stop|env|selftest" >&2
+    echo "usage: .ci/slurm.sh start|stop|env|selftest|test" >&2
     exit 2
     ;;
 esac

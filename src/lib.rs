@@ -120,6 +120,7 @@ pub mod assemble;
 pub mod cameras;
 pub mod demo;
 mod error;
+pub mod farm;
 pub mod format;
 pub mod geometry;
 pub mod holoflick;

@@ -33,6 +33,7 @@ use std::path::{Path, PathBuf};
 
 use crate::format::{write_frame_in_bands, write_frames, WriteOptions, WriteReport};
 use crate::geometry::Geometry;
+use crate::math::Mat4;
 use crate::progress::{Progress, Steps};
 use crate::provenance::Conversion;
 use crate::{Band, Error, Result};
@@ -189,6 +190,17 @@ where
         Ok(())
     })?;
     Ok(Run { frames, warnings: warnings.lines(), written })
+}
+
+/// The whole-movie decisions a run of `source` over `frames` would make,
+/// without making a frame: the frames (all when `None`, checked against the
+/// source's count) and the placement, decided on the run's first frame.
+/// A farm decides once with this, then hands every chunk the same placement
+/// so each frames the scene as one run of the whole movie would.
+pub fn decide<S: Source>(source: &mut S, frames: Option<Range<usize>>) -> Result<(Range<usize>, Option<Mat4>)> {
+    let frames = frame_range(&source.name(), frames, source.frame_count())?;
+    source.place(&frames, &mut Warnings::default())?;
+    Ok((frames, source.placement()))
 }
 
 /// [`run`] for a source read from the file `input`: the output is refused

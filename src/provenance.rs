@@ -85,6 +85,18 @@ impl Conversion {
         Ok(Conversion { input: name, input_sha256, options })
     }
 
+    /// The same conversion of other frames (`None`: all): what a part of a
+    /// movie made alone records, and what joining the parts records.
+    pub fn with_frames(&self, frames: Option<Range<usize>>) -> Conversion {
+        let mut c = self.clone();
+        match &mut c.options {
+            ConverterOptions::Mesh(o) => o.scene.frames = frames,
+            ConverterOptions::HoloFlick(o) => o.frames = frames,
+            ConverterOptions::Cameras(_) => {}
+        }
+        c
+    }
+
     /// The `holo.convert.*` attributes that record it, for
     /// [`WriteOptions::conversion`].
     pub fn record(&self) -> ConversionRecord {

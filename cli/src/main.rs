@@ -44,6 +44,16 @@ enum Command {
     /// HoloFlicks (.hflk) and Java 3D compressed geometry (.cg): info, pack, encode, unpack.
     #[command(subcommand)]
     Holoflick(holoflick::HoloflickCommand),
+    /// A movie across a Slurm cluster: submit a frame-making command as a job array, its status, gather.
+    #[command(subcommand)]
+    Farm(farm::FarmCommand),
+}
+
+/// `words` (a command line after `holo`) as `holo` parses it.
+fn parse_command(words: &[String]) -> Result<Command, clap::Error> {
+    let argv = std::iter::once("holo".to_string()).chain(words.iter().cloned());
+    let matches = args::negative_numbers(Cli::command()).try_get_matches_from(argv)?;
+    Cli::from_arg_matches(&matches).map(|c| c.command)
 }
 
 fn main() -> ExitCode {
@@ -84,5 +94,6 @@ fn run(command: Command) -> Outcome {
         Command::View(a) => view::run(a),
         Command::Layout(a) => layout::run(a),
         Command::Demo(a) => demo::run(a),
+        Command::Farm(c) => farm::run(c),
     }
 }

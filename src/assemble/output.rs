@@ -136,12 +136,9 @@ pub fn assemble_file(
     progress: &dyn Progress,
 ) -> Result<AssembleReport> {
     let assembler = Assembler::new(layout)?;
-    let file = crate::format::HoloFile::open(input)?;
-    let frame_count = file.info().frames.len();
-    let range = options.frames.clone().unwrap_or(0..frame_count);
-    if range.is_empty() || range.end > frame_count {
-        return Err(Error::NoFrame { path: input.to_path_buf(), asked: range, frames: frame_count });
-    }
+    let file = crate::format::Frames::open(input)?;
+    let range = options.frames.clone().unwrap_or_else(|| file.all());
+    file.check_range(&range)?;
     let fb = &layout.fringe.as_ref().expect("Assembler::new checked").frame_buffer;
     let names = |index: usize| -> Vec<String> {
         fb.image_names.iter().map(|n| image_file_name(index, n, options.format)).collect()
@@ -193,12 +190,7 @@ pub fn assemble_file(
         }
         total.clipped += stats.clipped;
         total.dark_hololines += stats.dark_hololines;
-        frames.push(FringeFrame {
-            index,
-            source_digest: file.info().frames[index].digest.clone(),
-            files,
-            clipped: stats.clipped,
-        });
+        frames.push(FringeFrame { index, source_digest: file.digest(index), files, clipped: stats.clipped });
         steps.step();
     }
     let mut sidecar = FringeSidecar {

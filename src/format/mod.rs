@@ -10,6 +10,7 @@ mod channels;
 pub(crate) mod digest;
 mod header;
 mod read;
+pub mod sequence;
 mod validate;
 mod write;
 
@@ -20,6 +21,7 @@ pub use channels::{channel_name, parse_channel_name, view_digits, ChannelOrder};
 pub use digest::frame_digest;
 pub use header::{FileInfo, FrameInfo, Window};
 pub use read::{read, HoloFile, Region};
+pub use sequence::{Frames, Sequence};
 pub use validate::{validate, Validation};
 pub use write::{write, write_frame_in_bands, write_frames, FormatVersion, WriteOptions, WriteReport};
 

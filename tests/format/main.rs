@@ -8,4 +8,5 @@ mod bad_input;
 mod output;
 mod picture;
 mod roundtrip;
+mod sequence;
 mod vectors;

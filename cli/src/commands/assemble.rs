@@ -8,16 +8,20 @@ use std::time::Instant;
 use clap::Args;
 use holo::assemble::output::{assemble_file, AssembleOptions, FRINGE_SIDECAR};
 
-use super::Outcome;
+use super::farm::{Decided, FrameJob};
+use super::{Failure, Outcome};
 use crate::args::{self, layout_help, load_layout, FringeFormatChoice};
 use crate::out::{say, warn};
 use crate::progress::Reporter;
+use holo::farm::FarmOutput;
+use holo::math::Mat4;
 
 /// Assemble hologram fringes: one image per head (or colour layer) per
 /// frame, laid out as the layout's frame buffer expects.
 #[derive(Args)]
 pub struct AssembleArgs {
-    /// The .holo file.
+    /// The .holo file, or a numbered sequence named as its one file would be
+    /// (shot.holo for shot.0000.holo, shot.0001.holo, …).
     file: PathBuf,
     #[arg(long, default_value = "mark3", help = layout_help(""))]
     layout: String,
@@ -70,4 +74,25 @@ pub fn run(a: AssembleArgs) -> Outcome {
         ));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// An assembly as `holo farm` splits it: one fringe set per frame.
+impl FrameJob for AssembleArgs {
+    fn output(&self) -> FarmOutput {
+        FarmOutput::Fringes(self.output.clone())
+    }
+
+    fn decide(&self) -> Result<Decided, Failure> {
+        load_layout(&self.layout)?;
+        let frames = holo::format::Frames::open(&self.file)?;
+        let range = self.frames.clone().unwrap_or_else(|| frames.all());
+        frames.check_range(&range)?;
+        Ok(Decided { frames: range, placement: None })
+    }
+
+    fn for_frame(&mut self, n: usize, output: PathBuf, _: Option<Mat4>) {
+        self.frames = Some(n..n + 1);
+        self.output = output;
+        self.force = true;
+    }
 }

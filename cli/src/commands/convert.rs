@@ -11,13 +11,18 @@ use holo::cameras::convert::{convert_camera_files, CameraConvertOptions};
 use holo::cameras::quilt::{DEFAULT_VERTICAL_FOV_DEG, DEFAULT_VIEW_CONE_DEG};
 use holo::cameras::read::{CameraHints, OpenOptions};
 use holo::cameras::resample::{CameraOptions, Framing, Parallax, PlacementRequest, MAX_EMITTER_TAPS};
+use holo::farm::FarmOutput;
+use holo::holoflick::convert::HoloFlickSource;
 use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
-use holo::mesh::convert::{convert_mesh, ConvertOptions, SceneFramesOptions};
+use holo::math::Mat4;
+use holo::mesh::convert::{convert_mesh, ConvertOptions, MeshRender, SceneFrames, SceneFramesOptions};
 use holo::mesh::place::{display_volume, Placement};
 use holo::mesh::render::{Engine, RenderOptions, Supersample};
 use holo::mesh::shade::{parse_light, read_lights, Lighting};
+use holo::pipeline::decide;
 
-use super::{check_output, Outcome};
+use super::farm::{Decided, FrameJob};
+use super::{check_output, Failure, Outcome};
 use crate::args::{
     self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, SpecularChoice, WriteArgs,
 };
@@ -80,12 +85,7 @@ pub struct HoloflickArgs {
 fn holoflick(a: HoloflickArgs) -> Outcome {
     check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
     let g = layout_geometry(&a.target.layout)?;
-    let options = HoloFlickConvertOptions {
-        frames: a.frames,
-        render: RenderOptions { supersample: supersample(a.supersample, a.hololine_supersample), ..Default::default() },
-        write: a.target.write.options(String::new()),
-        fit: a.fit,
-    };
+    let options = holoflick_options(&a);
     let started = Instant::now();
     let report = convert_holoflick(&a.file, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
     report.warnings.iter().for_each(warn);
@@ -108,6 +108,16 @@ fn holoflick(a: HoloflickArgs) -> Outcome {
         w.render.shaded
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// The library's options for `a`.
+fn holoflick_options(a: &HoloflickArgs) -> HoloFlickConvertOptions {
+    HoloFlickConvertOptions {
+        frames: a.frames.clone(),
+        render: RenderOptions { supersample: supersample(a.supersample, a.hololine_supersample), ..Default::default() },
+        write: a.target.write.options(String::new()),
+        fit: a.fit,
+    }
 }
 
 /// Render a glTF (.gltf/.glb), OBJ or PLY scene for every emitter and
@@ -169,37 +179,7 @@ fn mesh(a: MeshArgs) -> Outcome {
     read.extend(a.lights.as_deref());
     check_output(&a.target.write.output, &read, a.target.write.force)?;
     let g = layout_geometry(&a.target.layout)?;
-    // Point lights are given relative to the middle of the display.
-    let (lo, hi) = display_volume(&g);
-    let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), g.emitter_z_m];
-    let mut user_lights = match &a.lights {
-        Some(path) => read_lights(path, centre)?,
-        None => Vec::new(),
-    };
-    for spec in &a.light {
-        user_lights.push(parse_light(spec, centre)?);
-    }
-    let options = ConvertOptions {
-        scene: SceneFramesOptions {
-            placement: Placement {
-                rotate_deg: a.rotate_deg.unwrap_or([0.0; 3]),
-                scale: a.scale_m,
-                translate_m: a.translate_m.unwrap_or([0.0; 3]),
-                matrix: a.matrix,
-            },
-            frames: a.frames,
-            frames_per_second: a.fps,
-            smooth_normals_deg: a.smooth_normals,
-        },
-        render: RenderOptions {
-            supersample: supersample(a.supersample, a.hololine_supersample),
-            lighting: Lighting { lights: user_lights, model: a.specular.0 },
-            scene_lights: !a.no_scene_lights,
-            default_lights: true,
-            engine: if a.reference { Engine::Reference } else { Engine::Fast },
-        },
-        write: a.target.write.options(String::new()),
-    };
+    let options = mesh_options(&a, &g)?;
     let started = Instant::now();
     let report = convert_mesh(&a.scene, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
     report.warnings.iter().for_each(warn);
@@ -223,6 +203,41 @@ fn mesh(a: MeshArgs) -> Outcome {
         report.stats.shaded
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// The library's options for `a` on the display `g`.
+fn mesh_options(a: &MeshArgs, g: &holo::Geometry) -> Result<ConvertOptions, Failure> {
+    // Point lights are given relative to the middle of the display.
+    let (lo, hi) = display_volume(g);
+    let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), g.emitter_z_m];
+    let mut user_lights = match &a.lights {
+        Some(path) => read_lights(path, centre)?,
+        None => Vec::new(),
+    };
+    for spec in &a.light {
+        user_lights.push(parse_light(spec, centre)?);
+    }
+    Ok(ConvertOptions {
+        scene: SceneFramesOptions {
+            placement: Placement {
+                rotate_deg: a.rotate_deg.unwrap_or([0.0; 3]),
+                scale: a.scale_m,
+                translate_m: a.translate_m.unwrap_or([0.0; 3]),
+                matrix: a.matrix,
+            },
+            frames: a.frames.clone(),
+            frames_per_second: a.fps,
+            smooth_normals_deg: a.smooth_normals,
+        },
+        render: RenderOptions {
+            supersample: supersample(a.supersample, a.hololine_supersample),
+            lighting: Lighting { lights: user_lights, model: a.specular.0 },
+            scene_lights: !a.no_scene_lights,
+            default_lights: true,
+            engine: if a.reference { Engine::Reference } else { Engine::Fast },
+        },
+        write: a.target.write.options(String::new()),
+    })
 }
 
 /// Resample camera-array pictures (a rig file, an HCI or Stanford light
@@ -354,4 +369,87 @@ fn cameras(a: CamerasArgs) -> Outcome {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A conversion as `holo farm` splits it: one file of the numbered sequence
+/// per frame, the movie placed once.
+impl Target {
+    fn farm_output(&self) -> FarmOutput {
+        FarmOutput::Sequence(self.write.output.clone())
+    }
+
+    /// Write frame `n` alone into `output`, replacing what is there (a
+    /// frame the farm found missing or damaged).
+    fn one_frame(&mut self, output: PathBuf) {
+        self.write.output = output;
+        self.write.force = true;
+    }
+}
+
+impl FrameJob for MeshArgs {
+    fn output(&self) -> FarmOutput {
+        self.target.farm_output()
+    }
+
+    fn decide(&self) -> Result<Decided, Failure> {
+        let g = layout_geometry(&self.target.layout)?;
+        let options = mesh_options(self, &g)?;
+        let mut source = SceneFrames::open(&self.scene, &g, &options.scene, MeshRender::new(&options))?;
+        let (frames, placement) = decide(&mut source, self.frames.clone())?;
+        Ok(Decided { frames, placement })
+    }
+
+    fn for_frame(&mut self, n: usize, output: PathBuf, placement: Option<Mat4>) {
+        self.frames = Some(n..n + 1);
+        self.matrix = placement.or(self.matrix);
+        self.target.one_frame(output);
+    }
+}
+
+impl FrameJob for HoloflickArgs {
+    fn output(&self) -> FarmOutput {
+        self.target.farm_output()
+    }
+
+    fn decide(&self) -> Result<Decided, Failure> {
+        let g = layout_geometry(&self.target.layout)?;
+        let options = holoflick_options(self);
+        let mut source = HoloFlickSource::open(&self.file, &g, &options)?;
+        let (frames, placement) = decide(&mut source, self.frames.clone())?;
+        // Drawn as stored, each chunk decides alike; a fit is made on a
+        // chunk's first frame, which would differ from chunk to chunk.
+        if placement.is_some_and(|m| m != holo::math::IDENTITY4) {
+            return Err(Failure(format!(
+                "{}: this HoloFlick is fitted to the display (its viewer's couch does not hold the display's \
+                 viewing zone, or fitting was asked), and a fit cannot yet be shared by the chunks of a farm; \
+                 convert it on one machine",
+                self.file.display()
+            )));
+        }
+        Ok(Decided { frames, placement: None })
+    }
+
+    fn for_frame(&mut self, n: usize, output: PathBuf, _: Option<Mat4>) {
+        self.frames = Some(n..n + 1);
+        self.target.one_frame(output);
+    }
+}
+
+impl FrameJob for CamerasArgs {
+    fn output(&self) -> FarmOutput {
+        self.target.farm_output()
+    }
+
+    /// A capture is one frame.
+    fn decide(&self) -> Result<Decided, Failure> {
+        layout_geometry(&self.target.layout)?;
+        if !self.input.exists() {
+            return Err(Failure(format!("{}: no such file or folder", self.input.display())));
+        }
+        Ok(Decided { frames: 0..1, placement: None })
+    }
+
+    fn for_frame(&mut self, _: usize, output: PathBuf, _: Option<Mat4>) {
+        self.target.one_frame(output);
+    }
 }

@@ -5,6 +5,7 @@ pub mod assemble;
 pub mod check;
 pub mod convert;
 pub mod demo;
+pub mod farm;
 pub mod holoflick;
 pub mod info;
 pub mod layout;

@@ -1,0 +1,87 @@
+//! Numbered sequences (`shot.0007.holo`): read as one movie by number, each
+//! member checked to be the frame its name says, of the sequence's geometry;
+//! joined into one multi-part file with every frame's digest kept.
+
+use holo::farm::{check_sequence, join_sequence};
+use holo::format::sequence::member_path;
+use holo::format::{write, Frames, HoloFile, WriteOptions};
+use holo::geometry::{mono_channel, Geometry, Views};
+use holo::Modulation;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn geometry(emitters: usize) -> Geometry {
+    Geometry::centred(3, emitters, Views::tan_spaced(4, -0.2, 0.2), 1.3e-4, 2.4e-4, 0.027, 0.6, mono_channel())
+}
+
+fn random(g: Geometry, seed: u64) -> Modulation {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    Modulation::from_fn(g, |_, _, _, _| rng.gen_range(0.01..2.0)).unwrap()
+}
+
+/// Frame `n` of a sequence as a farm writes it: `holo.frame` = `n`.
+fn member(name: &std::path::Path, n: usize, m: &Modulation) {
+    let options = WriteOptions { first_frame_number: n as i32, ..WriteOptions::default() };
+    write(member_path(name, n), m, &options).unwrap();
+}
+
+#[test]
+fn a_sequence_reads_by_number_and_joins_into_one_file_with_the_same_digests() {
+    let dir = tempfile::tempdir().unwrap();
+    let name = dir.path().join("shot.holo");
+    let frames: Vec<Modulation> = (0..4).map(|i| random(geometry(5), 10 + i)).collect();
+    for (i, m) in frames.iter().enumerate() {
+        member(&name, 3 + i, m);
+    }
+    // Not members: another sequence, an unpadded number.
+    std::fs::copy(member_path(&name, 3), dir.path().join("shots.0001.holo")).unwrap();
+    std::fs::copy(member_path(&name, 3), dir.path().join("shot.12.holo")).unwrap();
+
+    let seq = Frames::open(&name).unwrap();
+    assert_eq!(seq.numbers(), [3, 4, 5, 6]);
+    assert_eq!(seq.all(), 3..7);
+    for (i, m) in frames.iter().enumerate() {
+        let read = seq.read_frame(3 + i).unwrap();
+        let written = holo::format::read(member_path(&name, 3 + i)).unwrap();
+        assert_eq!(read.samples(), written.samples());
+        assert!(read.samples().iter().zip(m.samples()).all(|(a, b)| (a - b).abs() <= 2e-3 * b.abs()));
+    }
+    assert!(matches!(seq.read_frame(7), Err(holo::Error::Io { .. })));
+    assert!(seq.check_range(&(2..5)).unwrap_err().to_string().contains("shot.0002.holo"));
+
+    let digests = check_sequence(&name, 3..7).unwrap();
+    let joined = dir.path().join("joined.holo");
+    join_sequence(&name, 3..7, &joined, false).unwrap();
+    let file = HoloFile::open(&joined).unwrap();
+    let info = file.info();
+    let stored: Vec<Option<String>> = info.frames.iter().map(|f| f.digest.clone()).collect();
+    assert_eq!(stored, digests);
+    assert_eq!(info.frames.iter().map(|f| f.number).collect::<Vec<_>>(), [3, 4, 5, 6]);
+    for i in 0..4 {
+        assert_eq!(file.read_frame(i).unwrap().samples(), seq.read_frame(3 + i).unwrap().samples());
+    }
+    // A file that exists is a file, even beside a sequence of its name.
+    assert!(matches!(Frames::open(&joined).unwrap(), Frames::File(_)));
+    // An existing output is kept.
+    assert!(join_sequence(&name, 3..7, &joined, false).is_err());
+}
+
+#[test]
+fn a_renamed_or_foreign_member_is_refused_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let name = dir.path().join("shot.holo");
+    member(&name, 0, &random(geometry(5), 1));
+    member(&name, 1, &random(geometry(5), 2));
+    // Frame 1's file renamed to 2: its holo.frame says 1.
+    std::fs::rename(member_path(&name, 1), member_path(&name, 2)).unwrap();
+    let e = Frames::open(&name).unwrap_err().to_string();
+    assert!(e.contains("shot.0002.holo") && e.contains("frame 1"), "{e}");
+    // Another geometry.
+    std::fs::remove_file(member_path(&name, 2)).unwrap();
+    member(&name, 1, &random(geometry(6), 3));
+    let e = Frames::open(&name).unwrap_err().to_string();
+    assert!(e.contains("shot.0001.holo") && e.contains("another geometry"), "{e}");
+    // Nothing of the name at all: the file's own error, with the form looked for.
+    let e = Frames::open(dir.path().join("none.holo")).unwrap_err().to_string();
+    assert!(e.contains("none.holo"), "{e}");
+}
