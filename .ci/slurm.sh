@@ -183,7 +183,8 @@ farm_tests() {
     trap stop EXIT
     arrays
     say "the tests of holo farm against the cluster"
-    cargo test -p holo-cli --test cli farm -- --ignored
+    # --workspace: the same features as the README's test command, so nothing is rebuilt.
+    cargo test --workspace --test cli farm -- --ignored
 }
 
 case "${1:-}" in
