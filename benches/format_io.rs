@@ -9,6 +9,10 @@
 //! pxr24 as f32, where it is lossy): size, the largest and mean error against
 //! the f32 rendering, and write and read speed (median of three, one with
 //! `--test`).
+//!
+//! Then a third: the deflates a ZIP writer could use, each on the same
+//! predicted 16-line blocks of both contents, one thread: size and MiB/s of
+//! raw samples. holo's ZIP writer uses libdeflate at [`holo::format::zip::LEVEL`].
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use holo::format::{read, write, Compression, SampleType, WriteOptions};
@@ -32,7 +36,7 @@ fn frame() -> Modulation {
 }
 
 /// Size, error and speed of every compression on the bundled Spot.
-fn compression_table(repeats: usize) {
+fn compression_table(repeats: usize) -> Modulation {
     use holo::mesh::convert::{convert_mesh, ConvertOptions};
     use std::time::Instant;
     let dir = tempfile::tempdir().unwrap();
@@ -102,12 +106,92 @@ fn compression_table(repeats: usize) {
         );
     }
     println!();
+    exact
+}
+
+/// Every ZIP block of `m` (f16, 16 lines), predicted as OpenEXR's ZIP
+/// does before deflating: the blocks of an uncompressed file, as stored.
+fn predicted_blocks(m: &Modulation) -> Vec<Vec<u8>> {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("none.holo");
+    let options = WriteOptions { compression: Compression::None, ..WriteOptions::default() };
+    write(&path, m, &options).unwrap();
+    let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
+    let reader = exr::block::read(file, true).unwrap();
+    let meta = reader.meta_data().clone();
+    let lines: Vec<Vec<u8>> = reader
+        .all_chunks(true)
+        .unwrap()
+        .map(|c| exr::block::UncompressedBlock::decompress_chunk(c.unwrap(), &meta, true).unwrap().data)
+        .collect();
+    // An uncompressed file has one line a block; ZIP blocks are 16.
+    lines.chunks(16).map(|ls| holo::format::zip::predict(&ls.concat())).collect()
+}
+
+/// Size and one-thread speed of each deflate on the predicted blocks of the
+/// Spot and of the synthetic frame.
+fn deflate_table(contents: &[(&str, &Modulation)]) {
+    use std::time::Instant;
+    type Deflate = Box<dyn Fn(&[u8]) -> usize>;
+    let libdeflate = |level: i32| -> Deflate {
+        Box::new(move |b: &[u8]| {
+            let mut c = libdeflater::Compressor::new(libdeflater::CompressionLvl::new(level).unwrap());
+            let mut out = vec![0u8; c.zlib_compress_bound(b.len())];
+            c.zlib_compress(b, &mut out).unwrap()
+        })
+    };
+    let zlib_rs = |level: u32| -> Deflate {
+        Box::new(move |b: &[u8]| {
+            use std::io::Write;
+            let mut e = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::new(level));
+            e.write_all(b).unwrap();
+            e.finish().unwrap().len()
+        })
+    };
+    let miniz =
+        |level: u8| -> Deflate { Box::new(move |b: &[u8]| miniz_oxide::deflate::compress_to_vec_zlib(b, level).len()) };
+    let candidates: Vec<(String, Deflate)> = vec![
+        ("exr crate (miniz_oxide 4), before".into(), miniz(4)),
+        ("miniz_oxide 1".into(), miniz(1)),
+        ("zlib-rs 1".into(), zlib_rs(1)),
+        ("zlib-rs 4".into(), zlib_rs(4)),
+        ("zlib-rs 6".into(), zlib_rs(6)),
+        ("libdeflate 1".into(), libdeflate(1)),
+        ("libdeflate 4".into(), libdeflate(4)),
+        ("libdeflate 6".into(), libdeflate(6)),
+        ("libdeflate 9".into(), libdeflate(9)),
+    ];
+    let ours = format!("libdeflate {}", holo::format::zip::LEVEL);
+    let candidates: Vec<(String, Deflate)> = candidates
+        .into_iter()
+        .map(|(name, d)| if name == ours { (format!("{name} (holo's)"), d) } else { (name, d) })
+        .collect();
+    let blocks: Vec<(&str, Vec<Vec<u8>>)> = contents.iter().map(|(n, m)| (*n, predicted_blocks(m))).collect();
+    println!("\nDeflates for ZIP blocks, one thread (size of raw f16, MiB/s of raw):\n");
+    println!(
+        "| deflate | {} |",
+        contents.iter().map(|(n, _)| format!("{n}: size | {n}: MiB/s")).collect::<Vec<_>>().join(" | ")
+    );
+    println!("|---|{}", "---|---|".repeat(contents.len()));
+    for (name, deflate) in &candidates {
+        let mut row = format!("| {name} |");
+        for (_, bs) in &blocks {
+            let raw: usize = bs.iter().map(Vec::len).sum();
+            let t = Instant::now();
+            let size: usize = bs.iter().map(|b| deflate(b).min(b.len())).sum();
+            let s = t.elapsed().as_secs_f64();
+            row += &format!(" {:.1}% | {:.0} |", 100.0 * size as f64 / raw as f64, raw as f64 / (1 << 20) as f64 / s);
+        }
+        println!("{row}");
+    }
+    println!();
 }
 
 fn bench(c: &mut Criterion) {
     let quick = std::env::args().any(|a| a == "--test");
-    compression_table(if quick { 1 } else { 3 });
+    let spot = compression_table(if quick { 1 } else { 3 });
     let m = frame();
+    deflate_table(&[("Spot", &spot), ("synthetic RGB", &m)]);
     let raw_bytes = m.samples().len() as u64 * 2;
     let dir = tempfile::tempdir().unwrap();
     let mut group = c.benchmark_group("mark3_rgb_f16_frame");

@@ -13,6 +13,7 @@ mod read;
 pub mod sequence;
 mod validate;
 mod write;
+pub mod zip;
 
 /// Write a small file whole, atomically: [`crate::output::write_bytes_beside`].
 pub use crate::output::write_bytes_beside;

@@ -13,7 +13,7 @@ use exr::meta::MetaData;
 use super::channels::ChannelOrder;
 use half::slice::HalfFloatSliceExt;
 
-use super::digest::{frame_digest, row_bytes, RowDigest};
+use super::digest::{frame_digest, BlockDigest};
 use super::header::{file_info, FileInfo};
 use super::{SampleType, MAX_SAMPLES_PER_FRAME};
 use crate::geometry::{Geometry, ViewSpacing};
@@ -80,8 +80,9 @@ impl HoloFile {
         // (they are the stored rows), not from the samples afterwards.
         // (Blocks hold native-endian samples, the digest little-endian ones.)
         let from_blocks = cfg!(target_endian = "little");
-        let mut digest =
-            frame.filter(|f| f.digest.is_some() && from_blocks).map(|f| BlockDigest::new(&self.info, f.data_window));
+        let mut digest = frame
+            .filter(|f| f.digest.is_some() && from_blocks)
+            .map(|f| BlockDigest::new(&self.info.geometry, self.info.sample_type, f.data_window));
         let mut m = self.read_blocks(index, &Region::all(&self.info.geometry), digest.as_mut())?;
         let frame = &self.info.frames[index];
         if let Some(stored) = &frame.digest {
@@ -327,124 +328,4 @@ fn place_block(
         }
     }
     Ok(())
-}
-
-/// The frame digest (spec §7) from decoded blocks, which may come in any
-/// order: each block's rows are the stored scan lines of the data window, so
-/// they are hashed as they are (widened with +0.0 samples to the display
-/// window), row after row, zero rows above and below the data window. A
-/// block that comes early waits for the ones before it. The hashing runs on
-/// a thread of its own, beside the decoding and placing (a SHA-256 of a
-/// frame costs about as much as placing it): blocks go to it through a short
-/// queue.
-pub(crate) struct BlockDigest {
-    queue: Option<std::sync::mpsc::SyncSender<(usize, usize, Vec<u8>)>>,
-    hasher: Option<std::thread::JoinHandle<String>>,
-}
-
-impl BlockDigest {
-    pub(crate) fn new(info: &super::header::FileInfo, window: super::header::Window) -> BlockDigest {
-        let g = &info.geometry;
-        let mut rows = OrderedRows {
-            digest: RowDigest::default(),
-            next: 0,
-            rows: g.hololines,
-            window,
-            channels: g.views.count * g.channels.len(),
-            emitters: g.emitters,
-            bytes: info.sample_type.bytes(),
-            waiting: Default::default(),
-            row: vec![0; row_bytes(g, info.sample_type)],
-        };
-        let (queue, blocks) = std::sync::mpsc::sync_channel::<(usize, usize, Vec<u8>)>(8);
-        let hasher = std::thread::Builder::new()
-            .name("holo-digest".into())
-            .spawn(move || {
-                for (top, count, data) in blocks {
-                    rows.push(top, count, data);
-                }
-                rows.finish()
-            })
-            .ok();
-        BlockDigest { queue: hasher.as_ref().map(|_| queue), hasher }
-    }
-
-    /// Block bytes for display rows `top .. top + rows`.
-    pub(crate) fn push(&mut self, top: usize, rows: usize, data: Vec<u8>) {
-        if let Some(queue) = &self.queue {
-            // A hasher that has gone (it cannot, but if it did) shows as a
-            // digest that does not match.
-            let _ = queue.send((top, rows, data));
-        }
-    }
-
-    /// The stored text, once every block has come (`None` when no hashing
-    /// thread could be started; the caller hashes the samples instead).
-    pub(crate) fn finish(mut self) -> Option<String> {
-        drop(self.queue.take());
-        self.hasher.take().and_then(|h| h.join().ok())
-    }
-}
-
-/// The rows of a frame hashed in order (see [`BlockDigest`]).
-struct OrderedRows {
-    digest: RowDigest,
-    /// The next display row to hash.
-    next: usize,
-    /// Display rows.
-    rows: usize,
-    /// The data window.
-    window: super::header::Window,
-    /// Channels, emitters of the display window, bytes per sample.
-    channels: usize,
-    emitters: usize,
-    bytes: usize,
-    /// Blocks that came early, by first display row: (rows, bytes).
-    waiting: std::collections::BTreeMap<usize, (usize, Vec<u8>)>,
-    /// One widened or zero row, reused.
-    row: Vec<u8>,
-}
-
-impl OrderedRows {
-    fn push(&mut self, top: usize, rows: usize, data: Vec<u8>) {
-        self.waiting.insert(top, (rows, data));
-        self.zero_rows_until(self.window.y.min(self.rows));
-        while let Some((rows, data)) = self.waiting.remove(&self.next) {
-            self.hash_block(rows, &data);
-        }
-    }
-
-    fn zero_rows_until(&mut self, end: usize) {
-        self.row.fill(0);
-        while self.next < end {
-            self.digest.update(&self.row);
-            self.next += 1;
-        }
-    }
-
-    fn hash_block(&mut self, rows: usize, data: &[u8]) {
-        let w = self.window.width;
-        let line = self.channels * w * self.bytes;
-        let full = self.window.x == 0 && w == self.emitters;
-        for r in 0..rows {
-            let Some(stored) = data.get(r * line..(r + 1) * line) else { return };
-            if full {
-                self.digest.update(stored);
-            } else {
-                self.row.fill(0);
-                let (left, width) = (self.window.x * self.bytes, w * self.bytes);
-                for (slot, run) in stored.chunks_exact(width).enumerate() {
-                    let at = slot * self.emitters * self.bytes + left;
-                    self.row[at..at + width].copy_from_slice(run);
-                }
-                self.digest.update(&self.row);
-            }
-            self.next += 1;
-        }
-    }
-
-    fn finish(mut self) -> String {
-        self.zero_rows_until(self.rows);
-        self.digest.finish()
-    }
 }

@@ -6,6 +6,7 @@ use std::borrow::Cow;
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
+use exr::block::chunk::{Chunk, CompressedBlock, CompressedScanLineBlock};
 use exr::block::writer::ChunksWriter;
 use exr::block::{BlockIndex, UncompressedBlock};
 use exr::math::Vec2;
@@ -16,7 +17,8 @@ use smallvec::SmallVec;
 
 use super::attributes::{self, geometry_attributes, name, ConversionRecord, Radiometry};
 use super::channels::ChannelOrder;
-use super::digest::{frame_digest, row_bytes, stored_row, RowDigest, DIGEST_PREFIX};
+use super::digest::{frame_digest, row_bytes, stored_row, BlockDigest, RowDigest, DIGEST_PREFIX};
+use super::header::Window;
 use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SIDE};
 use crate::geometry::Geometry;
 use crate::output::{AtomicFile, Spool};
@@ -144,19 +146,18 @@ pub fn write_frames<'a>(
     check_writable(path, geometry, frame_count, options)?;
     // One frame: look at it first, so the header can carry its data window and digest.
     let mut first = None;
-    let mut digests = vec![placeholder(); frame_count];
     let mut windows = vec![full_window(geometry); frame_count];
     if frame_count == 1 {
         let m = frame(0)?;
         check_frame(path, geometry, &m, options, 0)?;
-        digests[0] = frame_digest(&m, options.sample_type);
         windows[0] = covered_window(&m);
-        first = Some(Rows::Whole(m));
+        first = Some((None, Rows::Whole(m)));
     }
-    write_parts(path, geometry, options, windows, digests, first, |part| {
+    // Each frame's digest is taken from its blocks as they are built.
+    write_parts(path, geometry, options, windows, first, |part| {
         let m = frame(part)?;
         check_frame(path, geometry, &m, options, part)?;
-        Ok((frame_digest(&m, options.sample_type), Rows::Whole(m)))
+        Ok((None, Rows::Whole(m)))
     })
 }
 
@@ -218,7 +219,7 @@ pub fn write_frame_in_bands(
     let rows = Rows::Spooled {
         file: std::sync::Mutex::new(spool.file().try_clone().map_err(|e| Error::io(spool.path(), e))?),
     };
-    write_parts(path, geometry, options, vec![window], vec![digest.finish()], Some(rows), |_| {
+    write_parts(path, geometry, options, vec![window], Some((Some(digest.finish()), rows)), |_| {
         Err(Error::argument("frame count", "internal: a one-frame write asked for a second frame"))
     })
 }
@@ -262,18 +263,23 @@ impl Rows<'_> {
 /// enough that memory stays a small multiple of one block.
 const BATCH_BYTES: usize = 4 << 20;
 
-/// The writer proper: headers for `windows`, then every part's blocks from
-/// `first` (part 0, when the caller already has it) and `next(part)` (its
-/// digest and rows), written beside `path` and renamed into place.
+/// A part's rows, and its digest when the caller knows it (else it is taken
+/// from the blocks as they are built).
+type PartRows<'a> = (Option<String>, Rows<'a>);
+
+/// The writer proper: headers for `windows` (each digest a placeholder, filled
+/// in at the end), then every part's blocks from `first` (part 0, when the
+/// caller already has it) and `next(part)`, written beside `path` and renamed
+/// into place.
 fn write_parts<'a>(
     path: &Path,
     geometry: &Geometry,
     options: &WriteOptions,
     windows: Vec<IntegerBounds>,
-    mut digests: Vec<String>,
-    mut first: Option<Rows<'a>>,
-    mut next: impl FnMut(usize) -> Result<(String, Rows<'a>)>,
+    mut first: Option<PartRows<'a>>,
+    mut next: impl FnMut(usize) -> Result<PartRows<'a>>,
 ) -> Result<WriteReport> {
+    let mut digests = vec![placeholder(); windows.len()];
     let frame_count = windows.len();
     let mut warnings = Vec::new();
     if !options.compression.is_lossless_for(options.sample_type) {
@@ -294,43 +300,64 @@ fn write_parts<'a>(
     let written = {
         exr::block::write(&mut temp, headers.into(), true, |meta, chunk_writer| {
             for (part, digest) in digests.iter_mut().enumerate() {
-                let rows = match first.take() {
-                    Some(rows) => rows,
-                    None => match next(part) {
-                        Ok((d, rows)) => {
-                            *digest = d;
-                            rows
-                        }
-                        Err(e) => {
-                            failure = Some(e);
-                            return Err(exr::error::Error::Aborted);
-                        }
-                    },
+                let (given, rows) = match first.take().map_or_else(|| next(part), Ok) {
+                    Ok(part_rows) => part_rows,
+                    Err(e) => {
+                        failure = Some(e);
+                        return Err(exr::error::Error::Aborted);
+                    }
                 };
                 let header = &meta.headers[part];
-                let mut compressor = chunk_writer.sequential_blocks_compressor(&meta);
-                // Build blocks in parallel batches; indices stay in increasing y.
+                // The blocks' bytes are native-endian, the digest's little-endian.
+                let window = Window {
+                    x: header.own_attributes.layer_position.x() as usize,
+                    y: header.own_attributes.layer_position.y() as usize,
+                    width: header.layer_size.width(),
+                    height: header.layer_size.height(),
+                };
+                // A lossy file's digest is taken from what it decodes to, below.
+                let lossy = !options.compression.is_lossless_for(options.sample_type);
+                let mut hasher = match (&given, cfg!(target_endian = "little") && !lossy) {
+                    (None, true) => Some(BlockDigest::new(geometry, options.sample_type, window)),
+                    _ => None,
+                };
+                // Build and compress blocks in parallel batches, then write
+                // them in increasing y: what is in flight is one batch.
                 let tiles: Vec<_> = header.blocks_increasing_y_order().enumerate().collect();
                 let block_bytes = row_len * header.compression.scan_lines_per_block();
                 // At least a block per thread, so large blocks still build in parallel.
                 let per_batch = (BATCH_BYTES / block_bytes.max(1)).max(rayon::current_num_threads()).clamp(1, 64);
+                let hashing = hasher.is_some();
                 for batch in tiles.chunks(per_batch) {
-                    let chunks: Vec<exr::error::Result<(usize, UncompressedBlock)>> = {
+                    type Built = (usize, Chunk, Option<(usize, usize, Vec<u8>)>);
+                    let chunks: Vec<exr::error::Result<Built>> = {
                         use rayon::prelude::*;
                         batch
                             .par_iter()
                             .map(|(index, tile)| {
                                 let bounds = header.get_absolute_block_pixel_coordinates(tile.location)?;
                                 let block = block(&rows, geometry, &order, header, part, bounds, options.sample_type)?;
-                                Ok((*index, block))
+                                let lines =
+                                    (window.y + block.index.pixel_position.y(), block.index.pixel_size.height());
+                                let (chunk, data) = compress_block(block, &meta.headers, hashing)?;
+                                Ok((*index, chunk, data.map(|d| (lines.0, lines.1, d))))
                             })
                             .collect()
                     };
                     for c in chunks {
-                        let (index, block) = c?;
-                        compressor.compress_block(index, block)?;
+                        let (index, chunk, data) = c?;
+                        if let (Some(h), Some((top, count, data))) = (hasher.as_mut(), data) {
+                            h.push(top, count, data);
+                        }
+                        chunk_writer.write_chunk(index, chunk)?;
                     }
                 }
+                *digest = match (given, hasher.and_then(BlockDigest::finish), &rows) {
+                    (Some(d), _, _) | (None, Some(d), _) => d,
+                    (None, None, _) if lossy => placeholder(),
+                    (None, None, Rows::Whole(m)) => frame_digest(m.as_ref(), options.sample_type),
+                    (None, None, Rows::Spooled { .. }) => unreachable!("a spooled frame comes with its digest"),
+                };
             }
             Ok(())
         })
@@ -525,6 +552,34 @@ fn part_header(
     }
     header.shared_attributes.pixel_aspect = options.version.pixel_aspect(g);
     header
+}
+
+/// One block compressed as its part's header says: ZIP and ZIPS by
+/// [`super::zip`] (libdeflate), every other compression by the `exr` crate;
+/// with the block's bytes when `keep` (for the digest).
+fn compress_block(
+    block: UncompressedBlock,
+    headers: &[Header],
+    keep: bool,
+) -> exr::error::Result<(Chunk, Option<Vec<u8>>)> {
+    let header = &headers[block.index.layer];
+    let zip = matches!(header.compression, exr::compression::Compression::ZIP1 | exr::compression::Compression::ZIP16);
+    // The block's bytes are native-endian; the file's are little-endian.
+    if !zip || cfg!(target_endian = "big") {
+        let data = keep.then(|| block.data.clone());
+        return Ok((block.compress_to_chunk(headers)?, data));
+    }
+    let y = i32::try_from(block.index.pixel_position.y())
+        .map_err(|_| exr::error::Error::Invalid("block position out of range".into()))?
+        + header.own_attributes.layer_position.y();
+    let chunk = Chunk {
+        layer_index: block.index.layer,
+        compressed_block: CompressedBlock::ScanLine(CompressedScanLineBlock {
+            y_coordinate: y,
+            compressed_pixels_le: super::zip::compress(&block.data, super::zip::LEVEL),
+        }),
+    };
+    Ok((chunk, keep.then_some(block.data)))
 }
 
 /// The uncompressed bytes of one block: line by line, channel by channel in
