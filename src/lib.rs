@@ -126,6 +126,7 @@ pub mod geometry;
 pub mod holoflick;
 pub mod layout;
 pub mod math;
+mod memory;
 pub mod mesh;
 mod modulation;
 pub mod output;

@@ -17,7 +17,7 @@ impl Modulation {
     pub fn zeros(geometry: Geometry) -> Result<Self> {
         check_geometry(&geometry)?;
         let n = usize::try_from(geometry.samples_per_frame()).map_err(|_| too_big(&geometry))?;
-        Ok(Modulation { samples: vec![0.0; n], geometry })
+        Ok(Modulation { samples: crate::memory::zeroed_f32(n), geometry })
     }
 
     /// Wrap samples in (channel, hololine, emitter, view) order.
