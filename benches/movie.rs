@@ -10,7 +10,13 @@
 //! for Mark III at each size, drawn, and compared with `convert mesh` of the
 //! same frame.
 //!
-//! `cargo bench --bench movie` (`-- --test`: one quick pass, sizes 8 and 4 only).
+//! Last, a whole movie as a user makes one: the bundled animated glTF
+//! (Khronos' AnimatedMorphCube) converted for Mark III, 30 frames into one
+//! `.holo` file, then assembled into PNG fringes, with the time per frame in
+//! every stage the commands' `--timings` report.
+//!
+//! `cargo bench --bench movie` (`-- --test`: one quick pass, sizes 8 and 4
+//! only, 3 frames of the movie).
 
 use std::path::Path;
 
@@ -137,8 +143,55 @@ fn micropolygon_table(quick: bool) {
     }
 }
 
+/// A 30-frame movie through `convert mesh` and `assemble`, timed by stage.
+fn whole_movie_table(quick: bool) {
+    use holo::assemble::output::{assemble_file, AssembleOptions, FringeFormat};
+    use holo::mesh::convert::{convert_mesh, ConvertOptions, SceneFramesOptions};
+    let frames = if quick { 3 } else { 30 };
+    let layout = holo::layout::Layout::load("mark3").expect("mark3");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/AnimatedMorphCube.glb");
+    let movie = dir.path().join("cube.holo");
+    let options = ConvertOptions {
+        scene: SceneFramesOptions { frames: Some(0..frames), frames_per_second: 30.0, ..SceneFramesOptions::default() },
+        ..ConvertOptions::default()
+    };
+    let started = std::time::Instant::now();
+    let converted = convert_mesh(&cube, &layout.geometry, &movie, &options, &holo::progress::Silent).expect("convert");
+    let converting = started.elapsed();
+    let assemble = AssembleOptions { frames: None, format: FringeFormat::Png, overwrite: false, resample: false };
+    let started = std::time::Instant::now();
+    let assembled = assemble_file(&movie, &layout, &dir.path().join("fringes"), &assemble, &holo::progress::Silent)
+        .expect("assemble");
+    let assembling = started.elapsed();
+    println!(
+        "\nA whole movie: AnimatedMorphCube, {frames} frames at 30/s, Mark III (2×2 sub-rays), .holo {} bytes, \
+         then PNG fringes; ms per frame:\n",
+        converted.written.file_bytes
+    );
+    println!("| command | stage | ms per frame |");
+    println!("|---|---|---:|");
+    let per_frame = |t: std::time::Duration| 1e3 * t.as_secs_f64() / frames as f64;
+    for (command, timings, total) in
+        [("convert mesh", &converted.timings, converting), ("assemble", &assembled.timings, assembling)]
+    {
+        for (stage, t) in timings.stages() {
+            println!("| {command} | {stage} | {:.1} |", per_frame(*t));
+        }
+        println!("| {command} | **whole command** | **{:.1}** |", per_frame(total));
+    }
+    println!(
+        "| both | **end to end** | **{:.1}** ({:.2} frames/s) |",
+        per_frame(converting + assembling),
+        frames as f64 / (converting + assembling).as_secs_f64()
+    );
+    println!();
+}
+
 fn table(_: &mut Criterion) {
-    micropolygon_table(std::env::args().any(|a| a == "--test"));
+    let quick = std::env::args().any(|a| a == "--test");
+    micropolygon_table(quick);
+    whole_movie_table(quick);
 }
 
 criterion_group!(benches, bench, table);

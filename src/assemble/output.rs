@@ -119,6 +119,9 @@ pub struct AssembleReport {
     pub stats: FrameStats,
     /// When the frames were resampled onto the layout: totals over the frames.
     pub resampled: Option<crate::resample::ResampleStats>,
+    /// Where the time went: `read` (decoding the frames), `resample`,
+    /// `assemble`, `encode` (the images written).
+    pub timings: crate::pipeline::Timings,
 }
 
 /// File name of image `image` of frame `index`.
@@ -167,20 +170,23 @@ pub fn assemble_file(
     let mut frames = Vec::new();
     let mut total = FrameStats::default();
     let steps = Steps::begin(progress, "frames", range.len());
+    let mut timings = crate::pipeline::Timings::default();
     for index in range.clone() {
-        let mut m = file.read_frame(index)?;
+        let mut m = timings.time("read", || file.read_frame(index))?;
         if let Some(total) = resampled.as_mut() {
-            let (r, stats) = crate::resample::resample(&m, &layout.geometry)?;
+            let (r, stats) = timings.time("resample", || crate::resample::resample(&m, &layout.geometry))?;
             total.outside += stats.outside;
             total.total += stats.total;
             m = r;
         }
-        let stats = match options.format {
-            FringeFormat::Exr => assembler.assemble_into(&m, &mut floats),
-            _ => assembler.assemble_into(&m, &mut bytes),
-        }
-        .map_err(|e| with_frame(e, input, index))?;
+        let stats = timings
+            .time("assemble", || match options.format {
+                FringeFormat::Exr => assembler.assemble_into(&m, &mut floats),
+                _ => assembler.assemble_into(&m, &mut bytes),
+            })
+            .map_err(|e| with_frame(e, input, index))?;
         let files = names(index);
+        let encoding = std::time::Instant::now();
         for (image, name) in files.iter().enumerate() {
             set.add(name, |out| match options.format {
                 FringeFormat::Png => write_png(out, &bytes, image),
@@ -188,6 +194,7 @@ pub fn assemble_file(
                 FringeFormat::Exr => write_exr(out, &floats, image),
             })?;
         }
+        timings.add("encode", encoding.elapsed());
         total.clipped += stats.clipped;
         total.dark_hololines += stats.dark_hololines;
         frames.push(FringeFrame { index, source_digest: file.digest(index), files, clipped: stats.clipped });
@@ -203,11 +210,13 @@ pub fn assemble_file(
         frames: frames.clone(),
         files: vec![],
     };
+    let committing = std::time::Instant::now();
     let files = set.commit(options.overwrite, |listed| {
         sidecar.files = listed.to_vec();
         Ok(serde_json::to_string_pretty(&sidecar).expect("plain data").into_bytes())
     })?;
-    Ok(AssembleReport { files, frames, stats: total, resampled })
+    timings.add("encode", committing.elapsed());
+    Ok(AssembleReport { files, frames, stats: total, resampled, timings })
 }
 
 fn with_frame(e: Error, input: &Path, frame: usize) -> Error {

@@ -44,6 +44,9 @@ pub struct CameraConvertReport {
     pub resample: CameraReport,
     /// The writer's report.
     pub written: WriteReport,
+    /// Where the time went (`decode`: the pictures; `render`: resampling;
+    /// `write`).
+    pub timings: crate::pipeline::Timings,
 }
 
 /// Load `rig`'s pictures with `load` (one camera's linear picture and
@@ -73,6 +76,7 @@ fn convert(
 ) -> Result<CameraConvertReport> {
     rig.check()?;
     check_outputs(output, options, &[])?;
+    let decoding = std::time::Instant::now();
     let loaded = Steps::begin(progress, "pictures", rig.cameras.len());
     let views: Vec<CameraView> = rig
         .cameras
@@ -92,6 +96,7 @@ fn convert(
             ));
         }
     }
+    let decoding = decoding.elapsed();
     let mut resample_options = options.resample.clone();
     resample_options.want_mask |= options.unseen_png.is_some();
     let resampler = RigResampler::new(rig, &views, geometry, &resample_options)?;
@@ -116,6 +121,12 @@ fn convert(
         cameras: rig.cameras.len(),
         resample: report,
         written: run.written,
+        timings: {
+            let mut t = crate::pipeline::Timings::default();
+            t.add("decode", decoding);
+            t.merge(&run.timings);
+            t
+        },
     })
 }
 

@@ -83,6 +83,8 @@ pub struct HoloFlickConvertReport {
     pub warnings: Vec<String>,
     /// The writer's report.
     pub written: WriteReport,
+    /// Where the time went (`open`, `place`, `decode`, `render`, `write`).
+    pub timings: pipeline::Timings,
 }
 
 /// The box of the display's viewing zone: every point of the viewer line a
@@ -124,6 +126,7 @@ pub fn convert_holoflick(
         work: source.state.work,
         warnings: run.warnings,
         written: run.written,
+        timings: run.timings,
     })
 }
 
@@ -145,6 +148,8 @@ pub struct HoloFlickSource<'a> {
     frames: Range<usize>,
     /// Frames whose couch does not hold the display's viewing zone.
     outside: Vec<usize>,
+    /// Time spent reading frames and decoding their objects.
+    decoding: std::time::Duration,
 }
 
 impl<'a> HoloFlickSource<'a> {
@@ -162,6 +167,7 @@ impl<'a> HoloFlickSource<'a> {
             state: State { cache: HashMap::new(), work: HoloFlickWork::default(), placed: None },
             frames: 0..0,
             outside: Vec::new(),
+            decoding: std::time::Duration::ZERO,
         })
     }
 }
@@ -220,7 +226,14 @@ impl Source for HoloFlickSource<'_> {
         Some(self.state.placed.as_ref().map_or(crate::math::IDENTITY4, |p| p.matrix))
     }
 
+    fn stage_times(&self) -> pipeline::Timings {
+        let mut t = pipeline::Timings::default();
+        t.add("decode", self.decoding);
+        t
+    }
+
     fn render(&mut self, number: usize, band: &mut Band, progress: &dyn Progress, _: &mut Warnings) -> Result<()> {
+        let decoding = std::time::Instant::now();
         let frame = self.reader.read_frame(number as u32)?;
         let (zone_lo, zone_hi) = viewing_zone(self.geometry);
         let holds = couch_holds(&frame.frame.couch, zone_lo, zone_hi);
@@ -234,6 +247,7 @@ impl Source for HoloFlickSource<'_> {
                 }
                 other => other,
             })?;
+        self.decoding += decoding.elapsed();
         // The frame's own lights, exactly: its colours are pre-lit, so a
         // frame without lights shows them as they are.
         let options = RenderOptions {

@@ -83,6 +83,8 @@ pub struct ConvertReport {
     pub warnings: Vec<String>,
     /// The writer's report.
     pub written: WriteReport,
+    /// Where the time went (`open`, `place`, `decode`, `render`, `write`).
+    pub timings: pipeline::Timings,
 }
 
 /// Convert `input` into `output` for `geometry`: a [`MeshSource`] through
@@ -110,6 +112,7 @@ pub fn convert_mesh(
         stats,
         warnings: run.warnings,
         written: run.written,
+        timings: run.timings,
     })
 }
 
@@ -161,6 +164,8 @@ pub struct SceneFrames<'a, S> {
     first: Option<(usize, Scene)>,
     first_number: usize,
     placed: Option<Placed>,
+    /// Time spent reading and posing scenes inside [`Source::render`].
+    decoding: std::time::Duration,
     /// What is made of each scene.
     pub stage: S,
 }
@@ -183,6 +188,7 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
             first: None,
             first_number: 0,
             placed: None,
+            decoding: std::time::Duration::ZERO,
             stage,
         })
     }
@@ -261,6 +267,12 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
         }
     }
 
+    fn stage_times(&self) -> pipeline::Timings {
+        let mut t = pipeline::Timings::default();
+        t.add("decode", self.decoding);
+        t
+    }
+
     fn render(
         &mut self,
         number: usize,
@@ -268,6 +280,7 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
         progress: &dyn Progress,
         warnings: &mut Warnings,
     ) -> Result<()> {
+        let decoding = std::time::Instant::now();
         let scene = match self.first.take() {
             // Its warnings were taken at placement.
             Some((n, scene)) if n == number => scene,
@@ -282,6 +295,7 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
                 scene
             }
         };
+        self.decoding += decoding.elapsed();
         self.stage.make(number, number - self.first_number, scene, frame, progress)
     }
 }

@@ -41,6 +41,9 @@ pub struct AssembleArgs {
     /// Replace existing files.
     #[arg(long)]
     force: bool,
+    /// Print where the time went: seconds in each stage (read, resample, assemble, encode), and per frame.
+    #[arg(long)]
+    timings: bool,
 }
 
 pub fn run(a: AssembleArgs) -> Outcome {
@@ -65,6 +68,9 @@ pub fn run(a: AssembleArgs) -> Outcome {
             r.outside,
             r.total
         );
+    }
+    if a.timings {
+        say!("timings: {}", report.timings.line(report.frames.len()));
     }
     if report.stats.clipped > 0 {
         warn(format_args!(

@@ -53,6 +53,18 @@ pub struct Target {
     layout: String,
     #[command(flatten)]
     write: WriteArgs,
+    /// Print where the time went: seconds in each stage (open, place, decode, render, write), and per frame.
+    #[arg(long)]
+    timings: bool,
+}
+
+impl Target {
+    /// The timings line, when asked for.
+    fn say_timings(&self, timings: &holo::pipeline::Timings, frames: usize) {
+        if self.timings {
+            say!("timings: {}", timings.line(frames));
+        }
+    }
 }
 
 /// Sub-rays per sample, as `--supersample` and `--hololine-supersample` give them.
@@ -107,6 +119,7 @@ fn holoflick(a: HoloflickArgs) -> Outcome {
         w.render.segments,
         w.render.shaded
     );
+    a.target.say_timings(&report.timings, report.frames.len());
     Ok(ExitCode::SUCCESS)
 }
 
@@ -202,6 +215,7 @@ fn mesh(a: MeshArgs) -> Outcome {
         report.stats.segments,
         report.stats.shaded
     );
+    a.target.say_timings(&report.timings, report.frames.len());
     Ok(ExitCode::SUCCESS)
 }
 
@@ -343,6 +357,7 @@ fn cameras(a: CamerasArgs) -> Outcome {
     let (input, output, seconds) = (a.input.display(), report.path.display(), started.elapsed().as_secs_f64());
     say!("converted {input} ({}) into {output} in {seconds:.2} s", r.surface);
     say!("placement: {}", r.placement);
+    a.target.say_timings(&report.timings, 1);
     let percent = |n: u64| 100.0 * n as f64 / r.rays.max(1) as f64;
     let inside = r.unseen - r.unseen_outside_frame;
     say!(

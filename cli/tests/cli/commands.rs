@@ -832,3 +832,40 @@ fn convert_like_makes_the_recorded_conversion_again() {
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(text(&o).contains("ramp.holo: the file does not record the conversion"), "{}", text(&o));
 }
+
+#[test]
+fn timings_say_where_the_time_went_stage_by_stage() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    small_profile(d, 4);
+    let cube = super::fixture("mesh/AnimatedMorphCube.glb");
+    let o = ok(holo(
+        &[
+            "convert",
+            "mesh",
+            cube.to_str().unwrap(),
+            "--layout",
+            "small.toml",
+            "--frames",
+            "0..3",
+            "-o",
+            "c.holo",
+            "--timings",
+        ],
+        d,
+    ));
+    let said = text(&o);
+    let line = said.lines().find(|l| l.starts_with("timings: ")).unwrap_or_else(|| panic!("{said}"));
+    for stage in ["open ", "place ", "decode ", "render ", "write ", "per frame (3)"] {
+        assert!(line.contains(stage), "{stage}: {line}");
+    }
+    let o = ok(holo(&["assemble", "c.holo", "--layout", "small.toml", "-o", "fringes", "--timings"], d));
+    let said = text(&o);
+    let line = said.lines().find(|l| l.starts_with("timings: ")).unwrap_or_else(|| panic!("{said}"));
+    for stage in ["read ", "assemble ", "encode "] {
+        assert!(line.contains(stage), "{stage}: {line}");
+    }
+    // Not asked for, not said.
+    let o = ok(holo(&["assemble", "c.holo", "--layout", "small.toml", "-o", "f2"], d));
+    assert!(!text(&o).contains("timings"));
+}
