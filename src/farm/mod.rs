@@ -195,9 +195,10 @@ impl Manifest {
         crate::output::write_bytes_beside(&self.path(), text.as_bytes(), true)
     }
 
-    /// The newest submission that has frame `n`, and its task.
+    /// The newest submission that has frame `n`, and its task (one whose
+    /// `sbatch` never answered, its job id empty, ran nothing).
     pub fn last_task_of(&self, n: usize) -> Option<(&Submission, usize)> {
-        self.submissions.iter().rev().find_map(|s| s.task_of(n).map(|t| (s, t)))
+        self.submissions.iter().rev().filter(|s| !s.job_id.is_empty()).find_map(|s| s.task_of(n).map(|t| (s, t)))
     }
 }
 
