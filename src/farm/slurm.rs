@@ -86,35 +86,30 @@ fn refused(tool: &str, stderr: &[u8]) -> Error {
 /// accounting. Tasks neither knows are absent.
 pub fn task_states(job_id: &str) -> BTreeMap<usize, String> {
     let mut states = BTreeMap::new();
-    if let Ok(sacct) = find("sacct") {
-        let out = Command::new(sacct)
-            .args(["--noheader", "--parsable2", "--allocations", "--format=JobID,State", "--jobs", job_id])
-            .output();
-        if let Some(out) = out.ok().filter(|o| o.status.success()) {
-            for line in String::from_utf8_lossy(&out.stdout).lines() {
-                if let Some((id, state)) = line.split_once('|') {
-                    if let Some(task) = array_index(id, job_id) {
-                        states.insert(task, first_word(state));
-                    }
-                }
-            }
-        }
-    }
-    if let Ok(squeue) = find("squeue") {
-        let out = Command::new(squeue)
-            .args(["--noheader", "--array", "--states=all", "--format=%i %T", "--jobs", job_id])
-            .output();
-        if let Some(out) = out.ok().filter(|o| o.status.success()) {
-            for line in String::from_utf8_lossy(&out.stdout).lines() {
-                if let Some((id, state)) = line.trim().split_once(' ') {
-                    if let Some(task) = array_index(id, job_id) {
-                        states.insert(task, first_word(state));
-                    }
-                }
+    let sacct = ["--noheader", "--parsable2", "--allocations", "--format=JobID,State", "--jobs", job_id];
+    let squeue = ["--noheader", "--array", "--states=all", "--format=%i|%T", "--jobs", job_id];
+    // squeue second: what the scheduler holds now is the newer word.
+    for (tool, args) in [("sacct", sacct), ("squeue", squeue)] {
+        for (id, state) in lines_of(tool, &args) {
+            if let Some(task) = array_index(&id, job_id) {
+                states.insert(task, first_word(&state));
             }
         }
     }
     states
+}
+
+/// `ID|STATE` lines a Slurm command prints (none when it is missing or fails:
+/// a cluster without accounting refuses `sacct`).
+fn lines_of(tool: &str, args: &[&str]) -> Vec<(String, String)> {
+    let Ok(program) = find(tool) else { return Vec::new() };
+    match Command::new(program).args(args).output() {
+        Ok(out) if out.status.success() => String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .filter_map(|l| l.trim().split_once('|').map(|(a, b)| (a.to_string(), b.to_string())))
+            .collect(),
+        _ => Vec::new(),
+    }
 }
 
 /// Task `i` of `123_i`, when the id is of job `job_id`.
