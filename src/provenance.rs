@@ -116,6 +116,9 @@ impl Conversion {
                 r.frames(&o.frames);
                 r.supersample_and_engine(&o.render);
                 r.flag(n::FIT, o.fit);
+                if let Some(m) = &o.matrix {
+                    r.put(n::MATRIX, attributes::matrix_attribute(m));
+                }
             }
         }
         ConversionRecord(r.0)
@@ -153,6 +156,7 @@ impl Conversion {
                     render: RenderOptions { supersample, engine, ..RenderOptions::default() },
                     write,
                     fit: r.flag(n::FIT)?,
+                    matrix: r.matrix()?,
                 })
             }
             other => {
@@ -367,6 +371,11 @@ impl Reader<'_, '_> {
         })
     }
 
+    /// `holo.convert.matrix`, when recorded.
+    fn matrix(&self) -> Checked<Option<crate::math::Mat4>> {
+        Ok(self.0.optional(n::MATRIX, Attributes::m44d)?.map(|m| attributes::matrix_from_m44d(&m)))
+    }
+
     fn frames(&self) -> Checked<Option<Range<usize>>> {
         let Some((start, end)) = self.0.optional(n::FRAMES, Attributes::v2i)? else {
             return Ok(None);
@@ -387,7 +396,7 @@ impl Reader<'_, '_> {
                 rotate_deg: self.0.v3d(n::ROTATE_DEG)?,
                 scale: self.optional_positive(n::SCALE)?,
                 translate_m: self.0.v3d(n::TRANSLATE)?,
-                matrix: self.0.optional(n::MATRIX, Attributes::m44d)?.map(|m| attributes::matrix_from_m44d(&m)),
+                matrix: self.matrix()?,
             },
             frames: self.frames()?,
             frames_per_second: self.positive(n::FRAMES_PER_SECOND)?,

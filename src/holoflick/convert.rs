@@ -49,6 +49,11 @@ pub struct HoloFlickConvertOptions {
     pub write: WriteOptions,
     /// Fit the content to the display even when it was made for it.
     pub fit: bool,
+    /// A placement given (world to display metres, row-major, points as
+    /// columns) instead of one decided on the first frame converted: what a
+    /// farm hands every chunk of a movie so each is placed as the whole
+    /// movie was. The content is then drawn through it, as fitted content is.
+    pub matrix: Option<crate::math::Mat4>,
 }
 
 /// Work done and skipped, over all frames converted.
@@ -139,6 +144,8 @@ pub struct HoloFlickSource<'a> {
     geometry: &'a Geometry,
     render: RenderOptions,
     fit: bool,
+    /// The placement given, if any.
+    matrix: Option<crate::math::Mat4>,
     /// The frames asked for (`None`: all), as the conversion records them.
     frames_asked: Option<Range<usize>>,
     /// Drawn as stored: made for the display (decided on the first frame).
@@ -162,6 +169,7 @@ impl<'a> HoloFlickSource<'a> {
             geometry,
             render: options.render.clone(),
             fit: options.fit,
+            matrix: options.matrix,
             frames_asked: options.frames.clone(),
             made_for_display: true,
             state: State { cache: HashMap::new(), work: HoloFlickWork::default(), placed: None },
@@ -191,14 +199,17 @@ impl Source for HoloFlickSource<'_> {
         self.frames = frames.clone();
         let (zone_lo, zone_hi) = viewing_zone(self.geometry);
         let frame = self.reader.read_frame(frames.start as u32)?;
-        self.made_for_display = couch_holds(&frame.frame.couch, zone_lo, zone_hi) && !self.fit;
+        self.made_for_display = couch_holds(&frame.frame.couch, zone_lo, zone_hi) && !self.fit && self.matrix.is_none();
         if !self.made_for_display {
             let (mut scene, _) = self.state.scene(&frame, None, self.geometry, false)?;
-            let placed = place(&mut scene, self.geometry, &Placement::default())?;
-            warnings.add(format!(
-                "{}: the viewer's couch does not hold this display's viewing zone: the content is fitted to the display ({placed})",
-                self.input.display(),
-            ));
+            let placement = Placement { matrix: self.matrix, ..Placement::default() };
+            let placed = place(&mut scene, self.geometry, &placement)?;
+            if self.matrix.is_none() {
+                warnings.add(format!(
+                    "{}: the viewer's couch does not hold this display's viewing zone: the content is fitted to the display ({placed})",
+                    self.input.display(),
+                ));
+            }
             self.state.placed = Some(placed);
             self.state.work = HoloFlickWork::default();
             self.state.cache.clear();
@@ -216,6 +227,7 @@ impl Source for HoloFlickSource<'_> {
             render: self.render.clone(),
             write: WriteOptions::default(),
             fit: self.fit,
+            matrix: self.matrix,
         };
         Conversion::of_input(&self.input, ConverterOptions::HoloFlick(options)).map(Some)
     }

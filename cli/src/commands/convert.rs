@@ -92,6 +92,10 @@ pub struct HoloflickArgs {
     /// Fit the content to the display even when it was made for it.
     #[arg(long)]
     fit: bool,
+    /// A row-major 4x4 matrix (16 numbers, world to display metres) placing the content instead of
+    /// deciding on the first frame converted (what holo farm gives every chunk).
+    #[arg(long, value_parser = args::matrix(), allow_hyphen_values = true)]
+    matrix: Option<[[f64; 4]; 4]>,
 }
 
 fn holoflick(a: HoloflickArgs) -> Outcome {
@@ -130,6 +134,7 @@ fn holoflick_options(a: &HoloflickArgs) -> HoloFlickConvertOptions {
         render: RenderOptions { supersample: supersample(a.supersample, a.hololine_supersample), ..Default::default() },
         write: a.target.write.options(String::new()),
         fit: a.fit,
+        matrix: a.matrix,
     }
 }
 
@@ -431,21 +436,14 @@ impl FrameJob for HoloflickArgs {
         let options = holoflick_options(self);
         let mut source = HoloFlickSource::open(&self.file, &g, &options)?;
         let (frames, placement) = decide(&mut source, self.frames.clone())?;
-        // Drawn as stored, each chunk decides alike; a fit is made on a
-        // chunk's first frame, which would differ from chunk to chunk.
-        if placement.is_some_and(|m| m != holo::math::IDENTITY4) {
-            return Err(Failure(format!(
-                "{}: this HoloFlick is fitted to the display (its viewer's couch does not hold the display's \
-                 viewing zone, or fitting was asked), and a fit cannot yet be shared by the chunks of a farm; \
-                 convert it on one machine",
-                self.file.display()
-            )));
-        }
-        Ok(Decided { frames, placement: None })
+        // Drawn as stored (the identity), every chunk decides alike; a fit
+        // made on the movie's first frame is handed to every chunk.
+        Ok(Decided { frames, placement: placement.filter(|m| *m != holo::math::IDENTITY4) })
     }
 
-    fn for_frame(&mut self, n: usize, output: PathBuf, _: Option<Mat4>) {
+    fn for_frame(&mut self, n: usize, output: PathBuf, placement: Option<Mat4>) {
         self.frames = Some(n..n + 1);
+        self.matrix = placement.or(self.matrix);
         self.target.one_frame(output);
     }
 }

@@ -274,6 +274,9 @@ fn holoflick(a: &mut Line, o: &HoloFlickConvertOptions) {
     if o.fit {
         a.push(["--fit"]);
     }
+    if let Some(m) = &o.matrix {
+        a.flag("--matrix", m.iter().flatten().map(f64::to_string).collect::<Vec<_>>().join(","));
+    }
     if o.render.engine == Engine::Reference {
         a.unsaid.push("the reference engine".into());
     }
