@@ -144,6 +144,8 @@ fn submit(a: SubmitArgs) -> Outcome {
             }
             Manifest { holo, ..m }
         }
+        // A manifest that cannot be read (damaged, or of a newer holo) is said as it is.
+        Err(e) if state.join(holo::farm::MANIFEST).exists() => return Err(e.into()),
         Err(_) if state.exists() => {
             return Err(Failure(format!(
                 "{} exists but holds no farm manifest; not overwritten (remove it or give another output)",

@@ -259,4 +259,11 @@ fn a_bad_submission_fails_in_one_sentence_before_anything_is_submitted() {
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o).contains("sbatch refused the job: invalid partition specified: nope"), "{}", text(&o));
     assert!(!d.join("shot.farm").exists(), "the refused farm's state was left behind");
+    // A damaged manifest is said as it is, and left as it is.
+    std::fs::create_dir(d.join("shot.farm")).unwrap();
+    std::fs::write(d.join("shot.farm/manifest.json"), "{").unwrap();
+    let o = with_path(&words, &bin);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("manifest.json: not a holo farm manifest"), "{}", text(&o));
+    assert_eq!(std::fs::read_to_string(d.join("shot.farm/manifest.json")).unwrap(), "{");
 }
