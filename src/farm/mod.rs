@@ -227,6 +227,60 @@ impl FrameState {
     }
 }
 
+/// What a frame file was when it was last read whole and found good: its
+/// size, modification time and digest. Kept in the state folder
+/// (`verified/NNNN.json`), so that [`checked_frame_state`] need not read a
+/// file again that has not changed since.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+struct Verified {
+    bytes: u64,
+    modified_ns: u128,
+    digest: Option<String>,
+}
+
+impl Verified {
+    fn of(path: &Path, digest: Option<String>) -> Option<Verified> {
+        let meta = std::fs::metadata(path).ok()?;
+        let modified_ns = meta.modified().ok()?.duration_since(std::time::UNIX_EPOCH).ok()?.as_nanos();
+        Some(Verified { bytes: meta.len(), modified_ns, digest })
+    }
+}
+
+/// [`frame_state`], except that a frame file (of a sequence) read whole and
+/// found good before, whose size and modification time have not changed
+/// since, is taken as done without reading it again; `verify` reads every
+/// frame whatever its record says. A file damaged by a write changes its
+/// time; damage that leaves both alone (a failing disk) needs `verify`.
+/// Fringe sets are always checked whole.
+pub fn checked_frame_state(output: &FarmOutput, n: usize, verify: bool) -> FrameState {
+    let FarmOutput::Sequence(_) = output else { return frame_state(output, n) };
+    let path = output.frame_path(n);
+    let record = output.state_folder().join("verified").join(format!("{n:04}.json"));
+    if !verify {
+        let known: Option<Verified> = std::fs::read_to_string(&record).ok().and_then(|t| serde_json::from_str(&t).ok());
+        if let (Some(known), Some(now)) = (known, Verified::of(&path, None)) {
+            if known.bytes == now.bytes && known.modified_ns == now.modified_ns {
+                return FrameState::Done { digest: known.digest };
+            }
+        }
+    }
+    let state = frame_state(output, n);
+    // Best effort: without the record the next look reads the file again.
+    match (&state, Verified::of(&path, None)) {
+        (FrameState::Done { digest }, Some(v)) => {
+            let v = Verified { digest: digest.clone(), ..v };
+            let _ = std::fs::create_dir_all(record.parent().unwrap_or(Path::new(".")));
+            let text = serde_json::to_string(&v).expect("plain data");
+            let _ = crate::output::write_bytes_beside(&record, text.as_bytes(), true);
+        }
+        // Found not good: no record may vouch for it any more.
+        _ => {
+            let _ = std::fs::remove_file(&record);
+        }
+    }
+    state
+}
+
 /// The state of frame `n` of `output`: a member read whole with its digest
 /// checked, or a fringe set with every image checked.
 pub fn frame_state(output: &FarmOutput, n: usize) -> FrameState {

@@ -85,3 +85,38 @@ fn a_renamed_or_foreign_member_is_refused_naming_it() {
     let e = Frames::open(dir.path().join("none.holo")).unwrap_err().to_string();
     assert!(e.contains("none.holo"), "{e}");
 }
+
+/// A farm's frame, once read whole and found good, is not read again while
+/// its size and time stay; damage that changes its time is found at once,
+/// damage that does not only when every frame is read (`verify`).
+#[test]
+fn a_frame_found_good_is_trusted_until_it_changes() {
+    use holo::farm::{checked_frame_state, FarmOutput, FrameState};
+    let dir = tempfile::tempdir().unwrap();
+    let name = dir.path().join("shot.holo");
+    member(&name, 4, &random(geometry(5), 7));
+    let output = FarmOutput::Sequence(name.clone());
+    let path = member_path(&name, 4);
+    assert!(checked_frame_state(&output, 4, false).is_done());
+    assert!(output.state_folder().join("verified/0004.json").exists());
+    assert_eq!(checked_frame_state(&output, 3, false), FrameState::Missing);
+
+    // Flip a sample byte near the end, and put the time back as it was.
+    let when = std::fs::metadata(&path).unwrap().modified().unwrap();
+    let mut bytes = std::fs::read(&path).unwrap();
+    let at = bytes.len() - 9;
+    bytes[at] ^= 0x40;
+    std::fs::write(&path, &bytes).unwrap();
+    let file = std::fs::OpenOptions::new().write(true).open(&path).unwrap();
+    file.set_modified(when).unwrap();
+    drop(file);
+    assert!(checked_frame_state(&output, 4, false).is_done(), "unchanged size and time: trusted");
+    assert!(matches!(checked_frame_state(&output, 4, true), FrameState::Damaged { .. }), "read whole: found");
+    assert!(matches!(checked_frame_state(&output, 4, false), FrameState::Damaged { .. }), "and remembered");
+
+    // Its time moves on (any write does): read again, found.
+    let file = std::fs::OpenOptions::new().write(true).open(&path).unwrap();
+    file.set_modified(when + std::time::Duration::from_secs(1)).unwrap();
+    drop(file);
+    assert!(matches!(checked_frame_state(&output, 4, false), FrameState::Damaged { .. }));
+}

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Subcommand};
 use holo::farm::slurm::{self, ArrayJob};
-use holo::farm::{frame_state, FarmOutput, FrameState, Manifest, Submission, MANIFEST_VERSION};
+use holo::farm::{checked_frame_state, FarmOutput, FrameState, Manifest, Submission, MANIFEST_VERSION};
 use holo::math::Mat4;
 use serde::Serialize;
 
@@ -181,7 +181,7 @@ fn submit(a: SubmitArgs) -> Outcome {
     let mut todo = Vec::new();
     let mut active = 0;
     for n in manifest.frames.clone() {
-        if frame_state(&output, n).is_done() {
+        if checked_frame_state(&output, n, false).is_done() {
             continue;
         }
         if task_state(&manifest, &mut states, n).and_then(|(_, _, s)| s).is_some_and(|s| slurm::is_active(&s)) {
@@ -290,6 +290,9 @@ pub struct StatusArgs {
     /// Print JSON: one entry per frame.
     #[arg(long)]
     json: bool,
+    /// Read every frame whole, even one unchanged (size and time) since it was last read and found good.
+    #[arg(long)]
+    verify: bool,
 }
 
 /// One frame in `holo farm status --json`.
@@ -311,7 +314,7 @@ fn status(a: StatusArgs) -> Outcome {
         .frames
         .clone()
         .map(|n| {
-            let state = frame_state(&manifest.output, n);
+            let state = checked_frame_state(&manifest.output, n, a.verify);
             let (job, task, slurm) = match task_state(&manifest, &mut cache, n) {
                 Some((j, t, s)) => (Some(j), Some(t), s),
                 None => (None, None, None),
@@ -403,7 +406,9 @@ pub struct GatherArgs {
 fn gather(a: GatherArgs) -> Outcome {
     let manifest = Manifest::find(&a.output)?;
     let frames = manifest.frames.clone();
-    let not_done: Vec<usize> = frames.clone().filter(|&n| !frame_state(&manifest.output, n).is_done()).collect();
+    // Gathering is the last look before the movie is used: every frame is read.
+    let not_done: Vec<usize> =
+        frames.clone().filter(|&n| !checked_frame_state(&manifest.output, n, true).is_done()).collect();
     if let Some(&first) = not_done.first() {
         return Err(Failure(format!(
             "{}: {} of {} frames are not done (the first: frame {first}, {}); `holo farm status` lists them, \
@@ -465,7 +470,7 @@ fn task(a: TaskArgs) -> Outcome {
     let mut failed = Vec::new();
     for n in frames {
         let output = manifest.output.frame_path(n);
-        match frame_state(&manifest.output, n) {
+        match checked_frame_state(&manifest.output, n, false) {
             FrameState::Done { .. } => {
                 say!("frame {n}: done already ({})", output.display());
                 continue;
