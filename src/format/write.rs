@@ -455,12 +455,23 @@ fn check_samples(
 /// The first sample of (channel, hololine, emitter, view)-ordered `samples`
 /// over `hololines` that f16 cannot hold.
 fn first_f16_overflow(g: &Geometry, samples: &[f32], hololines: std::ops::Range<usize>) -> Option<BadSample> {
-    let i = samples.iter().position(|x| half::f16::from_f32(*x).is_infinite())?;
+    let i = samples.iter().position(|&x| overflows_f16(x))?;
     let (vc, lines) = (g.views.count, hololines.len());
     let (v, e, j, c) =
         (i % vc, (i / vc) % g.emitters, hololines.start + (i / vc / g.emitters) % lines, i / vc / g.emitters / lines);
     Some((c, j, e, v, samples[i], "too large for f16 (max 65504); write f32"))
 }
+
+/// Whether `x` becomes infinite as an f16: its magnitude at least 65520, the
+/// midpoint between the largest half (65504) and 2^16, which rounds to even,
+/// away from 65504. A comparison the compiler vectorises, where converting
+/// every sample to test it was a serial pass of its own before each write.
+fn overflows_f16(x: f32) -> bool {
+    x.abs() >= F16_OVERFLOW
+}
+
+/// The smallest magnitude that rounds to infinity as an f16.
+const F16_OVERFLOW: f32 = 65520.0;
 
 fn placeholder() -> String {
     format!("{DIGEST_PREFIX}{}", "0".repeat(64))
@@ -673,4 +684,28 @@ fn canonicalize_headers(path: &Path, digests: &[String]) -> Result<()> {
     file.seek(SeekFrom::Start(0)).map_err(|e| Error::io(path, e))?;
     file.write_all(&rewritten).map_err(|e| Error::io(path, e))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_f16_overflow_test_is_the_conversion_s() {
+        let mut x = 0x1234_5678u32;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x
+        };
+        let edges = [65504.0f32, 65519.99, 65520.0, 65520.01, 65535.0, 65536.0, 1e9, f32::MAX];
+        let near: Vec<f32> = (0..20_000).map(|_| 65400.0 + (next() % 300_000) as f32 / 1000.0).collect();
+        let wide: Vec<f32> = (0..20_000).map(|_| f32::from_bits(next() & 0x7f7f_ffff)).collect();
+        for v in edges.into_iter().chain(near).chain(wide) {
+            for x in [v, -v] {
+                assert_eq!(overflows_f16(x), half::f16::from_f32(x).is_infinite(), "{x}");
+            }
+        }
+    }
 }
