@@ -349,12 +349,7 @@ pub fn check_sequence(name: &Path, frames: Range<usize>) -> Result<Vec<Option<St
     let mut digests = Vec::new();
     let mut first: Option<(PathBuf, Option<Mat4>, Option<crate::provenance::Conversion>)> = None;
     for n in frames {
-        let file = sequence.member(n).ok_or_else(|| {
-            Error::io(
-                member_path(name, n),
-                std::io::Error::new(std::io::ErrorKind::NotFound, "missing from its numbered sequence"),
-            )
-        })?;
+        let file = sequence.member(n)?;
         file.read_frame(0)?;
         let info = file.info();
         let conversion = info.conversion()?.map(|c| c.with_frames(None));
@@ -393,17 +388,7 @@ pub fn join_sequence(
     overwrite: bool,
 ) -> Result<crate::format::WriteReport> {
     let sequence = crate::format::Sequence::open(name)?;
-    let members: Vec<&HoloFile> = frames
-        .clone()
-        .map(|n| {
-            sequence.member(n).ok_or_else(|| {
-                Error::io(
-                    member_path(name, n),
-                    std::io::Error::new(std::io::ErrorKind::NotFound, "missing from its numbered sequence"),
-                )
-            })
-        })
-        .collect::<Result<_>>()?;
+    let members: Vec<&HoloFile> = frames.clone().map(|n| sequence.member(n)).collect::<Result<_>>()?;
     let inputs: Vec<&Path> = members.iter().map(|m| m.path().as_path()).collect();
     crate::output::check_output(output, &inputs, overwrite)?;
     let info = members[0].info();

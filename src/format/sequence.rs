@@ -134,9 +134,15 @@ impl Sequence {
         self.members.keys().copied()
     }
 
-    /// The member holding frame `number`.
-    pub fn member(&self, number: usize) -> Option<&HoloFile> {
-        self.members.get(&number)
+    /// The member holding frame `number`, or the error naming the file
+    /// that is missing.
+    pub fn member(&self, number: usize) -> Result<&HoloFile> {
+        self.members.get(&number).ok_or_else(|| {
+            Error::io(
+                member_path(&self.name, number),
+                std::io::Error::new(std::io::ErrorKind::NotFound, "missing from its numbered sequence"),
+            )
+        })
     }
 }
 
@@ -190,19 +196,13 @@ impl Frames {
 
     /// The file holding frame `n` and the frame's index in it.
     fn locate(&self, n: usize) -> Result<(&HoloFile, usize)> {
-        let missing = || {
-            let frames = self.numbers();
-            Error::NoFrame { path: self.path().to_path_buf(), asked: n..n + 1, frames: frames.len() }
-        };
         match self {
-            Frames::File(f) => (n < f.info().frames.len()).then_some((&**f, n)).ok_or_else(missing),
-            Frames::Sequence(s) => match s.member(n) {
-                Some(f) => Ok((f, 0)),
-                None => Err(Error::io(
-                    member_path(s.name(), n),
-                    std::io::Error::new(std::io::ErrorKind::NotFound, "missing from its numbered sequence"),
-                )),
-            },
+            Frames::File(f) => {
+                let frames = f.info().frames.len();
+                let missing = || Error::NoFrame { path: f.path().clone(), asked: n..n + 1, frames };
+                (n < frames).then_some((&**f, n)).ok_or_else(missing)
+            }
+            Frames::Sequence(s) => s.member(n).map(|f| (f, 0)),
         }
     }
 
