@@ -21,6 +21,16 @@
 //! hidden according to their own depth map) drop out and the others'
 //! weights are renormalised. Rays outside the cameras' surface hull, or seen
 //! by none, are zero and counted: nothing is invented.
+//!
+//! The fast path walks a hololine emitter by emitter, every view of an
+//! emitter in turn, and uses what stays the same. Without depth maps and with
+//! the placement's centre on the focus plane (the default), a ray's focus
+//! point is its origin whatever its direction, so the views of an emitter
+//! share one lookup per camera ([`SharedFocus`]). At one view the ray's
+//! point on the camera surface moves evenly along the hololine, so each view
+//! keeps the triangle (or nearest camera) of its last ray and walks only
+//! when a ray leaves it. `CameraOptions::reference` turns all of this off:
+//! every ray on its own, located by brute force; tests compare the two.
 
 use std::borrow::Cow;
 
@@ -324,17 +334,65 @@ struct Scratch {
     weights: Vec<(FixedVertexHandle, f64)>,
     /// The vertex to start the next walk from.
     hint: usize,
+    /// The triangle each view's last ray fell in. Along a hololine at one
+    /// view a ray's point on the camera surface moves by a small, constant
+    /// step from emitter to emitter, so it usually stays in its triangle:
+    /// the weights are stepped (evaluated from the triangle's affine
+    /// barycentric functions) and spade's walk runs only when a ray leaves
+    /// the triangle.
+    triangles: Vec<Option<Triangle>>,
+    /// The worker's copy of the cameras' triangulation ([`Blend::NaturalNeighbour`]).
+    triangulation: Option<DelaunayTriangulation<Point2<f64>>>,
+    /// The vertex nearest each view's last ray ([`Blend::Nearest`]).
+    nearest: Vec<usize>,
+    /// Which of `triangles` and `nearest` the next ray uses (its view).
+    view: usize,
+}
+
+impl Scratch {
+    /// Scratch for rays of `views` views.
+    fn new(views: usize) -> Scratch {
+        Scratch { triangles: vec![None; views], nearest: vec![0; views], ..Scratch::default() }
+    }
+}
+
+/// A Delaunay triangle with its barycentric coordinates as affine functions
+/// of the surface point: `λ_k(q) = a_k + b_k q_x + c_k q_y`.
+#[derive(Clone, Copy, Debug)]
+struct Triangle {
+    cameras: [usize; 3],
+    affine: [[f64; 3]; 3],
+}
+
+impl Triangle {
+    /// The triangle of vertices `p` (counter-clockwise or not; not
+    /// degenerate) for cameras `cameras`.
+    fn new(p: [[f64; 2]; 3], cameras: [usize; 3]) -> Triangle {
+        let det = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+        // λ1 = ((q − p0) × (p2 − p0)) / det, λ2 = ((p1 − p0) × (q − p0)) / det.
+        let (b1, c1) = ((p[2][1] - p[0][1]) / det, -(p[2][0] - p[0][0]) / det);
+        let (b2, c2) = (-(p[1][1] - p[0][1]) / det, (p[1][0] - p[0][0]) / det);
+        let a1 = -(p[0][0] * b1 + p[0][1] * c1);
+        let a2 = -(p[0][0] * b2 + p[0][1] * c2);
+        Triangle { cameras, affine: [[1.0 - a1 - a2, -b1 - b2, -c1 - c2], [a1, b1, c1], [a2, b2, c2]] }
+    }
+
+    /// The barycentric coordinates of `q`.
+    fn coordinates(&self, q: [f64; 2]) -> [f64; 3] {
+        self.affine.map(|[a, b, c]| a + b * q[0] + c * q[1])
+    }
 }
 
 /// Barycentric weights of `p` in its Delaunay triangle (two on an edge,
 /// one on a vertex, none outside the hull), located by a walk from vertex
-/// `hint`, which is moved to a vertex of the triangle found.
+/// `hint`, which is moved to a vertex of the triangle found. Returns the
+/// triangle when `p` is inside one.
 fn barycentric_with_hint(
     t: &DelaunayTriangulation<Point2<f64>>,
     p: Point2<f64>,
     hint: &mut usize,
     out: &mut Vec<(FixedVertexHandle, f64)>,
-) {
+) -> Option<[FixedVertexHandle; 3]> {
     out.clear();
     let start = FixedVertexHandle::from_index((*hint).min(t.num_vertices() - 1));
     match t.locate_with_hint(p, start) {
@@ -360,9 +418,33 @@ fn barycentric_with_hint(
             let l1 = ((p.x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (p.y - q[0].y)) / det;
             let l2 = ((q[1].x - q[0].x) * (p.y - q[0].y) - (p.x - q[0].x) * (q[1].y - q[0].y)) / det;
             out.extend([(v[0].fix(), 1.0 - l1 - l2), (v[1].fix(), l1), (v[2].fix(), l2)]);
+            return Some(v.map(|v| v.fix()));
         }
         PositionInTriangulation::OutsideOfConvexHull(e) => *hint = t.directed_edge(e).from().fix().index(),
         PositionInTriangulation::NoTriangulation => {}
+    }
+    None
+}
+
+/// The vertex of `t` nearest `q` (the first by index among equals), walked
+/// to from vertex `start`: a vertex no Delaunay neighbour of which is nearer
+/// is the nearest of all (its Voronoi cell is bounded by its neighbours').
+fn nearest_vertex(t: &DelaunayTriangulation<Point2<f64>>, start: usize, q: [f64; 2]) -> usize {
+    let key = |v: FixedVertexHandle| {
+        let p = t.vertex(v).position();
+        ((q[0] - p.x).powi(2) + (q[1] - p.y).powi(2), v.index())
+    };
+    let mut best = FixedVertexHandle::from_index(start.min(t.num_vertices() - 1));
+    let mut best_key = key(best);
+    loop {
+        let nearer = t.vertex(best).out_edges().map(|e| e.to().fix()).map(|v| (key(v), v)).fold(None, |a, b| match a {
+            Some((ka, _)) if ka <= b.0 => a,
+            _ => Some(b),
+        });
+        match nearer {
+            Some((k, v)) if k < best_key => (best, best_key) = (v, k),
+            _ => return best.index(),
+        }
     }
 }
 
@@ -567,27 +649,52 @@ impl RigGeometry {
     fn capture_ray(&self, x: f64, y: f64, sx: f64, sy: f64) -> ([f64; 3], [f64; 3], Option<[f64; 2]>) {
         let r = &self.placement.rotation;
         let origin = self.capture_point(x, y);
-        let as_they_are = || (origin, normalized(mat3_transpose_apply(r, [sx, sy, 1.0])), None);
-        let Some(map) = &self.eye_map else { return as_they_are() };
-        let t = map.eye_fraction(x, sx);
-        let (target, at) = match (&map.target, &self.surface) {
-            (EyeTarget::Plane { u, v: v_at }, Surface::Plane { plane, u: u_axis, v: v_axis }) => {
-                let u_at = u[0] + t * (u[1] - u[0]);
-                (add(plane.point, add(scale(*u_axis, u_at), scale(*v_axis, *v_at))), [u_at, *v_at])
+        let target = self.eye_point(x, sx).and_then(|at| match (&self.eye_map, &self.surface) {
+            (Some(EyeMap { target: EyeTarget::Plane { .. }, .. }), Surface::Plane { plane, u, v }) => {
+                Some((add(plane.point, add(scale(*u, at[0]), scale(*v, at[1]))), at))
             }
-            (EyeTarget::Sphere { azimuth, elevation, radius }, Surface::Directions { centre }) => {
+            (Some(EyeMap { target: EyeTarget::Sphere { radius, .. }, .. }), Surface::Directions { centre }) => {
+                let (a, elevation) = (at[0], at[1]);
+                let (ce, se) = (elevation.cos(), elevation.sin());
+                let toward = mat3_transpose_apply(r, [ce * a.sin(), se, ce * a.cos()]);
+                Some((add(*centre, scale(toward, *radius)), at))
+            }
+            _ => None,
+        });
+        match target {
+            Some((target, at)) => (origin, normalized(sub(target, origin)), Some(at)),
+            None => (origin, normalized(mat3_transpose_apply(r, [sx, sy, 1.0])), None),
+        }
+    }
+
+    /// The point on the camera surface that the eye map gives the display
+    /// ray from `x` with slope `sx` (the eye it reaches), or `None` without
+    /// an eye map.
+    fn eye_point(&self, x: f64, sx: f64) -> Option<[f64; 2]> {
+        let map = self.eye_map.as_ref()?;
+        let t = map.eye_fraction(x, sx);
+        match (&map.target, &self.surface) {
+            (EyeTarget::Plane { u, v }, Surface::Plane { .. }) => Some([u[0] + t * (u[1] - u[0]), *v]),
+            (EyeTarget::Sphere { azimuth, elevation, .. }, Surface::Directions { .. }) => {
                 let a = match azimuth {
                     Some(range) => range[0] + t * (range[1] - range[0]),
                     None => (x / map.viewer_span_m + sx).atan(),
                 };
-                let (ce, se) = (elevation.cos(), elevation.sin());
-                let toward = mat3_transpose_apply(r, [ce * a.sin(), se, ce * a.cos()]);
-                (add(*centre, scale(toward, *radius)), [a, *elevation])
+                Some([a, *elevation])
             }
             // The map is made for its surface.
-            _ => return as_they_are(),
-        };
-        (origin, normalized(sub(target, origin)), Some(at))
+            _ => None,
+        }
+    }
+
+    /// The display ray's point on the camera surface, or `None` when it
+    /// misses it.
+    fn ray_surface_point(&self, ray: Ray) -> Option<[f64; 2]> {
+        if let Some(at) = self.eye_point(ray.x, ray.sx) {
+            return Some(at);
+        }
+        let (origin, dir, _) = self.capture_ray(ray.x, ray.y, ray.sx, ray.sy);
+        self.surface_point(origin, dir)
     }
 
     /// The ray's point on the camera surface, or `None` when it misses it.
@@ -612,6 +719,14 @@ impl RigGeometry {
     /// frame: its capture point inside the middle camera's picture.
     fn in_frame(&self, rig: &Rig, x: f64, y: f64) -> bool {
         rig.cameras[self.frame_camera].sees(self.capture_point(x, y))
+    }
+
+    /// Whether the placement's centre, and so every ray's origin, lies on
+    /// the focus plane (to 1e-12 of the centre's distance from the capture's
+    /// origin, or of the focus plane's).
+    fn centre_on_focus_plane(&self) -> bool {
+        let off = dot(sub(self.placement.centre, self.focus.point), self.focus.normal).abs();
+        off <= 1e-12 * length(self.placement.centre).max(length(self.focus.point)).max(1e-300)
     }
 
     /// Where the ray crosses the focus plane.
@@ -767,26 +882,51 @@ impl Interpolator {
                 if !(q[0].is_finite() && q[1].is_finite()) {
                     return;
                 }
-                match blend {
-                    Blend::Linear => {
-                        // Located by walking from the last ray's vertex (the
-                        // neighbouring ray's triangle, usually): spade's own
-                        // hint is shared between threads.
-                        barycentric_with_hint(triangulation, p, &mut scratch.hint, &mut scratch.weights);
+                if blend == Blend::NaturalNeighbour {
+                    // On the worker's own copy: spade's walks start from the
+                    // last vertex it found, kept in the triangulation, which
+                    // threads sharing one would keep taking from each other.
+                    let own = scratch.triangulation.get_or_insert_with(|| triangulation.clone());
+                    own.natural_neighbor().get_weights(p, &mut scratch.weights);
+                    out.extend(scratch.weights.iter().filter(|w| w.1 > 0.0).map(|&(h, w)| (cameras[h.index()], w)));
+                    return;
+                }
+                // Barycentric in the triangle of this view's last ray, usually;
+                // else located by walking from the last ray's vertex (spade's
+                // own hint is shared between threads).
+                let cached = match scratch.triangles.get(scratch.view) {
+                    Some(Some(t)) => Some((t.cameras, t.coordinates(q))).filter(|(_, l)| l.iter().all(|&l| l >= 0.0)),
+                    _ => None,
+                };
+                let found = cached.or_else(|| {
+                    let face = barycentric_with_hint(triangulation, p, &mut scratch.hint, &mut scratch.weights)?;
+                    let at = face.map(|v| {
+                        let p = triangulation.vertex(v).position();
+                        [p.x, p.y]
+                    });
+                    let t = Triangle::new(at, face.map(|v| cameras[v.index()]));
+                    if let Some(slot) = scratch.triangles.get_mut(scratch.view) {
+                        *slot = Some(t);
                     }
-                    Blend::NaturalNeighbour => triangulation.natural_neighbor().get_weights(p, &mut scratch.weights),
-                    Blend::Nearest => {
-                        barycentric_with_hint(triangulation, p, &mut scratch.hint, &mut scratch.weights);
-                        if scratch.weights.is_empty() {
-                            return;
-                        }
-                        if let Some(v) = triangulation.nearest_neighbor(p) {
-                            out.push((cameras[v.fix().index()], 1.0));
-                        }
-                        return;
+                    Some((t.cameras, t.coordinates(q)))
+                });
+                match found {
+                    Some((ids, l)) => out.extend(ids.into_iter().zip(l).filter(|w| w.1 > 0.0)),
+                    None => {
+                        out.extend(scratch.weights.iter().filter(|w| w.1 > 0.0).map(|&(h, w)| (cameras[h.index()], w)))
                     }
                 }
-                out.extend(scratch.weights.iter().filter(|w| w.1 > 0.0).map(|&(h, w)| (cameras[h.index()], w)));
+                if blend == Blend::Nearest && !out.is_empty() {
+                    // Inside the hull: the nearest camera, walked to from this
+                    // view's last one.
+                    let start = scratch.nearest.get(scratch.view).copied().unwrap_or(0);
+                    let v = nearest_vertex(triangulation, start, q);
+                    if let Some(slot) = scratch.nearest.get_mut(scratch.view) {
+                        *slot = v;
+                    }
+                    out.clear();
+                    out.push((cameras[v], 1.0));
+                }
             }
         }
     }
@@ -827,6 +967,10 @@ pub struct RigResampler<'a> {
     tap_x_m: Vec<f64>,
     /// Hololines done so far (for progress).
     done: std::sync::atomic::AtomicUsize,
+    /// Every ray's focus point is its origin ([`SharedFocus`]): no depth map
+    /// is used and the placement's centre is on the focus plane. Never for
+    /// the reference, which finds every ray's focus point on its own.
+    shared_focus: bool,
 }
 
 impl<'a> RigResampler<'a> {
@@ -871,6 +1015,8 @@ impl<'a> RigResampler<'a> {
             Some(n) => n,
             None => ((g.emitter_pitch_m / geo.pixel_at_focus_m).ceil() as usize).clamp(1, 16),
         };
+        let depth_maps = options.use_depth && views.iter().any(|v| v.depth_z.is_some());
+        let shared_focus = !(options.reference || depth_maps) && geo.centre_on_focus_plane();
         Ok(RigResampler {
             views,
             weights: channel_weights(&names),
@@ -882,6 +1028,7 @@ impl<'a> RigResampler<'a> {
             geo,
             warnings,
             done: std::sync::atomic::AtomicUsize::new(0),
+            shared_focus,
         })
     }
 
@@ -904,53 +1051,8 @@ impl<'a> RigResampler<'a> {
             .into_par_iter()
             .zip(lines.clone())
             .map(|(mut rows, j)| {
-                let y = g.hololine_y_m(j);
-                let sy = g.ray_slope_y(y);
                 let mut mask = if want_mask { vec![false; e * v] } else { Vec::new() };
-                let mut unseen = Unseen::default();
-                let (mut w, mut scratch) = (Vec::new(), Scratch::default());
-                for ei in 0..e {
-                    let x = g.emitter_x_m(ei);
-                    let in_frame = self.geo.in_frame(&self.rig, x, y);
-                    for (vi, &sx) in self.slopes.iter().enumerate() {
-                        let (mut sum, mut seen) = ([0.0f64; 3], 0usize);
-                        for dx in &self.tap_x_m {
-                            if let Some(rgb) = ray_radiance(
-                                &self.geo,
-                                &self.rig,
-                                &self.views,
-                                &self.options,
-                                x + dx,
-                                y,
-                                sx,
-                                sy,
-                                &mut w,
-                                &mut scratch,
-                            ) {
-                                for k in 0..3 {
-                                    sum[k] += rgb[k];
-                                }
-                                seen += 1;
-                            }
-                        }
-                        let at = ei * v + vi;
-                        if seen > 0 {
-                            let rgb = sum.map(|s| s / seen as f64);
-                            for (row, wc) in rows.iter_mut().zip(&self.weights) {
-                                row[at] = (wc[0] * rgb[0] + wc[1] * rgb[1] + wc[2] * rgb[2]) as f32;
-                            }
-                        } else {
-                            for row in rows.iter_mut() {
-                                row[at] = 0.0;
-                            }
-                            unseen.rays += 1;
-                            unseen.outside_frame += u64::from(!in_frame);
-                            if want_mask {
-                                mask[at] = true;
-                            }
-                        }
-                    }
-                }
+                let unseen = self.fill_hololine(j, &mut rows, &mut mask);
                 let n = self.done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                 progress.advance(n as u64);
                 (unseen, mask)
@@ -959,6 +1061,100 @@ impl<'a> RigResampler<'a> {
         let mut unseen = Unseen::default();
         per_line.iter().for_each(|l| unseen += l.0);
         (unseen, per_line.into_iter().flat_map(|l| l.1).collect())
+    }
+
+    /// Per view, the ray's point on the camera surface as an affine function
+    /// of emitter-plane `x` along hololine `y` (ray slope `sy`), when the
+    /// directions are as captured: rays of one view along a hololine then
+    /// differ only in their origin, which moves along a line, so their
+    /// crossings of a camera plane step evenly and their directions stay.
+    /// Fitted from the hololine's first and last rays. Empty when the focus
+    /// point is not shared (rays are then found one by one) or an eye map
+    /// gives the points (by its own affine arithmetic, as cheap as a step
+    /// and exactly the reference's: its outermost rays land exactly on the
+    /// end cameras, where a rounding would lose them).
+    fn surface_steps(&self, y: f64, sy: f64) -> Vec<Option<SurfaceStep>> {
+        let g = &self.g;
+        let first = g.emitter_x_m(0) + self.tap_x_m[0];
+        let last = g.emitter_x_m(g.emitters - 1) + self.tap_x_m[self.tap_x_m.len() - 1];
+        if !(self.shared_focus && self.geo.eye_map.is_none() && last > first) {
+            return Vec::new();
+        }
+        let point = |x: f64, sx: f64| self.geo.ray_surface_point(Ray { x, y, sx, sy });
+        self.slopes
+            .iter()
+            .map(|&sx| {
+                let (a, b) = (point(first, sx)?, point(last, sx)?);
+                let per_m = [(b[0] - a[0]) / (last - first), (b[1] - a[1]) / (last - first)];
+                Some(SurfaceStep { x0: first, at_x0: a, per_m })
+            })
+            .collect()
+    }
+
+    /// Fill hololine `j`'s `rows` (one per channel, emitter-major) and, when
+    /// `mask` is not empty, mark its unseen rays; returns those.
+    fn fill_hololine(&self, j: usize, rows: &mut [&mut [f32]], mask: &mut [bool]) -> Unseen {
+        let g = &self.g;
+        let v = g.views.count;
+        let y = g.hololine_y_m(j);
+        let sy = g.ray_slope_y(y);
+        let mut unseen = Unseen::default();
+        let (mut w, mut scratch) = (Vec::new(), Scratch::new(v));
+        // Per view: the radiance summed over the emitter's taps, and the taps that saw.
+        let mut sums = vec![([0.0f64; 3], 0usize); v];
+        let mut shared = SharedFocus { point: [0.0; 3], samples: vec![None; self.rig.cameras.len()] };
+        let steps = self.surface_steps(y, sy);
+        for ei in 0..g.emitters {
+            let x = g.emitter_x_m(ei);
+            sums.fill(([0.0; 3], 0));
+            for dx in &self.tap_x_m {
+                let x = x + dx;
+                if self.shared_focus {
+                    shared.point = self.geo.capture_point(x, y);
+                    shared.samples.fill(None);
+                }
+                for (vi, &sx) in self.slopes.iter().enumerate() {
+                    scratch.view = vi;
+                    let ray = Ray { x, y, sx, sy };
+                    let rgb = if self.shared_focus {
+                        match steps.get(vi).copied().flatten() {
+                            Some(step) => Some(step.at(x)),
+                            None => self.geo.ray_surface_point(ray),
+                        }
+                        .and_then(|q| self.shared_radiance(q, &mut w, &mut scratch, &mut shared))
+                    } else {
+                        self.ray_radiance(ray, &mut w, &mut scratch)
+                    };
+                    if let Some(rgb) = rgb {
+                        let (sum, seen) = &mut sums[vi];
+                        for k in 0..3 {
+                            sum[k] += rgb[k];
+                        }
+                        *seen += 1;
+                    }
+                }
+            }
+            let in_frame = self.geo.in_frame(&self.rig, x, y);
+            for (vi, &(sum, seen)) in sums.iter().enumerate() {
+                let at = ei * v + vi;
+                if seen > 0 {
+                    let rgb = sum.map(|s| s / seen as f64);
+                    for (row, wc) in rows.iter_mut().zip(&self.weights) {
+                        row[at] = (wc[0] * rgb[0] + wc[1] * rgb[1] + wc[2] * rgb[2]) as f32;
+                    }
+                } else {
+                    for row in rows.iter_mut() {
+                        row[at] = 0.0;
+                    }
+                    unseen.rays += 1;
+                    unseen.outside_frame += u64::from(!in_frame);
+                    if !mask.is_empty() {
+                        mask[at] = true;
+                    }
+                }
+            }
+        }
+        unseen
     }
 
     /// Capture coordinates to display metres (row-major, points as columns):
@@ -993,45 +1189,113 @@ impl<'a> RigResampler<'a> {
     }
 }
 
-/// Linear RGB along one display ray, or `None` when no camera sees it.
-#[allow(clippy::too_many_arguments)]
-fn ray_radiance(
-    geo: &RigGeometry,
-    rig: &Rig,
-    views: &[&CameraView],
-    options: &CameraOptions,
+/// A display ray: from emitter-plane point `(x, y)` (metres) with slopes
+/// `(sx, sy)` (`dx/dz`, `dy/dz`).
+#[derive(Clone, Copy, Debug)]
+struct Ray {
     x: f64,
     y: f64,
     sx: f64,
     sy: f64,
-    w: &mut Vec<(usize, f64)>,
-    scratch: &mut Scratch,
-) -> Option<[f64; 3]> {
-    let (origin, dir, on_surface) = geo.capture_ray(x, y, sx, sy);
-    let q = match on_surface {
-        Some(q) => q,
-        None => geo.surface_point(origin, dir)?,
-    };
-    if options.reference {
-        geo.cameras_on_surface.weights_reference(q, options.blend, w, scratch);
-    } else {
-        geo.cameras_on_surface.weights(q, options.blend, w, scratch);
+}
+
+/// A ray's point on the camera surface along a hololine at one view:
+/// `at_x0 + (x − x0)·per_m`.
+#[derive(Clone, Copy, Debug)]
+struct SurfaceStep {
+    x0: f64,
+    at_x0: [f64; 2],
+    per_m: [f64; 2],
+}
+
+impl SurfaceStep {
+    fn at(&self, x: f64) -> [f64; 2] {
+        let d = x - self.x0;
+        [self.at_x0[0] + d * self.per_m[0], self.at_x0[1] + d * self.per_m[1]]
     }
-    if w.is_empty() {
+}
+
+/// The focus point that every view of one emitter-plane point looks at, and
+/// each camera's picture sampled there once (`None`: not yet; `Some(None)`:
+/// the camera does not see it). Rays leave the emitter plane from points of
+/// the focus plane whenever the placement's centre is on it (the default),
+/// so without depth maps a ray's focus point is its origin, whatever its
+/// direction: the 96 views of an emitter share about two dozen camera
+/// lookups instead of making three each.
+struct SharedFocus {
+    point: [f64; 3],
+    samples: Vec<Option<Option<[f32; 3]>>>,
+}
+
+impl RigResampler<'_> {
+    /// Linear RGB along one display ray, or `None` when no camera sees it:
+    /// the ray located among the cameras, its focus point found (moved to
+    /// the surface by the depth maps when used), each weighted camera's
+    /// picture sampled there.
+    fn ray_radiance(&self, ray: Ray, w: &mut Vec<(usize, f64)>, scratch: &mut Scratch) -> Option<[f64; 3]> {
+        let (geo, options) = (&self.geo, &self.options);
+        let (origin, dir, on_surface) = geo.capture_ray(ray.x, ray.y, ray.sx, ray.sy);
+        let q = match on_surface {
+            Some(q) => q,
+            None => geo.surface_point(origin, dir)?,
+        };
+        if options.reference {
+            geo.cameras_on_surface.weights_reference(q, options.blend, w, scratch);
+        } else {
+            geo.cameras_on_surface.weights(q, options.blend, w, scratch);
+        }
+        if w.is_empty() {
+            return None;
+        }
+        let mut point = geo.focus_on_ray(origin, dir)?;
+        if options.use_depth {
+            point = refine_with_depth(&self.rig, &self.views, w, origin, dir, point);
+        }
+        blend_samples(w, |ci| camera_sample(&self.rig, &self.views, options, ci, point))
+    }
+
+    /// [`RigResampler::ray_radiance`] of a ray whose point on the camera
+    /// surface is `q` and whose focus point is `shared.point`, the cameras'
+    /// samples there remembered in `shared`.
+    fn shared_radiance(
+        &self,
+        q: [f64; 2],
+        w: &mut Vec<(usize, f64)>,
+        scratch: &mut Scratch,
+        shared: &mut SharedFocus,
+    ) -> Option<[f64; 3]> {
+        self.geo.cameras_on_surface.weights(q, self.options.blend, w, scratch);
+        let point = shared.point;
+        blend_samples(w, |ci| {
+            *shared.samples[ci].get_or_insert_with(|| camera_sample(&self.rig, &self.views, &self.options, ci, point))
+        })
+    }
+}
+
+/// Camera `ci`'s picture at world point `point`, or `None` where the camera
+/// does not see it (behind it, outside its picture, or hidden by a nearer
+/// surface in its depth map when depth maps are used).
+fn camera_sample(
+    rig: &Rig,
+    views: &[&CameraView],
+    options: &CameraOptions,
+    ci: usize,
+    point: [f64; 3],
+) -> Option<[f32; 3]> {
+    let cam = &rig.cameras[ci];
+    let (px, z) = cam.project(point)?;
+    if options.use_depth && !visible_in(cam, views[ci], px, z) {
         return None;
     }
-    let mut point = geo.focus_on_ray(origin, dir)?;
-    if options.use_depth {
-        point = refine_with_depth(rig, views, w, origin, dir, point);
-    }
+    views[ci].picture.sample(px[0], px[1])
+}
+
+/// The weights `w`' blend of each camera's `sample`, over the cameras that
+/// see (the others' weights renormalised away); `None` when none does.
+fn blend_samples(w: &[(usize, f64)], mut sample: impl FnMut(usize) -> Option<[f32; 3]>) -> Option<[f64; 3]> {
     let (mut sum, mut total) = ([0.0f64; 3], 0.0);
-    for &(ci, wi) in w.iter() {
-        let cam = &rig.cameras[ci];
-        let Some((px, z)) = cam.project(point) else { continue };
-        if options.use_depth && !visible_in(cam, views[ci], px, z) {
-            continue;
-        }
-        let Some(rgb) = views[ci].picture.sample(px[0], px[1]) else { continue };
+    for &(ci, wi) in w {
+        let Some(rgb) = sample(ci) else { continue };
         for k in 0..3 {
             sum[k] += wi * rgb[k] as f64;
         }
