@@ -38,7 +38,7 @@ fn play(reader: &mut HoloFlickReader, frame: &mut Modulation, options: &RenderOp
     let mut scene = Scene::default();
     for o in &f.objects {
         let (local, _) = decode_block("object", &o.block).expect("decode");
-        let mut world = to_world(&local, &o.world_from_object, o.radiance_scale).expect("place");
+        let mut world = to_world(local, &o.world_from_object, o.radiance_scale).expect("place");
         world.material.specular = [0.2; 3];
         world.material.shininess = 30.0;
         scene.objects.push(world);

@@ -335,7 +335,7 @@ impl State {
                     decoded
                 }
             };
-            let mut world = to_world(&local, &o.world_from_object, o.radiance_scale)?;
+            let mut world = to_world(local, &o.world_from_object, o.radiance_scale)?;
             if let Some(t) = placement {
                 let mut one = Scene { objects: vec![world], ..Scene::default() };
                 apply(&mut one, &t);

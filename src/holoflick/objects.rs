@@ -57,7 +57,7 @@ pub fn encode_object(id: u32, o: &Object, options: &EncodeOptions) -> Result<(Ge
 }
 
 /// Decode a block and map it to world space as a mesh object named `name`
-/// (triangles only; identical decoded vertices shared). The material is
+/// (triangles only, each with its own three vertices). The material is
 /// pre-lit ([`Material::prelit`]): the colours are the light the geometry
 /// shader baked. Points and lines are skipped (counted in the second value).
 pub fn decode_object(
@@ -67,7 +67,7 @@ pub fn decode_object(
     radiance_scale: f64,
 ) -> Result<(Object, usize)> {
     let (o, skipped) = decode_block(name, block)?;
-    Ok((to_world(&o, world_from_object, radiance_scale)?, skipped))
+    Ok((to_world(o, world_from_object, radiance_scale)?, skipped))
 }
 
 /// Decode a block as it is: positions in the stream's normalised frame,
@@ -118,13 +118,15 @@ pub fn decode_block(name: &str, block: &GeometryBlock) -> Result<(Object, usize)
 /// A decoded block (normalised frame, stored colours) in world space:
 /// positions by `world_from_object`, normals by its inverse transpose,
 /// colours times `radiance_scale`; a mirroring transform turns the winding.
-pub fn to_world(o: &Object, world_from_object: &Matrix4, radiance_scale: f64) -> Result<Object> {
+/// Takes the object by value and maps it in place: a frame's objects are
+/// tens of megabytes, and a copy is memory first touched, every frame.
+pub fn to_world(o: Object, world_from_object: &Matrix4, radiance_scale: f64) -> Result<Object> {
     let m = world_from_object;
     let lin = linear(m);
     let normal_matrix = inverse_transpose3(&lin).ok_or_else(|| {
         Error::argument("object transform", format!("object {}: its transform cannot be inverted", o.name))
     })?;
-    let mut out = o.clone();
+    let mut out = o;
     for p in &mut out.positions {
         *p = transform_point(m, *p);
     }

@@ -18,11 +18,15 @@
 //! "widened" back-face cull: one view seeing it keeps it), and inside the
 //! hololine only for the views it faces away from.
 
+use rayon::prelude::*;
+
 use super::fastshade::{self, Attrs, Batch, Column, FastLights, FastMaterial, LightGroups, Run, SegmentTable};
 use super::render::{HololineRenderer, RenderStats, Shading};
 use crate::math::{cross, narrow, normalize, sub};
 
-/// One triangle as the rasteriser sees it.
+/// One triangle as the rasteriser sees it, made from the scene when a
+/// hololine needs it ([`EpiRenderer::triangle`]): a frame of micropolygons
+/// has millions, and a copy of them all is memory first touched every frame.
 struct Tri {
     object: u32,
     triangle: u32,
@@ -61,7 +65,10 @@ struct Segment {
 
 pub(crate) struct EpiRenderer<'a> {
     s: Shading<'a>,
-    tris: Vec<Tri>,
+    /// Every triangle: (object, triangle in it).
+    tris: Vec<(u32, u32)>,
+    /// The global id of each object's first vertex.
+    vertex_offset: Vec<u64>,
     /// Triangles per hololine, compressed: `bucket[start[j]..start[j+1]]`.
     start: Vec<usize>,
     bucket: Vec<u32>,
@@ -77,19 +84,11 @@ impl<'a> EpiRenderer<'a> {
         let r = s.rays;
         let span = r.viewer_distance_m - r.emitter_z_m;
         let mut tris = Vec::with_capacity(s.scene.triangle_count());
+        let mut vertex_offset = Vec::with_capacity(s.scene.objects.len());
         let mut offset = 0u64;
         for (oi, o) in s.scene.objects.iter().enumerate() {
-            for (ti, t) in o.triangles.iter().enumerate() {
-                let p = [o.positions[t[0] as usize], o.positions[t[1] as usize], o.positions[t[2] as usize]];
-                tris.push(Tri {
-                    object: oi as u32,
-                    triangle: ti as u32,
-                    ids: [offset + t[0] as u64, offset + t[1] as u64, offset + t[2] as u64],
-                    normal: cross(sub(p[1], p[0]), sub(p[2], p[0])),
-                    p,
-                    double_sided: o.material.double_sided,
-                });
-            }
+            tris.extend((0..o.triangles.len() as u32).map(|ti| (oi as u32, ti)));
+            vertex_offset.push(offset);
             offset += o.positions.len() as u64;
         }
         // Hololine range of each triangle: a vertex projects from the viewer
@@ -99,10 +98,12 @@ impl<'a> EpiRenderer<'a> {
         let top = r.hololine_y_m.first().copied().unwrap_or(0.0);
         let pitch = if h > 1 { r.hololine_y_m[0] - r.hololine_y_m[1] } else { 1.0 };
         let ranges: Vec<(usize, usize)> = tris
-            .iter()
-            .map(|t| {
+            .par_iter()
+            .map(|&(oi, ti)| {
+                let o = &s.scene.objects[oi as usize];
                 let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-                for p in &t.p {
+                for &vi in &o.triangles[ti as usize] {
+                    let p = o.positions[vi as usize];
                     let a = (p[2] - r.emitter_z_m) / span;
                     if a >= 1.0 - 1e-12 {
                         return (0, h); // reaches the viewer line: every hololine, clipped later
@@ -146,7 +147,24 @@ impl<'a> EpiRenderer<'a> {
             .map(|(o, &group)| FastMaterial::new(&o.material, lights.groups[group as usize].model()))
             .collect();
         let lights_avx2 = lights.groups[0].avx2();
-        EpiRenderer { s, tris, start, bucket, materials, lights, lights_avx2 }
+        EpiRenderer { s, tris, vertex_offset, start, bucket, materials, lights, lights_avx2 }
+    }
+
+    /// Triangle `i` of [`EpiRenderer::tris`].
+    fn triangle(&self, i: u32) -> Tri {
+        let (object, triangle) = self.tris[i as usize];
+        let o = &self.s.scene.objects[object as usize];
+        let t = o.triangles[triangle as usize];
+        let p = t.map(|v| o.positions[v as usize]);
+        let offset = self.vertex_offset[object as usize];
+        Tri {
+            object,
+            triangle,
+            ids: t.map(|v| offset + v as u64),
+            normal: cross(sub(p[1], p[0]), sub(p[2], p[0])),
+            p,
+            double_sided: o.material.double_sided,
+        }
     }
 
     /// The segments of hololine `j`, and how many triangles the widened
@@ -159,7 +177,7 @@ impl<'a> EpiRenderer<'a> {
         let mut out = Vec::new();
         let mut culled = 0;
         for &ti in &self.bucket[self.start[j]..self.start[j + 1]] {
-            let t = &self.tris[ti as usize];
+            let t = &self.triangle(ti);
             let (nx, c) = (t.normal[0], t.normal[1] * k + t.normal[2]);
             // Widened cull: n·d is linear in s, so the end slopes decide.
             if !t.double_sided && nx * s_first + c <= 0.0 && nx * s_last + c <= 0.0 {
