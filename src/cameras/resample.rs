@@ -26,7 +26,7 @@
 //! emitter in turn, and uses what stays the same. Without depth maps and with
 //! the placement's centre on the focus plane (the default), a ray's focus
 //! point is its origin whatever its direction, so the views of an emitter
-//! share one lookup per camera ([`SharedFocus`]). At one view the ray's
+//! share one lookup per camera (`SharedFocus`). At one view the ray's
 //! point on the camera surface moves evenly along the hololine, so each view
 //! keeps the triangle (or nearest camera) of its last ray and walks only
 //! when a ray leaves it. `CameraOptions::reference` turns all of this off:
