@@ -22,33 +22,21 @@ use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use holo::holoflick::container::HoloFlickReader;
+use holo::holoflick::convert::{HoloFlickConvertOptions, HoloFlickSource};
 use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
-use holo::holoflick::objects::{decode_block, mesh_light, to_world};
-use holo::mesh::render::{render_into, Engine, RenderOptions, Supersample};
-use holo::mesh::shade::Lighting;
-use holo::mesh::{Light, Scene};
-use holo::Modulation;
+use holo::holoflick::objects::decode_block;
+use holo::mesh::render::{Engine, RenderOptions, Supersample};
+use holo::pipeline::{Source, Warnings};
+use holo::{Band, Modulation};
 
 #[allow(dead_code)] // `band` is for the benchmarks that time slow references on a band
 mod common;
 
-/// Decode, place and draw frame 0 into `frame`.
-fn play(reader: &mut HoloFlickReader, frame: &mut Modulation, options: &RenderOptions) -> usize {
-    let f = reader.read_frame(0).expect("frame");
-    let mut scene = Scene::default();
-    for o in &f.objects {
-        let (local, _) = decode_block("object", &o.block).expect("decode");
-        let mut world = to_world(local, &o.world_from_object, o.radiance_scale).expect("place");
-        world.material.specular = [0.2; 3];
-        world.material.shininess = 30.0;
-        scene.objects.push(world);
-    }
-    let lights: Vec<Light> = f.frame.lights.iter().map(mesh_light).collect();
-    // The frame's lights exactly, as `holo convert holoflick` renders it.
-    let exact = RenderOptions::lit_exactly(Lighting { lights, ..options.lighting.clone() });
-    let options = RenderOptions { supersample: options.supersample, engine: options.engine, ..exact };
-    render_into(&scene, &options, &holo::progress::Silent, frame).expect("render");
-    scene.triangle_count()
+/// Draw frame 0 into `band` as `holo convert holoflick` does (read, decode,
+/// place, cull, render; the source keeps its objects' lists from frame to
+/// frame, as it does through a movie).
+fn play(source: &mut HoloFlickSource, band: &mut Band) {
+    source.render(0, band, &holo::progress::Silent, &mut Warnings::default()).expect("render");
 }
 
 fn bench(c: &mut Criterion) {
@@ -62,16 +50,21 @@ fn bench(c: &mut Criterion) {
     let options = HoloFlickEncodeOptions { micropolygon: 2.2, ..HoloFlickEncodeOptions::default() };
     let encoded = encode_holoflick(&spot, g, &hflk, &options, &holo::progress::Silent).expect("encode");
     let mut reader = HoloFlickReader::open(&hflk).expect("open");
-    let mut frame = Modulation::zeros(g.clone()).expect("frame");
     let render =
         RenderOptions { supersample: Supersample::new(1, 1), engine: Engine::Fast, ..RenderOptions::default() };
+    let convert = HoloFlickConvertOptions { render, ..HoloFlickConvertOptions::default() };
+    let mut source = HoloFlickSource::open(&hflk, g, &convert).expect("open");
+    source.place(&(0..1), &mut Warnings::default()).expect("place");
+    let mut band = Band::zeros(g.clone(), 0..g.hololines).expect("frame");
     let runs = if quick { 1 } else { 3 };
+    play(&mut source, &mut band);
+    let seconds = common::time(runs, || play(&mut source, &mut band));
     let mut drawn = 0;
-    let seconds = common::time(runs, || drawn = play(&mut reader, &mut frame, &render));
     let decode_seconds = common::time(runs, || {
         let f = reader.read_frame(0).expect("frame");
+        drawn = 0;
         for o in &f.objects {
-            criterion::black_box(decode_block("object", &o.block).expect("decode"));
+            drawn += criterion::black_box(decode_block("object", &o.block).expect("decode")).0.triangles.len();
         }
     });
     println!(
@@ -89,7 +82,7 @@ fn bench(c: &mut Criterion) {
     );
     let mut group = c.benchmark_group("movie");
     group.sample_size(10);
-    group.bench_function("spot_400k_micropolygons_mark3", |b| b.iter(|| play(&mut reader, &mut frame, &render)));
+    group.bench_function("spot_400k_micropolygons_mark3", |b| b.iter(|| play(&mut source, &mut band)));
     group.finish();
 }
 

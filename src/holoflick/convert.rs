@@ -25,7 +25,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use super::container::{HoloFlickReader, ResolvedFrame, SpecularModel, ViewerCouch};
-use super::objects::{decode_block, mesh_light, to_world};
+use super::objects::{decode_block_into, mesh_light, to_world_into};
 use super::shader::cull::{cull_back_faces, display_sees_box};
 use crate::format::{WriteOptions, WriteReport};
 use crate::geometry::Geometry;
@@ -172,7 +172,7 @@ impl<'a> HoloFlickSource<'a> {
             matrix: options.matrix,
             frames_asked: options.frames.clone(),
             made_for_display: true,
-            state: State { cache: HashMap::new(), work: HoloFlickWork::default(), placed: None },
+            state: State { cache: HashMap::new(), work: HoloFlickWork::default(), placed: None, spare: Vec::new() },
             frames: 0..0,
             outside: Vec::new(),
             decoding: std::time::Duration::ZERO,
@@ -268,6 +268,7 @@ impl Source for HoloFlickSource<'_> {
             ..RenderOptions::lit_exactly(lighting)
         };
         self.state.work.render += band.as_frame(|m| render_into(&scene, &options, progress, m))??;
+        self.state.spare.extend(scene.objects);
         Ok(())
     }
 }
@@ -278,6 +279,9 @@ struct State {
     cache: HashMap<(u32, u32), Object>,
     work: HoloFlickWork,
     placed: Option<Placed>,
+    /// The last frame's objects, drawn and done with: the next frame decodes
+    /// into their lists ([`decode_block_into`]).
+    spare: Vec<Object>,
 }
 
 impl State {
@@ -290,9 +294,14 @@ impl State {
         g: &Geometry,
         cull_unseen: bool,
     ) -> Result<(Scene, Vec<u32>)> {
-        // Keep only the current key frames' objects in the cache.
+        // Keep only the current key frames' objects in the cache; the rest
+        // are spare lists for this frame's objects.
         let current: std::collections::HashSet<u32> = frame.objects.iter().map(|o| o.stored_in_frame).collect();
-        self.cache.retain(|k, _| current.contains(&k.0) && k.0 != frame.number);
+        let leaving: Vec<(u32, u32)> =
+            self.cache.keys().filter(|k| !(current.contains(&k.0) && k.0 != frame.number)).copied().collect();
+        for key in leaving {
+            self.spare.extend(self.cache.remove(&key));
+        }
         let mut scene = Scene { source: format!("frame {}", frame.number), ..Scene::default() };
         // The id of each object kept, in order.
         let mut ids = Vec::new();
@@ -321,21 +330,24 @@ impl State {
             }
             let key = (o.stored_in_frame, o.id);
             let reusable = o.stored_in_frame != frame.number;
-            let local = match self.cache.get(&key) {
-                Some(cached) => {
+            let mut world = self.spare.pop().unwrap_or_default();
+            match self.cache.get(&key) {
+                Some(local) => {
                     self.work.reused += 1;
-                    cached.clone()
+                    to_world_into(local, &o.world_from_object, o.radiance_scale, &mut world)?;
                 }
                 None => {
-                    let (decoded, _) = decode_block(&format!("id {}", o.id), &o.block)?;
+                    let mut local = self.spare.pop().unwrap_or_default();
+                    decode_block_into(&format!("id {}", o.id), &o.block, &mut local)?;
                     self.work.decoded += 1;
+                    to_world_into(&local, &o.world_from_object, o.radiance_scale, &mut world)?;
                     if reusable || frame.frame.key_frame {
-                        self.cache.insert(key, decoded.clone());
+                        self.cache.insert(key, local);
+                    } else {
+                        self.spare.push(local);
                     }
-                    decoded
                 }
-            };
-            let mut world = to_world(local, &o.world_from_object, o.radiance_scale)?;
+            }
             if let Some(t) = placement {
                 let mut one = Scene { objects: vec![world], ..Scene::default() };
                 apply(&mut one, &t);

@@ -67,18 +67,34 @@ pub fn decode_object(
     radiance_scale: f64,
 ) -> Result<(Object, usize)> {
     let (o, skipped) = decode_block(name, block)?;
-    Ok((to_world(o, world_from_object, radiance_scale)?, skipped))
+    Ok((to_world(&o, world_from_object, radiance_scale)?, skipped))
 }
 
 /// Decode a block as it is: positions in the stream's normalised frame,
 /// colours as stored (what a converter caches for objects reused from key
 /// frames; [`to_world`] places it).
 pub fn decode_block(name: &str, block: &GeometryBlock) -> Result<(Object, usize)> {
+    let mut o = Object::default();
+    let skipped = decode_block_into(name, block, &mut o)?;
+    Ok((o, skipped))
+}
+
+/// [`decode_block`] into `o`, whose lists are emptied and refilled: a player
+/// that hands each frame the last frame's objects fills memory it has
+/// already touched, instead of tens of megabytes of fresh pages a frame.
+pub fn decode_block_into(name: &str, block: &GeometryBlock, o: &mut Object) -> Result<usize> {
     let header = block.descriptor().cg_header();
-    let mut o = Object {
+    let mut lists = std::mem::take(o);
+    lists.uv_sets.clear();
+    lists.positions.clear();
+    lists.normals.clear();
+    lists.tangents.clear();
+    lists.colours.clear();
+    lists.triangles.clear();
+    *o = Object {
         name: name.to_string(),
         material: Material { name: name.to_string(), prelit: true, specular: [0.0; 3], ..Material::default() },
-        ..Object::default()
+        ..lists
     };
     // The streaming decoder (constant memory, the fast path); each triangle
     // gets its own three vertices: the renderers work per triangle, and
@@ -112,36 +128,44 @@ pub fn decode_block(name: &str, block: &GeometryBlock) -> Result<(Object, usize)
     if !with_colours || o.colours.len() != o.positions.len() {
         o.colours.clear();
     }
-    Ok((o, skipped))
+    Ok(skipped)
 }
 
 /// A decoded block (normalised frame, stored colours) in world space:
 /// positions by `world_from_object`, normals by its inverse transpose,
 /// colours times `radiance_scale`; a mirroring transform turns the winding.
-/// Takes the object by value and maps it in place: a frame's objects are
-/// tens of megabytes, and a copy is memory first touched, every frame.
-pub fn to_world(o: Object, world_from_object: &Matrix4, radiance_scale: f64) -> Result<Object> {
+pub fn to_world(o: &Object, world_from_object: &Matrix4, radiance_scale: f64) -> Result<Object> {
+    let mut out = Object::default();
+    to_world_into(o, world_from_object, radiance_scale, &mut out)?;
+    Ok(out)
+}
+
+/// [`to_world`] into `out`, whose lists are refilled: a player hands it the
+/// last frame's objects, so a frame's tens of megabytes go into memory
+/// already touched rather than fresh pages.
+pub fn to_world_into(o: &Object, world_from_object: &Matrix4, radiance_scale: f64, out: &mut Object) -> Result<()> {
     let m = world_from_object;
     let lin = linear(m);
     let normal_matrix = inverse_transpose3(&lin).ok_or_else(|| {
         Error::argument("object transform", format!("object {}: its transform cannot be inverted", o.name))
     })?;
-    let mut out = o;
-    for p in &mut out.positions {
-        *p = transform_point(m, *p);
-    }
-    for n in &mut out.normals {
-        *n = unit(mat3_apply(&normal_matrix, widen(*n))).map_or([0.0; 3], narrow);
-    }
+    out.name.clone_from(&o.name);
+    out.material.clone_from(&o.material);
+    out.positions.clear();
+    out.positions.extend(o.positions.iter().map(|&p| transform_point(m, p)));
+    out.normals.clear();
+    out.normals.extend(o.normals.iter().map(|&n| unit(mat3_apply(&normal_matrix, widen(n))).map_or([0.0; 3], narrow)));
+    out.tangents.clone_from(&o.tangents);
+    out.uv_sets.clone_from(&o.uv_sets);
     let s = radiance_scale as f32;
-    for c in &mut out.colours {
-        *c = [c[0] * s, c[1] * s, c[2] * s, c[3]];
-    }
+    out.colours.clear();
+    out.colours.extend(o.colours.iter().map(|c| [c[0] * s, c[1] * s, c[2] * s, c[3]]));
+    out.triangles.clone_from(&o.triangles);
     // A mirroring transform turns the winding (spec §6.4).
     if det3(&lin) < 0.0 {
         out.triangles.iter_mut().for_each(|t| t.swap(1, 2));
     }
-    Ok(out)
+    Ok(())
 }
 
 /// A HoloFlick specular light as the mesh renderer's light.

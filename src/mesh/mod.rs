@@ -43,7 +43,7 @@ pub struct Scene {
 }
 
 /// One object: a triangle mesh with one material, in world space.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Object {
     /// Name for messages: the node/mesh/group name, or `#index`.
     pub name: String,

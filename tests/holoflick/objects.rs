@@ -96,3 +96,35 @@ fn mirroring_transforms_keep_fronts_in_front() {
     let e = decode_object("flat", &g.block, &g.world_from_object, 1.0).unwrap_err().to_string();
     assert!(e.contains("flat") && e.contains("inverted"), "{e}");
 }
+
+/// A player decodes each frame into the last frame's objects: what it gets
+/// is what a fresh decode gets, whatever the lists held before (another
+/// object, larger, with UVs, tangents, another material, a mirrored
+/// transform's turned winding).
+#[test]
+fn decoding_into_used_objects_equals_a_fresh_decode() {
+    use holo::holoflick::objects::{decode_block, decode_block_into, to_world, to_world_into};
+    let big = surface(5, 20);
+    let small = surface(6, 7);
+    let (big_g, _) = encode_object(1, &big, &EncodeOptions::default()).unwrap();
+    let (small_g, _) = encode_object(2, &small, &EncodeOptions::default()).unwrap();
+    let mut mirrored = big_g.world_from_object;
+    mirrored[0] = mirrored[0].map(|x| -x);
+    // Used lists: the big object decoded and placed mirrored, with UVs and tangents added.
+    let mut local = decode_block("big", &big_g.block).unwrap().0;
+    let mut world = to_world(&local, &mirrored, 2.0).unwrap();
+    for o in [&mut local, &mut world] {
+        o.uv_sets = vec![vec![[0.5, 0.5]; o.positions.len()]];
+        o.tangents = vec![[1.0, 0.0, 0.0, 1.0]; o.positions.len()];
+        o.material.shininess = 77.0;
+    }
+    let skipped = decode_block_into("small", &small_g.block, &mut local).unwrap();
+    to_world_into(&local, &small_g.world_from_object, small_g.radiance_scale, &mut world).unwrap();
+    let (fresh_local, fresh_skipped) = decode_block("small", &small_g.block).unwrap();
+    let fresh_world = to_world(&fresh_local, &small_g.world_from_object, small_g.radiance_scale).unwrap();
+    assert_eq!(skipped, fresh_skipped);
+    assert_eq!(local, fresh_local);
+    assert_eq!(world, fresh_world);
+    assert!(world.uv_sets.is_empty() && world.tangents.is_empty() && world.material.shininess != 77.0);
+    assert!(world.triangles.len() < big.triangles.len());
+}
