@@ -256,6 +256,148 @@ impl<'a> EpiRenderer<'a> {
 
 const NONE: u32 = u32::MAX;
 
+/// The segments as the rasterising loop reads them, one list per quantity:
+/// the ends `(X, Z − z_e)` (`a0, a1`, `b0, b1`), the depth `Z` at `a` and its
+/// change to `b`, the facing `nx·s + c` (see [`Segment`]), and double-sided
+/// (all bits set) or not (zero).
+struct SpanColumns {
+    a0: Vec<f64>,
+    a1: Vec<f64>,
+    b0: Vec<f64>,
+    b1: Vec<f64>,
+    z_a: Vec<f64>,
+    dz: Vec<f64>,
+    nx: Vec<f64>,
+    c: Vec<f64>,
+    double_sided: Vec<f64>,
+}
+
+/// One view column: its ray slope and the sub-emitters `x_first + i/inv_dx`,
+/// `i < n_sub`.
+struct ViewColumn {
+    s: f64,
+    x_first: f64,
+    inv_dx: f64,
+    n_sub: u32,
+}
+
+impl SpanColumns {
+    fn new(segments: &[Segment], z_e: f64) -> Self {
+        let column = |f: &dyn Fn(&Segment) -> f64| segments.iter().map(f).collect::<Vec<f64>>();
+        SpanColumns {
+            a0: column(&|seg| seg.a[0]),
+            a1: column(&|seg| seg.a[1] - z_e),
+            b0: column(&|seg| seg.b[0]),
+            b1: column(&|seg| seg.b[1] - z_e),
+            z_a: column(&|seg| seg.a[1]),
+            dz: column(&|seg| seg.b[1] - seg.a[1]),
+            nx: column(&|seg| seg.nx),
+            c: column(&|seg| seg.c),
+            double_sided: column(&|seg| f64::from_bits(if seg.double_sided { u64::MAX } else { 0 })),
+        }
+    }
+
+    /// Each segment's facing in column `at` (into `facing`, 1 or −1), and
+    /// the segments that cover a sub-emitter there, in order: `(segment,
+    /// first sub-emitter, end)` into `out`, how many returned. A segment
+    /// covers the sub-emitters `lo ≤ x < hi` between its ends' crossings
+    /// `u = X − (Z − z_e)·s`, when it faces the ray or is double-sided.
+    fn cover(&self, at: &ViewColumn, facing: &mut [f32], out: &mut [(u32, u32, u32)], avx2: bool) -> usize {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if avx2 {
+                // SAFETY: the CPU has AVX2 (the caller's check, FastLights::chosen).
+                let (done, count) = unsafe { self.cover_avx2(at, facing, out) };
+                return count + self.cover_scalar(done, count, at, facing, out);
+            }
+        }
+        let _ = avx2;
+        self.cover_scalar(0, 0, at, facing, out)
+    }
+
+    /// [`SpanColumns::cover`] of segments `first..`, appended to `out` after
+    /// `count` entries; returns how many it added.
+    #[allow(clippy::needless_range_loop)] // one index into nine columns reads best
+    fn cover_scalar(
+        &self,
+        first: usize,
+        count: usize,
+        at: &ViewColumn,
+        facing: &mut [f32],
+        out: &mut [(u32, u32, u32)],
+    ) -> usize {
+        let mut n = count;
+        for i in first..self.a0.len() {
+            let front = self.nx[i] * at.s + self.c[i] > 0.0;
+            facing[i] = if front { 1.0 } else { -1.0 };
+            let ua = self.a0[i] - self.a1[i] * at.s;
+            let ub = self.b0[i] - self.b1[i] * at.s;
+            let du = ub - ua;
+            let i0 = ceil_clamped((ua.min(ub) - at.x_first) * at.inv_dx, at.n_sub);
+            let i1 = ceil_clamped((ua.max(ub) - at.x_first) * at.inv_dx, at.n_sub);
+            let double_sided = self.double_sided[i].to_bits() != 0;
+            let drawn = (double_sided | front) & (du != 0.0) & du.is_finite() & (i0 < i1);
+            out[n] = (i as u32, i0, i1);
+            n += usize::from(drawn);
+        }
+        n - count
+    }
+
+    /// [`SpanColumns::cover`] of the segments in whole fours, with AVX2: the
+    /// same operations in the same order (no fused multiply-adds), so the
+    /// same answers. Returns the segments done and the entries written.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn cover_avx2(&self, at: &ViewColumn, facing: &mut [f32], out: &mut [(u32, u32, u32)]) -> (usize, usize) {
+        use std::arch::x86_64::*;
+        let n4 = self.a0.len() / 4 * 4;
+        let (s, x_first, inv_dx) = (_mm256_set1_pd(at.s), _mm256_set1_pd(at.x_first), _mm256_set1_pd(at.inv_dx));
+        let (zero, one, n_sub) = (_mm256_setzero_pd(), _mm256_set1_pd(1.0), _mm256_set1_pd(at.n_sub as f64));
+        let (plus, minus) = (_mm256_set1_pd(1.0), _mm256_set1_pd(-1.0));
+        let (infinity, magnitude) = (_mm256_set1_pd(f64::INFINITY), _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX)));
+        // ⌈x⌉ clamped to 0..=n, NaN to 0 (`max` gives its second operand for NaN), as ceil_clamped.
+        let ceil = |x: __m256d| {
+            let x = _mm256_min_pd(_mm256_max_pd(x, zero), n_sub);
+            let whole = _mm256_cvtepi32_pd(_mm256_cvttpd_epi32(x));
+            _mm256_add_pd(whole, _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(whole, x), one))
+        };
+        let mut count = 0;
+        let (mut first, mut end) = ([0.0f64; 4], [0.0f64; 4]);
+        for i in (0..n4).step_by(4) {
+            // SAFETY: i + 4 ≤ n4 ≤ every column's length.
+            let load = |v: &[f64]| unsafe { _mm256_loadu_pd(v.as_ptr().add(i)) };
+            let front =
+                _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_add_pd(_mm256_mul_pd(load(&self.nx), s), load(&self.c)), zero);
+            // SAFETY: as the loads; `facing` has a place per segment.
+            unsafe {
+                _mm_storeu_ps(facing[i..i + 4].as_mut_ptr(), _mm256_cvtpd_ps(_mm256_blendv_pd(minus, plus, front)))
+            };
+            let ua = _mm256_sub_pd(load(&self.a0), _mm256_mul_pd(load(&self.a1), s));
+            let ub = _mm256_sub_pd(load(&self.b0), _mm256_mul_pd(load(&self.b1), s));
+            let du = _mm256_sub_pd(ub, ua);
+            let i0 = ceil(_mm256_mul_pd(_mm256_sub_pd(_mm256_min_pd(ua, ub), x_first), inv_dx));
+            let i1 = ceil(_mm256_mul_pd(_mm256_sub_pd(_mm256_max_pd(ua, ub), x_first), inv_dx));
+            let shown = _mm256_or_pd(load(&self.double_sided), front);
+            let nonzero = _mm256_cmp_pd::<_CMP_NEQ_OQ>(du, zero);
+            let finite = _mm256_cmp_pd::<_CMP_LT_OQ>(_mm256_and_pd(du, magnitude), infinity);
+            let covers = _mm256_cmp_pd::<_CMP_LT_OQ>(i0, i1);
+            let drawn = _mm256_movemask_pd(_mm256_and_pd(_mm256_and_pd(shown, nonzero), _mm256_and_pd(finite, covers)));
+            if drawn != 0 {
+                // SAFETY: four f64 each.
+                unsafe {
+                    _mm256_storeu_pd(first.as_mut_ptr(), i0);
+                    _mm256_storeu_pd(end.as_mut_ptr(), i1);
+                }
+                for lane in 0..4 {
+                    out[count] = ((i + lane) as u32, first[lane] as u32, end[lane] as u32);
+                    count += (drawn >> lane & 1) as usize;
+                }
+            }
+        }
+        (n4, count)
+    }
+}
+
 /// One segment's span in one sub-view: `t = t_first + i·dt` at sub-emitter
 /// `i`, depth `z = z_a + t·dz`.
 struct Span {
@@ -272,7 +414,8 @@ impl Span {
     fn draw(&self, i0: usize, depth: &mut [f64], owner: &mut [u32], param: &mut [f64], avx2: bool) {
         #[cfg(target_arch = "x86_64")]
         {
-            if avx2 {
+            // (A micropolygon's span is a sub-emitter or two: not worth a call.)
+            if avx2 && depth.len() > 4 {
                 // SAFETY: the CPU has AVX2 and FMA (checked in FastLights::chosen).
                 unsafe { self.draw_avx2(i0, depth, owner, param) };
                 return;
@@ -303,16 +446,14 @@ impl Span {
     }
 }
 
-/// `⌈x⌉` clamped to `0..=n` (NaN gives 0), without libm's `ceil`.
+/// `⌈x⌉` clamped to `0..=n` (NaN gives 0), without libm's `ceil` and in
+/// 32 bits, whose conversions from f64 are one instruction (a sub-emitter
+/// count is far below 2³¹).
 #[inline]
-fn ceil_clamped(x: f64, n: usize) -> usize {
+fn ceil_clamped(x: f64, n: u32) -> u32 {
     let x = x.clamp(0.0, n as f64); // NaN stays NaN and converts to 0
-    let i = x as usize;
-    if (i as f64) < x {
-        i + 1
-    } else {
-        i
-    }
+    let i = x as i32;
+    (i + i32::from((i as f64) < x)) as u32
 }
 
 impl HololineRenderer for EpiRenderer<'_> {
@@ -416,6 +557,12 @@ impl EpiRenderer<'_> {
         let mut reduced = [vec![0.0f32; e_count], vec![0.0f32; e_count], vec![0.0f32; e_count]];
         // Channel weights with the supersampling average folded in.
         let weights: Vec<[f32; 3]> = self.s.weights.iter().map(|w| w.map(|x| (x * norm) as f32)).collect();
+        // What the rasterising loop reads of each segment, in columns: it
+        // runs through every segment once a view, and a segment is mostly
+        // shading attributes it does not need there.
+        let spans = SpanColumns::new(segments, z_e);
+        // (segment, first sub-emitter, end) of the segments a view's column draws.
+        let mut covering = vec![(0u32, 0u32, 0u32); segments.len()];
         for v in 0..v_count {
             for a in &mut acc {
                 a.fill(0.0);
@@ -425,32 +572,22 @@ impl EpiRenderer<'_> {
                 // Sub-emitters drawn in this column (`depth` and `owner` are
                 // reset there afterwards, not everywhere).
                 let (mut drawn_lo, mut drawn_hi) = (n_sub, 0);
-                for (si, seg) in segments.iter().enumerate() {
-                    let front = seg.nx * s + seg.c > 0.0;
-                    table.set_front(si, front);
-                    if !seg.double_sided && !front {
-                        continue;
-                    }
-                    let ua = seg.a[0] - (seg.a[1] - z_e) * s;
-                    let ub = seg.b[0] - (seg.b[1] - z_e) * s;
-                    let du = ub - ua;
-                    if du == 0.0 || !du.is_finite() {
-                        continue;
-                    }
-                    let (lo, hi) = if ua < ub { (ua, ub) } else { (ub, ua) };
-                    // Sub-emitters with lo ≤ x < hi.
-                    let i0 = ceil_clamped((lo - x_first) * inv_dx, n_sub);
-                    let i1 = ceil_clamped((hi - x_first) * inv_dx, n_sub);
-                    if i0 >= i1 {
-                        continue;
-                    }
+                // First every segment's facing and sub-emitters, without a
+                // branch (whether a micropolygon covers a sub-emitter in a view
+                // is a coin toss a branch predictor loses), the segments that
+                // do listed in order; then their spans.
+                let at = ViewColumn { s, x_first, inv_dx, n_sub: n_sub as u32 };
+                let count = spans.cover(&at, table.facing_mut(), &mut covering, self.lights_avx2);
+                for &(si, i0, i1) in &covering[..count] {
+                    let (i, i0, i1) = (si as usize, i0 as usize, i1 as usize);
                     (drawn_lo, drawn_hi) = (drawn_lo.min(i0), drawn_hi.max(i1));
-                    let dz = seg.b[1] - seg.a[1];
+                    let ua = spans.a0[i] - spans.a1[i] * s;
+                    let du = (spans.b0[i] - spans.b1[i] * s) - ua;
                     // t = (x_i − u_A)/du, stepped without a division per pixel.
                     let inv_du = 1.0 / du;
                     let t_first = (x_first - ua) * inv_du;
                     let dt = dx * inv_du;
-                    let span = Span { t_first, dt, z_a: seg.a[1], dz, owner: si as u32 };
+                    let span = Span { t_first, dt, z_a: spans.z_a[i], dz: spans.dz[i], owner: si };
                     span.draw(i0, &mut depth[i0..i1], &mut owner[i0..i1], &mut param[i0..i1], self.lights_avx2);
                 }
                 let view = normalize([s as f32, k as f32, 1.0]);
@@ -618,6 +755,64 @@ mod tests {
                 );
             }
             assert!(shaded > 1000, "the scene is seen ({shaded} samples)");
+        }
+    }
+
+    /// The four-at-a-time facing and coverage pass gives the scalar pass's
+    /// answers to the bit: random segments (one- and double-sided, some of
+    /// zero width, some huge or not finite), every count of segments modulo
+    /// four, many view slopes.
+    #[test]
+    fn cover_avx2_equals_the_scalar_pass() {
+        if !crate::simd::Simd::Detect.avx2() {
+            return;
+        }
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        for n in [1usize, 3, 4, 5, 8, 37, 650] {
+            let value = |rng: &mut rand_chacha::ChaCha8Rng| match rng.gen_range(0..40) {
+                0 => f64::NAN,
+                1 => f64::INFINITY,
+                2 => 1e300,
+                _ => rng.gen_range(-0.03..0.03),
+            };
+            let mut columns = SpanColumns {
+                a0: vec![],
+                a1: vec![],
+                b0: vec![],
+                b1: vec![],
+                z_a: vec![],
+                dz: vec![],
+                nx: vec![],
+                c: vec![],
+                double_sided: vec![],
+            };
+            for _ in 0..n {
+                let (a0, a1) = (value(&mut rng), rng.gen_range(-0.05..0.05));
+                let zero_width = rng.gen_range(0..8) == 0;
+                columns.a0.push(a0);
+                columns.a1.push(a1);
+                columns.b0.push(if zero_width { a0 } else { a0 + rng.gen_range(-0.003..0.003) });
+                columns.b1.push(if zero_width { a1 } else { value(&mut rng) });
+                columns.z_a.push(0.0);
+                columns.dz.push(0.0);
+                columns.nx.push(rng.gen_range(-1.0..1.0));
+                columns.c.push(rng.gen_range(-1.0..1.0));
+                columns.double_sided.push(f64::from_bits(if rng.gen_range(0..4) == 0 { u64::MAX } else { 0 }));
+            }
+            for _ in 0..50 {
+                let at = ViewColumn {
+                    s: rng.gen_range(-0.8..0.8),
+                    x_first: -0.02,
+                    inv_dx: 1.0 / rng.gen_range(1e-4..2e-3),
+                    n_sub: rng.gen_range(1..700),
+                };
+                let (mut facing_a, mut facing_b) = (vec![0.0f32; n], vec![0.0f32; n]);
+                let (mut out_a, mut out_b) = (vec![(0, 0, 0); n], vec![(0, 0, 0); n]);
+                let count_a = columns.cover(&at, &mut facing_a, &mut out_a, true);
+                let count_b = columns.cover(&at, &mut facing_b, &mut out_b, false);
+                assert_eq!(facing_a, facing_b);
+                assert_eq!(out_a[..count_a], out_b[..count_b]);
+            }
         }
     }
 }

@@ -614,10 +614,10 @@ impl SegmentTable {
         self.simple[i]
     }
 
-    /// Set segment `i`'s facing for the current view column.
-    #[inline]
-    pub(crate) fn set_front(&mut self, i: usize, front: bool) {
-        self.sign[i] = if front { 1.0 } else { -1.0 };
+    /// Every segment's facing for the current view column, to be set: 1
+    /// facing the ray, −1 not.
+    pub(crate) fn facing_mut(&mut self) -> &mut [f32] {
+        &mut self.sign
     }
 }
 
