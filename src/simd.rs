@@ -1,9 +1,9 @@
 //! Which vector instruction sets the fast paths may use.
 //!
 //! Every fast path with processor-specific code (the fringe-assembly block
-//! kernel, the 8-bit pixel interleave, the mesh renderer's span and shading
-//! loops) asks a [`Simd`] before taking it. The portable path is what a
-//! processor without AVX2 (or SSSE3) runs; forcing it lets the tests check
+//! kernel, the 8-bit pixel interleave, the mesh renderer's coverage, span and
+//! shading loops) asks a [`Simd`] before taking it. The portable path is what
+//! a processor without AVX2 (or SSSE3) runs; forcing it lets the tests check
 //! that path against the reference on machines that do have the vector ones.
 
 use std::sync::OnceLock;
