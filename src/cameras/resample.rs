@@ -29,8 +29,11 @@
 //! share one lookup per camera (`SharedFocus`). At one view the ray's
 //! point on the camera surface moves evenly along the hololine, so each view
 //! keeps the triangle (or nearest camera) of its last ray and walks only
-//! when a ray leaves it. `CameraOptions::reference` turns all of this off:
-//! every ray on its own, located by brute force; tests compare the two.
+//! when a ray leaves it. With the parallax fitted across the eyes a ray's
+//! weights do not depend on its hololine, so natural-neighbour weights, the
+//! costliest, are found once for all hololines (`RayWeights`).
+//! `CameraOptions::reference` turns all of this off: every ray on its own,
+//! located by brute force; tests compare the two.
 
 use std::borrow::Cow;
 
@@ -971,6 +974,37 @@ pub struct RigResampler<'a> {
     /// is used and the placement's centre is on the focus plane. Never for
     /// the reference, which finds every ray's focus point on its own.
     shared_focus: bool,
+    /// Natural-neighbour weights of every (emitter, ray across it, view),
+    /// found once for all hololines when an eye map makes them the same on
+    /// every hololine ([`RayWeights`]).
+    ray_weights: Option<RayWeights>,
+}
+
+/// The camera weights of every (emitter, tap, view) ray, `(emitter · taps +
+/// tap) · views + view`, shared by all hololines. With an eye map a ray's
+/// point on the camera surface depends only on the eye it reaches, so on
+/// its emitter-plane `x` and slope `sx`, not on its hololine; natural-
+/// neighbour weights, the costliest (spade finds the point's neighbours and
+/// their stolen Voronoi areas for each), are then found 440 times less
+/// often on Mark III. The others are cheap enough per ray and not kept.
+struct RayWeights {
+    /// Ray `r`'s weights are `cameras[start[r]..start[r + 1]]` with `weights`.
+    start: Vec<u32>,
+    cameras: Vec<u32>,
+    weights: Vec<f64>,
+}
+
+impl RayWeights {
+    /// The most rays kept: about 60 MB of weights (a ray has 3 to 8
+    /// natural neighbours, 12 bytes each).
+    const MAX_RAYS: usize = 800_000;
+
+    /// The weights of ray `r`, into `out`.
+    fn get(&self, r: usize, out: &mut Vec<(usize, f64)>) {
+        let (a, b) = (self.start[r] as usize, self.start[r + 1] as usize);
+        out.clear();
+        out.extend(self.cameras[a..b].iter().zip(&self.weights[a..b]).map(|(&c, &w)| (c as usize, w)));
+    }
 }
 
 impl<'a> RigResampler<'a> {
@@ -1029,7 +1063,51 @@ impl<'a> RigResampler<'a> {
             warnings,
             done: std::sync::atomic::AtomicUsize::new(0),
             shared_focus,
-        })
+            ray_weights: None,
+        }
+        .with_ray_weights())
+    }
+
+    /// Find [`RayWeights`] when they are worth keeping: natural-neighbour
+    /// blending, an eye map, the fast path, and not too many rays.
+    fn with_ray_weights(mut self) -> Self {
+        use rayon::prelude::*;
+        let (g, taps) = (&self.g, self.tap_x_m.len());
+        let rays = g.emitters * taps * g.views.count;
+        let worth = self.options.blend == Blend::NaturalNeighbour
+            && self.shared_focus
+            && self.geo.eye_map.is_some()
+            && rays <= RayWeights::MAX_RAYS;
+        if !worth {
+            return self;
+        }
+        // Any hololine: the weights do not depend on it.
+        let (y, sy) = (g.hololine_y_m(0), g.ray_slope_y(g.hololine_y_m(0)));
+        let per_emitter: Vec<Vec<Vec<(usize, f64)>>> = (0..g.emitters)
+            .into_par_iter()
+            .map(|ei| {
+                let (mut scratch, mut out) = (Scratch::new(g.views.count), Vec::with_capacity(taps * g.views.count));
+                for dx in &self.tap_x_m {
+                    for (vi, &sx) in self.slopes.iter().enumerate() {
+                        scratch.view = vi;
+                        let mut w = Vec::new();
+                        if let Some(q) = self.geo.ray_surface_point(Ray { x: g.emitter_x_m(ei) + dx, y, sx, sy }) {
+                            self.geo.cameras_on_surface.weights(q, self.options.blend, &mut w, &mut scratch);
+                        }
+                        out.push(w);
+                    }
+                }
+                out
+            })
+            .collect();
+        let mut table = RayWeights { start: vec![0], cameras: Vec::new(), weights: Vec::new() };
+        for w in per_emitter.iter().flatten() {
+            table.cameras.extend(w.iter().map(|&(c, _)| c as u32));
+            table.weights.extend(w.iter().map(|&(_, w)| w));
+            table.start.push(table.cameras.len() as u32);
+        }
+        self.ray_weights = Some(table);
+        self
     }
 
     /// Fill `band` (of this resampler's geometry), hololines in parallel;
@@ -1107,7 +1185,7 @@ impl<'a> RigResampler<'a> {
         for ei in 0..g.emitters {
             let x = g.emitter_x_m(ei);
             sums.fill(([0.0; 3], 0));
-            for dx in &self.tap_x_m {
+            for (ti, dx) in self.tap_x_m.iter().enumerate() {
                 let x = x + dx;
                 if self.shared_focus {
                     shared.point = self.geo.capture_point(x, y);
@@ -1116,12 +1194,18 @@ impl<'a> RigResampler<'a> {
                 for (vi, &sx) in self.slopes.iter().enumerate() {
                     scratch.view = vi;
                     let ray = Ray { x, y, sx, sy };
-                    let rgb = if self.shared_focus {
+                    let rgb = if let Some(table) = &self.ray_weights {
+                        table.get((ei * self.tap_x_m.len() + ti) * v + vi, &mut w);
+                        self.shared_blend(&w, &mut shared)
+                    } else if self.shared_focus {
                         match steps.get(vi).copied().flatten() {
                             Some(step) => Some(step.at(x)),
                             None => self.geo.ray_surface_point(ray),
                         }
-                        .and_then(|q| self.shared_radiance(q, &mut w, &mut scratch, &mut shared))
+                        .and_then(|q| {
+                            self.geo.cameras_on_surface.weights(q, self.options.blend, &mut w, &mut scratch);
+                            self.shared_blend(&w, &mut shared)
+                        })
                     } else {
                         self.ray_radiance(ray, &mut w, &mut scratch)
                     };
@@ -1254,17 +1338,10 @@ impl RigResampler<'_> {
         blend_samples(w, |ci| camera_sample(&self.rig, &self.views, options, ci, point))
     }
 
-    /// [`RigResampler::ray_radiance`] of a ray whose point on the camera
-    /// surface is `q` and whose focus point is `shared.point`, the cameras'
-    /// samples there remembered in `shared`.
-    fn shared_radiance(
-        &self,
-        q: [f64; 2],
-        w: &mut Vec<(usize, f64)>,
-        scratch: &mut Scratch,
-        shared: &mut SharedFocus,
-    ) -> Option<[f64; 3]> {
-        self.geo.cameras_on_surface.weights(q, self.options.blend, w, scratch);
+    /// [`RigResampler::ray_radiance`] of a ray with camera weights `w` whose
+    /// focus point is `shared.point`, the cameras' samples there remembered
+    /// in `shared`.
+    fn shared_blend(&self, w: &[(usize, f64)], shared: &mut SharedFocus) -> Option<[f64; 3]> {
         let point = shared.point;
         blend_samples(w, |ci| {
             *shared.samples[ci].get_or_insert_with(|| camera_sample(&self.rig, &self.views, &self.options, ci, point))
