@@ -1,7 +1,9 @@
 //! Camera arrays to modulation: a 9 × 9 grid of 512 × 512 pictures
 //! resampled to Mark III geometry (440 × 336 × 96 views), the fast path
 //! against the brute-force reference in the same run (the reference timed on
-//! a band of central hololines and scaled up to a frame, labelled so).
+//! a band of central hololines and scaled up to a frame, labelled so), with
+//! true parallax for every blending and with the default parallax, fitted
+//! across the eyes, for linear and natural-neighbour blending.
 //! `cargo bench --bench cameras` (`-- --test`: one quick pass, as CI runs it).
 //!
 //! The pictures are photographs, computed exactly, of a textured plane
