@@ -236,9 +236,8 @@ where
     let frames = frame_range(&source.name(), frames, source.frame_count())?;
     cancelled(progress)?;
     let mut warnings = Warnings::default();
-    let placing = std::time::Instant::now();
-    source.place(&frames, &mut warnings)?;
-    let placing = placing.elapsed();
+    let mut timings = Timings::default();
+    timings.time("place", || source.place(&frames, &mut warnings))?;
     let job = Job {
         frames: frames.clone(),
         provenance: source.provenance(),
@@ -267,8 +266,6 @@ where
     // The sink's time is writing, less the rendering it asked for; the
     // source's own stages are part of its rendering.
     let writing = started.elapsed().saturating_sub(rendering);
-    let mut timings = Timings::default();
-    timings.add("place", placing);
     let own = source.stage_times();
     timings.merge(&own);
     let own: std::time::Duration = own.stages().iter().map(|(_, t)| *t).sum();

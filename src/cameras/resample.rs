@@ -885,14 +885,17 @@ impl Interpolator {
                 if !(q[0].is_finite() && q[1].is_finite()) {
                     return;
                 }
+                // spade's weights (by vertex) as camera weights, zeros left out.
+                let from_spade = |weights: &[(FixedVertexHandle, f64)], out: &mut Vec<(usize, f64)>| {
+                    out.extend(weights.iter().filter(|w| w.1 > 0.0).map(|&(h, w)| (cameras[h.index()], w)))
+                };
                 if blend == Blend::NaturalNeighbour {
                     // On the worker's own copy: spade's walks start from the
                     // last vertex it found, kept in the triangulation, which
                     // threads sharing one would keep taking from each other.
                     let own = scratch.triangulation.get_or_insert_with(|| triangulation.clone());
                     own.natural_neighbor().get_weights(p, &mut scratch.weights);
-                    out.extend(scratch.weights.iter().filter(|w| w.1 > 0.0).map(|&(h, w)| (cameras[h.index()], w)));
-                    return;
+                    return from_spade(&scratch.weights, out);
                 }
                 // Barycentric in the triangle of this view's last ray, usually;
                 // else located by walking from the last ray's vertex (spade's
@@ -915,9 +918,8 @@ impl Interpolator {
                 });
                 match found {
                     Some((ids, l)) => out.extend(ids.into_iter().zip(l).filter(|w| w.1 > 0.0)),
-                    None => {
-                        out.extend(scratch.weights.iter().filter(|w| w.1 > 0.0).map(|&(h, w)| (cameras[h.index()], w)))
-                    }
+                    // On an edge or a vertex, or outside the hull (none).
+                    None => from_spade(&scratch.weights, out),
                 }
                 if blend == Blend::Nearest && !out.is_empty() {
                     // Inside the hull: the nearest camera, walked to from this

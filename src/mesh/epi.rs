@@ -177,7 +177,7 @@ impl<'a> EpiRenderer<'a> {
         let mut out = Vec::new();
         let mut culled = 0;
         for &ti in &self.bucket[self.start[j]..self.start[j + 1]] {
-            let t = &self.triangle(ti);
+            let t = self.triangle(ti);
             let (nx, c) = (t.normal[0], t.normal[1] * k + t.normal[2]);
             // Widened cull: n·d is linear in s, so the end slopes decide.
             if !t.double_sided && nx * s_first + c <= 0.0 && nx * s_last + c <= 0.0 {
