@@ -245,6 +245,29 @@ pub fn load_layout(name: &str) -> Result<Layout, Failure> {
     Ok(holo::assemble::load_layout(name)?)
 }
 
+/// Whether to keep the layout's blanking gains (spec/layouts.md §5.5).
+#[derive(Args, Clone, Copy, Debug, Default)]
+pub struct BlankingArg {
+    /// Send the samples beside the horizontal blanking as the basis makes
+    /// them, without the layout's blanking gains: the display's raw
+    /// behaviour, where each blanked run leaves a dark emitter column
+    /// (spec/layouts.md §5.5).
+    #[arg(long)]
+    pub raw_blanking: bool,
+}
+
+impl BlankingArg {
+    /// `layout`, without its blanking gains if asked.
+    pub fn apply(self, mut layout: Layout) -> Layout {
+        if self.raw_blanking {
+            if let Some(f) = layout.fringe.as_mut() {
+                f.blanking_gains = None;
+            }
+        }
+        layout
+    }
+}
+
 /// The geometry of a layout, or of a geometry JSON file (`holo-views.json`).
 pub fn layout_geometry(name: &str) -> Result<Geometry, Failure> {
     missing_file(name)?;

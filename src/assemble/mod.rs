@@ -9,6 +9,7 @@
 //! check and view fringes already written.
 
 pub mod basis;
+mod blanking;
 pub(crate) mod chirp;
 pub(crate) mod hogel;
 pub mod output;
@@ -22,6 +23,7 @@ use crate::layout::{ColourSignals, FrameBuffer, Layout, Quantization};
 use crate::simd::Simd;
 use crate::{Error, Modulation, Result};
 pub use basis::ColourBasis;
+use blanking::BlankingCompensation;
 pub use chirp::ZonedChirp;
 pub use hogel::HogelGratings;
 pub use pack::FringeSample;
@@ -99,6 +101,8 @@ pub struct Assembler {
     plans: Vec<Plan>,
     /// Which kernels the processor may run (the portable ones when forced).
     simd: Simd,
+    /// The layout's blanking gains, laid out over a hololine.
+    blanking: Option<BlankingCompensation>,
 }
 
 impl Assembler {
@@ -113,7 +117,8 @@ impl Assembler {
             .map(|c| ColourBasis::new(layout, c).map(Plan::new))
             .collect::<Result<Vec<_>, _>>()
             .map_err(|p| Error::layout(&layout.name, p.join("; ")))?;
-        Ok(Assembler { layout: layout.clone(), plans, simd: Simd::Detect })
+        let blanking = layout.fringe.as_ref().and_then(BlankingCompensation::new);
+        Ok(Assembler { layout: layout.clone(), plans, simd: Simd::Detect, blanking })
     }
 
     /// The same assembler, its kernels chosen by `simd` ([`Simd::Portable`]:
@@ -353,7 +358,8 @@ impl Assembler {
                             let colour = colours.start;
                             if lit_weights(colour, weights) {
                                 let sink = Encoder { lane_channel, codes, samples, reversed, q: &q, clipped: 0 };
-                                stats.clipped += sink.encode(&self.plans[colour], weights, zone);
+                                stats.clipped +=
+                                    sink.encode(&self.plans[colour], weights, zone, self.blanking.as_ref());
                                 continue;
                             }
                         } else {
@@ -419,10 +425,30 @@ impl Assembler {
         Ok((out, stats))
     }
 
+    /// Divide the blanking gains (spec/layouts.md §5.5) out of the signals
+    /// of hololine `j` in unpacked group `group` (`rows`: its signals, as
+    /// [`Assembler::unpack`] gives them): the basis's samples again, for
+    /// recovering the modulation from what was sent.
+    pub(crate) fn undo_blanking_gains(&self, group: usize, j: usize, rows: &mut [Vec<f32>]) {
+        let Some(b) = &self.blanking else { return };
+        let fb = self.frame_buffer();
+        let signals = self.layout.signals_per_hololine();
+        let per_group = rows.len();
+        // Gains need I/Q signals: zone `z` is the pair 2z, 2z + 1.
+        for zone in 0..per_group / 2 {
+            let (_, line) = fb.channel_and_line(j, group * per_group + 2 * zone, signals);
+            let reversed = fb.reverse_odd_lines && line % 2 == 1;
+            let (re, im) = rows.split_at_mut(2 * zone + 1);
+            b.undo(zone, reversed, &mut re[2 * zone], &mut im[0]);
+        }
+    }
+
     /// The signals held in frame-buffer images, decoded to floats: one
     /// [`Signals`] per colour channel, or a single one holding every colour
     /// when the layout sums colours into one signal. Samples that fell in the
-    /// horizontal blanking come back as zero: they never reach the display.
+    /// horizontal blanking come back as zero: they never reach the display;
+    /// those beside them, with their blanking gains (as the display shows
+    /// them; signal recovery divides them out first, spec/layouts.md §5.5).
     pub fn unpack<T: FringeSample>(&self, images: &FrameImages<T>, hololines: usize) -> Result<Vec<Signals>> {
         let fb = self.frame_buffer();
         if (images.width, images.height, images.components, images.images.len())
@@ -501,6 +527,22 @@ mod tests {
         let layout = with_hololines(layout, hololines);
         let m = random(&layout, seed, rough);
         (Assembler::new(&layout).unwrap(), m)
+    }
+
+    /// The signals of hololine `j` of one colour (`signals[s][n]`, I/Q pairs
+    /// per zone) with their blanking gains, by the f64 reference.
+    fn with_blanking_gains(layout: &Layout, j: usize, signals: &mut [Vec<f64>]) {
+        let f = layout.fringe.as_ref().unwrap();
+        for zone in 0..signals.len() / 2 {
+            let (_, line) = f.frame_buffer.channel_and_line(j, 2 * zone, layout.signals_per_hololine());
+            let (re, im) = signals.split_at_mut(2 * zone + 1);
+            f.blanking_gains_reference(
+                f.frame_buffer.reverse_odd_lines && line % 2 == 1,
+                zone,
+                &mut re[2 * zone],
+                &mut im[0],
+            );
+        }
     }
 
     /// Rough (independent uniform) or smooth random modulation, never zero everywhere.
@@ -623,13 +665,16 @@ mod tests {
             }
             let group = &unpacked[0];
             let fb = &layout.fringe.as_ref().unwrap().frame_buffer;
-            let mut worst = 0f32;
-            for s in 0..colour_signals.signals.min(group.signals) {
-                for n in 0..a.samples() {
-                    if n % fb.line_samples >= fb.width {
-                        continue;
+            let mut want: Vec<Vec<f64>> = (0..colour_signals.signals)
+                .map(|s| colour_signals.row(s, 0).iter().map(|&x| f64::from(x)).collect())
+                .collect();
+            with_blanking_gains(&layout, 0, &mut want);
+            let mut worst = 0f64;
+            for (s, want) in want.iter().enumerate().take(group.signals) {
+                for (n, want) in want.iter().enumerate() {
+                    if n % fb.line_samples < fb.width {
+                        worst = worst.max((f64::from(group.row(s, 0)[n]) - want).abs());
                     }
-                    worst = worst.max((group.row(s, 0)[n] - colour_signals.row(s, 0)[n]).abs());
                 }
             }
             assert!(worst < 1e-6, "{}: frame path against signals {worst}", layout.name);
@@ -756,6 +801,10 @@ mod tests {
         // zone 2. Head 2 RG … zone 3. Head 2 B channel produces cosine of zone 2."
         let paper =
             [(0, 0, 0, true), (0, 1, 0, false), (0, 2, 1, true), (1, 0, 2, true), (1, 1, 2, false), (1, 2, 1, false)];
+        let mut reference = reference;
+        for (j, want) in reference.iter_mut().enumerate() {
+            with_blanking_gains(a.layout(), j, want);
+        }
         for (head, component, zone, sine) in paper {
             for (j, want) in reference.iter().enumerate() {
                 for n in [0usize, 1, 4079, 4096, 10000, 24575 - 16] {
@@ -788,19 +837,70 @@ mod tests {
 
     #[test]
     fn unpack_inverts_assembly_except_for_blanking_and_quantization() {
-        let (a, m) = assembler_and_frame(mark3(), 3, 8, true);
-        let direct = a.signals(&m, 0).unwrap();
-        let (floats, _) = a.assemble::<f32>(&m).unwrap();
-        let (bytes, stats) = a.assemble::<u8>(&m).unwrap();
-        assert_eq!(stats.clipped, 0);
-        let from_floats = a.unpack(&floats, 3).unwrap().remove(0);
-        let from_bytes = a.unpack(&bytes, 3).unwrap().remove(0);
-        for idx in 0..direct.data.len() {
-            let n = idx % 24576;
-            let blank = n % 4096 >= 4080;
-            let want = if blank { 0.0 } else { direct.data[idx] };
-            assert_eq!(from_floats.data[idx], want, "sample {idx}");
-            assert!((from_bytes.data[idx] - want).abs() <= 0.5 / 127.0 + 1e-6, "sample {idx}");
+        // Mark III with its blanking gains, without them, and with odd lines
+        // sent backwards (the runs then fall elsewhere in the signal, the
+        // first at its very start).
+        let mut raw = mark3();
+        raw.fringe.as_mut().unwrap().blanking_gains = None;
+        let mut reversed = mark3();
+        reversed.fringe.as_mut().unwrap().frame_buffer.reverse_odd_lines = true;
+        for layout in [mark3(), raw, reversed] {
+            let (a, m) = assembler_and_frame(layout, 3, 8, true);
+            let direct = a.signals(&m, 0).unwrap();
+            let (floats, _) = a.assemble::<f32>(&m).unwrap();
+            let (portable_floats, _) = a.clone().with_simd(Simd::Portable).assemble::<f32>(&m).unwrap();
+            let (bytes, stats) = a.assemble::<u8>(&m).unwrap();
+            let (portable_bytes, _) = a.clone().with_simd(Simd::Portable).assemble::<u8>(&m).unwrap();
+            assert_eq!(stats.clipped, 0);
+            let from_floats = a.unpack(&floats, 3).unwrap().remove(0);
+            let from_portable = a.unpack(&portable_floats, 3).unwrap().remove(0);
+            let from_bytes = a.unpack(&bytes, 3).unwrap().remove(0);
+            let from_portable_bytes = a.unpack(&portable_bytes, 3).unwrap().remove(0);
+            let fringe = a.layout().fringe.as_ref().unwrap();
+            let fb = &fringe.frame_buffer;
+            let k = fringe.blanking_gains.as_ref().map_or(0, |g| g.samples_each_side);
+            let (mut compensated, mut undone_worst) = (0, 0f64);
+            for j in 0..3 {
+                let mut want: Vec<Vec<f64>> =
+                    (0..6).map(|s| direct.row(s, j).iter().map(|&x| f64::from(x)).collect()).collect();
+                with_blanking_gains(a.layout(), j, &mut want);
+                let mut undone: Vec<Vec<f32>> = (0..6).map(|s| from_floats.row(s, j).to_vec()).collect();
+                a.undo_blanking_gains(0, j, &mut undone);
+                let blanked = |n: usize| {
+                    let sent = if fb.reverse_odd_lines && j % 2 == 1 { 24575 - n } else { n };
+                    sent % 4096 >= 4080
+                };
+                for s in 0..6 {
+                    for n in 0..24576 {
+                        let (got, basis) = (from_floats.row(s, j)[n], direct.row(s, j)[n]);
+                        let at = format!("{} hololine {j} signal {s} sample {n}", a.layout().name);
+                        if blanked(n) {
+                            assert_eq!(got, 0.0, "{at}");
+                            continue;
+                        }
+                        // Within K of a blanked run the gains change every
+                        // sample a chirp reaches; elsewhere samples come through exactly.
+                        let near = (n.saturating_sub(k)..(n + k + 1).min(24576)).any(blanked);
+                        if near && basis != 0.0 {
+                            compensated += 1;
+                            assert!(want[s][n] != f64::from(basis), "{at}: the reference left it");
+                            assert!((f64::from(got) - want[s][n]).abs() < 1e-6, "{at}: {got} {}", want[s][n]);
+                        } else {
+                            assert_eq!(want[s][n], f64::from(basis), "{at}: the reference changed it");
+                            assert_eq!(got, basis, "{at}");
+                        }
+                        let portable = f64::from(from_portable.row(s, j)[n]);
+                        assert!((portable - want[s][n]).abs() < 1e-6, "{at}: portable");
+                        for bytes in [&from_bytes, &from_portable_bytes] {
+                            assert!((f64::from(bytes.row(s, j)[n]) - want[s][n]).abs() <= 0.5 / 127.0 + 1e-6, "{at}");
+                        }
+                        undone_worst = undone_worst.max((undone[s][n] - basis).abs() as f64);
+                    }
+                }
+            }
+            // Per signal and hololine, 5 runs inside the chirps with 2K samples each at least.
+            assert!(compensated >= 3 * 6 * 5 * 2 * k, "{}: {compensated} samples took gains", a.layout().name);
+            assert!(undone_worst < 1e-6, "{}: gains undone to {undone_worst}", a.layout().name);
         }
     }
 

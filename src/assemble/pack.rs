@@ -6,6 +6,7 @@
 
 use std::any::Any;
 
+use super::blanking::BlankingCompensation;
 use super::plan::{BlockSink, Blocks, LaneSink, PaddedWeights, Plan};
 use crate::layout::Quantization;
 use crate::simd::Simd;
@@ -184,17 +185,38 @@ impl<T: FringeSample> Encoder<'_, T> {
     /// ([`Plan::padded_weights_into`]), encoded; returns the samples clipped.
     /// 8-bit codes are made in the kernel's registers (the downcast picks
     /// that sink for `u8`), other sample types from blocks of floats.
-    pub fn encode(self, plan: &Plan, weights: &PaddedWeights, zone: usize) -> u64 {
+    /// With `blanking`, the samples beside the blanked runs take their
+    /// gains on the way.
+    pub fn encode(
+        self,
+        plan: &Plan,
+        weights: &PaddedWeights,
+        zone: usize,
+        blanking: Option<&BlankingCompensation>,
+    ) -> u64 {
         let Encoder { lane_channel, codes, samples, reversed, q, clipped } = self;
+        fn run<S: LaneSink>(
+            plan: &Plan,
+            weights: &PaddedWeights,
+            zone: usize,
+            blanking: Option<&BlankingCompensation>,
+            reversed: bool,
+            sink: &mut S,
+        ) {
+            match blanking {
+                Some(b) => plan.zone_padded(weights, zone, &mut b.sink(zone, reversed, sink)),
+                None => plan.zone_padded(weights, zone, sink),
+            }
+        }
         match (codes as &mut dyn Any).downcast_mut::<Vec<Vec<u8>>>() {
             Some(codes) => {
                 let mut sink = Encoder { lane_channel, codes, samples, reversed, q, clipped };
-                plan.zone_padded(weights, zone, &mut sink);
+                run(plan, weights, zone, blanking, reversed, &mut sink);
                 sink.clipped
             }
             None => {
                 let mut sink = Encoder { lane_channel, codes, samples, reversed, q, clipped };
-                plan.zone_padded(weights, zone, &mut Blocks::<_, true>(&mut sink));
+                run(plan, weights, zone, blanking, reversed, &mut Blocks::<_, true>(&mut sink));
                 sink.clipped
             }
         }

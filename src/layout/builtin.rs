@@ -2,7 +2,10 @@
 //! gives are marked *assumption* here and in spec/layouts.md, with the
 //! reasoning.
 
-use super::{Basis, ChannelSlot, ColourSignals, EmitterPhases, FrameBuffer, Fringe, Layout, Quantization, SignalKind};
+use super::{
+    Basis, BlankingGains, ChannelSlot, ColourSignals, EmitterPhases, FrameBuffer, Fringe, Layout, Quantization,
+    SignalKind,
+};
 use crate::geometry::{mono_channel, rgb_channels, Geometry, Views};
 
 /// Names of the built-in layouts.
@@ -81,6 +84,7 @@ pub fn mark3() -> Layout {
         carrier_cycles_per_sample: Vec::new(),
         colours: ColourSignals::Separate,
         emitter_phases: EmitterPhases::Zero,
+        blanking_gains: Some(mark3_blanking_gains()),
         max_folded_energy: None,
         frame_buffer: FrameBuffer {
             image_names: vec!["head1".into(), "head2".into()],
@@ -106,6 +110,14 @@ pub fn mark3() -> Layout {
         geometry,
         fringe: Some(fringe),
     }
+}
+
+/// Mark III's blanking gains (spec/layouts.md §5.5): a table found
+/// numerically (`docs/seams/`) for the basis above, hard segments and every
+/// emitter at phase 0.
+fn mark3_blanking_gains() -> BlankingGains {
+    use super::mark3_blanking::{GAINS, SAMPLES_EACH_SIDE};
+    BlankingGains { samples_each_side: SAMPLES_EACH_SIDE, zones: GAINS.iter().map(|z| z.to_vec()).collect() }
 }
 
 /// Mark I: samples per hololine (Nelson 1993 §1.1.2: "32 kilopixels").
@@ -187,6 +199,7 @@ fn mark1_fringe(basis: Basis) -> Fringe {
         carrier_cycles_per_sample: vec![0.25],
         colours: ColourSignals::Separate,
         emitter_phases: EmitterPhases::Zero,
+        blanking_gains: None,
         max_folded_energy: None,
         frame_buffer: mark1_frame_buffer(),
         quantization: Quantization { bits: 8, offset: 128.0, gain: 127.0 },
@@ -279,6 +292,7 @@ pub fn mark2() -> Layout {
             carrier_cycles_per_sample: vec![0.25],
             colours: ColourSignals::Separate,
             emitter_phases: EmitterPhases::Zero,
+            blanking_gains: None,
             max_folded_energy: None,
             frame_buffer: FrameBuffer {
                 image_names: (0..3).flat_map(|card| (0..2).map(move |head| format!("card{card}-head{head}"))).collect(),
@@ -343,6 +357,7 @@ pub fn mark4() -> Layout {
             carrier_cycles_per_sample: vec![0.085, 0.225, 0.39],
             colours: ColourSignals::Summed,
             emitter_phases: EmitterPhases::Zero,
+            blanking_gains: None,
             max_folded_energy: None,
             frame_buffer: FrameBuffer {
                 image_names: (1..=6).map(|h| format!("head{h}")).collect(),

@@ -32,6 +32,12 @@ pub struct Fringe {
     /// The constant phase each emitter's basis starts with.
     #[serde(default, skip_serializing_if = "EmitterPhases::is_zero")]
     pub emitter_phases: EmitterPhases,
+    /// Gains on the shown samples beside each run of horizontally blanked
+    /// samples, which make up for part of the light the blanked samples do
+    /// not send (spec/layouts.md §5.5). None: every sample is sent as the
+    /// basis makes it, and a blanked run is a hole in the hologram.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blanking_gains: Option<BlankingGains>,
     /// The largest fraction of an element's energy its samples may fold
     /// past half the sampling rate (light that leaves toward a ghost of its
     /// emitter); a basis that folds more is refused. None: not checked.
@@ -104,6 +110,23 @@ impl EmitterPhases {
     fn is_zero(&self) -> bool {
         *self == EmitterPhases::Zero
     }
+}
+
+/// Complex gains on the shown samples beside each run of horizontally
+/// blanked samples (spec/layouts.md §5.5): the `K` samples before a run and
+/// the `K` after it (in signal order, so on the hologram too) are multiplied,
+/// as complex baseband samples `I + iQ`, by the gains of their zone, before
+/// quantization. The same gains serve every run: within a hololine the
+/// basis crosses every run alike when runs are a whole number of zone pieces
+/// apart, as on Mark III.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BlankingGains {
+    /// Shown samples taken on each side of a blanked run, `K`.
+    pub samples_each_side: usize,
+    /// Per zone, in signal order: `2K` gains `[re, im]`, first for the `K`
+    /// samples before a run, then for the `K` after it.
+    pub zones: Vec<Vec<[f64; 2]>>,
 }
 
 /// The kind of signal a display takes.
@@ -194,6 +217,94 @@ impl Fringe {
     pub fn emitter_x_m(&self, e: usize) -> f64 {
         let centre = (e * self.emitter_step_samples()) as f64 + self.emitter_span_samples() as f64 / 2.0;
         (centre - self.samples_per_hololine as f64 / 2.0) * self.sample_pitch_m
+    }
+    /// Problems with the blanking gains: they need I/Q signals of their own
+    /// per colour, one list of
+    /// `2K` finite, non-zero gains per zone, and blanked runs far enough
+    /// apart that no sample is taken twice or lies in another run.
+    pub fn blanking_gains_problems(&self) -> Vec<String> {
+        let Some(g) = &self.blanking_gains else { return Vec::new() };
+        let mut p = Vec::new();
+        let k = g.samples_each_side;
+        if self.signal != SignalKind::Iq {
+            p.push("blanking gains are complex: they need I/Q signals".into());
+        }
+        if self.colours == ColourSignals::Summed {
+            p.push("blanking gains are for colours with signals of their own, not summed".into());
+        }
+        if k == 0 {
+            p.push("blanking gains need samples_each_side ≥ 1".into());
+        }
+        if g.zones.len() != self.zones() {
+            p.push(format!("blanking gains for {} zones; the basis has {}", g.zones.len(), self.zones()));
+        }
+        for (z, gains) in g.zones.iter().enumerate() {
+            if gains.len() != 2 * k {
+                p.push(format!(
+                    "blanking gains of zone {}: {} gains, not 2 · samples_each_side = {}",
+                    z + 1,
+                    gains.len(),
+                    2 * k
+                ));
+            }
+            if let Some([re, im]) =
+                gains.iter().find(|[re, im]| !(re.is_finite() && im.is_finite()) || re.hypot(*im) < 1e-6)
+            {
+                p.push(format!("blanking gains of zone {}: gain {re} + {im}i must be finite and not zero", z + 1));
+            }
+        }
+        let fb = &self.frame_buffer;
+        for reversed in [false, true] {
+            let runs = fb.blanked_runs(self.samples_per_hololine, reversed);
+            if let Some(pair) = runs.windows(2).find(|r| r[1].start - r[0].end < 2 * k) {
+                p.push(format!(
+                    "blanked runs at samples {}..{} and {}..{} are closer than 2 · samples_each_side = {}",
+                    pair[0].start,
+                    pair[0].end,
+                    pair[1].start,
+                    pair[1].end,
+                    2 * k
+                ));
+                break;
+            }
+        }
+        p
+    }
+    /// spec/layouts.md §5.5 read straight, in f64: zone `zone`'s signals of
+    /// a hololine (`re` = I, `im` = Q; sent backwards if `reversed`) with the
+    /// `K` shown samples before and after every blanked run multiplied, as
+    /// `I + iQ`, by their gains. The reference the frame assembler's gains
+    /// are tested against; does nothing without gains.
+    pub fn blanking_gains_reference(&self, reversed: bool, zone: usize, re: &mut [f64], im: &mut [f64]) {
+        let Some(table) = &self.blanking_gains else { return };
+        let fb = &self.frame_buffer;
+        let (k, samples) = (table.samples_each_side, re.len());
+        let blanked = |n: usize| (if reversed { samples - 1 - n } else { n }) % fb.line_samples >= fb.width;
+        let mut gain = |n: usize, i: usize| {
+            let [gr, gi] = table.zones[zone][i];
+            (re[n], im[n]) = (gr * re[n] - gi * im[n], gr * im[n] + gi * re[n]);
+        };
+        // Each maximal run [a, b) of blanked samples: a − K + i takes gain i,
+        // b + i gain K + i.
+        let mut n = 0;
+        while n < samples {
+            if !blanked(n) {
+                n += 1;
+                continue;
+            }
+            let a = n;
+            while n < samples && blanked(n) {
+                n += 1;
+            }
+            for i in 0..k {
+                if a + i >= k {
+                    gain(a + i - k, i);
+                }
+                if n + i < samples {
+                    gain(n + i, k + i);
+                }
+            }
+        }
     }
     /// The in-signal carrier of colour channel `c` (zero for I/Q signals).
     pub fn carrier(&self, c: usize) -> f64 {
@@ -292,6 +403,23 @@ impl FrameBuffer {
                 component: slot.component,
             }
         })
+    }
+    /// The runs of samples (in signal order) of a `samples`-sample hololine
+    /// sent forwards or, `reversed`, backwards that fall in the horizontal
+    /// blanking, in increasing order.
+    pub fn blanked_runs(&self, samples: usize, reversed: bool) -> Vec<std::ops::Range<usize>> {
+        let blanked = |n: usize| {
+            let sent = if reversed { samples - 1 - n } else { n };
+            self.line_samples > 0 && sent % self.line_samples >= self.width
+        };
+        let mut runs: Vec<std::ops::Range<usize>> = Vec::new();
+        for n in (0..samples).filter(|&n| blanked(n)) {
+            match runs.last_mut() {
+                Some(run) if run.end == n => run.end = n + 1,
+                _ => runs.push(n..n + 1),
+            }
+        }
+        runs
     }
     /// Everything that makes this frame buffer unusable for `hololines`
     /// hololines of `signals` signals of `samples` samples.

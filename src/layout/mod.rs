@@ -11,6 +11,7 @@
 
 mod builtin;
 mod fringe;
+mod mark3_blanking;
 
 use std::path::Path;
 
@@ -20,7 +21,8 @@ use crate::geometry::Geometry;
 use crate::{Error, Result};
 pub use builtin::{builtin, mark1, mark1_hogel, mark2, mark3, mark4, segment_centre_views, BUILTIN};
 pub use fringe::{
-    Basis, ChannelSlot, ColourSignals, EmitterPhases, FrameBuffer, Fringe, Pixel, Quantization, SignalKind,
+    Basis, BlankingGains, ChannelSlot, ColourSignals, EmitterPhases, FrameBuffer, Fringe, Pixel, Quantization,
+    SignalKind,
 };
 
 /// A display profile.
@@ -111,6 +113,7 @@ impl Layout {
         let mut p =
             f.frame_buffer.problems(self.geometry.hololines, self.signals_per_hololine(), f.samples_per_hololine);
         p.extend(f.quantization.problems());
+        p.extend(f.blanking_gains_problems());
         p
     }
 }

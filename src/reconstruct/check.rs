@@ -137,7 +137,8 @@ pub fn check(
             let mut iterations = 0;
             for (group, signals) in unpacked.iter().enumerate() {
                 let members = group_colours(a, group);
-                let rows: Vec<Vec<f32>> = (0..signals.signals).map(|s| signals.row(s, j).to_vec()).collect();
+                let mut rows: Vec<Vec<f32>> = (0..signals.signals).map(|s| signals.row(s, j).to_vec()).collect();
+                a.undo_blanking_gains(group, j, &mut rows);
                 let op = HololineOperator {
                     plans: members.clone().map(|c| a.plan(c)).collect(),
                     shown: shown(a, group, j, signals.signals, signals.samples),

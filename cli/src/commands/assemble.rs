@@ -44,10 +44,12 @@ pub struct AssembleArgs {
     /// Print where the time went: seconds in each stage (read, resample, assemble, encode), and per frame.
     #[arg(long)]
     timings: bool,
+    #[command(flatten)]
+    blanking: args::BlankingArg,
 }
 
 pub fn run(a: AssembleArgs) -> Outcome {
-    let layout = load_layout(&a.layout)?;
+    let layout = a.blanking.apply(load_layout(&a.layout)?);
     let options =
         AssembleOptions { frames: a.frames, format: a.format.into(), overwrite: a.force, resample: a.resample };
     let started = Instant::now();

@@ -17,10 +17,12 @@ pub struct LayoutArgs {
     /// Print JSON instead of TOML.
     #[arg(long)]
     json: bool,
+    #[command(flatten)]
+    blanking: crate::args::BlankingArg,
 }
 
 pub fn run(a: LayoutArgs) -> Outcome {
-    let layout = load_layout(&a.name)?;
+    let layout = a.blanking.apply(load_layout(&a.name)?);
     if a.json {
         json(&layout)?;
     } else {

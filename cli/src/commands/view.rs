@@ -48,13 +48,15 @@ pub struct ViewArgs {
     /// Replace an existing file.
     #[arg(long)]
     force: bool,
+    #[command(flatten)]
+    blanking: args::BlankingArg,
 }
 
 pub fn run(a: ViewArgs) -> Outcome {
     let layout = match &a.layout {
-        Some(name) => Some(load_layout(name)?),
+        Some(name) => Some(a.blanking.apply(load_layout(name)?)),
         None if is_fringe_dir(&a.input) => None,
-        None => Some(load_layout("mark3")?),
+        None => Some(a.blanking.apply(load_layout("mark3")?)),
     };
     check_output(&a.output, &[&a.input], a.force)?;
     let (x_m, y_m) = a.eye;
