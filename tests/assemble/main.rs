@@ -11,3 +11,4 @@ mod ghosts;
 mod layouts;
 mod physics;
 mod reconstruct;
+mod seams;
