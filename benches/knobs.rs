@@ -42,6 +42,9 @@ enum Shape {
     Taper,
     /// `emitter_phases = "viewer"`: a coherent eye sees no ripple.
     Phases,
+    /// Without the blanking gains (`--raw-blanking`): dark columns at the
+    /// horizontal blanking.
+    RawBlanking,
 }
 
 /// One combination of knobs: the computed f64 basis (else the tabulated f32
@@ -59,8 +62,12 @@ impl Knobs {
     fn all() -> impl Iterator<Item = Knobs> {
         let plain =
             (0..8).map(|k| Knobs { computed: k & 4 != 0, bytes: k & 2 != 0, f16: k & 1 != 0, shape: Shape::Plain });
-        let shaped =
-            [Shape::Taper, Shape::Phases].map(|shape| Knobs { computed: false, f16: true, bytes: true, shape });
+        let shaped = [Shape::Taper, Shape::Phases, Shape::RawBlanking].map(|shape| Knobs {
+            computed: false,
+            f16: true,
+            bytes: true,
+            shape,
+        });
         plain.chain(shaped)
     }
     fn words(self) -> [&'static str; 4] {
@@ -72,6 +79,7 @@ impl Knobs {
                 Shape::Plain => "",
                 Shape::Taper => "segment taper 32",
                 Shape::Phases => "viewer emitter phases",
+                Shape::RawBlanking => "raw blanking",
             },
         ]
     }
@@ -93,6 +101,7 @@ struct Setup {
     a: Assembler,
     tapered: Assembler,
     phased: Assembler,
+    raw: Assembler,
     original: Modulation,
     rounded: Modulation,
     floats: FrameImages<f32>,
@@ -113,6 +122,9 @@ impl Setup {
         let mut shaped = layout.clone();
         shaped.fringe.as_mut().unwrap().emitter_phases = holo::layout::EmitterPhases::Viewer;
         let phased = Assembler::new(&shaped).unwrap();
+        let mut shaped = layout.clone();
+        shaped.fringe.as_mut().unwrap().blanking_gains = None;
+        let raw = Assembler::new(&shaped).unwrap();
         let g = &layout.geometry;
         // Smooth content with a random phase per (channel, hololine), lit everywhere.
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2024);
@@ -124,17 +136,17 @@ impl Setup {
         let f16 = |x: &f32| half::f16::from_f32(*x).to_f32();
         let rounded = Modulation::from_samples(g.clone(), original.samples().iter().map(f16).collect()).unwrap();
         let (floats, bytes) = (a.blank_images(), a.blank_images());
-        Setup { a, tapered, phased, original, rounded, floats, bytes }
+        Setup { a, tapered, phased, raw, original, rounded, floats, bytes }
     }
 
     /// The assembler of knobs `k`'s layout shape.
     fn assembler(&self, k: Knobs) -> &Assembler {
-        [&self.a, &self.tapered, &self.phased][k.shape as usize]
+        [&self.a, &self.tapered, &self.phased, &self.raw][k.shape as usize]
     }
 
     /// Assemble one frame with knobs `k` into the frame buffer of its kind.
     fn run(&mut self, k: Knobs) {
-        let a = [&self.a, &self.tapered, &self.phased][k.shape as usize];
+        let a = [&self.a, &self.tapered, &self.phased, &self.raw][k.shape as usize];
         let m = if k.f16 { &self.rounded } else { &self.original };
         match (k.computed, k.bytes) {
             (false, false) => drop(a.assemble_into(m, &mut self.floats).unwrap()),
@@ -148,7 +160,8 @@ impl Setup {
 /// Frame images through the computed f64 basis: every hololine's reference
 /// signals (hololines in parallel, as the fast path runs them), each sample
 /// rounded to f32 and encoded as the fast path encodes it, at the pixel the
-/// layout puts it (samples in the horizontal blanking are dropped, as there).
+/// layout puts it (samples in the horizontal blanking are dropped, as there,
+/// and those beside them take the layout's blanking gains).
 fn computed_into<T: FringeSample>(a: &Assembler, m: &Modulation, out: &mut FrameImages<T>) {
     let fringe = a.layout().fringe.as_ref().unwrap();
     assert_eq!(fringe.colours, ColourSignals::Separate, "summed colours are not handled here");
@@ -159,7 +172,19 @@ fn computed_into<T: FringeSample>(a: &Assembler, m: &Modulation, out: &mut Frame
             .into_par_iter()
             .map(|j| a.signals_reference(m, colour, j..j + 1).unwrap().remove(0))
             .collect();
-        for (j, hololine) in reference.iter().enumerate() {
+        for (j, hololine) in reference.into_iter().enumerate() {
+            let mut hololine = hololine;
+            // The blanking gains (I/Q pairs per zone), as the fast path applies them.
+            for zone in 0..per_colour / 2 {
+                let (_, line) = fb.channel_and_line(j, colour * per_colour + 2 * zone, signals);
+                let (re, im) = hololine.split_at_mut(2 * zone + 1);
+                fringe.blanking_gains_reference(
+                    fb.reverse_odd_lines && line % 2 == 1,
+                    zone,
+                    &mut re[2 * zone],
+                    &mut im[0],
+                );
+            }
             for (s, signal) in hololine.iter().enumerate() {
                 let s = colour * per_colour + s;
                 for (n, x) in signal.iter().enumerate() {
