@@ -869,3 +869,29 @@ fn timings_say_where_the_time_went_stage_by_stage() {
     let o = ok(holo(&["assemble", "c.holo", "--layout", "small.toml", "-o", "f2"], d));
     assert!(!text(&o).contains("timings"));
 }
+
+#[test]
+fn raw_blanking_drops_the_layouts_blanking_gains() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    small_profile(d, 2);
+    let printed = |raw: bool| {
+        let args: &[&str] = if raw { &["layout", "mark3", "--raw-blanking"] } else { &["layout", "mark3"] };
+        String::from_utf8(ok(holo(args, d)).stdout).unwrap()
+    };
+    assert!(printed(false).contains("[fringe.blanking_gains]"));
+    assert!(!printed(true).contains("blanking_gains"));
+    ok(holo(&["pattern", "--layout", "small.toml", "--kind", "single-emitter", "-o", "s.holo"], d));
+    for (out, raw) in [("with", false), ("raw", true)] {
+        let mut args = vec!["assemble", "s.holo", "--layout", "small.toml", "-o", out];
+        if raw {
+            args.push("--raw-blanking");
+        }
+        ok(holo(&args, d));
+        // The fringe set records the layout it was made with.
+        let sidecar = std::fs::read_to_string(d.join(out).join("holo-fringes.json")).unwrap();
+        assert_eq!(sidecar.contains("blanking_gains"), !raw, "{out}");
+    }
+    let image = |out: &str| std::fs::read(d.join(out).join("frame0000-head1.png")).unwrap();
+    assert_ne!(image("with"), image("raw"), "the gains change the samples beside the blanking");
+}
