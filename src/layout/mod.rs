@@ -78,9 +78,29 @@ impl Layout {
         Ok(layout)
     }
 
-    /// The profile as TOML.
+    /// The profile as TOML. Blanking gains come last, one `[re, im]` pair a
+    /// line (the pretty printer would give every number a line of its own).
     pub fn to_toml(&self) -> String {
-        toml::to_string_pretty(self).expect("a layout is plain data")
+        let mut rest = self.clone();
+        let gains = rest.fringe.as_mut().and_then(|f| f.blanking_gains.take());
+        let mut text = toml::to_string_pretty(&rest).expect("a layout is plain data");
+        if let Some(g) = gains {
+            // `{:?}` of a finite f64 is the shortest text that reads back to it, with a
+            // decimal point: a TOML float. Gains that are not finite are refused on loading.
+            text.push_str(&format!(
+                "\n[fringe.blanking_gains]\nsamples_each_side = {}\nzones = [\n",
+                g.samples_each_side
+            ));
+            for zone in &g.zones {
+                text.push_str("    [\n");
+                for [re, im] in zone {
+                    text.push_str(&format!("        [{re:?}, {im:?}],\n"));
+                }
+                text.push_str("    ],\n");
+            }
+            text.push_str("]\n");
+        }
+        text
     }
 
     /// Fringe signals per hololine (all colour channels).
