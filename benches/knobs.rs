@@ -174,17 +174,8 @@ fn computed_into<T: FringeSample>(a: &Assembler, m: &Modulation, out: &mut Frame
             .collect();
         for (j, hololine) in reference.into_iter().enumerate() {
             let mut hololine = hololine;
-            // The blanking gains (I/Q pairs per zone), as the fast path applies them.
-            for zone in 0..per_colour / 2 {
-                let (_, line) = fb.channel_and_line(j, colour * per_colour + 2 * zone, signals);
-                let (re, im) = hololine.split_at_mut(2 * zone + 1);
-                fringe.blanking_gains_reference(
-                    fb.reverse_odd_lines && line % 2 == 1,
-                    zone,
-                    &mut re[2 * zone],
-                    &mut im[0],
-                );
-            }
+            // The blanking gains, as the fast path applies them.
+            a.layout().blanking_gains_reference(j, colour, &mut hololine);
             for (s, signal) in hololine.iter().enumerate() {
                 let s = colour * per_colour + s;
                 for (n, x) in signal.iter().enumerate() {

@@ -315,7 +315,7 @@ impl Assembler {
                     let mut valid = true;
                     // The (hololine, colour) whose weights are in `weights`, and whether it is lit.
                     let mut weights_of: Option<(usize, usize, bool)> = None;
-                    let reversed = fb.reverse_odd_lines && line % 2 == 1;
+                    let reversed = fb.line_reversed(line);
                     // What channel `c` of this line carries: (hololine, colours, zone, lane).
                     let item = |c: usize| {
                         let k = line * fb.channels.len() + c;
@@ -437,7 +437,7 @@ impl Assembler {
         // Gains need I/Q signals: zone `z` is the pair 2z, 2z + 1.
         for zone in 0..per_group / 2 {
             let (_, line) = fb.channel_and_line(j, group * per_group + 2 * zone, signals);
-            let reversed = fb.reverse_odd_lines && line % 2 == 1;
+            let reversed = fb.line_reversed(line);
             let (re, im) = rows.split_at_mut(2 * zone + 1);
             b.undo(zone, reversed, &mut re[2 * zone], &mut im[0]);
         }
@@ -527,22 +527,6 @@ mod tests {
         let layout = with_hololines(layout, hololines);
         let m = random(&layout, seed, rough);
         (Assembler::new(&layout).unwrap(), m)
-    }
-
-    /// The signals of hololine `j` of one colour (`signals[s][n]`, I/Q pairs
-    /// per zone) with their blanking gains, by the f64 reference.
-    fn with_blanking_gains(layout: &Layout, j: usize, signals: &mut [Vec<f64>]) {
-        let f = layout.fringe.as_ref().unwrap();
-        for zone in 0..signals.len() / 2 {
-            let (_, line) = f.frame_buffer.channel_and_line(j, 2 * zone, layout.signals_per_hololine());
-            let (re, im) = signals.split_at_mut(2 * zone + 1);
-            f.blanking_gains_reference(
-                f.frame_buffer.reverse_odd_lines && line % 2 == 1,
-                zone,
-                &mut re[2 * zone],
-                &mut im[0],
-            );
-        }
     }
 
     /// Rough (independent uniform) or smooth random modulation, never zero everywhere.
@@ -668,7 +652,7 @@ mod tests {
             let mut want: Vec<Vec<f64>> = (0..colour_signals.signals)
                 .map(|s| colour_signals.row(s, 0).iter().map(|&x| f64::from(x)).collect())
                 .collect();
-            with_blanking_gains(&layout, 0, &mut want);
+            layout.blanking_gains_reference(0, 0, &mut want);
             let mut worst = 0f64;
             for (s, want) in want.iter().enumerate().take(group.signals) {
                 for (n, want) in want.iter().enumerate() {
@@ -803,7 +787,7 @@ mod tests {
             [(0, 0, 0, true), (0, 1, 0, false), (0, 2, 1, true), (1, 0, 2, true), (1, 1, 2, false), (1, 2, 1, false)];
         let mut reference = reference;
         for (j, want) in reference.iter_mut().enumerate() {
-            with_blanking_gains(a.layout(), j, want);
+            a.layout().blanking_gains_reference(j, 0, want);
         }
         for (head, component, zone, sine) in paper {
             for (j, want) in reference.iter().enumerate() {
@@ -863,7 +847,7 @@ mod tests {
             for j in 0..3 {
                 let mut want: Vec<Vec<f64>> =
                     (0..6).map(|s| direct.row(s, j).iter().map(|&x| f64::from(x)).collect()).collect();
-                with_blanking_gains(a.layout(), j, &mut want);
+                a.layout().blanking_gains_reference(j, 0, &mut want);
                 let mut undone: Vec<Vec<f32>> = (0..6).map(|s| from_floats.row(s, j).to_vec()).collect();
                 a.undo_blanking_gains(0, j, &mut undone);
                 let blanked = |n: usize| {

@@ -6,6 +6,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::Layout;
+
 /// Everything between a modulation and the frame buffer.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -270,12 +272,9 @@ impl Fringe {
         }
         p
     }
-    /// spec/layouts.md §5.5 read straight, in f64: zone `zone`'s signals of
-    /// a hololine (`re` = I, `im` = Q; sent backwards if `reversed`) with the
-    /// `K` shown samples before and after every blanked run multiplied, as
-    /// `I + iQ`, by their gains. The reference the frame assembler's gains
-    /// are tested against; does nothing without gains.
-    pub fn blanking_gains_reference(&self, reversed: bool, zone: usize, re: &mut [f64], im: &mut [f64]) {
+    /// [`Layout::blanking_gains_reference`] for zone `zone`'s pair of a
+    /// hololine (`re` = I, `im` = Q), sent backwards if `reversed`.
+    fn zone_blanking_gains_reference(&self, reversed: bool, zone: usize, re: &mut [f64], im: &mut [f64]) {
         let Some(table) = &self.blanking_gains else { return };
         let fb = &self.frame_buffer;
         let (k, samples) = (table.samples_each_side, re.len());
@@ -312,6 +311,27 @@ impl Fringe {
             [] => 0.0,
             [one] => *one,
             many => many.get(c).copied().unwrap_or(f64::NAN),
+        }
+    }
+}
+
+impl Layout {
+    /// spec/layouts.md §5.5 read straight, in f64: the signals of hololine
+    /// `j` of colour channel `colour` (`signals[s][n]`, in the layout's signal
+    /// order, I/Q pairs per zone) with the `K` shown samples before and after
+    /// every blanked run multiplied, as `I + iQ`, by their zone's gains. The
+    /// reference the frame assembler's gains are tested against; does
+    /// nothing without gains (which need I/Q signals and separate colours).
+    pub fn blanking_gains_reference(&self, j: usize, colour: usize, signals: &mut [Vec<f64>]) {
+        let Some(f) = &self.fringe else { return };
+        if f.blanking_gains.is_none() {
+            return;
+        }
+        for zone in 0..signals.len() / 2 {
+            let s = colour * signals.len() + 2 * zone;
+            let (_, line) = f.frame_buffer.channel_and_line(j, s, self.signals_per_hololine());
+            let (re, im) = signals.split_at_mut(2 * zone + 1);
+            f.zone_blanking_gains_reference(f.frame_buffer.line_reversed(line), zone, &mut re[2 * zone], &mut im[0]);
         }
     }
 }
@@ -392,7 +412,7 @@ impl FrameBuffer {
     /// falls in the horizontal blanking.
     pub fn place(&self, j: usize, s: usize, n: usize, signals: usize, samples: usize) -> Option<Pixel> {
         let (channel, line) = self.channel_and_line(j, s, signals);
-        let sent = if self.reverse_odd_lines && line % 2 == 1 { samples - 1 - n } else { n };
+        let sent = if self.line_reversed(line) { samples - 1 - n } else { n };
         let column = sent % self.line_samples;
         (column < self.width).then(|| {
             let slot = self.channels[channel];
@@ -403,6 +423,10 @@ impl FrameBuffer {
                 component: slot.component,
             }
         })
+    }
+    /// Whether a channel's line `line` is sent from its last sample to its first.
+    pub fn line_reversed(&self, line: usize) -> bool {
+        self.reverse_odd_lines && line % 2 == 1
     }
     /// The runs of samples (in signal order) of a `samples`-sample hololine
     /// sent forwards or, `reversed`, backwards that fall in the horizontal
