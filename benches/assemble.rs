@@ -64,6 +64,15 @@ fn bench(c: &mut Criterion) {
         group.bench_function("fast_u8_frame_buffer_segment_taper", |b| {
             b.iter(|| tapered.assemble_into(&m, &mut bytes).unwrap())
         });
+        // Without the layout's blanking gains (spec/layouts.md §5.5; `--raw-blanking`).
+        if layout.fringe.as_ref().unwrap().blanking_gains.is_some() {
+            let mut raw_layout = layout.clone();
+            raw_layout.fringe.as_mut().unwrap().blanking_gains = None;
+            let raw = Assembler::new(&raw_layout).unwrap();
+            group.bench_function("fast_u8_frame_buffer_raw_blanking", |b| {
+                b.iter(|| raw.assemble_into(&m, &mut bytes).unwrap())
+            });
+        }
         group.bench_function("fast_f32_signals", |b| b.iter(|| a.signals(&m, 0).unwrap()));
         group.bench_function("straightforward_one_thread", |b| b.iter(|| straightforward(&a, &m)));
         group.finish();

@@ -889,6 +889,44 @@ mod tests {
     }
 
     #[test]
+    fn clipping_is_counted_for_the_samples_as_sent_with_their_gains() {
+        // A quantizer gain that clips the louder samples: the count must be
+        // that of the reference's samples, gains applied where they apply
+        // (the kernel's pass first counts the gained samples without them).
+        for gains in [true, false] {
+            let mut layout = mark3();
+            let fringe = layout.fringe.as_mut().unwrap();
+            fringe.quantization.gain *= 4.0;
+            if !gains {
+                fringe.blanking_gains = None;
+            }
+            let (a, m) = assembler_and_frame(layout, 3, 12, true);
+            let q = *a.quantization();
+            let direct = a.signals(&m, 0).unwrap();
+            let (mut certain, mut borderline) = (0u64, 0u64);
+            for j in 0..3 {
+                let mut want: Vec<Vec<f64>> =
+                    (0..6).map(|s| direct.row(s, j).iter().map(|&x| f64::from(x)).collect()).collect();
+                a.layout().blanking_gains_reference(j, 0, &mut want);
+                for code in want.iter().flatten().map(|x| q.offset + q.gain * x) {
+                    let beyond = (-0.5 - code).max(code - 255.5);
+                    certain += u64::from(beyond > 1e-3);
+                    borderline += u64::from(beyond.abs() <= 1e-3);
+                }
+            }
+            for simd in [Simd::Detect, Simd::Portable] {
+                let (_, stats) = a.clone().with_simd(simd).assemble::<u8>(&m).unwrap();
+                assert!(certain > 1000, "the test must clip: {certain}");
+                assert!(
+                    (certain..=certain + borderline).contains(&stats.clipped),
+                    "gains {gains} {simd:?}: {} clipped, the reference {certain} (+{borderline} within rounding)",
+                    stats.clipped
+                );
+            }
+        }
+    }
+
+    #[test]
     fn bytes_do_not_depend_on_the_thread_count() {
         for layout in [with_hololines(mark3(), 8), with_hololines(mark1_hogel(), 4)] {
             let a = Assembler::new(&layout).unwrap();

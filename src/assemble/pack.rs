@@ -24,6 +24,9 @@ pub trait FringeSample: Copy + Send + Sync + 'static {
     /// (`reversed`: last sample first) into `out`; returns the number of
     /// clipped samples.
     fn encode_line(signal: &[f32], reversed: bool, out: &mut [Self], q: &Quantization) -> u64;
+    /// How many samples of `signal` [`FringeSample::encode_line`] would
+    /// count clipped.
+    fn count_clipped(signal: &[f32], q: &Quantization) -> u64;
     /// The signal a stored value stands for.
     fn decode(self, q: &Quantization) -> f32;
     /// The value of pixels no signal reaches.
@@ -44,6 +47,10 @@ impl FringeSample for u8 {
     #[inline(always)]
     fn encode_line(signal: &[f32], reversed: bool, out: &mut [u8], q: &Quantization) -> u64 {
         encode_bytes(signal, reversed, out, q.offset as f32, q.gain as f32)
+    }
+    fn count_clipped(signal: &[f32], q: &Quantization) -> u64 {
+        let (offset, gain) = (q.offset as f32, q.gain as f32);
+        signal.iter().map(|x| offset + gain * x).filter(|code| *code < -0.5 || *code > 255.5).count() as u64
     }
     fn decode(self, q: &Quantization) -> f32 {
         ((f64::from(self) - q.offset) / q.gain) as f32
@@ -129,6 +136,9 @@ impl FringeSample for f32 {
         }
         0
     }
+    fn count_clipped(_: &[f32], _: &Quantization) -> u64 {
+        0
+    }
     fn decode(self, _: &Quantization) -> f32 {
         self
     }
@@ -185,8 +195,8 @@ impl<T: FringeSample> Encoder<'_, T> {
     /// ([`Plan::padded_weights_into`]), encoded; returns the samples clipped.
     /// 8-bit codes are made in the kernel's registers (the downcast picks
     /// that sink for `u8`), other sample types from blocks of floats.
-    /// With `blanking`, the samples beside the blanked runs take their
-    /// gains on the way.
+    /// With `blanking`, the samples beside the blanked runs are then sent
+    /// again with their gains.
     pub fn encode(
         self,
         plan: &Plan,
@@ -195,28 +205,21 @@ impl<T: FringeSample> Encoder<'_, T> {
         blanking: Option<&BlankingCompensation>,
     ) -> u64 {
         let Encoder { lane_channel, codes, samples, reversed, q, clipped } = self;
-        fn run<S: LaneSink>(
-            plan: &Plan,
-            weights: &PaddedWeights,
-            zone: usize,
-            blanking: Option<&BlankingCompensation>,
-            reversed: bool,
-            sink: &mut S,
-        ) {
-            match blanking {
-                Some(b) => plan.zone_padded(weights, zone, &mut b.sink(zone, reversed, sink)),
-                None => plan.zone_padded(weights, zone, sink),
-            }
-        }
         match (codes as &mut dyn Any).downcast_mut::<Vec<Vec<u8>>>() {
             Some(codes) => {
                 let mut sink = Encoder { lane_channel, codes, samples, reversed, q, clipped };
-                run(plan, weights, zone, blanking, reversed, &mut sink);
+                plan.zone_padded(weights, zone, &mut sink);
+                if let Some(b) = blanking {
+                    b.apply(plan, weights, zone, &mut sink);
+                }
                 sink.clipped
             }
             None => {
                 let mut sink = Encoder { lane_channel, codes, samples, reversed, q, clipped };
-                run(plan, weights, zone, blanking, reversed, &mut Blocks::<_, true>(&mut sink));
+                plan.zone_padded(weights, zone, &mut Blocks::<_, true>(&mut sink));
+                if let Some(b) = blanking {
+                    b.apply(plan, weights, zone, &mut sink);
+                }
                 sink.clipped
             }
         }

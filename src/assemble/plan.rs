@@ -395,6 +395,85 @@ impl Plan {
         self.zone_into(&weights.values, before, zone, sink);
     }
 
+    /// Samples `first .. first + re.len()` of zone `zone`'s I/Q signal, as
+    /// the kernels make them (emitter phases included) but one sample at a
+    /// time, from [`Plan::padded_weights_into`]: a few samples made again
+    /// after the kernel has run (the blanking gains, spec/layouts.md §5.5),
+    /// so that the kernel itself stays as it is.
+    pub(crate) fn iq_samples(
+        &self,
+        weights: &PaddedWeights,
+        zone: usize,
+        first: usize,
+        re: &mut [f32],
+        im: &mut [f32],
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if self.simd.avx2_fma() {
+            // SAFETY: the features the function is compiled for are present.
+            return unsafe { self.iq_samples_avx2(weights, zone, first, re, im) };
+        }
+        self.iq_samples_inline(weights, zone, first, re, im)
+    }
+
+    /// [`Plan::iq_samples`] compiled with AVX2 and FMA (callers check them).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn iq_samples_avx2(
+        &self,
+        weights: &PaddedWeights,
+        zone: usize,
+        first: usize,
+        re: &mut [f32],
+        im: &mut [f32],
+    ) {
+        self.iq_samples_inline(weights, zone, first, re, im)
+    }
+
+    #[inline(always)]
+    fn iq_samples_inline(&self, weights: &PaddedWeights, zone: usize, first: usize, re: &mut [f32], im: &mut [f32]) {
+        assert_eq!(self.basis.signal, SignalKind::Iq, "I/Q signals only");
+        assert_eq!(re.len(), im.len());
+        let (before, views, bl) = (weights.shape[0], self.basis.views, self.block);
+        re.fill(0.0);
+        im.fill(0.0);
+        let end = first + re.len();
+        let mut n = first;
+        // Block by block (the elements are the same across a block), each
+        // element added into the whole run (measured faster than summing
+        // eight samples at a time in registers: fewer bounds checks).
+        while n < end {
+            let b = n / bl;
+            let (from, to) = (n, end.min((b + 1) * bl));
+            let (base, phase) = (b / self.period, b % self.period);
+            let (r, i) = (&mut re[from - first..to - first], &mut im[from - first..to - first]);
+            for t in &self.terms[zone][phase].list {
+                let Some(e) = base.checked_sub(t.back as usize).filter(|e| *e < self.basis.emitters) else {
+                    continue;
+                };
+                let w = weights.values[(before + e) * views + t.view as usize];
+                let at = t.at as usize + from - b * bl;
+                let (tr, ti) = (&self.table_re[at..at + to - from], &self.table_im[at..at + to - from]);
+                match self.phases.get(e) {
+                    None => {
+                        r.iter_mut().zip(tr).for_each(|(r, t)| *r += w * t);
+                        i.iter_mut().zip(ti).for_each(|(i, t)| *i += w * t);
+                    }
+                    // With phases the weight is w e^{iψ}: s = Σ w (cos ψ + i sin ψ) B.
+                    Some(&(cos, sin)) => {
+                        let (c, s) = (w * cos, w * sin);
+                        for (((r, i), tr), ti) in r.iter_mut().zip(i.iter_mut()).zip(tr).zip(ti) {
+                            *r += c * tr - s * ti;
+                            *i += c * ti + s * tr;
+                        }
+                    }
+                }
+            }
+            n = to;
+        }
+        re.iter_mut().chain(im.iter_mut()).for_each(|x| *x *= self.norm);
+    }
+
     /// Zone `zone` of one hololine from its [`Plan::weights`]: the real part
     /// (I, or the real signal) into `re`, the imaginary part (Q) into `im`
     /// for I/Q signals (`im` is ignored for real signals). Both hold one
