@@ -396,10 +396,10 @@ impl Plan {
     }
 
     /// Samples `first .. first + re.len()` of zone `zone`'s I/Q signal, as
-    /// the kernels make them (emitter phases included) but one sample at a
-    /// time, from [`Plan::padded_weights_into`]: a few samples made again
-    /// after the kernel has run (the blanking gains, spec/layouts.md §5.5),
-    /// so that the kernel itself stays as it is.
+    /// the kernels make them (emitter phases included) but outside them, from
+    /// [`Plan::padded_weights_into`]: a few samples made again after the
+    /// kernel has run (the blanking gains, spec/layouts.md §5.5), so that the
+    /// kernel itself stays as it is.
     pub(crate) fn iq_samples(
         &self,
         weights: &PaddedWeights,
@@ -408,30 +408,6 @@ impl Plan {
         re: &mut [f32],
         im: &mut [f32],
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if self.simd.avx2_fma() {
-            // SAFETY: the features the function is compiled for are present.
-            return unsafe { self.iq_samples_avx2(weights, zone, first, re, im) };
-        }
-        self.iq_samples_inline(weights, zone, first, re, im)
-    }
-
-    /// [`Plan::iq_samples`] compiled with AVX2 and FMA (callers check them).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn iq_samples_avx2(
-        &self,
-        weights: &PaddedWeights,
-        zone: usize,
-        first: usize,
-        re: &mut [f32],
-        im: &mut [f32],
-    ) {
-        self.iq_samples_inline(weights, zone, first, re, im)
-    }
-
-    #[inline(always)]
-    fn iq_samples_inline(&self, weights: &PaddedWeights, zone: usize, first: usize, re: &mut [f32], im: &mut [f32]) {
         assert_eq!(self.basis.signal, SignalKind::Iq, "I/Q signals only");
         assert_eq!(re.len(), im.len());
         let (before, views, bl) = (weights.shape[0], self.basis.views, self.block);
