@@ -119,12 +119,58 @@ const GAP: usize = 8;
 /// assembled into Mark III fringes (in memory, pictured in
 /// `dir/fringe.png`), and reconstructed by scalar diffraction into what eyes
 /// across the viewing zone see (`dir/eyes.png`, `dir/eyes-moving.png`); then
-/// the movie path ([`DemoMovie`]). An earlier demo's files are replaced.
-/// Each step's phases go to `progress`.
+/// the movie path ([`DemoMovie`]). Each step's phases go to `progress`.
+///
+/// `dir` is new, empty, or an earlier demo's (marked by a `.holo-demo` file
+/// in it, or, from before the marker, holding only the demo's own names
+/// and the bundled scene), whose files are replaced; a folder holding other files is
+/// refused, so no file the demo did not make is ever written over. A demo
+/// that does not finish (an error, or a signal with
+/// [`crate::output::install_interrupt_cleanup`]) in a new or empty folder
+/// leaves it as it was.
 pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {
+    let dir = dir.as_ref();
+    if dir.join(MARKER).is_file() {
+        return demo_in(dir, progress);
+    }
+    if made_by_an_earlier_demo(dir) {
+        crate::output::write_bytes_beside(&dir.join(MARKER), MARKER_TEXT.as_bytes(), false)?;
+        return demo_in(dir, progress);
+    }
+    if std::fs::read_dir(dir).is_ok_and(|mut entries| entries.next().is_some()) {
+        return Err(crate::Error::Output {
+            path: dir.to_path_buf(),
+            problem: crate::OutputProblem::WrongKind(
+                "holds files that `holo demo` did not make (there is no .holo-demo in it); give -o a new or empty folder",
+            ),
+        });
+    }
+    let folder = crate::output::RunFolder::claim(dir)?;
+    crate::output::write_bytes_beside(&dir.join(MARKER), MARKER_TEXT.as_bytes(), false)?;
+    let demo = demo_in(dir, progress)?;
+    folder.keep();
+    Ok(demo)
+}
+
+/// The file that marks a folder as the demo's own: a later demo writes over
+/// its files there.
+const MARKER: &str = ".holo-demo";
+const MARKER_TEXT: &str = "Made by `holo demo`: a later `holo demo` into this folder replaces its files.\n";
+
+/// Whether `dir` is what a demo from before the marker left: nothing but
+/// the demo's own names in it, and the bundled scene's bytes in `spot/`.
+fn made_by_an_earlier_demo(dir: &Path) -> bool {
+    const NAMES: [&str; 7] =
+        ["spot", "demo.holo", "demo_qs8x6a0.75.png", "fringe.png", "eyes.png", "eyes-moving.png", "movie"];
+    let Ok(entries) = std::fs::read_dir(dir) else { return false };
+    let only_ours = entries.into_iter().all(|e| e.is_ok_and(|e| NAMES.iter().any(|n| e.file_name() == *n)));
+    only_ours
+        && DEMO_SCENE.iter().all(|(name, bytes)| std::fs::read(dir.join("spot").join(name)).is_ok_and(|b| b == *bytes))
+}
+
+fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
     use crate::mesh::convert::{convert_mesh, ConvertOptions};
     let started_demo = Instant::now();
-    let dir = dir.as_ref();
     let scene_dir = dir.join("spot");
     std::fs::create_dir_all(&scene_dir).map_err(|e| crate::Error::io(&scene_dir, e))?;
     for (name, bytes) in DEMO_SCENE {

@@ -18,11 +18,15 @@ use crate::{Error, OutputProblem, Result};
 struct Registry {
     next_id: u64,
     live: BTreeMap<u64, PathBuf>,
+    /// Folders a run writes into, removed after the files: `true` removes
+    /// the folder itself, `false` only what is in it.
+    folders: BTreeMap<u64, (PathBuf, bool)>,
     /// Set once the cleanup has begun: no temporary is created or renamed after.
     interrupted: bool,
 }
 
-static REGISTRY: Mutex<Registry> = Mutex::new(Registry { next_id: 0, live: BTreeMap::new(), interrupted: false });
+static REGISTRY: Mutex<Registry> =
+    Mutex::new(Registry { next_id: 0, live: BTreeMap::new(), folders: BTreeMap::new(), interrupted: false });
 
 /// The registry, whatever a panicking holder left: its map stays
 /// consistent because every update is a single insert or remove.
@@ -102,6 +106,50 @@ pub(super) fn remove_in_place(path: &Path) -> Result<()> {
     }
 }
 
+/// Register a folder a run writes into (see [`super::RunFolder`]), under
+/// the lock; refused once the cleanup has begun.
+pub(super) fn register_folder(path: &Path, remove_itself: bool) -> Result<u64> {
+    let mut registry = registry();
+    if registry.interrupted {
+        return Err(interrupted(path));
+    }
+    let id = registry.next_id;
+    registry.next_id += 1;
+    registry.folders.insert(id, (path.to_path_buf(), remove_itself));
+    Ok(id)
+}
+
+/// Forget folder `id`: the run that wrote it succeeded.
+pub(super) fn forget_folder(id: u64) {
+    registry().folders.remove(&id);
+}
+
+/// Remove folder `id` (or what is in it) and forget it: the run failed.
+pub(super) fn remove_folder(id: u64) {
+    let mut registry = registry();
+    if let Some((path, remove_itself)) = registry.folders.remove(&id) {
+        clear_folder(&path, remove_itself);
+    }
+}
+
+/// Remove `path` with everything in it, or only everything in it. Nothing
+/// useful can be done about an entry that cannot be removed while another
+/// error is reported or the process exits on a signal.
+fn clear_folder(path: &Path, remove_itself: bool) {
+    if remove_itself {
+        let _ = std::fs::remove_dir_all(path);
+    } else if let Ok(entries) = std::fs::read_dir(path) {
+        for entry in entries.flatten() {
+            let p = entry.path();
+            let _ = if entry.file_type().is_ok_and(|t| t.is_dir()) {
+                std::fs::remove_dir_all(&p)
+            } else {
+                std::fs::remove_file(&p)
+            };
+        }
+    }
+}
+
 /// Remove every registered temporary now and refuse to create or rename any
 /// from here on. For a program that handles signals itself and is about to
 /// exit; [`install_interrupt_cleanup`] calls it. Returns how many files were
@@ -114,7 +162,11 @@ pub fn remove_temporaries() -> usize {
 fn remove_all(registry: &mut Registry) -> usize {
     registry.interrupted = true;
     let live = std::mem::take(&mut registry.live);
-    live.values().filter(|path| std::fs::remove_file(path).is_ok()).count()
+    let removed = live.values().filter(|path| std::fs::remove_file(path).is_ok()).count();
+    for (path, remove_itself) in std::mem::take(&mut registry.folders).into_values() {
+        clear_folder(&path, remove_itself);
+    }
+    removed
 }
 
 /// On SIGINT, SIGTERM or SIGHUP: remove every temporary file and spool this

@@ -17,6 +17,9 @@
 //!   [`verify_set`] is what a reader of a set calls first.
 //! - [`check_output`] and [`check_set_output`] find, before any work, an
 //!   output that exists, whose folder is missing, or that is an input.
+//! - A run that fills a folder of its own (`holo demo`) claims it as a
+//!   [`RunFolder`]: new or empty, and emptied again (a new one removed) if
+//!   the run fails or is interrupted.
 
 mod check;
 mod interrupt;
@@ -32,6 +35,68 @@ pub(crate) use set::{file_sha256, require_manifest};
 pub use temporary::{AtomicFile, Spool};
 
 use crate::Result;
+
+/// A folder a run fills with its files, new or empty when the run began:
+/// if the run fails (the `RunFolder` is dropped without
+/// [`keep`](Self::keep)) or is interrupted by a signal
+/// ([`install_interrupt_cleanup`]), a folder the run created is removed with
+/// everything in it, and a folder that was empty is emptied again. So a run
+/// that does not finish leaves nothing, and never touches a file it did not
+/// write.
+#[derive(Debug)]
+pub struct RunFolder {
+    id: Option<u64>,
+    path: std::path::PathBuf,
+}
+
+impl RunFolder {
+    /// Claim `path` for a run: created (with its parents) if missing; an
+    /// existing folder must be empty, anything else is refused.
+    pub fn claim(path: &Path) -> Result<RunFolder> {
+        use crate::{Error, OutputProblem};
+        let wrong =
+            |what: &'static str| Error::Output { path: path.to_path_buf(), problem: OutputProblem::WrongKind(what) };
+        let existed = match std::fs::metadata(path) {
+            Ok(m) if !m.is_dir() => return Err(wrong("is a file; a folder is needed here")),
+            Ok(_) => {
+                let mut entries = std::fs::read_dir(path).map_err(|e| Error::io(path, e))?;
+                if entries.next().is_some() {
+                    return Err(wrong("holds files already; a new or empty folder is needed here"));
+                }
+                true
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => false,
+            Err(e) => return Err(Error::io(path, e)),
+        };
+        // Registered before it is made, so a signal in between finds it.
+        let id = interrupt::register_folder(path, !existed)?;
+        let folder = RunFolder { id: Some(id), path: path.to_path_buf() };
+        if !existed {
+            std::fs::create_dir_all(path).map_err(|e| Error::io(path, e))?;
+        }
+        Ok(folder)
+    }
+
+    /// The folder.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The run succeeded: its files stay.
+    pub fn keep(mut self) {
+        if let Some(id) = self.id.take() {
+            interrupt::forget_folder(id);
+        }
+    }
+}
+
+impl Drop for RunFolder {
+    fn drop(&mut self) {
+        if let Some(id) = self.id.take() {
+            interrupt::remove_folder(id);
+        }
+    }
+}
 
 /// Write a small file whole: `bytes` to a temporary beside `path`, synced and
 /// renamed into place; an existing `path` is kept (and named in the error)
@@ -62,5 +127,44 @@ pub(crate) fn folder_of(path: &Path) -> &Path {
     match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_folder_is_removed_or_emptied_unless_kept_and_must_be_new_or_empty() {
+        let dir = tempfile::tempdir().unwrap();
+        let write = |folder: &Path| {
+            std::fs::create_dir(folder.join("sub")).unwrap();
+            std::fs::write(folder.join("sub/a.txt"), b"a").unwrap();
+            write_bytes_beside(&folder.join("b.txt"), b"b", false).unwrap();
+        };
+        // New (with a missing parent): removed when the run fails.
+        let new = dir.path().join("parent/new");
+        let folder = RunFolder::claim(&new).unwrap();
+        write(folder.path());
+        drop(folder);
+        assert!(!new.exists() && dir.path().join("parent").is_dir());
+        // Empty: emptied again, the folder itself kept.
+        let empty = dir.path().join("empty");
+        std::fs::create_dir(&empty).unwrap();
+        let folder = RunFolder::claim(&empty).unwrap();
+        write(&empty);
+        drop(folder);
+        assert!(empty.is_dir() && std::fs::read_dir(&empty).unwrap().next().is_none());
+        // Kept: the files stay, and the folder is no longer the run's.
+        let folder = RunFolder::claim(&new).unwrap();
+        write(&new);
+        folder.keep();
+        assert!(new.join("sub/a.txt").is_file() && new.join("b.txt").is_file());
+        // A folder with files in it, or a file, is refused and left alone.
+        for taken in [new.clone(), new.join("b.txt")] {
+            let e = RunFolder::claim(&taken).unwrap_err();
+            assert!(matches!(e, crate::Error::Output { ref path, .. } if *path == taken), "{e}");
+        }
+        assert!(new.join("sub/a.txt").is_file() && new.join("b.txt").is_file());
     }
 }

@@ -12,7 +12,8 @@ use crate::progress::Reporter;
 /// Run the main job on built-in defaults and say where the results are.
 #[derive(Args)]
 pub struct DemoArgs {
-    /// Folder for the demo's files (its own earlier files there are replaced).
+    /// Folder for the demo's files: new, empty, or an earlier demo's (whose
+    /// files are replaced); a folder of other files is refused.
     #[arg(short, long, alias = "out", default_value = "holo-demo")]
     output: PathBuf,
 }

@@ -280,15 +280,21 @@ fn display_outlines(frame: &[u8], w: usize, h: usize) -> Vec<(usize, usize, usiz
 #[test]
 fn demo_runs_and_says_where_its_files_are() {
     let dir = tempfile::tempdir().unwrap();
-    // The folder already holds what an earlier run left: the demo replaces its own files.
+    // The folder already holds what an earlier run left, from before the
+    // demo marked its folders (only its names, the bundled scene in spot/):
+    // the demo replaces its own files, and marks the folder.
     let d = dir.path().join("holo-demo");
-    std::fs::create_dir(&d).unwrap();
+    std::fs::create_dir_all(d.join("spot")).unwrap();
+    for name in ["spot.obj", "spot.mtl", "spot_texture.png"] {
+        std::fs::copy(super::fixture("mesh/spot").join(name), d.join("spot").join(name)).unwrap();
+    }
     ok(holo(&["pattern", "--layout", "mark3", "--kind", "view-ramp", "-o", "demo.holo"], &d));
     let earlier = std::fs::read(d.join("demo.holo")).unwrap();
     let o = holo(&["demo", "-o", "holo-demo"], dir.path());
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     let said = String::from_utf8_lossy(&o.stdout).into_owned();
     assert!(std::fs::read(d.join("demo.holo")).unwrap() != earlier);
+    assert!(d.join(".holo-demo").is_file(), "the folder is marked as the demo's");
     assert!(holo::format::validate(d.join("demo.holo")).unwrap().is_valid());
     let movie = holo::HoloFile::open(d.join("movie/cube.holo")).unwrap();
     assert_eq!(movie.info().frames.len(), 3);

@@ -23,22 +23,29 @@ fn hidden(dir: &Path) -> Vec<String> {
         .collect()
 }
 
-/// Every file of `dir` with its bytes.
+/// Every file of `dir` (and of its folders, as `folder/name`) with its bytes.
 fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap())
-        .map(|e| (e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap()))
-        .collect()
+    let mut files = BTreeMap::new();
+    for e in std::fs::read_dir(dir).unwrap().map(|e| e.unwrap()) {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if e.file_type().unwrap().is_dir() {
+            files.extend(snapshot(&e.path()).into_iter().map(|(n, b)| (format!("{name}/{n}"), b)));
+        } else {
+            files.insert(name, std::fs::read(e.path()).unwrap());
+        }
+    }
+    files
 }
 
-/// Wait until a hidden file ending in `suffix` is in `dir` (the child is
-/// then mid-write); panics with the child's messages if it ends first.
+/// Wait until a hidden file whose name holds `suffix` is in `dir` (the
+/// child is then mid-write); panics with the child's messages if it ends
+/// first.
 fn wait_for_hidden(child: &mut Child, dir: &Path, suffix: &str) {
     let started = Instant::now();
     loop {
-        if std::fs::read_dir(dir).unwrap().flatten().any(|e| {
-            e.file_name().to_string_lossy().starts_with('.') && e.file_name().to_string_lossy().ends_with(suffix)
+        // (The folder may not be there yet: the child makes it.)
+        if std::fs::read_dir(dir).into_iter().flatten().flatten().any(|e| {
+            e.file_name().to_string_lossy().starts_with('.') && e.file_name().to_string_lossy().contains(suffix)
         }) {
             return;
         }
@@ -104,6 +111,49 @@ fn interrupts_remove_temporaries_keep_the_previous_file_and_say_which_signal() {
             assert_eq!(status, Some(code), "{args:?} on SIG{signal}: {messages}");
             assert_eq!(hidden(d), Vec::<String>::new(), "{args:?} on SIG{signal} left temporaries");
             assert_eq!(std::fs::read(d.join(output)).unwrap(), previous, "{args:?} on SIG{signal}");
+        }
+    }
+}
+
+#[test]
+fn the_demo_writes_over_no_file_of_yours_and_an_interrupted_demo_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A folder of your own files, one of them named as a demo file: refused
+    // before any work, and left as it was.
+    let mine = d.join("mine");
+    std::fs::create_dir(&mine).unwrap();
+    std::fs::write(mine.join("demo.holo"), "my own demo.holo").unwrap();
+    std::fs::write(mine.join("notes.txt"), "my notes").unwrap();
+    // Only demo names, but a scene in spot/ that is not the demo's: yours too.
+    let named = d.join("named");
+    std::fs::create_dir_all(named.join("spot")).unwrap();
+    std::fs::write(named.join("demo.holo"), "my own demo.holo").unwrap();
+    std::fs::write(named.join("spot/spot.obj"), "v 0 0 0\n").unwrap();
+    for folder in ["mine", "named"] {
+        let before = snapshot(&d.join(folder));
+        let o = holo(&["demo", "-o", folder], d);
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+        assert!(text(&o).contains(folder) && text(&o).contains("did not make"), "{}", text(&o));
+        assert!(snapshot(&d.join(folder)) == before, "the refused demo changed {folder}");
+        assert_eq!(std::fs::read(d.join(folder).join("demo.holo")).unwrap(), b"my own demo.holo");
+    }
+    // Interrupted mid-run, a new folder is gone again and an empty one is empty again.
+    for (name, existed) in [("new", false), ("empty", true)] {
+        let folder = d.join(name);
+        if existed {
+            std::fs::create_dir(&folder).unwrap();
+        }
+        let mut child = spawn(&["demo", "-o", name], d);
+        // While it renders the scene into demo.holo (the scene's files are written).
+        wait_for_hidden(&mut child, &folder, ".demo.holo.");
+        assert!(folder.join("spot/spot.obj").is_file());
+        let (status, messages) = interrupt(child, "INT");
+        assert_eq!(status, Some(130), "{messages}");
+        if existed {
+            assert_eq!(std::fs::read_dir(&folder).unwrap().count(), 0, "{name}: {messages}");
+        } else {
+            assert!(!folder.exists(), "{name}: {messages}");
         }
     }
 }
