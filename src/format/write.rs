@@ -365,8 +365,10 @@ fn write_parts<'a>(
     if let Some(e) = failure {
         return Err(e);
     }
-    written.map_err(|e| Error::exr(temp.temporary_path(), e))?;
-    temp.flush().map_err(|e| Error::io(temp.temporary_path(), e))?;
+    // Named by the file asked for (the temporary is an implementation
+    // detail): `x.holo: No space left on device`.
+    written.map_err(|e| Error::exr(temp.destination(), e))?;
+    temp.flush().map_err(|e| Error::io(temp.destination(), e))?;
     if !options.compression.is_lossless_for(options.sample_type) {
         // The digest must describe what a reader will decode, not what was
         // asked for; read back band by band, so memory stays bounded.

@@ -294,6 +294,39 @@ fn an_export_whose_writes_fail_truncates_nothing() {
 }
 
 #[test]
+fn a_write_that_fails_names_the_file_asked_for_and_leaves_nothing() {
+    // A file-size limit (4 KiB) every output here exceeds, as a full disk
+    // would stop it: the error names the file asked for, not the hidden
+    // temporary it was being written to, and the folder keeps only the input.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let spot = super::spot();
+    let spot = spot.as_str();
+    let commands: [&[&str]; 3] = [
+        &["pattern", "--layout", "mark1", "--kind", "view-ramp", "--compression", "none", "-o", "big.holo"],
+        &["convert", "mesh", spot, "--layout", "mark1", "-o", "big.holo"],
+        &["holoflick", "encode", spot, "-o", "big.hflk"],
+    ];
+    let before: Vec<String> =
+        std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
+    for args in commands {
+        let o = Command::new("sh")
+            .args(["-c", "trap '' XFSZ; ulimit -f 4; exec \"$@\"", "sh", HOLO])
+            .args(args)
+            .current_dir(d)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        let output = args[args.len() - 1];
+        assert!(text(&o).contains(&format!("{output}: File too large")), "{args:?}: {}", text(&o));
+        assert!(!text(&o).contains(".partial"), "{args:?}: {}", text(&o));
+        let after: Vec<String> =
+            std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
+        assert_eq!(after, before, "{args:?} left files behind");
+    }
+}
+
+#[test]
 fn an_output_never_replaces_its_input() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

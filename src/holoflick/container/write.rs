@@ -198,8 +198,8 @@ impl HoloFlickWriter {
         let mut chunk = Vec::with_capacity(8 + p.len());
         put_chunk(&mut chunk, *b"INDX", &p);
         self.put(&chunk)?;
-        let temp_path = self.out.temporary_path().to_path_buf();
-        let io = |e| ContainerError::Io { path: temp_path.clone(), source: e };
+        let destination = self.path.clone();
+        let io = |e| ContainerError::Io { path: destination.clone(), source: e };
         self.out.seek(SeekFrom::Start(12)).map_err(io)?;
         self.out.write_all(&checksum::crc32(&chunk).to_le_bytes()).map_err(io)?;
         self.out.write_all(&index_offset.to_le_bytes()).map_err(io)?;
@@ -211,9 +211,7 @@ impl HoloFlickWriter {
     }
 
     fn put(&mut self, bytes: &[u8]) -> Result<()> {
-        self.out
-            .write_all(bytes)
-            .map_err(|e| ContainerError::Io { path: self.out.temporary_path().to_path_buf(), source: e })?;
+        self.out.write_all(bytes).map_err(|e| ContainerError::Io { path: self.path.clone(), source: e })?;
         self.position += bytes.len() as u64;
         Ok(())
     }
