@@ -206,19 +206,17 @@ pub fn write_frame_in_bands(
         for j in lines.clone() {
             stored_row(geometry, &order, options.sample_type, |c| band.hololine(c, j), &mut row);
             digest.update(&row);
-            spool_out.write_all(&row).map_err(|e| Error::io(spool.path(), e))?;
+            spool_out.write_all(&row).map_err(|e| Error::io(path, e))?;
             if let Some((e0, e1)) = row_coverage(geometry, |c| band.hololine(c, j)) {
                 (x0, x1, y0, y1) = (x0.min(e0), x1.max(e1), y0.min(j), y1.max(j));
             }
         }
         top = lines.end;
     }
-    spool_out.flush().map_err(|e| Error::io(spool.path(), e))?;
+    spool_out.flush().map_err(|e| Error::io(path, e))?;
     drop(spool_out);
     let window = window_from(x0, y0, x1, y1);
-    let rows = Rows::Spooled {
-        file: std::sync::Mutex::new(spool.file().try_clone().map_err(|e| Error::io(spool.path(), e))?),
-    };
+    let rows = Rows::Spooled { file: std::sync::Mutex::new(spool.file().try_clone().map_err(|e| Error::io(path, e))?) };
     write_parts(path, geometry, options, vec![window], Some((Some(digest.finish()), rows)), |_| {
         Err(Error::argument("frame count", "internal: a one-frame write asked for a second frame"))
     })
