@@ -317,6 +317,10 @@ impl Error {
                 Error::Exr { path, message: "the file is truncated".into() }
             }
             exr::error::Error::Io(source) => Error::Io { path, source },
+            // exrs's word for an offset table or chunk pointing past the end.
+            exr::error::Error::Invalid(message) if message.contains("missing bytes") => {
+                Error::Exr { path, message: format!("the file is truncated (invalid {message})") }
+            }
             exr::error::Error::Invalid(message) => Error::Exr { path, message: format!("invalid {message}") },
             exr::error::Error::NotSupported(message) => {
                 Error::Exr { path, message: format!("uses an unsupported feature: {message}") }
