@@ -99,8 +99,26 @@ pub(crate) struct Parsed {
 pub(crate) fn read_meta(path: &Path) -> crate::Result<(MetaData, u64)> {
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
-    let meta = MetaData::read_from_buffered(std::io::BufReader::new(file), false).map_err(|e| Error::exr(path, e))?;
+    let meta = MetaData::read_from_buffered(std::io::BufReader::new(file), false)
+        .map_err(|e| other_kind(path).map_or_else(|| Error::exr(path, e), |kind| Error::invalid(path, kind)))?;
     Ok((meta, file_bytes))
+}
+
+/// What a file that is not OpenEXR is instead, for the files holo's users
+/// most often hand a `.holo` command by mistake (recognised by their first
+/// bytes), with the command that takes it.
+fn other_kind(path: &Path) -> Option<&'static str> {
+    let mut head = [0u8; 8];
+    std::io::Read::read_exact(&mut std::fs::File::open(path).ok()?, &mut head).ok()?;
+    if head == crate::holoflick::container::MAGIC {
+        Some("is a HoloFlick (.hflk), not a .holo file: `holo holoflick info` describes it, `holo convert holoflick` renders it into one")
+    } else if head == *b"\x89PNG\r\n\x1a\n" {
+        Some("is a PNG picture, not a .holo file: `holo convert cameras` (or `holo import-views`) makes one from pictures")
+    } else if head[..4] == *b"glTF" {
+        Some("is a glTF scene (.glb), not a .holo file: `holo convert mesh` renders it into one")
+    } else {
+        None
+    }
 }
 
 /// Open: the headers must have no problem at all.

@@ -470,3 +470,15 @@ fn a_broken_conversion_record_is_named_and_ignored() {
     let (_, problem, _) = open("count", &file(&[("holo.convert.lightCount", ("int", int(i32::MAX)))]));
     assert!(problem.is_some_and(|p| p.contains("holo.convert.light1.kind") && p.contains("missing")));
 }
+
+#[test]
+fn files_of_the_neighbouring_kinds_are_named_with_the_command_that_takes_them() {
+    let fixture = |p: &str| std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(p)).unwrap();
+    for (name, bytes, says) in [
+        ("flick", fixture("holoflick/v1.1/movie.hflk"), ["HoloFlick", "holo convert holoflick"]),
+        ("picture", fixture("mesh/spot/spot_texture.png"), ["PNG picture", "holo convert cameras"]),
+        ("scene", fixture("mesh/AnimatedMorphCube.glb"), ["glTF scene", "holo convert mesh"]),
+    ] {
+        assert_mentions(&reject(name, &bytes), &says);
+    }
+}
