@@ -277,8 +277,13 @@ impl Geometry {
     /// metres: where the rays of the first and last emitter in the first
     /// and last view cross it.
     pub fn viewer_line_reach_m(&self) -> (f64, f64) {
+        self.reach_at_m(self.viewer_distance_m)
+    }
+    /// [`Geometry::viewer_line_reach_m`] at distance `z_m` instead of the
+    /// viewer's: outside it no view of any emitter arrives.
+    pub fn reach_at_m(&self, z_m: f64) -> (f64, f64) {
         let (last_e, last_v) = (self.emitters.saturating_sub(1), self.views.count.saturating_sub(1));
-        let reach = [0, last_e].map(|e| [0, last_v].map(|v| self.ray(0, e, v).at_z(self.viewer_distance_m)[0]));
+        let reach = [0, last_e].map(|e| [0, last_v].map(|v| self.ray(0, e, v).at_z(z_m)[0]));
         let reach = reach.iter().flatten().copied();
         (reach.clone().fold(f64::INFINITY, f64::min), reach.fold(f64::NEG_INFINITY, f64::max))
     }

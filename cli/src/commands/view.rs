@@ -62,6 +62,21 @@ pub fn run(a: ViewArgs) -> Outcome {
     let (x_m, y_m) = a.eye;
     let eye = EyeAt { x_m, y_m, distance_m: a.distance, pupil_m: a.pupil, coherent: a.coherent };
     let picture = view_file(&a.input, layout.as_ref(), a.frame, &[eye], &Reporter::on_stderr())?.remove(0);
+    // A black picture from an eye no view reaches says why.
+    if let Some(g) = layout.as_ref().map(|l| &l.geometry) {
+        let z_m = a.distance.unwrap_or(g.viewer_distance_m);
+        let (lo, hi) = g.reach_at_m(z_m);
+        let outside = x_m + a.pupil / 2.0 < lo || x_m - a.pupil / 2.0 > hi;
+        if outside && picture.data.iter().all(|v| *v == 0.0) {
+            crate::out::warn(format_args!(
+                "an eye at x = {} mm is outside the viewing zone and sees nothing: at {:.0} mm the views reach x = {:.0} … {:.0} mm",
+                (x_m * 1e6).round() / 1e3,
+                z_m * 1e3,
+                lo * 1e3,
+                hi * 1e3
+            ));
+        }
+    }
     let white = a.white.level(picture.data.iter().copied());
     picture.write_png(&a.output, white, a.force)?;
     say!(

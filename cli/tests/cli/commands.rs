@@ -456,6 +456,13 @@ fn check_and_view_recover_what_was_assembled() {
     assert!(text(&o).contains("x = -20 mm"), "{}", text(&o));
     let png = image::open(d.join("left.png")).unwrap();
     assert!(png.width() > 336 && png.height() == 2, "{} × {}", png.width(), png.height());
+    // An eye no view reaches: a black picture, and a warning that says why;
+    // none from an eye inside the viewing zone.
+    for (eye, warned) in [("5000", true), ("0", false)] {
+        let o = holo(&["view", "s.holo", "--layout", "small.toml", "--eye", eye, "-o", &format!("{eye}.png")], d);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+        assert_eq!(text(&o).contains("outside the viewing zone and sees nothing"), warned, "{}", text(&o));
+    }
     // Not overwritten without --force.
     let o = holo(&["view", "fringes", "-o", "left.png"], d);
     assert_eq!(o.status.code(), Some(1));
