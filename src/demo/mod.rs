@@ -158,10 +158,11 @@ const MARKER: &str = ".holo-demo";
 const MARKER_TEXT: &str = "Made by `holo demo`: a later `holo demo` into this folder replaces its files.\n";
 
 /// Whether `dir` is what a demo from before the marker left: nothing but
-/// the demo's own names in it, and the bundled scene's bytes in `spot/`.
+/// the demo's own names in it (and the `fringes` its text suggests), and
+/// the bundled scene's bytes in `spot/`.
 fn made_by_an_earlier_demo(dir: &Path) -> bool {
-    const NAMES: [&str; 7] =
-        ["spot", "demo.holo", "demo_qs8x6a0.75.png", "fringe.png", "eyes.png", "eyes-moving.png", "movie"];
+    const NAMES: [&str; 8] =
+        ["spot", "demo.holo", "demo_qs8x6a0.75.png", "fringe.png", "eyes.png", "eyes-moving.png", "movie", "fringes"];
     let Ok(entries) = std::fs::read_dir(dir) else { return false };
     let only_ours = entries.into_iter().all(|e| e.is_ok_and(|e| NAMES.iter().any(|n| e.file_name() == *n)));
     only_ours
