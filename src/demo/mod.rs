@@ -123,9 +123,9 @@ const GAP: usize = 8;
 ///
 /// `dir` is new, empty, or an earlier demo's (marked by a `.holo-demo` file
 /// in it, or, from before the marker, holding only the demo's own names
-/// and the bundled scene), whose files are replaced; a folder holding other files is
-/// refused, so no file the demo did not make is ever written over. A demo
-/// that does not finish (an error, or a signal with
+/// and the bundled scene), whose files are replaced; a folder holding other
+/// files is refused, so no file the demo did not make is ever written over.
+/// A demo that does not finish (an error, or a signal with
 /// [`crate::output::install_interrupt_cleanup`]) in a new or empty folder
 /// leaves it as it was.
 pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {

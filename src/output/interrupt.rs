@@ -150,7 +150,8 @@ fn clear_folder(path: &Path, remove_itself: bool) {
     }
 }
 
-/// Remove every registered temporary now and refuse to create or rename any
+/// Remove every registered temporary (and what the unfinished runs wrote
+/// into their [`super::RunFolder`]s) now and refuse to create or rename any
 /// from here on. For a program that handles signals itself and is about to
 /// exit; [`install_interrupt_cleanup`] calls it. Returns how many files were
 /// removed.
@@ -170,7 +171,8 @@ fn remove_all(registry: &mut Registry) -> usize {
 }
 
 /// On SIGINT, SIGTERM or SIGHUP: remove every temporary file and spool this
-/// process has open, leave every existing file as it was, and exit with
+/// process has open (and what unfinished runs wrote into their
+/// [`super::RunFolder`]s), leave every existing file as it was, and exit with
 /// 128 + the signal's number (130, 143, 129). A dedicated thread waits for
 /// the signals; calling this again does nothing. A program that does not
 /// call it keeps the default behaviour of these signals.
