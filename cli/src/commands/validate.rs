@@ -26,7 +26,12 @@ pub fn run(a: ValidateArgs) -> Outcome {
     for f in &a.files {
         let (valid, violations, warnings) = match holo::format::validate(f) {
             Ok(v) => (v.is_valid(), v.violations, v.warnings),
-            Err(e) => (false, vec![e.to_string()], vec![]),
+            Err(e) => {
+                // The line already names the file.
+                let text = e.to_string();
+                let text = text.strip_prefix(&format!("{}: ", f.display())).map_or(text.clone(), str::to_string);
+                (false, vec![text], vec![])
+            }
         };
         all_valid &= valid;
         if a.json {

@@ -120,6 +120,13 @@ fn errors_name_the_file_exit_1_and_overwrite_nothing() {
     assert!(text(&o).contains("cut.holo"));
     let o = holo(&["info", "cut.holo"], dir.path());
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    // A file of another kind: said once what it is, the file named once.
+    let flick = super::fixture("holoflick/v1.1/movie.hflk");
+    std::fs::copy(flick, dir.path().join("movie.hflk")).unwrap();
+    let o = holo(&["validate", "movie.hflk"], dir.path());
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("violation: is a HoloFlick"), "{}", text(&o));
+    assert_eq!(text(&o).matches("movie.hflk").count(), 1, "{}", text(&o));
 }
 
 #[test]
