@@ -914,4 +914,26 @@ fn raw_blanking_drops_the_layouts_blanking_gains() {
     }
     let image = |out: &str| std::fs::read(d.join(out).join("frame0000-head1.png")).unwrap();
     assert_ne!(image("with"), image("raw"), "the gains change the samples beside the blanking");
+    // Gains with emitter phases other than zero: kept, with a warning that
+    // they do not fit; none once they are dropped, none for the profile as built.
+    let profile = std::fs::read_to_string(d.join("small.toml")).unwrap();
+    assert!(!profile.contains("emitter_phases"));
+    let phased = profile.replacen("[fringe]\n", "[fringe]\nemitter_phases = \"viewer\"\n", 1);
+    std::fs::write(d.join("phased.toml"), phased).unwrap();
+    for (layout, raw, warned) in
+        [("phased.toml", false, true), ("phased.toml", true, false), ("small.toml", false, false)]
+    {
+        let out = format!("v-{layout}-{raw}.png");
+        let mut args = vec!["view", "s.holo", "--layout", layout, "-o", &out];
+        if raw {
+            args.push("--raw-blanking");
+        }
+        let o = ok(holo(&args, d));
+        assert_eq!(
+            text(&o).contains("were found for every emitter at phase 0"),
+            warned,
+            "{layout} {raw}: {}",
+            text(&o)
+        );
+    }
 }
