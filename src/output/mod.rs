@@ -51,7 +51,8 @@ pub struct RunFolder {
 
 impl RunFolder {
     /// Claim `path` for a run: created (with its parents) if missing; an
-    /// existing folder must be empty, anything else is refused.
+    /// existing folder must be empty, anything else is refused. A run that
+    /// does not finish removes the parents it created too.
     pub fn claim(path: &Path) -> Result<RunFolder> {
         use crate::{Error, OutputProblem};
         let wrong =
@@ -68,8 +69,14 @@ impl RunFolder {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => false,
             Err(e) => return Err(Error::io(path, e)),
         };
-        // Registered before it is made, so a signal in between finds it.
-        let id = interrupt::register_folder(path, !existed)?;
+        // What the run makes: the folder and any missing parents, the
+        // outermost of them removed again. Registered before it is made, so
+        // a signal in between finds it.
+        let mut made = path;
+        while let Some(parent) = made.parent().filter(|p| !p.as_os_str().is_empty() && !p.exists()) {
+            made = parent;
+        }
+        let id = interrupt::register_folder(made, !existed)?;
         let folder = RunFolder { id: Some(id), path: path.to_path_buf() };
         if !existed {
             std::fs::create_dir_all(path).map_err(|e| Error::io(path, e))?;
@@ -147,7 +154,8 @@ mod tests {
         let folder = RunFolder::claim(&new).unwrap();
         write(folder.path());
         drop(folder);
-        assert!(!new.exists() && dir.path().join("parent").is_dir());
+        assert!(!dir.path().join("parent").exists(), "the parent it made is gone too");
+        assert!(dir.path().is_dir());
         // Empty: emptied again, the folder itself kept.
         let empty = dir.path().join("empty");
         std::fs::create_dir(&empty).unwrap();
