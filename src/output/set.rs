@@ -30,13 +30,16 @@ pub struct SetFile {
 
 /// A set of files being written into one folder (see the module docs).
 /// Dropped without [`commit`](Self::commit), its temporaries are removed,
-/// the folder is as it was, and a folder it created is removed if empty.
+/// the folder is as it was, and the folders it created (the set's and any
+/// missing parents) are removed while empty.
 #[derive(Debug)]
 pub struct FileSet {
     folder: PathBuf,
     manifest: String,
     pending: Vec<(SetFile, AtomicFile)>,
-    created_folder: bool,
+    /// The folders `create` made (the set's folder and missing parents),
+    /// innermost first: removed again, while empty, if the set is dropped.
+    created: Vec<PathBuf>,
 }
 
 /// Whether `name` is a plain file name: no folder part, not hidden.
@@ -52,9 +55,14 @@ impl FileSet {
     /// missing) under the manifest name `manifest`. Call it once the inputs
     /// are open and checked, so a refused input leaves no folder behind.
     pub fn create(folder: &Path, manifest: &str) -> Result<FileSet> {
-        let created_folder = !folder.exists();
+        let mut created = Vec::new();
+        let mut missing = Some(folder);
+        while let Some(f) = missing.filter(|f| !f.as_os_str().is_empty() && !f.exists()) {
+            created.push(f.to_path_buf());
+            missing = f.parent();
+        }
         std::fs::create_dir_all(folder).map_err(|e| Error::io(folder, e))?;
-        Ok(FileSet { folder: folder.to_path_buf(), manifest: manifest.to_string(), pending: vec![], created_folder })
+        Ok(FileSet { folder: folder.to_path_buf(), manifest: manifest.to_string(), pending: vec![], created })
     }
 
     /// The folder.
@@ -139,7 +147,7 @@ impl FileSet {
         sync_folder(&self.folder)?;
         remove_in_place(&marker)?;
         sync_folder(&self.folder)?;
-        self.created_folder = false;
+        self.created.clear();
         let mut paths: Vec<PathBuf> = files.iter().map(|f| self.folder.join(&f.name)).collect();
         paths.push(manifest_path);
         Ok(paths)
@@ -150,9 +158,11 @@ impl Drop for FileSet {
     fn drop(&mut self) {
         // Temporaries first, so the folder can be empty.
         self.pending.clear();
-        if self.created_folder {
+        for folder in &self.created {
             // Fails, as it should, when anything else is in the folder.
-            let _ = std::fs::remove_dir(&self.folder);
+            if std::fs::remove_dir(folder).is_err() {
+                break;
+            }
         }
     }
 }

@@ -189,8 +189,9 @@ fn a_set_is_replaced_whole_and_refused_when_it_disagrees() {
         Err(Error::Set { problem: SetProblem::BadName(_), .. })
     ));
 
-    // A set that fails while being written leaves nothing, not even the folder it made.
-    let fresh = dir.path().join("fresh");
+    // A set that fails while being written leaves nothing, not even the
+    // folder it made, nor the parents it made for it.
+    let fresh = dir.path().join("made/for/fresh");
     let mut set = FileSet::create(&fresh, "set.json").unwrap();
     set.add_bytes("x.bin", b"x").unwrap();
     let e = set.add("y.bin", |out| {
@@ -200,7 +201,8 @@ fn a_set_is_replaced_whole_and_refused_when_it_disagrees() {
     assert!(e.is_err());
     assert!(fresh.exists());
     drop(set);
-    assert!(!fresh.exists());
+    assert!(!dir.path().join("made").exists());
+    assert!(dir.path().is_dir());
 }
 
 #[test]
