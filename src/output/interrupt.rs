@@ -18,9 +18,8 @@ use crate::{Error, OutputProblem, Result};
 struct Registry {
     next_id: u64,
     live: BTreeMap<u64, PathBuf>,
-    /// Folders a run writes into, removed after the files: `true` removes
-    /// the folder itself, `false` only what is in it.
-    folders: BTreeMap<u64, (PathBuf, bool)>,
+    /// Folders a run writes into, cleaned up after the files.
+    folders: BTreeMap<u64, Cleanup>,
     /// Set once the cleanup has begun: no temporary is created or renamed after.
     interrupted: bool,
 }
@@ -106,16 +105,32 @@ pub(super) fn remove_in_place(path: &Path) -> Result<()> {
     }
 }
 
-/// Register a folder a run writes into (see [`super::RunFolder`]), under
-/// the lock; refused once the cleanup has begun.
-pub(super) fn register_folder(path: &Path, remove_itself: bool) -> Result<u64> {
+/// What becomes of a registered folder when its run does not finish.
+#[derive(Debug)]
+pub(super) enum Cleanup {
+    /// Removed with everything in it (a [`super::RunFolder`] it made).
+    Remove(PathBuf),
+    /// Emptied (a [`super::RunFolder`] that was empty).
+    Empty(PathBuf),
+    /// Each removed in turn while empty, innermost first (the folders a
+    /// [`super::FileSet`] made: its own and missing parents).
+    RemoveEmpty(Vec<PathBuf>),
+}
+
+/// Register a folder a run writes into, under the lock; refused once the
+/// cleanup has begun.
+pub(super) fn register_folder(cleanup: Cleanup) -> Result<u64> {
     let mut registry = registry();
     if registry.interrupted {
-        return Err(interrupted(path));
+        let path = match &cleanup {
+            Cleanup::Remove(p) | Cleanup::Empty(p) => p.clone(),
+            Cleanup::RemoveEmpty(p) => p.first().cloned().unwrap_or_default(),
+        };
+        return Err(interrupted(&path));
     }
     let id = registry.next_id;
     registry.next_id += 1;
-    registry.folders.insert(id, (path.to_path_buf(), remove_itself));
+    registry.folders.insert(id, cleanup);
     Ok(id)
 }
 
@@ -127,25 +142,32 @@ pub(super) fn forget_folder(id: u64) {
 /// Remove folder `id` (or what is in it) and forget it: the run failed.
 pub(super) fn remove_folder(id: u64) {
     let mut registry = registry();
-    if let Some((path, remove_itself)) = registry.folders.remove(&id) {
-        clear_folder(&path, remove_itself);
+    if let Some(cleanup) = registry.folders.remove(&id) {
+        clean_up(&cleanup);
     }
 }
 
-/// Remove `path` with everything in it, or only everything in it. Nothing
-/// useful can be done about an entry that cannot be removed while another
-/// error is reported or the process exits on a signal.
-fn clear_folder(path: &Path, remove_itself: bool) {
-    if remove_itself {
-        let _ = std::fs::remove_dir_all(path);
-    } else if let Ok(entries) = std::fs::read_dir(path) {
-        for entry in entries.flatten() {
-            let p = entry.path();
-            let _ = if entry.file_type().is_ok_and(|t| t.is_dir()) {
-                std::fs::remove_dir_all(&p)
-            } else {
-                std::fs::remove_file(&p)
-            };
+/// Do `cleanup`. Nothing useful can be done about an entry that cannot be
+/// removed while another error is reported or the process exits on a
+/// signal.
+fn clean_up(cleanup: &Cleanup) {
+    match cleanup {
+        Cleanup::Remove(path) => {
+            let _ = std::fs::remove_dir_all(path);
+        }
+        Cleanup::Empty(path) => {
+            for entry in std::fs::read_dir(path).into_iter().flatten().flatten() {
+                let p = entry.path();
+                let _ = if entry.file_type().is_ok_and(|t| t.is_dir()) {
+                    std::fs::remove_dir_all(&p)
+                } else {
+                    std::fs::remove_file(&p)
+                };
+            }
+        }
+        // Stops at the first that is not empty (or not there).
+        Cleanup::RemoveEmpty(folders) => {
+            let _ = folders.iter().try_for_each(std::fs::remove_dir);
         }
     }
 }
@@ -164,8 +186,8 @@ fn remove_all(registry: &mut Registry) -> usize {
     registry.interrupted = true;
     let live = std::mem::take(&mut registry.live);
     let removed = live.values().filter(|path| std::fs::remove_file(path).is_ok()).count();
-    for (path, remove_itself) in std::mem::take(&mut registry.folders).into_values() {
-        clear_folder(&path, remove_itself);
+    for cleanup in std::mem::take(&mut registry.folders).into_values() {
+        clean_up(&cleanup);
     }
     removed
 }

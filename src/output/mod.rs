@@ -14,7 +14,9 @@
 //! - A multi-file output is a [`FileSet`]: all its files are written as
 //!   temporaries first, then put in place together, and its manifest, which
 //!   lists every file with its size and SHA-256, is written last.
-//!   [`verify_set`] is what a reader of a set calls first.
+//!   [`verify_set`] is what a reader of a set calls first. The folders a
+//!   set made for itself are removed again if it is not committed, on a
+//!   signal too.
 //! - [`check_output`] and [`check_set_output`] find, before any work, an
 //!   output that exists, whose folder is missing, or that is an input.
 //! - A run that fills a folder of its own (`holo demo`) claims it as a
@@ -76,7 +78,11 @@ impl RunFolder {
         while let Some(parent) = made.parent().filter(|p| !p.as_os_str().is_empty() && !p.exists()) {
             made = parent;
         }
-        let id = interrupt::register_folder(made, !existed)?;
+        let id = interrupt::register_folder(if existed {
+            interrupt::Cleanup::Empty(made.to_path_buf())
+        } else {
+            interrupt::Cleanup::Remove(made.to_path_buf())
+        })?;
         let folder = RunFolder { id: Some(id), path: path.to_path_buf() };
         if !existed {
             std::fs::create_dir_all(path).map_err(|e| Error::io(path, e))?;

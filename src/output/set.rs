@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::interrupt::remove_in_place;
+use super::interrupt::{forget_folder, register_folder, remove_folder, remove_in_place, Cleanup};
 use super::temporary::{sync_folder, AtomicFile};
 use crate::{Error, OutputProblem, Result, SetProblem};
 
@@ -38,8 +38,9 @@ pub struct FileSet {
     manifest: String,
     pending: Vec<(SetFile, AtomicFile)>,
     /// The folders `create` made (the set's folder and missing parents),
-    /// innermost first: removed again, while empty, if the set is dropped.
-    created: Vec<PathBuf>,
+    /// registered to be removed again, while empty, if the set is dropped
+    /// or the process interrupted before the commit.
+    created: Option<u64>,
 }
 
 /// Whether `name` is a plain file name: no folder part, not hidden.
@@ -61,8 +62,11 @@ impl FileSet {
             created.push(f.to_path_buf());
             missing = f.parent();
         }
+        // Registered before they are made, so a signal in between finds them.
+        let created = if created.is_empty() { None } else { Some(register_folder(Cleanup::RemoveEmpty(created))?) };
+        let set = FileSet { folder: folder.to_path_buf(), manifest: manifest.to_string(), pending: vec![], created };
         std::fs::create_dir_all(folder).map_err(|e| Error::io(folder, e))?;
-        Ok(FileSet { folder: folder.to_path_buf(), manifest: manifest.to_string(), pending: vec![], created })
+        Ok(set)
     }
 
     /// The folder.
@@ -147,7 +151,9 @@ impl FileSet {
         sync_folder(&self.folder)?;
         remove_in_place(&marker)?;
         sync_folder(&self.folder)?;
-        self.created.clear();
+        if let Some(id) = self.created.take() {
+            forget_folder(id);
+        }
         let mut paths: Vec<PathBuf> = files.iter().map(|f| self.folder.join(&f.name)).collect();
         paths.push(manifest_path);
         Ok(paths)
@@ -158,11 +164,9 @@ impl Drop for FileSet {
     fn drop(&mut self) {
         // Temporaries first, so the folder can be empty.
         self.pending.clear();
-        for folder in &self.created {
-            // Fails, as it should, when anything else is in the folder.
-            if std::fs::remove_dir(folder).is_err() {
-                break;
-            }
+        // Fails, as it should, when anything else is in the folder.
+        if let Some(id) = self.created.take() {
+            remove_folder(id);
         }
     }
 }

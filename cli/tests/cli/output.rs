@@ -191,6 +191,12 @@ fn an_interrupted_assemble_keeps_the_previous_set_and_a_mixed_set_is_refused() {
     assert_eq!(report(&again), report(&checked));
     let o = holo(&["check", "b.holo", "--fringes", "fringes"], d);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    // Interrupted into a new folder whose parents it made: none is left.
+    let mut child = spawn(&["assemble", "b.holo", "--layout", p, "-o", "made/for/new"], d);
+    wait_for_hidden(&mut child, &d.join("made/for/new"), ".partial");
+    let (status, messages) = interrupt(child, "INT");
+    assert_eq!(status, Some(130), "{messages}");
+    assert!(!d.join("made").exists(), "{messages}");
 
     // A set mixed by hand: one image replaced by another file's.
     ok(holo(&["assemble", "c.holo", "--layout", p, "-o", "other"], d));
