@@ -197,9 +197,37 @@ pub(crate) fn text(s: &str) -> AttributeValue {
     AttributeValue::Text(Text::new_or_panic(ascii_only(s)))
 }
 
-/// Attribute text must be ASCII (spec §4); anything else is replaced by `?`.
+/// Attribute text must be ASCII (spec §4): the typography holo's own
+/// sentences use (`×`, `°`, `−`, `…`, dashes, `µ`, typographic quotes) is
+/// spelled in ASCII, so provenance stays readable; anything else becomes `?`.
 pub fn ascii_only(s: &str) -> String {
-    s.chars().map(|c| if c.is_ascii() && c != '\0' { c } else { '?' }).collect()
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '\0' => out.push('?'),
+            c if c.is_ascii() => out.push(c),
+            '×' => out.push('x'),
+            '°' => out.push_str(" deg"),
+            '−' | '–' | '—' => out.push('-'),
+            '…' => out.push_str("..."),
+            'µ' | 'μ' => out.push('u'),
+            '‘' | '’' => out.push('\''),
+            '“' | '”' => out.push('"'),
+            _ => out.push('?'),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn attribute_text_spells_holos_typography_in_ascii() {
+        assert_eq!(
+            super::ascii_only("0.24 × 0.18 units, span 329°, x −76 … +76 mm – 5 µm “a” é\0"),
+            "0.24 x 0.18 units, span 329 deg, x -76 ... +76 mm - 5 um \"a\" ??"
+        );
+    }
 }
 
 /// A transform such as `holo.placement` (spec §4.4): `display_from_input`
