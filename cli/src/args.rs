@@ -262,16 +262,8 @@ impl BlankingArg {
         if let Some(f) = layout.fringe.as_mut() {
             if self.raw_blanking {
                 f.blanking_gains = None;
-            } else if f.blanking_gains.is_some() && f.emitter_phases != holo::layout::EmitterPhases::Zero {
-                // Kept, but say that they do not fit (spec/layouts.md §7.1).
-                crate::out::warn(format_args!(
-                    "layout {}: its blanking gains were found for every emitter at phase 0, and it sets \
-                     emitter_phases = \"{}\": they lift its dark columns less and leave bright ones (Mark III \
-                     with viewer phases: 0.76–1.39 of the neighbours, 0.53–1.15 without gains; spec/layouts.md \
-                     §7.1); --raw-blanking drops them",
-                    layout.name,
-                    format!("{:?}", f.emitter_phases).to_lowercase()
-                ));
+            } else if let Some(caveat) = f.blanking_gains_caveat() {
+                crate::out::warn(format_args!("layout {}: {caveat}; --raw-blanking drops them", layout.name));
             }
         }
         layout

@@ -50,7 +50,7 @@ impl FringeSample for u8 {
     }
     fn count_clipped(signal: &[f32], q: &Quantization) -> u64 {
         let (offset, gain) = (q.offset as f32, q.gain as f32);
-        signal.iter().map(|x| offset + gain * x).filter(|code| *code < -0.5 || *code > 255.5).count() as u64
+        signal.iter().filter(|x| clips(offset + gain * **x)).count() as u64
     }
     fn decode(self, q: &Quantization) -> f32 {
         ((f64::from(self) - q.offset) / q.gain) as f32
@@ -154,6 +154,16 @@ fn encode_bytes(signal: &[f32], reversed: bool, out: &mut [u8], offset: f32, gai
     encode_with(signal, reversed, out, |x| offset + gain * x)
 }
 
+/// Whether an unrounded 8-bit code needs clamping (spec/layouts.md §5.3):
+/// the one rule every count of clipped samples uses.
+/// (Two comparisons, not a range test: a NaN is not counted, and the test
+/// stays branch-free in the vectorised loops.)
+#[inline(always)]
+#[allow(clippy::manual_range_contains)]
+fn clips(code: f32) -> bool {
+    (code < -0.5) | (code > 255.5)
+}
+
 /// [`encode_bytes`] with the unrounded code of each value given by `code`.
 #[inline(always)]
 fn encode_with(signal: &[f32], reversed: bool, out: &mut [u8], code: impl Fn(f32) -> f32) -> u64 {
@@ -163,7 +173,7 @@ fn encode_with(signal: &[f32], reversed: bool, out: &mut [u8], code: impl Fn(f32
         // Adding 2²³ leaves the integer nearest (ties to even) in the low
         // mantissa bits: a rounding that vectorises, unlike `as`.
         *o = (clamped + 8_388_608.0).to_bits() as u8;
-        u32::from(code < -0.5) + u32::from(code > 255.5)
+        u32::from(clips(code))
     };
     let clipped: u32 = if reversed {
         signal.iter().rev().zip(out.iter_mut()).map(|(x, o)| encode(x, o)).sum()

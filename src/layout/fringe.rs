@@ -272,6 +272,21 @@ impl Fringe {
         }
         p
     }
+    /// Why this fringe's blanking gains do not suit it, when they do not:
+    /// gains are found for one set of emitter phases, and the built-in
+    /// tables for every emitter at phase 0 (spec/layouts.md §7.1), so
+    /// gains kept beside `emitter_phases` other than `zero` are named. Not
+    /// an error: the layout is valid, its seams only worse than it could be.
+    pub fn blanking_gains_caveat(&self) -> Option<String> {
+        (self.blanking_gains.is_some() && self.emitter_phases != EmitterPhases::Zero).then(|| {
+            format!(
+                "its blanking gains were found for every emitter at phase 0, and it sets emitter_phases = \"{}\": \
+                 they lift its dark columns less and leave bright ones (Mark III with viewer phases: 0.76–1.39 of \
+                 the neighbours, 0.53–1.15 without gains; spec/layouts.md §7.1)",
+                format!("{:?}", self.emitter_phases).to_lowercase()
+            )
+        })
+    }
     /// [`Layout::blanking_gains_reference`] for zone `zone`'s pair of a
     /// hololine (`re` = I, `im` = Q), sent backwards if `reversed`.
     fn zone_blanking_gains_reference(&self, reversed: bool, zone: usize, re: &mut [f64], im: &mut [f64]) {

@@ -123,10 +123,10 @@ pub(super) fn register_folder(cleanup: Cleanup) -> Result<u64> {
     let mut registry = registry();
     if registry.interrupted {
         let path = match &cleanup {
-            Cleanup::Remove(p) | Cleanup::Empty(p) => p.clone(),
-            Cleanup::RemoveEmpty(p) => p.first().cloned().unwrap_or_default(),
+            Cleanup::Remove(p) | Cleanup::Empty(p) => p.as_path(),
+            Cleanup::RemoveEmpty(p) => p.first().map_or(Path::new("."), |p| p.as_path()),
         };
-        return Err(interrupted(&path));
+        return Err(interrupted(path));
     }
     let id = registry.next_id;
     registry.next_id += 1;

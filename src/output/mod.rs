@@ -74,14 +74,9 @@ impl RunFolder {
         // What the run makes: the folder and any missing parents, the
         // outermost of them removed again. Registered before it is made, so
         // a signal in between finds it.
-        let mut made = path;
-        while let Some(parent) = made.parent().filter(|p| !p.as_os_str().is_empty() && !p.exists()) {
-            made = parent;
-        }
-        let id = interrupt::register_folder(if existed {
-            interrupt::Cleanup::Empty(made.to_path_buf())
-        } else {
-            interrupt::Cleanup::Remove(made.to_path_buf())
+        let id = interrupt::register_folder(match missing_folders(path).pop() {
+            Some(outermost) => interrupt::Cleanup::Remove(outermost),
+            None => interrupt::Cleanup::Empty(path.to_path_buf()),
         })?;
         let folder = RunFolder { id: Some(id), path: path.to_path_buf() };
         if !existed {
@@ -109,6 +104,18 @@ impl Drop for RunFolder {
             interrupt::remove_folder(id);
         }
     }
+}
+
+/// The folders `create_dir_all(path)` would make: `path` and its missing
+/// parents, innermost first (none when `path` exists).
+fn missing_folders(path: &Path) -> Vec<std::path::PathBuf> {
+    let mut missing = Vec::new();
+    let mut at = Some(path);
+    while let Some(folder) = at.filter(|f| !f.as_os_str().is_empty() && !f.exists()) {
+        missing.push(folder.to_path_buf());
+        at = folder.parent();
+    }
+    missing
 }
 
 /// Write a small file whole: `bytes` to a temporary beside `path`, synced and

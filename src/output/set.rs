@@ -56,12 +56,7 @@ impl FileSet {
     /// missing) under the manifest name `manifest`. Call it once the inputs
     /// are open and checked, so a refused input leaves no folder behind.
     pub fn create(folder: &Path, manifest: &str) -> Result<FileSet> {
-        let mut created = Vec::new();
-        let mut missing = Some(folder);
-        while let Some(f) = missing.filter(|f| !f.as_os_str().is_empty() && !f.exists()) {
-            created.push(f.to_path_buf());
-            missing = f.parent();
-        }
+        let created = super::missing_folders(folder);
         // Registered before they are made, so a signal in between finds them.
         let created = if created.is_empty() { None } else { Some(register_folder(Cleanup::RemoveEmpty(created))?) };
         let set = FileSet { folder: folder.to_path_buf(), manifest: manifest.to_string(), pending: vec![], created };
