@@ -72,6 +72,15 @@ fn bench(c: &mut Criterion) {
             group.bench_function("fast_u8_frame_buffer_raw_blanking", |b| {
                 b.iter(|| raw.assemble_into(&m, &mut bytes).unwrap())
             });
+            // An evenly lit frame: every run takes the flat-field gains (twice
+            // the samples each side on Mark III), with them and without.
+            let flat = Modulation::from_fn(layout.geometry.clone(), |_, _, _, _| 0.5).unwrap();
+            group.bench_function("fast_u8_frame_buffer_flat_field", |b| {
+                b.iter(|| a.assemble_into(&flat, &mut bytes).unwrap())
+            });
+            group.bench_function("fast_u8_frame_buffer_flat_field_raw_blanking", |b| {
+                b.iter(|| raw.assemble_into(&flat, &mut bytes).unwrap())
+            });
         }
         group.bench_function("fast_f32_signals", |b| b.iter(|| a.signals(&m, 0).unwrap()));
         group.bench_function("straightforward_one_thread", |b| b.iter(|| straightforward(&a, &m)));

@@ -175,7 +175,7 @@ fn computed_into<T: FringeSample>(a: &Assembler, m: &Modulation, out: &mut Frame
         for (j, hololine) in reference.into_iter().enumerate() {
             let mut hololine = hololine;
             // The blanking gains, as the fast path applies them.
-            a.layout().blanking_gains_reference(j, colour, &mut hololine);
+            a.blanking_gains_reference(m, j, colour, &mut hololine);
             for (s, signal) in hololine.iter().enumerate() {
                 let s = colour * per_colour + s;
                 for (n, x) in signal.iter().enumerate() {

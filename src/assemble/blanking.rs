@@ -18,101 +18,210 @@
 //! them over what the kernel wrote. The kernel's hot loop stays as it is: a
 //! sink that picked the gained samples out of its blocks cost far more than
 //! the samples themselves.
+//!
+//! A layout may carry a second table for flat fields: beside a run whose
+//! neighbouring elements are evenly lit, the interference the gains rely on
+//! is known exactly, and a table chosen for it alone brings the seam back
+//! further. Which table a run takes depends on the hololine's modulation,
+//! so it is decided here, run by run, from the elements (of every zone)
+//! whose segments lie within the flat-field table's reach.
 
+use std::ops::Range;
+
+use super::basis::ColourBasis;
 use super::pack::{Encoder, FringeSample};
 use super::plan::{BlockSink, PaddedWeights, Plan};
-use crate::layout::Fringe;
+use crate::layout::{BlankingGains, Fringe};
 
-/// A stretch of samples that take gains: samples `first .. first + len` of
-/// the hololine take the zone's gains from index `table` on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Stretch {
-    first: usize,
-    len: usize,
-    table: usize,
+/// One table of gains laid out beside the runs: per zone, the complex gains
+/// (`2K` of them), and `K`.
+#[derive(Clone, Debug)]
+struct Table {
+    samples_each_side: usize,
+    gains: Vec<Vec<(f64, f64)>>,
+}
+
+impl Table {
+    fn new(samples_each_side: usize, zones: &[Vec<[f64; 2]>]) -> Self {
+        Table { samples_each_side, gains: zones.iter().map(|z| z.iter().map(|&[re, im]| (re, im)).collect()).collect() }
+    }
+
+    /// The stretches beside `run` (of a hololine of `samples`) that take
+    /// gains: `(first, len, index of the first gain)`, before the run (those
+    /// left of sample 0 are not there), then after it.
+    fn stretches(&self, run: &Range<usize>, samples: usize) -> [(usize, usize, usize); 2] {
+        let k = self.samples_each_side;
+        let before = run.start.saturating_sub(k);
+        let after_end = (run.end + k).min(samples);
+        [(before, run.start - before, k - (run.start - before)), (run.end, after_end - run.end, k)]
+    }
+}
+
+/// The flat-field table and where it applies.
+#[derive(Clone, Debug)]
+struct FlatField {
+    table: Table,
+    max_spread: f64,
+    /// Per colour, per direction a line is sent (forwards, backwards), per
+    /// run: the elements (`e · views + v`, every zone's) whose segments lie
+    /// within the table's reach of the run.
+    neighbours: Vec<[Vec<Vec<usize>>; 2]>,
 }
 
 /// A layout's blanking gains, laid out over one hololine.
 #[derive(Clone, Debug)]
 pub(crate) struct BlankingCompensation {
-    /// Per zone, the complex gains.
-    gains: Vec<Vec<(f64, f64)>>,
-    /// The stretches that take gains, in increasing order, for a line sent
-    /// forwards and one sent backwards.
-    lines: [Vec<Stretch>; 2],
+    general: Table,
+    flat: Option<FlatField>,
+    /// The blanked runs of a line sent forwards and of one sent backwards,
+    /// in signal order.
+    runs: [Vec<Range<usize>>; 2],
+    samples: usize,
+}
+
+/// Which gains the run with neighbours `elements` takes for `hololine`'s
+/// modulation (spec/layouts.md §5.5): the flat-field table when the
+/// elements' radiances differ by at most `max_spread` of the largest, which
+/// is not zero.
+pub(crate) fn evenly_lit(hololine: &[f32], elements: impl IntoIterator<Item = usize>, max_spread: f64) -> bool {
+    let (mut lo, mut hi) = (f64::INFINITY, 0f64);
+    for i in elements {
+        let m = f64::from(hololine[i]).max(0.0);
+        (lo, hi) = (lo.min(m), hi.max(m));
+        // The spread only grows (max_spread < 1): uneven once, uneven at the end.
+        if hi - lo > max_spread * hi {
+            return false;
+        }
+    }
+    hi > 0.0
+}
+
+/// The samples of zone `zone` within `reach` of `run` (of a hololine of
+/// `samples`): where a table that reaches that far takes gains.
+pub(crate) fn neighbourhood(run: &Range<usize>, reach: usize, samples: usize) -> Range<usize> {
+    run.start.saturating_sub(reach)..(run.end + reach).min(samples)
 }
 
 impl BlankingCompensation {
     /// The gains of `fringe` (None when it has none), for hololines of its
-    /// frame buffer. The fringe's problems are checked already: the runs are
-    /// at least two tables' reach apart.
-    pub fn new(fringe: &Fringe) -> Option<Self> {
-        let table = fringe.blanking_gains.as_ref()?;
-        let k = table.samples_each_side;
+    /// frame buffer and the colours of `bases`. The fringe's problems are
+    /// checked already: the runs are at least two tables' reach apart.
+    pub fn new(fringe: &Fringe, bases: &[&ColourBasis]) -> Option<Self> {
+        let g: &BlankingGains = fringe.blanking_gains.as_ref()?;
         let samples = fringe.samples_per_hololine;
-        let lay_out = |reversed: bool| {
-            let mut stretches = Vec::new();
-            for run in fringe.frame_buffer.blanked_runs(samples, reversed) {
-                // Before the run (those left of sample 0 are not there), then after it.
-                let before = run.start.saturating_sub(k);
-                let after_end = (run.end + k).min(samples);
-                for (first, end, table) in [(before, run.start, k - (run.start - before)), (run.end, after_end, k)] {
-                    if end > first {
-                        stretches.push(Stretch { first, len: end - first, table });
-                    }
-                }
+        let runs = [false, true].map(|reversed| fringe.frame_buffer.blanked_runs(samples, reversed));
+        let flat = g.flat_field.as_ref().map(|f| {
+            let neighbours = bases
+                .iter()
+                .map(|basis| {
+                    runs.clone().map(|runs| {
+                        let mut lists = vec![Vec::new(); runs.len()];
+                        for e in 0..basis.emitters {
+                            for v in 0..basis.views {
+                                let s = basis.segment(e, v);
+                                for (list, run) in lists.iter_mut().zip(&runs) {
+                                    let near = neighbourhood(run, f.samples_each_side, samples);
+                                    if s.start < near.end && near.start < s.start + s.len {
+                                        list.push(e * basis.views + v);
+                                    }
+                                }
+                            }
+                        }
+                        lists
+                    })
+                })
+                .collect();
+            FlatField { table: Table::new(f.samples_each_side, &f.zones), max_spread: f.max_spread, neighbours }
+        });
+        Some(BlankingCompensation { general: Table::new(g.samples_each_side, &g.zones), flat, runs, samples })
+    }
+
+    /// The table run `r` takes (in every zone: the tables are found for the
+    /// three zones at once) on a line sent backwards if `reversed`, for
+    /// `hololine`'s modulation of colour `colour`.
+    fn table(&self, colour: usize, reversed: bool, r: usize, hololine: &[f32]) -> &Table {
+        match &self.flat {
+            Some(f)
+                if evenly_lit(
+                    hololine,
+                    f.neighbours[colour][usize::from(reversed)][r].iter().copied(),
+                    f.max_spread,
+                ) =>
+            {
+                &f.table
             }
-            stretches
-        };
-        Some(BlankingCompensation {
-            gains: table.zones.iter().map(|z| z.iter().map(|&[re, im]| (re, im)).collect()).collect(),
-            lines: [lay_out(false), lay_out(true)],
-        })
+            _ => &self.general,
+        }
     }
 
     /// Send zone `zone`'s samples beside the blanked runs with their gains:
-    /// made again from `weights`, multiplied, and encoded by `sink` over what
-    /// the kernel wrote there. `sink`'s clipped count, which the kernel's
-    /// pass made for these samples without their gains, is corrected to
-    /// count them as sent.
-    pub fn apply<T: FringeSample>(&self, plan: &Plan, weights: &PaddedWeights, zone: usize, sink: &mut Encoder<'_, T>) {
-        let gains = &self.gains[zone];
+    /// made again from `weights` (of `hololine`, colour `colour`),
+    /// multiplied, and encoded by `sink` over what the kernel wrote there.
+    /// `sink`'s clipped count, which the kernel's pass made for these samples
+    /// without their gains, is corrected to count them as sent.
+    pub fn apply<T: FringeSample>(
+        &self,
+        plan: &Plan,
+        (colour, hololine): (usize, &[f32]),
+        weights: &PaddedWeights,
+        zone: usize,
+        sink: &mut Encoder<'_, T>,
+    ) {
         let (mut re, mut im) = (Vec::new(), Vec::new());
-        for s in &self.lines[usize::from(sink.reversed)] {
-            re.resize(s.len, 0.0);
-            im.resize(s.len, 0.0);
-            plan.iq_samples(weights, zone, s.first, &mut re, &mut im);
-            // What the kernel's pass counted clipped here (the same samples,
-            // made in another order: the count may differ only for a sample
-            // within rounding of the quantizer's end).
-            let before: u64 = [&re, &im]
-                .iter()
-                .zip(sink.lane_channel)
-                .filter(|(_, ch)| ch.is_some())
-                .map(|(lane, _)| T::count_clipped(lane, sink.q))
-                .sum();
-            sink.clipped = sink.clipped.saturating_sub(before);
-            for (i, (x, y)) in re.iter_mut().zip(im.iter_mut()).enumerate() {
-                let g = gains[s.table + i];
-                let (a, b) = (f64::from(*x), f64::from(*y));
-                (*x, *y) = ((g.0 * a - g.1 * b) as f32, (g.0 * b + g.1 * a) as f32);
+        for (r, run) in self.runs[usize::from(sink.reversed)].iter().enumerate() {
+            let table = self.table(colour, sink.reversed, r, hololine);
+            let gains = &table.gains[zone];
+            for (first, len, at) in table.stretches(run, self.samples) {
+                if len == 0 {
+                    continue;
+                }
+                re.resize(len, 0.0);
+                im.resize(len, 0.0);
+                plan.iq_samples(weights, zone, first, &mut re, &mut im);
+                // What the kernel's pass counted clipped here (the same samples,
+                // made in another order: the count may differ only for a sample
+                // within rounding of the quantizer's end).
+                let before: u64 = [&re, &im]
+                    .iter()
+                    .zip(sink.lane_channel)
+                    .filter(|(_, ch)| ch.is_some())
+                    .map(|(lane, _)| T::count_clipped(lane, sink.q))
+                    .sum();
+                sink.clipped = sink.clipped.saturating_sub(before);
+                for (i, (x, y)) in re.iter_mut().zip(im.iter_mut()).enumerate() {
+                    let g = gains[at + i];
+                    let (a, b) = (f64::from(*x), f64::from(*y));
+                    (*x, *y) = ((g.0 * a - g.1 * b) as f32, (g.0 * b + g.1 * a) as f32);
+                }
+                sink.put(0, first, &re);
+                sink.put(1, first, &im);
             }
-            sink.put(0, s.first, &re);
-            sink.put(1, s.first, &im);
         }
     }
 
     /// Divide zone `zone`'s samples of a hololine (sent backwards if
-    /// `reversed`) by their gains, in place: the basis's samples again (up to
-    /// rounding), for recovering the modulation from what was sent.
-    pub fn undo(&self, zone: usize, reversed: bool, re: &mut [f32], im: &mut [f32]) {
-        let gains = &self.gains[zone];
-        for s in &self.lines[usize::from(reversed)] {
-            for i in 0..s.len {
-                let (n, g) = (s.first + i, gains[s.table + i]);
-                let (x, y) = (f64::from(re[n]), f64::from(im[n]));
-                let d = g.0 * g.0 + g.1 * g.1;
-                (re[n], im[n]) = (((g.0 * x + g.1 * y) / d) as f32, ((g.0 * y - g.1 * x) / d) as f32);
+    /// `reversed`) by the gains they were sent with, in place: the basis's
+    /// samples again (up to rounding), for recovering the modulation from
+    /// what was sent. `hololine` (colour `colour`) is the modulation they
+    /// were made from: it says which table each run took.
+    pub fn undo(
+        &self,
+        (colour, hololine): (usize, &[f32]),
+        zone: usize,
+        reversed: bool,
+        re: &mut [f32],
+        im: &mut [f32],
+    ) {
+        for (r, run) in self.runs[usize::from(reversed)].iter().enumerate() {
+            let table = self.table(colour, reversed, r, hololine);
+            let gains = &table.gains[zone];
+            for (first, len, at) in table.stretches(run, self.samples) {
+                for i in 0..len {
+                    let (n, g) = (first + i, gains[at + i]);
+                    let (x, y) = (f64::from(re[n]), f64::from(im[n]));
+                    let d = g.0 * g.0 + g.1 * g.1;
+                    (re[n], im[n]) = (((g.0 * x + g.1 * y) / d) as f32, ((g.0 * y - g.1 * x) / d) as f32);
+                }
             }
         }
     }

@@ -117,7 +117,8 @@ impl Assembler {
             .map(|c| ColourBasis::new(layout, c).map(Plan::new))
             .collect::<Result<Vec<_>, _>>()
             .map_err(|p| Error::layout(&layout.name, p.join("; ")))?;
-        let blanking = layout.fringe.as_ref().and_then(BlankingCompensation::new);
+        let bases: Vec<&ColourBasis> = plans.iter().map(Plan::basis).collect();
+        let blanking = layout.fringe.as_ref().and_then(|f| BlankingCompensation::new(f, &bases));
         Ok(Assembler { layout: layout.clone(), plans, simd: Simd::Detect, blanking })
     }
 
@@ -248,6 +249,30 @@ impl Assembler {
         Ok(out)
     }
 
+    /// spec/layouts.md §5.5 read straight, in f64, on `signals` (hololine
+    /// `j` of colour `colour` of `m`, as [`Assembler::signals_reference`]
+    /// gives them): the blanking gains applied, each run's table chosen from
+    /// the radiances of every element whose segment lies near it. Slow, for
+    /// tests; see [`Layout::blanking_gains_reference`].
+    pub fn blanking_gains_reference(&self, m: &Modulation, j: usize, colour: usize, signals: &mut [Vec<f64>]) {
+        let basis = self.plan(colour).basis();
+        let hololine = m.hololine(colour, j);
+        let radiance_range = |samples: std::ops::Range<usize>| {
+            let (mut lo, mut hi) = (f64::INFINITY, 0f64);
+            for e in 0..basis.emitters {
+                for v in 0..basis.views {
+                    let s = basis.segment(e, v);
+                    if s.start < samples.end && samples.start < s.start + s.len {
+                        let radiance = f64::from(hololine[e * basis.views + v]).max(0.0);
+                        (lo, hi) = (lo.min(radiance), hi.max(radiance));
+                    }
+                }
+            }
+            (lo, hi)
+        };
+        self.layout.blanking_gains_reference(j, colour, signals, &radiance_range);
+    }
+
     /// The f64 reference of [`Assembler::signals`] for hololines `hololines`
     /// (see [`ColourBasis::reference`]); slow, for tests.
     pub fn signals_reference(
@@ -358,8 +383,8 @@ impl Assembler {
                             let colour = colours.start;
                             if lit_weights(colour, weights) {
                                 let sink = Encoder { lane_channel, codes, samples, reversed, q: &q, clipped: 0 };
-                                stats.clipped +=
-                                    sink.encode(&self.plans[colour], weights, zone, self.blanking.as_ref());
+                                let blanking = self.blanking.as_ref().map(|b| (b, colour, m.hololine(colour, j)));
+                                stats.clipped += sink.encode(&self.plans[colour], weights, zone, blanking);
                                 continue;
                             }
                         } else {
@@ -428,8 +453,10 @@ impl Assembler {
     /// Divide the blanking gains (spec/layouts.md §5.5) out of the signals
     /// of hololine `j` in unpacked group `group` (`rows`: its signals, as
     /// [`Assembler::unpack`] gives them): the basis's samples again, for
-    /// recovering the modulation from what was sent.
-    pub(crate) fn undo_blanking_gains(&self, group: usize, j: usize, rows: &mut [Vec<f32>]) {
+    /// recovering the modulation from what was sent. `m` is the frame they
+    /// were made from: which gains a run took depends on it (§5.5's flat
+    /// fields).
+    pub(crate) fn undo_blanking_gains(&self, m: &Modulation, group: usize, j: usize, rows: &mut [Vec<f32>]) {
         let Some(b) = &self.blanking else { return };
         let fb = self.frame_buffer();
         let signals = self.layout.signals_per_hololine();
@@ -439,7 +466,8 @@ impl Assembler {
             let (_, line) = fb.channel_and_line(j, group * per_group + 2 * zone, signals);
             let reversed = fb.line_reversed(line);
             let (re, im) = rows.split_at_mut(2 * zone + 1);
-            b.undo(zone, reversed, &mut re[2 * zone], &mut im[0]);
+            // Gains need colours with signals of their own: group = colour.
+            b.undo((group, m.hololine(group, j)), zone, reversed, &mut re[2 * zone], &mut im[0]);
         }
     }
 
@@ -539,6 +567,20 @@ mod tests {
             } else {
                 0.5 + 0.5 * ((e as f32 * 0.07 + v as f32 * 0.11 + j as f32 + c as f32 + phase).sin())
             }
+        })
+        .unwrap()
+    }
+
+    /// Modulation for the flat-field gains: per hololine, stretches of
+    /// emitters evenly lit (within `spread` of their brightest), stretches
+    /// just too uneven for them, and rough ones, in an order that shifts with
+    /// the hololine, so that runs and zones see all three.
+    fn patchy(layout: &Layout, seed: u64, spread: f64) -> Modulation {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        Modulation::from_fn(layout.geometry.clone(), |_, j, e, _| match (e / 80 + j) % 3 {
+            0 => 0.6 * (1.0 - spread as f32 * rng.gen_range(0.0..0.999)),
+            1 => 0.6 * (1.0 - spread as f32 * rng.gen_range(1.2..1.6)),
+            _ => rng.gen_range(0.0..1.0),
         })
         .unwrap()
     }
@@ -652,7 +694,7 @@ mod tests {
             let mut want: Vec<Vec<f64>> = (0..colour_signals.signals)
                 .map(|s| colour_signals.row(s, 0).iter().map(|&x| f64::from(x)).collect())
                 .collect();
-            layout.blanking_gains_reference(0, 0, &mut want);
+            a.blanking_gains_reference(&m, 0, 0, &mut want);
             let mut worst = 0f64;
             for (s, want) in want.iter().enumerate().take(group.signals) {
                 for (n, want) in want.iter().enumerate() {
@@ -787,7 +829,7 @@ mod tests {
             [(0, 0, 0, true), (0, 1, 0, false), (0, 2, 1, true), (1, 0, 2, true), (1, 1, 2, false), (1, 2, 1, false)];
         let mut reference = reference;
         for (j, want) in reference.iter_mut().enumerate() {
-            a.layout().blanking_gains_reference(j, 0, want);
+            a.blanking_gains_reference(&m, j, 0, want);
         }
         for (head, component, zone, sine) in paper {
             for (j, want) in reference.iter().enumerate() {
@@ -847,9 +889,9 @@ mod tests {
             for j in 0..3 {
                 let mut want: Vec<Vec<f64>> =
                     (0..6).map(|s| direct.row(s, j).iter().map(|&x| f64::from(x)).collect()).collect();
-                a.layout().blanking_gains_reference(j, 0, &mut want);
+                a.blanking_gains_reference(&m, j, 0, &mut want);
                 let mut undone: Vec<Vec<f32>> = (0..6).map(|s| from_floats.row(s, j).to_vec()).collect();
-                a.undo_blanking_gains(0, j, &mut undone);
+                a.undo_blanking_gains(&m, 0, j, &mut undone);
                 let blanked = |n: usize| {
                     let sent = if fb.reverse_odd_lines && j % 2 == 1 { 24575 - n } else { n };
                     sent % 4096 >= 4080
@@ -889,6 +931,80 @@ mod tests {
     }
 
     #[test]
+    fn flat_field_gains_apply_where_the_neighbourhood_is_evenly_lit() {
+        // Mark III with a flat-field table of another reach than its general
+        // one (random gains, to tell them apart), lines sent either way, on
+        // content with evenly lit, almost evenly lit and rough stretches: the
+        // frame path against the reference, both tables used, and undone.
+        for reverse_odd_lines in [false, true] {
+            let mut layout = with_hololines(mark3(), 3);
+            let fringe = layout.fringe.as_mut().unwrap();
+            fringe.frame_buffer.reverse_odd_lines = reverse_odd_lines;
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(31);
+            let k = 96;
+            let flat = crate::layout::FlatFieldGains {
+                max_spread: 0.05,
+                samples_each_side: k,
+                zones: (0..3)
+                    .map(|_| (0..2 * k).map(|_| [rng.gen_range(0.5..1.5), rng.gen_range(-0.5..0.5)]).collect())
+                    .collect(),
+            };
+            let mut general = layout.clone();
+            general.fringe.as_mut().unwrap().blanking_gains.as_mut().unwrap().flat_field = None;
+            layout.fringe.as_mut().unwrap().blanking_gains.as_mut().unwrap().flat_field = Some(flat);
+            let a = Assembler::new(&layout).unwrap();
+            let ag = Assembler::new(&general).unwrap();
+            let m = patchy(&layout, 5, 0.05);
+            let direct = a.signals(&m, 0).unwrap();
+            let (floats, _) = a.assemble::<f32>(&m).unwrap();
+            let (portable, _) = a.clone().with_simd(Simd::Portable).assemble::<f32>(&m).unwrap();
+            let (bytes, _) = a.assemble::<u8>(&m).unwrap();
+            let floats = a.unpack(&floats, 3).unwrap().remove(0);
+            let portable = a.unpack(&portable, 3).unwrap().remove(0);
+            let bytes = a.unpack(&bytes, 3).unwrap().remove(0);
+            let (mut flat_runs, mut general_runs) = (0, 0);
+            for j in 0..3 {
+                let row = |s: usize| direct.row(s, j).iter().map(|&x| f64::from(x)).collect::<Vec<f64>>();
+                let (mut want, mut want_general): (Vec<_>, Vec<_>) =
+                    ((0..6).map(row).collect(), (0..6).map(row).collect());
+                a.blanking_gains_reference(&m, j, 0, &mut want);
+                ag.blanking_gains_reference(&m, j, 0, &mut want_general);
+                let mut undone: Vec<Vec<f32>> = (0..6).map(|s| floats.row(s, j).to_vec()).collect();
+                a.undo_blanking_gains(&m, 0, j, &mut undone);
+                let reversed = reverse_odd_lines && j % 2 == 1;
+                for run in layout.fringe.as_ref().unwrap().frame_buffer.blanked_runs(24576, reversed) {
+                    for zone in 0..3 {
+                        // The sample K + 1 before the run: only the flat-field table reaches it.
+                        let Some(n) = run.start.checked_sub(k - 1) else { continue };
+                        if want[2 * zone][n] != want_general[2 * zone][n] {
+                            flat_runs += 1;
+                        } else {
+                            general_runs += 1;
+                        }
+                    }
+                }
+                for s in 0..6 {
+                    for n in 0..24576 {
+                        let at = format!("hololine {j} signal {s} sample {n}");
+                        let sent = if reversed { 24575 - n } else { n };
+                        if sent % 4096 >= 4080 {
+                            continue;
+                        }
+                        assert!((f64::from(floats.row(s, j)[n]) - want[s][n]).abs() < 1e-6, "{at}");
+                        assert!((f64::from(portable.row(s, j)[n]) - want[s][n]).abs() < 1e-6, "{at}: portable");
+                        assert!(
+                            (f64::from(bytes.row(s, j)[n]) - want[s][n]).abs() <= 0.5 / 127.0 + 1e-6,
+                            "{at}: bytes"
+                        );
+                        assert!((undone[s][n] - direct.row(s, j)[n]).abs() < 1e-6, "{at}: undone");
+                    }
+                }
+            }
+            assert!(flat_runs >= 6 && general_runs >= 6, "flat {flat_runs}, general {general_runs}");
+        }
+    }
+
+    #[test]
     fn clipping_is_counted_for_the_samples_as_sent_with_their_gains() {
         // A quantizer gain that clips the louder samples: the count must be
         // that of the reference's samples, gains applied where they apply
@@ -907,7 +1023,7 @@ mod tests {
             for j in 0..3 {
                 let mut want: Vec<Vec<f64>> =
                     (0..6).map(|s| direct.row(s, j).iter().map(|&x| f64::from(x)).collect()).collect();
-                a.layout().blanking_gains_reference(j, 0, &mut want);
+                a.blanking_gains_reference(&m, j, 0, &mut want);
                 for code in want.iter().flatten().map(|x| q.offset + q.gain * x) {
                     let beyond = (-0.5 - code).max(code - 255.5);
                     certain += u64::from(beyond > 1e-3);

@@ -3,8 +3,8 @@
 //! reasoning.
 
 use super::{
-    Basis, BlankingGains, ChannelSlot, ColourSignals, EmitterPhases, FrameBuffer, Fringe, Layout, Quantization,
-    SignalKind,
+    Basis, BlankingGains, ChannelSlot, ColourSignals, EmitterPhases, FlatFieldGains, FrameBuffer, Fringe, Layout,
+    Quantization, SignalKind,
 };
 use crate::geometry::{mono_channel, rgb_channels, Geometry, Views};
 
@@ -112,12 +112,20 @@ pub fn mark3() -> Layout {
     }
 }
 
-/// Mark III's blanking gains (spec/layouts.md §5.5): a table found
+/// Mark III's blanking gains (spec/layouts.md §5.5): tables found
 /// numerically (`docs/seams/`) for the basis above, hard segments and every
-/// emitter at phase 0.
+/// emitter at phase 0, one for every picture and one for flat fields.
 fn mark3_blanking_gains() -> BlankingGains {
-    use super::mark3_blanking::{GAINS, SAMPLES_EACH_SIDE};
-    BlankingGains { samples_each_side: SAMPLES_EACH_SIDE, zones: GAINS.iter().map(|z| z.to_vec()).collect() }
+    use super::mark3_blanking::*;
+    BlankingGains {
+        samples_each_side: SAMPLES_EACH_SIDE,
+        zones: GAINS.iter().map(|z| z.to_vec()).collect(),
+        flat_field: Some(FlatFieldGains {
+            max_spread: FLAT_FIELD_MAX_SPREAD,
+            samples_each_side: FLAT_FIELD_SAMPLES_EACH_SIDE,
+            zones: FLAT_FIELD_GAINS.iter().map(|z| z.to_vec()).collect(),
+        }),
+    }
 }
 
 /// Mark I: samples per hololine (Nelson 1993 §1.1.2: "32 kilopixels").

@@ -129,6 +129,38 @@ pub struct BlankingGains {
     /// Per zone, in signal order: `2K` gains `[re, im]`, first for the `K`
     /// samples before a run, then for the `K` after it.
     pub zones: Vec<Vec<[f64; 2]>>,
+    /// Gains for a run whose neighbourhood is evenly lit, used there
+    /// instead of `zones`. None: `zones` beside every run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flat_field: Option<FlatFieldGains>,
+}
+
+/// Blanking gains for evenly lit neighbourhoods (spec/layouts.md §5.5):
+/// beside a run whose elements (of every zone) with segments within
+/// `samples_each_side` of it have radiances that differ by at most
+/// `max_spread` of the largest, these gains are used instead of the
+/// layout's others. Chosen for flat fields (the picture a display is
+/// calibrated with, and any evenly lit area), where the interference the
+/// gains rely on is known: they bring such a seam back further than gains
+/// that must suit every picture.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlatFieldGains {
+    /// The largest spread of the weights, `(max − min) / max`, that counts
+    /// as evenly lit.
+    pub max_spread: f64,
+    /// Shown samples taken on each side of a blanked run, `K`.
+    pub samples_each_side: usize,
+    /// Per zone, in signal order: `2K` gains `[re, im]`, as
+    /// [`BlankingGains::zones`].
+    pub zones: Vec<Vec<[f64; 2]>>,
+}
+
+impl BlankingGains {
+    /// The most samples any of the tables takes on one side of a run.
+    pub fn reach(&self) -> usize {
+        self.flat_field.as_ref().map_or(0, |f| f.samples_each_side).max(self.samples_each_side)
+    }
 }
 
 /// The kind of signal a display takes.
@@ -234,27 +266,40 @@ impl Fringe {
         if self.colours == ColourSignals::Summed {
             p.push("blanking gains are for colours with signals of their own, not summed".into());
         }
-        if k == 0 {
-            p.push("blanking gains need samples_each_side ≥ 1".into());
-        }
-        if g.zones.len() != self.zones() {
-            p.push(format!("blanking gains for {} zones; the basis has {}", g.zones.len(), self.zones()));
-        }
-        for (z, gains) in g.zones.iter().enumerate() {
-            if gains.len() != 2 * k {
+        let mut table = |what: &str, k: usize, zones: &[Vec<[f64; 2]>]| {
+            if k == 0 {
+                p.push(format!("{what} need samples_each_side ≥ 1"));
+            }
+            if zones.len() != self.zones() {
+                p.push(format!("{what} for {} zones; the basis has {}", zones.len(), self.zones()));
+            }
+            for (z, gains) in zones.iter().enumerate() {
+                if gains.len() != 2 * k {
+                    p.push(format!(
+                        "{what} of zone {}: {} gains, not 2 · samples_each_side = {}",
+                        z + 1,
+                        gains.len(),
+                        2 * k
+                    ));
+                }
+                if let Some([re, im]) =
+                    gains.iter().find(|[re, im]| !(re.is_finite() && im.is_finite()) || re.hypot(*im) < 1e-6)
+                {
+                    p.push(format!("{what} of zone {}: gain {re} + {im}i must be finite and not zero", z + 1));
+                }
+            }
+        };
+        table("blanking gains", k, &g.zones);
+        if let Some(f) = &g.flat_field {
+            table("flat-field blanking gains", f.samples_each_side, &f.zones);
+            if !(0.0..1.0).contains(&f.max_spread) {
                 p.push(format!(
-                    "blanking gains of zone {}: {} gains, not 2 · samples_each_side = {}",
-                    z + 1,
-                    gains.len(),
-                    2 * k
+                    "flat-field blanking gains: max_spread {} must be at least 0 and below 1",
+                    f.max_spread
                 ));
             }
-            if let Some([re, im]) =
-                gains.iter().find(|[re, im]| !(re.is_finite() && im.is_finite()) || re.hypot(*im) < 1e-6)
-            {
-                p.push(format!("blanking gains of zone {}: gain {re} + {im}i must be finite and not zero", z + 1));
-            }
         }
+        let k = g.reach();
         let fb = &self.frame_buffer;
         for reversed in [false, true] {
             let runs = fb.blanked_runs(self.samples_per_hololine, reversed);
@@ -281,25 +326,30 @@ impl Fringe {
         (self.blanking_gains.is_some() && self.emitter_phases != EmitterPhases::Zero).then(|| {
             format!(
                 "its blanking gains were found for every emitter at phase 0, and it sets emitter_phases = \"{}\": \
-                 they lift its dark columns less and leave bright ones (Mark III with viewer phases: 0.76–1.39 of \
-                 the neighbours, 0.53–1.15 without gains; spec/layouts.md §7.1)",
+                 they lift its dark columns less and leave bright ones (Mark III with viewer phases, evenly lit: \
+                 0.38–4.2 of the neighbours, 0.53–1.15 without gains; spec/layouts.md §7.1)",
                 format!("{:?}", self.emitter_phases).to_lowercase()
             )
         })
     }
     /// [`Layout::blanking_gains_reference`] for zone `zone`'s pair of a
     /// hololine (`re` = I, `im` = Q), sent backwards if `reversed`.
-    fn zone_blanking_gains_reference(&self, reversed: bool, zone: usize, re: &mut [f64], im: &mut [f64]) {
-        let Some(table) = &self.blanking_gains else { return };
+    fn zone_blanking_gains_reference(
+        &self,
+        reversed: bool,
+        zone: usize,
+        re: &mut [f64],
+        im: &mut [f64],
+        radiance_range: &dyn Fn(std::ops::Range<usize>) -> (f64, f64),
+    ) {
+        let Some(general) = &self.blanking_gains else { return };
         let fb = &self.frame_buffer;
-        let (k, samples) = (table.samples_each_side, re.len());
+        let samples = re.len();
         let blanked = |n: usize| (if reversed { samples - 1 - n } else { n }) % fb.line_samples >= fb.width;
-        let mut gain = |n: usize, i: usize| {
-            let [gr, gi] = table.zones[zone][i];
-            (re[n], im[n]) = (gr * re[n] - gi * im[n], gr * im[n] + gi * re[n]);
-        };
         // Each maximal run [a, b) of blanked samples: a − K + i takes gain i,
-        // b + i gain K + i.
+        // b + i gain K + i, of the flat-field table when the elements (of
+        // every zone) within its K of the run are evenly lit, else of the
+        // general one.
         let mut n = 0;
         while n < samples {
             if !blanked(n) {
@@ -310,6 +360,22 @@ impl Fringe {
             while n < samples && blanked(n) {
                 n += 1;
             }
+            let (k, gains) = match &general.flat_field {
+                Some(f)
+                    if {
+                        let k = f.samples_each_side;
+                        let (lo, hi) = radiance_range(a.saturating_sub(k)..(n + k).min(samples));
+                        hi > 0.0 && hi - lo <= f.max_spread * hi
+                    } =>
+                {
+                    (f.samples_each_side, &f.zones[zone])
+                }
+                _ => (general.samples_each_side, &general.zones[zone]),
+            };
+            let mut gain = |at: usize, i: usize| {
+                let [gr, gi] = gains[i];
+                (re[at], im[at]) = (gr * re[at] - gi * im[at], gr * im[at] + gi * re[at]);
+            };
             for i in 0..k {
                 if a + i >= k {
                     gain(a + i - k, i);
@@ -333,11 +399,21 @@ impl Fringe {
 impl Layout {
     /// spec/layouts.md §5.5 read straight, in f64: the signals of hololine
     /// `j` of colour channel `colour` (`signals[s][n]`, in the layout's signal
-    /// order, I/Q pairs per zone) with the `K` shown samples before and after
-    /// every blanked run multiplied, as `I + iQ`, by their zone's gains. The
-    /// reference the frame assembler's gains are tested against; does
-    /// nothing without gains (which need I/Q signals and separate colours).
-    pub fn blanking_gains_reference(&self, j: usize, colour: usize, signals: &mut [Vec<f64>]) {
+    /// order, I/Q pairs per zone) with the shown samples before and after
+    /// every blanked run multiplied, as `I + iQ`, by their zone's gains.
+    /// `radiance_range(samples)` is the least and the largest radiance
+    /// (negative ones taken as 0) of the hololine's elements (of every zone)
+    /// whose segments overlap `samples`: it decides where the flat-field
+    /// gains apply. The reference the frame assembler's gains are tested
+    /// against; does nothing without gains (which need I/Q signals and
+    /// separate colours).
+    pub fn blanking_gains_reference(
+        &self,
+        j: usize,
+        colour: usize,
+        signals: &mut [Vec<f64>],
+        radiance_range: &dyn Fn(std::ops::Range<usize>) -> (f64, f64),
+    ) {
         let Some(f) = &self.fringe else { return };
         if f.blanking_gains.is_none() {
             return;
@@ -346,7 +422,13 @@ impl Layout {
             let s = colour * signals.len() + 2 * zone;
             let (_, line) = f.frame_buffer.channel_and_line(j, s, self.signals_per_hololine());
             let (re, im) = signals.split_at_mut(2 * zone + 1);
-            f.zone_blanking_gains_reference(f.frame_buffer.line_reversed(line), zone, &mut re[2 * zone], &mut im[0]);
+            f.zone_blanking_gains_reference(
+                f.frame_buffer.line_reversed(line),
+                zone,
+                &mut re[2 * zone],
+                &mut im[0],
+                radiance_range,
+            );
         }
     }
 }

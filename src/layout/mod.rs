@@ -21,8 +21,8 @@ use crate::geometry::Geometry;
 use crate::{Error, Result};
 pub use builtin::{builtin, mark1, mark1_hogel, mark2, mark3, mark4, segment_centre_views, BUILTIN};
 pub use fringe::{
-    Basis, BlankingGains, ChannelSlot, ColourSignals, EmitterPhases, FrameBuffer, Fringe, Pixel, Quantization,
-    SignalKind,
+    Basis, BlankingGains, ChannelSlot, ColourSignals, EmitterPhases, FlatFieldGains, FrameBuffer, Fringe, Pixel,
+    Quantization, SignalKind,
 };
 
 /// A display profile.
@@ -87,18 +87,26 @@ impl Layout {
         if let Some(g) = gains {
             // `{:?}` of a finite f64 is the shortest text that reads back to it, with a
             // decimal point: a TOML float. Gains that are not finite are refused on loading.
-            text.push_str(&format!(
-                "\n[fringe.blanking_gains]\nsamples_each_side = {}\nzones = [\n",
-                g.samples_each_side
-            ));
-            for zone in &g.zones {
-                text.push_str("    [\n");
-                for [re, im] in zone {
-                    text.push_str(&format!("        [{re:?}, {im:?}],\n"));
+            let table = |text: &mut String, zones: &[Vec<[f64; 2]>]| {
+                text.push_str("zones = [\n");
+                for zone in zones {
+                    text.push_str("    [\n");
+                    for [re, im] in zone {
+                        text.push_str(&format!("        [{re:?}, {im:?}],\n"));
+                    }
+                    text.push_str("    ],\n");
                 }
-                text.push_str("    ],\n");
+                text.push_str("]\n");
+            };
+            text.push_str(&format!("\n[fringe.blanking_gains]\nsamples_each_side = {}\n", g.samples_each_side));
+            table(&mut text, &g.zones);
+            if let Some(f) = &g.flat_field {
+                text.push_str(&format!(
+                    "\n[fringe.blanking_gains.flat_field]\nmax_spread = {:?}\nsamples_each_side = {}\n",
+                    f.max_spread, f.samples_each_side
+                ));
+                table(&mut text, &f.zones);
             }
-            text.push_str("]\n");
         }
         text
     }
@@ -181,6 +189,35 @@ mod tests {
         assert!(err.contains("typo.toml") && err.contains("gap_rowz"), "{err}");
         let err = Layout::load("mark9").unwrap_err().to_string();
         assert!(err.contains("mark3, mark1"), "{err}");
+    }
+
+    #[test]
+    fn blanking_gains_that_do_not_fit_are_refused_with_every_reason() {
+        assert!(mark3().problems().is_empty());
+        let mut l = mark3();
+        let f = l.fringe.as_mut().unwrap();
+        let g = f.blanking_gains.as_mut().unwrap();
+        g.zones[1].pop();
+        let flat = g.flat_field.as_mut().unwrap();
+        flat.max_spread = 1.0;
+        flat.zones[2][5] = [0.0, 0.0];
+        // Runs are 4080 samples apart: a flat-field table reaching 2041 each side overlaps the next run's.
+        flat.samples_each_side = 2041;
+        for zone in &mut flat.zones {
+            zone.resize(2 * 2041, [1.0, 0.0]);
+        }
+        let p = l.problems().join("; ");
+        for want in [
+            "blanking gains of zone 2: 127 gains, not 2 · samples_each_side = 128",
+            "max_spread 1 must be at least 0 and below 1",
+            "flat-field blanking gains of zone 3: gain 0 + 0i must be finite and not zero",
+            "closer than 2 · samples_each_side = 4082",
+        ] {
+            assert!(p.contains(want), "{want}: {p}");
+        }
+        let mut real = mark3();
+        real.fringe.as_mut().unwrap().signal = SignalKind::Real;
+        assert!(real.problems().join("; ").contains("they need I/Q signals"));
     }
 
     #[test]

@@ -138,7 +138,7 @@ pub fn check(
             for (group, signals) in unpacked.iter().enumerate() {
                 let members = group_colours(a, group);
                 let mut rows: Vec<Vec<f32>> = (0..signals.signals).map(|s| signals.row(s, j).to_vec()).collect();
-                a.undo_blanking_gains(group, j, &mut rows);
+                a.undo_blanking_gains(m, group, j, &mut rows);
                 let op = HololineOperator {
                     plans: members.clone().map(|c| a.plan(c)).collect(),
                     shown: shown(a, group, j, signals.signals, signals.samples),

@@ -45,7 +45,7 @@ fn every_format_reads_back_to_the_assembled_signal() {
     let mut direct = assembler.signals_reference(&stored, 0, 0..4).unwrap();
     // What is sent: the blanking gains on the samples beside each blanked run.
     for (j, hololine) in direct.iter_mut().enumerate() {
-        layout.blanking_gains_reference(j, 0, hololine);
+        assembler.blanking_gains_reference(&stored, j, 0, hololine);
     }
     for (format, tolerance) in
         [(FringeFormat::Exr, 2e-6), (FringeFormat::Png, 0.5 / 127.0 + 2e-6), (FringeFormat::Raw, 0.5 / 127.0 + 2e-6)]
