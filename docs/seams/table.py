@@ -3,10 +3,12 @@ within K of a hole (the same beside every hole: the chirps cross every hole at t
 for several contents, pupils and distances (each judged relative to the same display unblanked), with the
 compensated signal kept inside the 8-bit range for uniform content at full brightness.
 
-    python3 table.py K ITERATIONS [--start START.npy] [--nominal W] [--out NAME.npy]
+    python3 table.py K ITERATIONS [--start START.npy] [--nominal W] [--out NAME.npy] [--edges | --flat]
 
 writes NAME.npy (default table_K{K}.npy): the gains minus 1, zone-major, the K samples before a run then the K
 after it. W weighs the nominal viewer (uniform content, 4 mm pupil, 600 mm) against each other scenario (1).
+--edges adds silhouettes and dark-to-bright random content; --flat keeps uniform content only (every pupil and
+distance): the flat-field table.
 
 Held-out checks (other pupils, distances, contents, every hole, 8-bit codes): robust.py-style, in check_table.py.
 """
@@ -55,6 +57,7 @@ if __name__ == '__main__':
     ap = argparse.ArgumentParser()
     ap.add_argument('K', type=int); ap.add_argument('iters', type=int)
     ap.add_argument('--start'); ap.add_argument('--nominal', type=float, default=1.0); ap.add_argument('--out')
+    ap.add_argument('--flat', action='store_true', help='uniform content only (every pupil and distance)')
     ap.add_argument('--edges', action='store_true', help='also silhouettes, a band and dark-to-bright random content')
     args = ap.parse_args()
     K, iters = args.K, args.iters
@@ -62,6 +65,7 @@ if __name__ == '__main__':
     t = time.time()
     A = response(pos); AH = A.conj().T
     scen = scenarios(pos, args.edges)
+    if args.flat: scen = scen[:6]
     for _, sc in scen:
         # R = 1 + (power - power unblanked) / den: den is the power unblanked but for Edge's dark columns
         sc.den = getattr(sc, 'den', sc.ref)
