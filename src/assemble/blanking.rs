@@ -83,7 +83,7 @@ pub(crate) struct BlankingCompensation {
 /// modulation (spec/layouts.md §5.5): the flat-field table when the
 /// elements' radiances differ by at most `max_spread` of the largest, which
 /// is not zero.
-pub(crate) fn evenly_lit(hololine: &[f32], elements: impl IntoIterator<Item = usize>, max_spread: f64) -> bool {
+fn evenly_lit(hololine: &[f32], elements: impl IntoIterator<Item = usize>, max_spread: f64) -> bool {
     let (mut lo, mut hi) = (f64::INFINITY, 0f64);
     for i in elements {
         let m = f64::from(hololine[i]).max(0.0);
@@ -96,9 +96,9 @@ pub(crate) fn evenly_lit(hololine: &[f32], elements: impl IntoIterator<Item = us
     hi > 0.0
 }
 
-/// The samples of zone `zone` within `reach` of `run` (of a hololine of
-/// `samples`): where a table that reaches that far takes gains.
-pub(crate) fn neighbourhood(run: &Range<usize>, reach: usize, samples: usize) -> Range<usize> {
+/// The samples within `reach` of `run` (of a hololine of `samples`): where a
+/// table that reaches that far takes gains.
+fn neighbourhood(run: &Range<usize>, reach: usize, samples: usize) -> Range<usize> {
     run.start.saturating_sub(reach)..(run.end + reach).min(samples)
 }
 
