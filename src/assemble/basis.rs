@@ -121,8 +121,11 @@ fn chirp_elements(
             c.samples_per_view()
         ));
     }
-    if zones * views_per_zone != g.views.count {
+    if zones.checked_mul(views_per_zone) != Some(g.views.count) {
+        // Every check below walks the zones or the views: a hostile zone
+        // count must not make it walk for hours.
         problems.push(format!("{zones} zone(s) × {views_per_zone} views ≠ the geometry's {} views", g.views.count));
+        return None;
     } else if let Some(v) =
         (0..g.views.count).find(|&v| (c.view_centre_tan(v).atan() - g.views.theta_rad(v)).abs() > 1e-9)
     {

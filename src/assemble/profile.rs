@@ -96,4 +96,21 @@ mod tests {
         assert!(crate::assemble::Assembler::new(&l).unwrap_err().to_string().contains("338 emitters do not fit"));
         assert_eq!(load_layout("mark3").unwrap(), mark3());
     }
+
+    #[test]
+    fn hostile_counts_are_refused_at_once() {
+        // Counts a profile file may hold that no display has: refused with
+        // their reason, without walking billions of zones or samples first
+        // (before, each of these ran for hours).
+        let mut zones = mark3();
+        if let crate::layout::Basis::Chirp { zones, .. } = &mut zones.fringe.as_mut().unwrap().basis {
+            *zones = 1 << 32;
+        }
+        let mut samples = mark3();
+        samples.fringe.as_mut().unwrap().samples_per_hololine = 1_000_000_000_000;
+        for (l, want) in [(zones, "4294967296 zone(s) × 32 views"), (samples, "hololine of 1000000000000 samples")] {
+            let p = problems(&l).join("; ");
+            assert!(p.contains(want), "{p}");
+        }
+    }
 }

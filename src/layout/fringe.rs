@@ -270,6 +270,15 @@ impl Fringe {
             if k == 0 {
                 p.push(format!("{what} need samples_each_side ≥ 1"));
             }
+            // A table longer than the hololine reaches nothing more (and 2K
+            // must not overflow below).
+            if k > self.samples_per_hololine {
+                p.push(format!(
+                    "{what}: samples_each_side = {k} is more than a hololine's {} samples",
+                    self.samples_per_hololine
+                ));
+                return;
+            }
             if zones.len() != self.zones() {
                 p.push(format!("{what} for {} zones; the basis has {}", zones.len(), self.zones()));
             }
@@ -303,7 +312,7 @@ impl Fringe {
         let fb = &self.frame_buffer;
         for reversed in [false, true] {
             let runs = fb.blanked_runs(self.samples_per_hololine, reversed);
-            if let Some(pair) = runs.windows(2).find(|r| r[1].start - r[0].end < 2 * k) {
+            if let Some(pair) = runs.windows(2).find(|r| r[1].start - r[0].end < k.saturating_mul(2)) {
                 p.push(format!(
                     "blanked runs at samples {}..{} and {}..{} are closer than 2 · samples_each_side = {}",
                     pair[0].start,
