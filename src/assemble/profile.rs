@@ -108,7 +108,14 @@ mod tests {
         }
         let mut samples = mark3();
         samples.fringe.as_mut().unwrap().samples_per_hololine = 1_000_000_000_000;
-        for (l, want) in [(zones, "4294967296 zone(s) × 32 views"), (samples, "hololine of 1000000000000 samples")] {
+        let mut reach = mark3();
+        let gains = reach.fringe.as_mut().unwrap().blanking_gains.as_mut().unwrap();
+        gains.flat_field.as_mut().unwrap().samples_each_side = 1 << 63;
+        for (l, want) in [
+            (zones, "4294967296 zone(s) × 32 views"),
+            (samples, "hololine of 1000000000000 samples"),
+            (reach, "samples_each_side = 9223372036854775808 is more than a hololine's 24576 samples"),
+        ] {
             let p = problems(&l).join("; ");
             assert!(p.contains(want), "{p}");
         }

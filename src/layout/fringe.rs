@@ -310,9 +310,10 @@ impl Fringe {
         }
         let k = g.reach();
         let fb = &self.frame_buffer;
-        for reversed in [false, true] {
+        // (A table longer than the hololine is named above.)
+        for reversed in [false, true].into_iter().filter(|_| k <= self.samples_per_hololine) {
             let runs = fb.blanked_runs(self.samples_per_hololine, reversed);
-            if let Some(pair) = runs.windows(2).find(|r| r[1].start - r[0].end < k.saturating_mul(2)) {
+            if let Some(pair) = runs.windows(2).find(|r| r[1].start - r[0].end < 2 * k) {
                 p.push(format!(
                     "blanked runs at samples {}..{} and {}..{} are closer than 2 · samples_each_side = {}",
                     pair[0].start,
