@@ -12,7 +12,7 @@
 //! the way without bright ones beside it (`docs/seams/`, a numerical study,
 //! says how far and why no table can do it completely).
 //!
-//! The kernel runs as without gains; afterwards [`BlankingCompensation::apply`]
+//! The kernel runs as without gains; afterwards [`HololineGains::apply`]
 //! makes the few samples that take gains again (from the plan's terms,
 //! outside the kernel: about 3 % of a Mark III zone), multiplies them and encodes
 //! them over what the kernel wrote. The kernel's hot loop stays as it is: a
@@ -136,92 +136,95 @@ impl BlankingCompensation {
         Some(BlankingCompensation { general: Table::new(g.samples_each_side, &g.zones), flat, runs, samples })
     }
 
+    /// The gains of hololine `hololine` (its modulation) of colour `colour`.
+    pub fn for_hololine<'a>(&'a self, colour: usize, hololine: &'a [f32]) -> HololineGains<'a> {
+        HololineGains { gains: self, colour, hololine }
+    }
+}
+
+/// A layout's blanking gains for one hololine of one colour: which table
+/// each run takes follows from the hololine's modulation.
+#[derive(Clone, Copy)]
+pub(crate) struct HololineGains<'a> {
+    gains: &'a BlankingCompensation,
+    colour: usize,
+    hololine: &'a [f32],
+}
+
+impl<'a> HololineGains<'a> {
     /// The table run `r` takes (in every zone: the tables are found for the
-    /// three zones at once) on a line sent backwards if `reversed`, for
-    /// `hololine`'s modulation of colour `colour`.
-    fn table(&self, colour: usize, reversed: bool, r: usize, hololine: &[f32]) -> &Table {
-        match &self.flat {
+    /// three zones at once) on a line sent backwards if `reversed`.
+    fn table(&self, reversed: bool, r: usize) -> &'a Table {
+        let b = self.gains;
+        match &b.flat {
             Some(f)
                 if evenly_lit(
-                    hololine,
-                    f.neighbours[colour][usize::from(reversed)][r].iter().copied(),
+                    self.hololine,
+                    f.neighbours[self.colour][usize::from(reversed)][r].iter().copied(),
                     f.max_spread,
                 ) =>
             {
                 &f.table
             }
-            _ => &self.general,
+            _ => &b.general,
         }
+    }
+
+    /// Each stretch of zone `zone`'s samples that takes gains, on a line
+    /// sent backwards if `reversed`: its first sample and its gains, one a
+    /// sample.
+    fn stretches(self, zone: usize, reversed: bool) -> impl Iterator<Item = (usize, &'a [(f64, f64)])> {
+        let b = self.gains;
+        b.runs[usize::from(reversed)].iter().enumerate().flat_map(move |(r, run)| {
+            let table = self.table(reversed, r);
+            table
+                .stretches(run, b.samples)
+                .into_iter()
+                .filter(|&(_, len, _)| len > 0)
+                .map(move |(first, len, at)| (first, &table.gains[zone][at..at + len]))
+        })
     }
 
     /// Send zone `zone`'s samples beside the blanked runs with their gains:
-    /// made again from `weights` (of `hololine`, colour `colour`),
-    /// multiplied, and encoded by `sink` over what the kernel wrote there.
-    /// `sink`'s clipped count, which the kernel's pass made for these samples
-    /// without their gains, is corrected to count them as sent.
-    pub fn apply<T: FringeSample>(
-        &self,
-        plan: &Plan,
-        (colour, hololine): (usize, &[f32]),
-        weights: &PaddedWeights,
-        zone: usize,
-        sink: &mut Encoder<'_, T>,
-    ) {
+    /// made again from `weights` (this hololine's), multiplied, and encoded
+    /// by `sink` over what the kernel wrote there. `sink`'s clipped count,
+    /// which the kernel's pass made for these samples without their gains,
+    /// is corrected to count them as sent.
+    pub fn apply<T: FringeSample>(self, plan: &Plan, weights: &PaddedWeights, zone: usize, sink: &mut Encoder<'_, T>) {
         let (mut re, mut im) = (Vec::new(), Vec::new());
-        for (r, run) in self.runs[usize::from(sink.reversed)].iter().enumerate() {
-            let table = self.table(colour, sink.reversed, r, hololine);
-            let gains = &table.gains[zone];
-            for (first, len, at) in table.stretches(run, self.samples) {
-                if len == 0 {
-                    continue;
-                }
-                re.resize(len, 0.0);
-                im.resize(len, 0.0);
-                plan.iq_samples(weights, zone, first, &mut re, &mut im);
-                // What the kernel's pass counted clipped here (the same samples,
-                // made in another order: the count may differ only for a sample
-                // within rounding of the quantizer's end).
-                let before: u64 = [&re, &im]
-                    .iter()
-                    .zip(sink.lane_channel)
-                    .filter(|(_, ch)| ch.is_some())
-                    .map(|(lane, _)| T::count_clipped(lane, sink.q))
-                    .sum();
-                sink.clipped = sink.clipped.saturating_sub(before);
-                for (i, (x, y)) in re.iter_mut().zip(im.iter_mut()).enumerate() {
-                    let g = gains[at + i];
-                    let (a, b) = (f64::from(*x), f64::from(*y));
-                    (*x, *y) = ((g.0 * a - g.1 * b) as f32, (g.0 * b + g.1 * a) as f32);
-                }
-                sink.put(0, first, &re);
-                sink.put(1, first, &im);
+        for (first, gains) in self.stretches(zone, sink.reversed) {
+            re.resize(gains.len(), 0.0);
+            im.resize(gains.len(), 0.0);
+            plan.iq_samples(weights, zone, first, &mut re, &mut im);
+            // What the kernel's pass counted clipped here (the same samples,
+            // made in another order: the count may differ only for a sample
+            // within rounding of the quantizer's end).
+            let before: u64 = [&re, &im]
+                .iter()
+                .zip(sink.lane_channel)
+                .filter(|(_, ch)| ch.is_some())
+                .map(|(lane, _)| T::count_clipped(lane, sink.q))
+                .sum();
+            sink.clipped = sink.clipped.saturating_sub(before);
+            for ((x, y), g) in re.iter_mut().zip(im.iter_mut()).zip(gains) {
+                let (a, b) = (f64::from(*x), f64::from(*y));
+                (*x, *y) = ((g.0 * a - g.1 * b) as f32, (g.0 * b + g.1 * a) as f32);
             }
+            sink.put(0, first, &re);
+            sink.put(1, first, &im);
         }
     }
 
-    /// Divide zone `zone`'s samples of a hololine (sent backwards if
+    /// Divide zone `zone`'s samples of this hololine (sent backwards if
     /// `reversed`) by the gains they were sent with, in place: the basis's
     /// samples again (up to rounding), for recovering the modulation from
-    /// what was sent. `hololine` (colour `colour`) is the modulation they
-    /// were made from: it says which table each run took.
-    pub fn undo(
-        &self,
-        (colour, hololine): (usize, &[f32]),
-        zone: usize,
-        reversed: bool,
-        re: &mut [f32],
-        im: &mut [f32],
-    ) {
-        for (r, run) in self.runs[usize::from(reversed)].iter().enumerate() {
-            let table = self.table(colour, reversed, r, hololine);
-            let gains = &table.gains[zone];
-            for (first, len, at) in table.stretches(run, self.samples) {
-                for i in 0..len {
-                    let (n, g) = (first + i, gains[at + i]);
-                    let (x, y) = (f64::from(re[n]), f64::from(im[n]));
-                    let d = g.0 * g.0 + g.1 * g.1;
-                    (re[n], im[n]) = (((g.0 * x + g.1 * y) / d) as f32, ((g.0 * y - g.1 * x) / d) as f32);
-                }
+    /// what was sent.
+    pub fn undo(self, zone: usize, reversed: bool, re: &mut [f32], im: &mut [f32]) {
+        for (first, gains) in self.stretches(zone, reversed) {
+            for (n, g) in (first..).zip(gains) {
+                let (x, y) = (f64::from(re[n]), f64::from(im[n]));
+                let d = g.0 * g.0 + g.1 * g.1;
+                (re[n], im[n]) = (((g.0 * x + g.1 * y) / d) as f32, ((g.0 * y - g.1 * x) / d) as f32);
             }
         }
     }

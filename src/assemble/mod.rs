@@ -383,7 +383,8 @@ impl Assembler {
                             let colour = colours.start;
                             if lit_weights(colour, weights) {
                                 let sink = Encoder { lane_channel, codes, samples, reversed, q: &q, clipped: 0 };
-                                let blanking = self.blanking.as_ref().map(|b| (b, colour, m.hololine(colour, j)));
+                                let blanking =
+                                    self.blanking.as_ref().map(|b| b.for_hololine(colour, m.hololine(colour, j)));
                                 stats.clipped += sink.encode(&self.plans[colour], weights, zone, blanking);
                                 continue;
                             }
@@ -467,7 +468,7 @@ impl Assembler {
             let reversed = fb.line_reversed(line);
             let (re, im) = rows.split_at_mut(2 * zone + 1);
             // Gains need colours with signals of their own: group = colour.
-            b.undo((group, m.hololine(group, j)), zone, reversed, &mut re[2 * zone], &mut im[0]);
+            b.for_hololine(group, m.hololine(group, j)).undo(zone, reversed, &mut re[2 * zone], &mut im[0]);
         }
     }
 

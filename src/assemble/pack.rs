@@ -6,7 +6,7 @@
 
 use std::any::Any;
 
-use super::blanking::BlankingCompensation;
+use super::blanking::HololineGains;
 use super::plan::{BlockSink, Blocks, LaneSink, PaddedWeights, Plan};
 use crate::layout::Quantization;
 use crate::simd::Simd;
@@ -205,31 +205,24 @@ impl<T: FringeSample> Encoder<'_, T> {
     /// ([`Plan::padded_weights_into`]), encoded; returns the samples clipped.
     /// 8-bit codes are made in the kernel's registers (the downcast picks
     /// that sink for `u8`), other sample types from blocks of floats.
-    /// With `blanking` (the gains, the colour and its hololine's modulation),
-    /// the samples beside the blanked runs are then sent again with their
-    /// gains.
-    pub fn encode(
-        self,
-        plan: &Plan,
-        weights: &PaddedWeights,
-        zone: usize,
-        blanking: Option<(&BlankingCompensation, usize, &[f32])>,
-    ) -> u64 {
+    /// With `blanking` (the layout's gains for this hololine), the samples
+    /// beside the blanked runs are then sent again with their gains.
+    pub fn encode(self, plan: &Plan, weights: &PaddedWeights, zone: usize, blanking: Option<HololineGains<'_>>) -> u64 {
         let Encoder { lane_channel, codes, samples, reversed, q, clipped } = self;
         match (codes as &mut dyn Any).downcast_mut::<Vec<Vec<u8>>>() {
             Some(codes) => {
                 let mut sink = Encoder { lane_channel, codes, samples, reversed, q, clipped };
                 plan.zone_padded(weights, zone, &mut sink);
-                if let Some((b, colour, hololine)) = blanking {
-                    b.apply(plan, (colour, hololine), weights, zone, &mut sink);
+                if let Some(b) = blanking {
+                    b.apply(plan, weights, zone, &mut sink);
                 }
                 sink.clipped
             }
             None => {
                 let mut sink = Encoder { lane_channel, codes, samples, reversed, q, clipped };
                 plan.zone_padded(weights, zone, &mut Blocks::<_, true>(&mut sink));
-                if let Some((b, colour, hololine)) = blanking {
-                    b.apply(plan, (colour, hololine), weights, zone, &mut sink);
+                if let Some(b) = blanking {
+                    b.apply(plan, weights, zone, &mut sink);
                 }
                 sink.clipped
             }

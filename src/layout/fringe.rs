@@ -146,8 +146,8 @@ pub struct BlankingGains {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FlatFieldGains {
-    /// The largest spread of the weights, `(max − min) / max`, that counts
-    /// as evenly lit.
+    /// The largest spread of the radiances, `(max − min) / max`, that
+    /// counts as evenly lit.
     pub max_spread: f64,
     /// Shown samples taken on each side of a blanked run, `K`.
     pub samples_each_side: usize,
@@ -309,9 +309,11 @@ impl Fringe {
             }
         }
         let k = g.reach();
+        if k > self.samples_per_hololine {
+            return p; // named above
+        }
         let fb = &self.frame_buffer;
-        // (A table longer than the hololine is named above.)
-        for reversed in [false, true].into_iter().filter(|_| k <= self.samples_per_hololine) {
+        for reversed in [false, true] {
             let runs = fb.blanked_runs(self.samples_per_hololine, reversed);
             if let Some(pair) = runs.windows(2).find(|r| r[1].start - r[0].end < 2 * k) {
                 p.push(format!(
