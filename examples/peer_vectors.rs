@@ -42,7 +42,7 @@ struct Case {
     radiometry: Radiometry,
     source: &'static str,
     seed: u64,
-    /// 1.1 (the pixel aspect ratio the emitter grid's), or 1.0 (square).
+    /// 1.2 (headers sealed), 1.1 (the pixel aspect ratio the emitter grid's), or 1.0 (square).
     version: FormatVersion,
 }
 
@@ -142,7 +142,7 @@ fn cases() -> Vec<Case> {
             radiometry: Radiometry::default(),
             source: "",
             seed: 3,
-            version: FormatVersion::V1_1,
+            version: FormatVersion::V1_2,
         },
         Case {
             name: "multi3_rgb_f16_zip",
@@ -163,7 +163,7 @@ fn cases() -> Vec<Case> {
             radiometry: Radiometry::default(),
             source: "",
             seed: 4,
-            version: FormatVersion::V1_1,
+            version: FormatVersion::V1_2,
         },
         Case {
             name: "views1001_mono_f16",
@@ -184,7 +184,7 @@ fn cases() -> Vec<Case> {
             radiometry: Radiometry::default(),
             source: "",
             seed: 5,
-            version: FormatVersion::V1_1,
+            version: FormatVersion::V1_2,
         },
     ]
 }
@@ -241,7 +241,7 @@ fn string(name: &str, s: &str) -> Value {
 fn shared_attributes(case: &Case) -> Vec<Value> {
     let g = &case.geometry;
     let mut a = vec![
-        json!({"name": "holo.version", "type": "v2i", "value": [1, if case.version == FormatVersion::V1_0 { 0 } else { 1 }]}),
+        json!({"name": "holo.version", "type": "v2i", "value": [case.version.number().0, case.version.number().1]}),
         string("holo.parallax", "horizontal"),
         int("holo.hololines", g.hololines as i64),
         int("holo.emitters", g.emitters as i64),
@@ -313,14 +313,19 @@ fn run(out: &Path) -> Result<Vec<PathBuf>, String> {
         };
         let parts: Vec<Value> = (0..case.frames)
             .map(|i| {
+                let mut attributes = vec![
+                    int("holo.frame", i64::from(case.first_frame_number) + i as i64),
+                    int("holo.frameCount", case.frames as i64),
+                    string("holo.digest", &report.digests[i]),
+                ];
+                if case.version.is_sealed() {
+                    // Its value is the stored header's SHA-256 (spec §7.2): a reader recomputes it.
+                    attributes.push(json!({"name": "holo.headerDigest", "type": "string", "sealed": true}));
+                }
                 json!({
                     "name": format!("frame{i:05}"),
                     "data_window": data_window,
-                    "attributes": [
-                        int("holo.frame", i64::from(case.first_frame_number) + i as i64),
-                        int("holo.frameCount", case.frames as i64),
-                        string("holo.digest", &report.digests[i]),
-                    ],
+                    "attributes": attributes,
                 })
             })
             .collect();

@@ -311,15 +311,18 @@ pub struct WriteArgs {
     /// Replace an existing output file.
     #[arg(long)]
     pub force: bool,
-    /// Format version to write: 1.1 (pixels at the emitter grid's proportions in EXR viewers) or
-    /// 1.0 (square pixels, for readers of version 1.0).
-    #[arg(long = "format-version", value_enum, default_value = "1.1")]
+    /// Format version to write: 1.2 (each header sealed by its digest), 1.1 (for readers of 1.1: the same
+    /// without the seal) or 1.0 (square pixels, for readers of version 1.0).
+    #[arg(long = "format-version", value_enum, default_value = "1.2")]
     pub format_version: FormatVersionChoice,
 }
 
 /// `--format-version`: which version of the .holo format to write.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum FormatVersionChoice {
+    /// Version 1.2.
+    #[value(name = "1.2")]
+    V1_2,
     /// Version 1.1.
     #[value(name = "1.1")]
     V1_1,
@@ -338,6 +341,7 @@ impl WriteArgs {
             source,
             overwrite: self.force,
             version: match self.format_version {
+                FormatVersionChoice::V1_2 => holo::format::FormatVersion::V1_2,
                 FormatVersionChoice::V1_1 => holo::format::FormatVersion::V1_1,
                 FormatVersionChoice::V1_0 => holo::format::FormatVersion::V1_0,
             },

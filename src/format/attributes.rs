@@ -10,7 +10,7 @@ use exr::meta::attribute::{AttributeValue, Text};
 use crate::geometry::{ColourChannel, Geometry, Parallax, ViewSpacing, Views};
 
 /// Format version written by this library (and the newest it reads).
-pub const VERSION: (i32, i32) = (1, 1);
+pub const VERSION: (i32, i32) = (1, 2);
 
 /// Attribute names (spec §4, table 1).
 pub mod name {
@@ -38,6 +38,7 @@ pub mod name {
     pub const FRAME: &str = "holo.frame";
     pub const FRAME_COUNT: &str = "holo.frameCount";
     pub const DIGEST: &str = "holo.digest";
+    pub const HEADER_DIGEST: &str = "holo.headerDigest";
     pub const SOURCE: &str = "holo.source";
     pub const PLACEMENT: &str = "holo.placement";
 
@@ -167,6 +168,7 @@ pub fn is_known(attribute: &str) -> bool {
         FRAME,
         FRAME_COUNT,
         DIGEST,
+        HEADER_DIGEST,
         SOURCE,
         PLACEMENT,
     ]

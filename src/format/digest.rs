@@ -1,4 +1,4 @@
-//! The frame digest of spec §7: SHA-256 over the samples of the whole display
+//! The frame digest of spec §7.1: SHA-256 over the samples of the whole display
 //! window, row by row; within a row channel by channel in channel-list order
 //! (ASCII order of the names); within a channel emitter by emitter; each sample
 //! as the little-endian bytes of its stored type, +0.0 outside the data window.
@@ -88,7 +88,7 @@ pub fn is_well_formed(digest: &str) -> bool {
         .is_some_and(|hex| hex.len() == 64 && hex.bytes().all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b)))
 }
 
-/// The frame digest (spec §7) from a frame's blocks (decoded by a reader,
+/// The frame digest (spec §7.1) from a frame's blocks (decoded by a reader,
 /// built by a writer), which may come in any order: each block's rows are the stored scan lines of the data window, so
 /// they are hashed as they are (widened with +0.0 samples to the display
 /// window), row after row, zero rows above and below the data window. A

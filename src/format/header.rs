@@ -12,6 +12,7 @@ use serde::Serialize;
 use super::attributes::{name, Attributes, Radiometry, VERSION};
 use super::channels::{parse_channel_name, view_digits};
 use super::digest::is_well_formed;
+use super::header_digest;
 use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SAMPLES_PER_FRAME, MAX_SIDE};
 use crate::geometry::{Geometry, CHANNEL_NAMES};
 use crate::Error;
@@ -95,12 +96,22 @@ pub(crate) struct Parsed {
     pub warnings: Vec<String>,
 }
 
-/// Read only the headers of a file, as an exr [`MetaData`].
+/// Read only the headers of a file, as an exr [`MetaData`]. A file whose
+/// headers OpenEXR cannot parse but which carries header digests is said to
+/// be damaged when a digest does not match (a flipped bit in an attribute's
+/// size or type breaks the parse before any rule can be checked).
 pub(crate) fn read_meta(path: &Path) -> crate::Result<(MetaData, u64)> {
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
-    let meta = MetaData::read_from_buffered(std::io::BufReader::new(file), false)
-        .map_err(|e| other_kind(path).map_or_else(|| Error::exr(path, e), |kind| Error::invalid(path, kind)))?;
+    let meta = MetaData::read_from_buffered(std::io::BufReader::new(file), false).map_err(|e| {
+        if let Some(kind) = other_kind(path) {
+            return Error::invalid(path, kind);
+        }
+        match header_digest::read_stored(path).map(|stored| header_digest::problems(&stored, false)) {
+            Ok(damage) if !damage.is_empty() => Error::invalid(path, damage.join("; ")),
+            _ => Error::exr(path, e),
+        }
+    })?;
     Ok((meta, file_bytes))
 }
 
@@ -121,10 +132,13 @@ fn other_kind(path: &Path) -> Option<&'static str> {
     }
 }
 
-/// Open: the headers must have no problem at all.
-pub(crate) fn file_info(path: &Path) -> crate::Result<(FileInfo, MetaData)> {
+/// Open: the headers must have no problem at all, and (when `sealed`) each
+/// must match its digest. The writer opens its own file unsealed, before the
+/// digests are filled in.
+pub(crate) fn file_info(path: &Path, sealed: bool) -> crate::Result<(FileInfo, MetaData)> {
     let (meta, file_bytes) = read_meta(path)?;
-    let parsed = parse(path, &meta, file_bytes)?;
+    let stored = if sealed { Some(header_digest::read_stored(path)?) } else { None };
+    let parsed = parse(path, &meta, file_bytes, stored.as_ref())?;
     match (parsed.info, parsed.problems.first()) {
         (Some(info), None) => Ok((info, meta)),
         (_, Some(first)) => {
@@ -137,9 +151,16 @@ pub(crate) fn file_info(path: &Path) -> crate::Result<(FileInfo, MetaData)> {
     }
 }
 
-/// Check every header rule. Errors only for a newer major version (which a
-/// reader must refuse before looking further, spec §9).
-pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Result<Parsed> {
+/// Check every header rule, and with the headers as `stored`, their digests
+/// (spec §7.2; a damaged header is the first problem, since it explains any
+/// other). Errors only for a newer major version (which a reader must refuse
+/// before looking further, spec §9) in a header that is not damaged.
+pub(crate) fn parse(
+    path: &Path,
+    meta: &MetaData,
+    file_bytes: u64,
+    stored: Option<&header_digest::StoredHeaders>,
+) -> crate::Result<Parsed> {
     let mut problems = Vec::new();
     let mut warnings = Vec::new();
     let headers = &meta.headers;
@@ -151,14 +172,20 @@ pub(crate) fn parse(path: &Path, meta: &MetaData, file_bytes: u64) -> crate::Res
         problems.push("this is an OpenEXR file but not a .holo file: it has no holo.* attributes".into());
         return Ok(Parsed { info: None, problems, warnings });
     }
-    let version = match attrs.v2i(name::VERSION) {
+    let version = attrs.v2i(name::VERSION);
+    // From 1.2 every part is sealed; in any version a seal present is checked.
+    let sealed_version = version.as_ref().is_ok_and(|v| *v >= (1, 2));
+    if let Some(stored) = stored {
+        problems.extend(header_digest::problems(stored, sealed_version));
+    }
+    let version = match version {
         Ok(v) => v,
         Err(e) => {
             problems.push(e);
             return Ok(Parsed { info: None, problems, warnings });
         }
     };
-    if version.0 > VERSION.0 {
+    if version.0 > VERSION.0 && problems.is_empty() {
         return Err(Error::NewerMajorVersion {
             path: path.into(),
             major: version.0,

@@ -9,6 +9,7 @@ pub(crate) mod attributes;
 mod channels;
 pub(crate) mod digest;
 mod header;
+mod header_digest;
 mod read;
 pub mod sequence;
 mod validate;

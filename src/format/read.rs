@@ -52,9 +52,17 @@ pub fn read(path: impl AsRef<Path>) -> Result<Modulation> {
 }
 
 impl HoloFile {
-    /// Read and check the headers; no pixel data is touched.
+    /// Read and check the headers, each against its digest (spec §7.2); no
+    /// pixel data is touched.
     pub fn open(path: impl AsRef<Path>) -> Result<Self> {
-        let (info, _) = file_info(path.as_ref())?;
+        let (info, _) = file_info(path.as_ref(), true)?;
+        Ok(HoloFile { info })
+    }
+
+    /// Open a file whose header digests are not yet filled in: the writer's
+    /// own, read back before it is finished.
+    pub(crate) fn open_unsealed(path: &Path) -> Result<Self> {
+        let (info, _) = file_info(path, false)?;
         Ok(HoloFile { info })
     }
 

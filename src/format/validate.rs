@@ -5,6 +5,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::header::{parse, read_meta, FileInfo};
+use super::header_digest::read_stored;
 use super::read::HoloFile;
 use crate::{Error, Result};
 
@@ -32,7 +33,8 @@ impl Validation {
 pub fn validate(path: impl AsRef<Path>) -> Result<Validation> {
     let path = path.as_ref();
     let (meta, file_bytes) = read_meta(path)?;
-    let parsed = parse(path, &meta, file_bytes)?;
+    let stored = read_stored(path)?;
+    let parsed = parse(path, &meta, file_bytes, Some(&stored))?;
     let mut violations = parsed.problems;
     let warnings = parsed.warnings;
     if violations.is_empty() {

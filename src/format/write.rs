@@ -17,8 +17,9 @@ use smallvec::SmallVec;
 
 use super::attributes::{self, geometry_attributes, name, ConversionRecord, Radiometry};
 use super::channels::ChannelOrder;
-use super::digest::{frame_digest, row_bytes, stored_row, BlockDigest, RowDigest, DIGEST_PREFIX};
+use super::digest::{frame_digest, row_bytes, stored_row, BlockDigest, RowDigest};
 use super::header::Window;
+use super::header_digest;
 use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SIDE};
 use crate::geometry::Geometry;
 use crate::output::{AtomicFile, Spool};
@@ -41,7 +42,7 @@ pub struct WriteOptions {
     pub first_frame_number: i32,
     /// Replace an existing file at the destination (default: refuse).
     pub overwrite: bool,
-    /// The format version to write (spec §9): 1.1, or 1.0 for readers of 1.0.
+    /// The format version to write (spec §9): 1.2, or 1.1 or 1.0 for readers of those.
     pub version: FormatVersion,
     /// `holo.placement` (spec §4.4): the transform from the converter's input
     /// coordinates to display metres (row-major, points as columns), when
@@ -56,9 +57,12 @@ pub struct WriteOptions {
 /// Which version of the format a writer writes (spec §9).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FormatVersion {
-    /// 1.1: the pixel aspect ratio is the emitter grid's own (spec §3.1), so
-    /// EXR viewers show it at its physical proportions.
+    /// 1.2: every part's header sealed by its digest (`holo.headerDigest`,
+    /// spec §7.2), so a damaged header is found before a sample is read.
     #[default]
+    V1_2,
+    /// 1.1: the pixel aspect ratio is the emitter grid's own (spec §3.1), so
+    /// EXR viewers show it at its physical proportions; headers unsealed.
     V1_1,
     /// 1.0: square pixels, for readers of version 1.0 (which refuse any other
     /// pixel aspect ratio); the content is the same.
@@ -67,18 +71,19 @@ pub enum FormatVersion {
 
 impl FormatVersion {
     /// The version a writer of this library writes for a file of version
-    /// `number`: 1.0 for 1.0, else the newest.
+    /// `number`: the same for 1.0 and 1.1, else the newest.
     pub fn for_number(number: (i32, i32)) -> FormatVersion {
-        if number == (1, 0) {
-            FormatVersion::V1_0
-        } else {
-            FormatVersion::V1_1
+        match number {
+            (1, 0) => FormatVersion::V1_0,
+            (1, 1) => FormatVersion::V1_1,
+            _ => FormatVersion::V1_2,
         }
     }
 
     /// `(major, minor)`, as `holo.version` stores it.
     pub fn number(self) -> (i32, i32) {
         match self {
+            FormatVersion::V1_2 => (1, 2),
             FormatVersion::V1_1 => (1, 1),
             FormatVersion::V1_0 => (1, 0),
         }
@@ -88,9 +93,14 @@ impl FormatVersion {
     /// as the display shows it (emitter pitch over hololine pitch; 1 in 1.0).
     pub fn pixel_aspect(self, g: &Geometry) -> f32 {
         match self {
-            FormatVersion::V1_1 => (g.emitter_pitch_m / g.hololine_pitch_m) as f32,
+            FormatVersion::V1_2 | FormatVersion::V1_1 => (g.emitter_pitch_m / g.hololine_pitch_m) as f32,
             FormatVersion::V1_0 => 1.0,
         }
+    }
+
+    /// Whether each header carries its digest, `holo.headerDigest` (from 1.2).
+    pub fn is_sealed(self) -> bool {
+        self == FormatVersion::V1_2
     }
 }
 
@@ -370,7 +380,7 @@ fn write_parts<'a>(
     if !options.compression.is_lossless_for(options.sample_type) {
         // The digest must describe what a reader will decode, not what was
         // asked for; read back band by band, so memory stays bounded.
-        let stored = super::read::HoloFile::open(temp.temporary_path())?;
+        let stored = super::read::HoloFile::open_unsealed(temp.temporary_path())?;
         let mut row = vec![0u8; row_len];
         for (i, d) in digests.iter_mut().enumerate() {
             let mut digest = RowDigest::default();
@@ -386,7 +396,7 @@ fn write_parts<'a>(
             *d = digest.finish();
         }
     }
-    canonicalize_headers(temp.temporary_path(), &digests)?;
+    canonicalize_headers(temp.temporary_path(), &digests, options.version.is_sealed())?;
     let file_bytes = temp.commit(options.overwrite)?;
     Ok(WriteReport { path: path.to_path_buf(), file_bytes, digests, warnings })
 }
@@ -474,7 +484,7 @@ fn overflows_f16(x: f32) -> bool {
 const F16_OVERFLOW: f32 = 65520.0;
 
 fn placeholder() -> String {
-    format!("{DIGEST_PREFIX}{}", "0".repeat(64))
+    header_digest::placeholder()
 }
 
 fn full_window(g: &Geometry) -> IntegerBounds {
@@ -542,6 +552,9 @@ fn part_header(
     put(name::FRAME, exr::meta::attribute::AttributeValue::I32(options.first_frame_number + part as i32));
     put(name::FRAME_COUNT, exr::meta::attribute::AttributeValue::I32(frame_count as i32));
     put(name::DIGEST, attributes::text(digest));
+    if options.version.is_sealed() {
+        put(name::HEADER_DIGEST, attributes::text(&placeholder()));
+    }
     if !options.source.is_empty() {
         put(name::SOURCE, attributes::text(&options.source));
     }
@@ -628,55 +641,44 @@ fn block(
 
 /// Rewrite each header's attributes in name order (OpenEXR's own order; the
 /// `exr` crate writes custom attributes in hash order, which would make bytes
-/// differ from run to run) and fill in the digests. Attribute lengths do not
-/// change, so no offset moves.
-fn canonicalize_headers(path: &Path, digests: &[String]) -> Result<()> {
+/// differ from run to run), fill in the frame digests, then seal each header
+/// with its digest (spec §7.2) when the version has one. Attribute lengths do
+/// not change, so no offset moves.
+fn canonicalize_headers(path: &Path, digests: &[String], sealed: bool) -> Result<()> {
     let mut file = std::fs::OpenOptions::new().read(true).write(true).open(path).map_err(|e| Error::io(path, e))?;
     let limit = 64 * 1024 + digests.len() as u64 * (64 * 1024 + 32 * MAX_CHANNELS);
     let mut head = Vec::new();
     Read::by_ref(&mut file).take(limit).read_to_end(&mut head).map_err(|e| Error::io(path, e))?;
-    let internal = |what: &str| Error::invalid(path, format!("internal: {what} while finishing the headers"));
-    if head.len() < 8 {
-        return Err(internal("file too short"));
+    let internal = |what: String| Error::invalid(path, format!("internal: {what} while finishing the headers"));
+    let parts = header_digest::scan(&head).map_err(|e| internal(format!("{e:?}")))?;
+    if parts.len() != digests.len() {
+        return Err(internal(format!("{} headers for {} frames", parts.len(), digests.len())));
     }
     let multipart = head[5] & 0x10 != 0;
-    let mut at = 8;
     let mut rewritten = Vec::with_capacity(head.len());
     rewritten.extend_from_slice(&head[..8]);
-    for digest in digests {
-        let mut attributes: Vec<(&[u8], &[u8])> = Vec::new();
-        loop {
-            let name_end = head[at..].iter().position(|b| *b == 0).ok_or_else(|| internal("unterminated name"))? + at;
-            if name_end == at {
-                at += 1;
-                break;
-            }
-            let type_end =
-                head[name_end + 1..].iter().position(|b| *b == 0).ok_or_else(|| internal("unterminated type"))?
-                    + name_end
-                    + 1;
-            let size_at = type_end + 1;
-            let size = u32::from_le_bytes(
-                head.get(size_at..size_at + 4).ok_or_else(|| internal("short"))?.try_into().unwrap_or_default(),
-            ) as usize;
-            let end = size_at + 4 + size;
-            if end > head.len() {
-                return Err(internal("attribute runs past the header"));
-            }
-            attributes.push((&head[at..name_end], &head[at..end]));
-            at = end;
-        }
-        attributes.sort_by(|a, b| a.0.cmp(b.0));
-        for (name_bytes, whole) in attributes {
+    for (part, digest) in parts.iter().zip(digests) {
+        let mut attributes: Vec<_> = part.attributes.iter().collect();
+        attributes.sort_by(|a, b| head[a.name.clone()].cmp(&head[b.name.clone()]));
+        let start = rewritten.len();
+        let mut own = None;
+        for a in attributes {
+            let value_at = rewritten.len() + (a.value.start - a.whole.start);
+            rewritten.extend_from_slice(&head[a.whole.clone()]);
+            let name_bytes = &head[a.name.clone()];
             if name_bytes == name::DIGEST.as_bytes() {
-                let keep = whole.len() - digest.len();
-                rewritten.extend_from_slice(&whole[..keep]);
-                rewritten.extend_from_slice(digest.as_bytes());
-            } else {
-                rewritten.extend_from_slice(whole);
+                rewritten[value_at..value_at + a.value.len()].copy_from_slice(digest.as_bytes());
+            } else if name_bytes == name::HEADER_DIGEST.as_bytes() {
+                own = Some(value_at..value_at + a.value.len());
             }
         }
         rewritten.push(0);
+        if sealed {
+            let own = own.ok_or_else(|| internal(format!("no {}", name::HEADER_DIGEST)))?;
+            let stored = header_digest::StoredHeader { attributes: Vec::new(), bytes: start..rewritten.len() };
+            let seal = header_digest::digest_of(&rewritten, &stored, Some(own.clone()));
+            rewritten[own].copy_from_slice(seal.as_bytes());
+        }
     }
     if multipart {
         rewritten.push(0);

@@ -8,5 +8,6 @@ mod bad_input;
 mod output;
 mod picture;
 mod roundtrip;
+mod seal;
 mod sequence;
 mod vectors;

@@ -160,6 +160,7 @@ SPEC_TYPES = {
     "holo.frame": "int",
     "holo.frameCount": "int",
     "holo.digest": "string",
+    "holo.headerDigest": "string",
     "holo.source": "string",
 }
 
@@ -260,6 +261,63 @@ def raw_headers(path):
     return {"version": version & 0xFF, "flags": flags, "multipart": multipart, "parts": parts}
 
 
+def header_spans(data):
+    """Spec §7.2, from the bytes alone: per part, (start, end) of its attribute
+    list (first name through its terminating NUL, exclusive end) and the
+    (start, end) of holo.headerDigest's value, or None."""
+    multipart = bool(struct.unpack("<I", data[4:8])[0] >> 8 & 0x10)
+    at, spans = 8, []
+    while True:
+        start, own = at, None
+        while data[at] != 0:
+            name_end = data.index(b"\0", at)
+            type_end = data.index(b"\0", name_end + 1)
+            size = struct.unpack("<i", data[type_end + 1 : type_end + 5])[0]
+            if data[at:name_end] == b"holo.headerDigest":
+                own = (type_end + 5, type_end + 5 + size)
+            at = type_end + 5 + size
+        at += 1
+        spans.append(((start, at), own))
+        if not multipart or data[at] == 0:
+            return spans
+
+
+def header_digest(data, span, own):
+    """SHA-256 of the first 8 bytes and the part's header with the digest's own
+    64 hex digits read as '0' (spec §7.2)."""
+    header = bytearray(data[:8] + data[span[0] : span[1]])
+    lo, hi = own[0] + len("sha256:") - span[0] + 8, own[1] - span[0] + 8
+    header[lo:hi] = b"0" * (hi - lo)
+    return "sha256:" + hashlib.sha256(bytes(header)).hexdigest()
+
+
+def seal(path):
+    """Fill in every part's holo.headerDigest in place (a writer's last step,
+    spec §7.2): the placeholder written with the header has the same length."""
+    with open(path, "r+b") as fh:
+        data = fh.read()
+        patched = bytearray(data)
+        for span, own in header_spans(data):
+            if own is not None:
+                patched[own[0] : own[1]] = header_digest(data, span, own).encode("ascii")
+        fh.seek(0)
+        fh.write(patched)
+
+
+def check_seals(c, label, path, required):
+    """Every part's holo.headerDigest recomputed from the file's bytes."""
+    with open(path, "rb") as fh:
+        data = fh.read()
+    for i, (span, own) in enumerate(header_spans(data)):
+        if own is None:
+            c.check(not required, f"{label} part {i}: no holo.headerDigest, as its version allows", "missing")
+            continue
+        stored = data[own[0] : own[1]].decode("ascii", "replace")
+        c.check(header_digest(data, span, own) == stored,
+                f"{label} part {i}: holo.headerDigest recomputed from the stored header (spec §7.2) matches",
+                f"stored {stored}, computed {header_digest(data, span, own)}")
+
+
 def header_layout_info(c, label, raw):
     """Report what the file's header holds beyond the required attributes."""
     c.info(
@@ -306,6 +364,9 @@ def check_file(c, directory, expect_path):
             f"flags 0x{raw['flags'] << 8:x}",
         )
         header_layout_info(c, label, raw)
+
+    sealed = any(a.get("sealed") for part in ex["parts"] for a in part["attributes"])
+    check_seals(c, label, path, sealed)
 
     dw = ex["display_window"]
     display = (dw["min"][0], dw["min"][1], dw["max"][0], dw["max"][1])
@@ -368,6 +429,8 @@ def check_file(c, directory, expect_path):
                 except ValueError:
                     nums, ok = str(v), False
                 c.check(ok, f"{pl}: {an} is the {len(a['bits'])} view angles exactly", f"found {nums}")
+            elif a.get("sealed"):
+                pass  # checked below, recomputed from the stored header
             else:
                 c.check(v == a["value"], f"{pl}: {an} = {a['value']!r}", f"found {v!r}")
 
@@ -461,10 +524,10 @@ def py_cases():
         dict(name="py_rgb_f16_piz_cropped", g=geometry(16, 20, 3, -0.1, 0.1, "angle", rgb),
              st="f16", comp="piz", frames=1, crop=(4, 2, 15, 12), part_names=False, seed=13),
         dict(name="py_rgb_f32_zip_named", g=geometry(33, 10, 6, angles[0], angles[-1], "explicit", rgb, angles),
-             st="f32", comp="zip", frames=1, crop=None, part_names=True, seed=14,
+             st="f32", comp="zip", frames=1, crop=None, part_names=True, seed=14, version=(1, 2),
              radiometry=("linear", 0.5, "W/(sr m^2)"), source="openexr_peer.py (OpenEXR Python bindings)"),
         dict(name="py_multi2_rgb_f16_zips", g=geometry(9, 8, 4, -0.3, 0.3, "tan", rgb),
-             st="f16", comp="zips", frames=2, crop=None, part_names=True, seed=15, first_frame=5,
+             st="f16", comp="zips", frames=2, crop=None, part_names=True, seed=15, first_frame=5, version=(1, 2),
              fps=fractions.Fraction(30000, 1001)),
     ]
 
@@ -486,7 +549,7 @@ def channel_names(views, colours):
     return sorted(f"v{v:0{digits}d}.{c}" for v in range(views) for c in colours)
 
 
-def holo_header(g, st, comp, crop, radiometry, source):
+def holo_header(g, st, comp, crop, radiometry, source, version=(1, 0)):
     """Header dict: the EXR type of each value is what OpenEXR.File infers:
     int -> int, str -> string, 1-element float64 array -> double,
     2-element int32 array -> v2i."""
@@ -502,7 +565,7 @@ def holo_header(g, st, comp, crop, radiometry, source):
         "type": OpenEXR.scanlineimage,
         "displayWindow": (np.array([0, 0], dtype=np.int32), np.array([w - 1, h - 1], dtype=np.int32)),
         "dataWindow": (np.array([x0, y0], dtype=np.int32), np.array([x1, y1], dtype=np.int32)),
-        "holo.version": np.array([1, 0], dtype=np.int32),
+        "holo.version": np.array(list(version), dtype=np.int32),
         "holo.parallax": g["parallax"],
         "holo.hololines": h,
         "holo.emitters": w,
@@ -527,6 +590,12 @@ def holo_header(g, st, comp, crop, radiometry, source):
         hdr[f"holo.wavelength.{cname}"] = dbl(wl)
     if source:
         hdr["holo.source"] = source
+    if version >= (1, 1):
+        # From 1.1 the emitter grid's proportions (spec §3.1), as a float.
+        hdr["pixelAspectRatio"] = float(np.float32(d["emitter_pitch_m"] / d["hololine_pitch_m"]))
+    if version >= (1, 2):
+        # A placeholder of the digest's length, filled in once written (seal()).
+        hdr["holo.headerDigest"] = "sha256:" + "0" * 64
     return hdr
 
 
@@ -585,7 +654,8 @@ def write_case(c, out, case):
             full[n][y0 : y1 + 1, x0 : x1 + 1] = random_samples(rng, (y1 - y0 + 1, x1 - x0 + 1), st)
             data[n] = np.ascontiguousarray(full[n][y0 : y1 + 1, x0 : x1 + 1])
         digest = frame_digest(full, dtype)
-        hdr = holo_header(g, st, comp, case["crop"], radiometry, case.get("source"))
+        version = case.get("version", (1, 0))
+        hdr = holo_header(g, st, comp, case["crop"], radiometry, case.get("source"), version)
         hdr["holo.frame"] = first + i
         hdr["holo.frameCount"] = case["frames"]
         hdr["holo.digest"] = digest
@@ -603,6 +673,9 @@ def write_case(c, out, case):
         c.check(False, f"{case['name']}.holo: OpenEXR writes it", f"{type(e).__name__}: {e}")
         return
     c.check(os.path.exists(path), f"{case['name']}.holo: OpenEXR wrote {case['frames']} part(s), {len(names)} {st} channels, {comp}")
+    if case.get("version", (1, 0)) >= (1, 2):
+        seal(path)
+        check_seals(c, f"{case['name']}.holo", path, True)
 
     # Read it back with OpenEXR: the digest written is the digest of what is stored.
     f, printed = read_exr(path)
@@ -683,6 +756,9 @@ def cmd_rewrite(src, out):
                 p.header.pop("chunkCount", None)
             f.write(target)
             c.check(os.path.exists(target), f"{label}: OpenEXR read holo's {base}.holo and wrote it back ({comp})")
+            # A program that rewrites a sealed header seals it again (spec §7.2).
+            seal(target)
+            check_seals(c, label, target, "holo.headerDigest" in h0)
             g2, printed2 = read_exr(target)
             c.check(not printed.strip() and not printed2.strip() and len(g2.parts) == len(f.parts),
                     f"{label}: OpenEXR reads its re-encoded copy", (printed + printed2).strip())

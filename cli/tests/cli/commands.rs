@@ -738,24 +738,33 @@ fn output_is_o_everywhere_and_out_still_works() {
     }
 }
 
-/// Files are written as format 1.1 (pixels at the emitter grid's proportions)
-/// unless version 1.0 (square pixels, for 1.0 readers) is asked for; both
-/// validate and hold the same samples.
+/// Files are written as format 1.2 (pixels at the emitter grid's proportions,
+/// each header sealed by its digest) unless version 1.1 (unsealed) or 1.0
+/// (square pixels, for 1.0 readers) is asked for; all validate and hold the
+/// same samples.
 #[test]
-fn format_versions_differ_only_in_the_pixel_aspect_ratio() {
+fn format_versions_differ_only_in_the_pixel_aspect_ratio_and_the_seal() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let profile = super::small_profile(d, 4);
     let layout = profile.to_str().unwrap();
     ok(holo(&["pattern", "--layout", layout, "--kind", "view-ramp", "-o", "new.holo"], d));
+    ok(holo(&["pattern", "--layout", layout, "--kind", "view-ramp", "-o", "mid.holo", "--format-version", "1.1"], d));
     ok(holo(&["pattern", "--layout", layout, "--kind", "view-ramp", "-o", "old.holo", "--format-version", "1.0"], d));
     let new = text(&ok(holo(&["info", "new.holo"], d)));
+    let mid = text(&ok(holo(&["info", "mid.holo"], d)));
     let old = text(&ok(holo(&["info", "old.holo"], d)));
-    assert!(new.contains(".holo 1.1 (OpenEXR), 1 frame(s), pixel aspect ratio 1.7460"), "{new}");
+    assert!(new.contains(".holo 1.2 (OpenEXR), 1 frame(s), pixel aspect ratio 1.7460"), "{new}");
+    assert!(mid.contains(".holo 1.1 (OpenEXR), 1 frame(s), pixel aspect ratio 1.7460"), "{mid}");
     assert!(old.contains(".holo 1.0 (OpenEXR), 1 frame(s), pixel aspect ratio 1.0000\n"), "{old}");
-    ok(holo(&["validate", "new.holo", "old.holo"], d));
-    let both = text(&ok(holo(&["info", "new.holo", "old.holo"], d)));
-    assert!(both.to_lowercase().contains("same content"), "{both}");
+    let sealed = |name: &str| {
+        let bytes = std::fs::read(d.join(name)).unwrap();
+        bytes.windows(b"holo.headerDigest".len()).any(|w| w == b"holo.headerDigest")
+    };
+    assert!(sealed("new.holo") && !sealed("mid.holo") && !sealed("old.holo"));
+    ok(holo(&["validate", "new.holo", "mid.holo", "old.holo"], d));
+    let all = text(&ok(holo(&["info", "new.holo", "mid.holo", "old.holo"], d)));
+    assert!(all.to_lowercase().contains("same content"), "{all}");
 }
 
 /// `holo info` prints the placement a conversion recorded in the form
