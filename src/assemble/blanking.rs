@@ -215,17 +215,41 @@ impl<'a> HololineGains<'a> {
         }
     }
 
-    /// Divide zone `zone`'s samples of this hololine (sent backwards if
-    /// `reversed`) by the gains they were sent with, in place: the basis's
-    /// samples again (up to rounding), for recovering the modulation from
-    /// what was sent.
-    pub fn undo(self, zone: usize, reversed: bool, re: &mut [f32], im: &mut [f32]) {
-        for (first, gains) in self.stretches(zone, reversed) {
-            for (n, g) in (first..).zip(gains) {
-                let (x, y) = (f64::from(re[n]), f64::from(im[n]));
-                let d = g.0 * g.0 + g.1 * g.1;
-                (re[n], im[n]) = (((g.0 * x + g.1 * y) / d) as f32, ((g.0 * y - g.1 * x) / d) as f32);
+    /// Divide zone `zone`'s samples of this hololine by the gains they were
+    /// sent with, in place: the basis's samples again (up to rounding), for
+    /// recovering the modulation from what was sent. `reversed` says, per
+    /// lane (I, Q), whether its line is sent backwards: a pair split across
+    /// two lines sent opposite ways took each lane's gains from its own
+    /// line's runs (`I' = Re(g_I s)`, `Q' = Im(g_Q s)`).
+    pub fn undo(self, zone: usize, reversed: [bool; 2], re: &mut [f32], im: &mut [f32]) {
+        if reversed[0] == reversed[1] {
+            for (first, gains) in self.stretches(zone, reversed[0]) {
+                for (n, g) in (first..).zip(gains) {
+                    let (x, y) = (f64::from(re[n]), f64::from(im[n]));
+                    let d = g.0 * g.0 + g.1 * g.1;
+                    (re[n], im[n]) = (((g.0 * x + g.1 * y) / d) as f32, ((g.0 * y - g.1 * x) / d) as f32);
+                }
             }
+            return;
+        }
+        // Each lane's gain at every sample (1 where it took none), then per
+        // sample the 2 × 2 system I' = a_I I − b_I Q, Q' = a_Q Q + b_Q I.
+        let lane_gains = |reversed: bool| {
+            let mut g = vec![(1.0, 0.0); re.len()];
+            for (first, gains) in self.stretches(zone, reversed) {
+                g[first..first + gains.len()].copy_from_slice(gains);
+            }
+            g
+        };
+        let (g_i, g_q) = (lane_gains(reversed[0]), lane_gains(reversed[1]));
+        for n in 0..re.len() {
+            let ((ai, bi), (aq, bq)) = (g_i[n], g_q[n]);
+            if (ai, bi, aq, bq) == (1.0, 0.0, 1.0, 0.0) {
+                continue;
+            }
+            let (x, y) = (f64::from(re[n]), f64::from(im[n]));
+            let d = ai * aq + bi * bq;
+            (re[n], im[n]) = (((aq * x + bi * y) / d) as f32, ((ai * y - bq * x) / d) as f32);
         }
     }
 }

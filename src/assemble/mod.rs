@@ -464,8 +464,11 @@ impl Assembler {
         let per_group = rows.len();
         // Gains need I/Q signals: zone `z` is the pair 2z, 2z + 1.
         for zone in 0..per_group / 2 {
-            let (_, line) = fb.channel_and_line(j, group * per_group + 2 * zone, signals);
-            let reversed = fb.line_reversed(line);
+            // Each lane's line: a pair may be split across two lines.
+            let reversed = [0, 1].map(|lane| {
+                let (_, line) = fb.channel_and_line(j, group * per_group + 2 * zone + lane, signals);
+                fb.line_reversed(line)
+            });
             let (re, im) = rows.split_at_mut(2 * zone + 1);
             // Gains need colours with signals of their own: group = colour.
             b.for_hololine(group, m.hololine(group, j)).undo(zone, reversed, &mut re[2 * zone], &mut im[0]);
@@ -860,6 +863,44 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// spec/layouts.md §5.6's mixed-directions vector: the pairs of zone 1
+    /// are split across lines sent opposite ways, each lane with its own
+    /// line's gains; undoing them gives the basis's samples back (where both
+    /// lanes are shown), where the gains of one lane's line alone would not.
+    #[test]
+    fn gains_of_a_pair_split_across_lines_sent_opposite_ways_are_undone() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/layouts/mixed-directions.toml");
+        let layout = Layout::load(path).unwrap();
+        let hololines = layout.geometry.hololines;
+        let m = random(&layout, 12, true);
+        let a = Assembler::new(&layout).unwrap();
+        let direct = a.signals(&m, 0).unwrap();
+        let (floats, _) = a.assemble::<f32>(&m).unwrap();
+        let unpacked = a.unpack(&floats, hololines).unwrap().remove(0);
+        let fb = &layout.fringe.as_ref().unwrap().frame_buffer;
+        let samples = direct.samples;
+        let (mut worst, mut changed) = (0f32, 0usize);
+        for j in 0..hololines {
+            let mut rows: Vec<Vec<f32>> = (0..4).map(|s| unpacked.row(s, j).to_vec()).collect();
+            changed += (0..4)
+                .map(|s| rows[s].iter().zip(direct.row(s, j)).filter(|(x, y)| (*x - *y).abs() > 1e-3).count())
+                .sum::<usize>();
+            a.undo_blanking_gains(&m, 0, j, &mut rows);
+            for (s, row) in rows.iter().enumerate() {
+                // A lane's gained sample mixes in its partner's: where the
+                // partner's line blanks that sample, it is not sent at all.
+                let partner = s ^ 1;
+                for (n, (&got, &want)) in row.iter().zip(direct.row(s, j)).enumerate() {
+                    if fb.place(j, s, n, 4, samples).is_some() && fb.place(j, partner, n, 4, samples).is_some() {
+                        worst = worst.max((got - want).abs());
+                    }
+                }
+            }
+        }
+        assert!(changed > 100, "the gains changed {changed} samples");
+        assert!(worst < 1e-5, "worst {worst}");
     }
 
     #[test]

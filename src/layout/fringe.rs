@@ -344,24 +344,30 @@ impl Fringe {
             )
         })
     }
-    /// [`Layout::blanking_gains_reference`] for zone `zone`'s pair of a
-    /// hololine (`re` = I, `im` = Q), sent backwards if `reversed`.
-    fn zone_blanking_gains_reference(
+    /// [`Layout::blanking_gains_reference`] for one lane of zone `zone`'s
+    /// pair of a hololine, `lane` 0 (I) or 1 (Q), on a line sent backwards if
+    /// `reversed`: `sent` is that lane with its gains, from the pair's
+    /// samples before any gain (`re` = I, `im` = Q).
+    #[allow(clippy::too_many_arguments)]
+    fn lane_blanking_gains_reference(
         &self,
         reversed: bool,
         zone: usize,
-        re: &mut [f64],
-        im: &mut [f64],
+        lane: usize,
+        re: &[f64],
+        im: &[f64],
+        sent: &mut [f64],
         radiance_range: &dyn Fn(std::ops::Range<usize>) -> (f64, f64),
     ) {
         let Some(general) = &self.blanking_gains else { return };
         let fb = &self.frame_buffer;
         let samples = re.len();
         let blanked = |n: usize| (if reversed { samples - 1 - n } else { n }) % fb.line_samples >= fb.width;
-        // Each maximal run [a, b) of blanked samples: a − K + i takes gain i,
-        // b + i gain K + i, of the flat-field table when the elements (of
-        // every zone) within its K of the run are evenly lit, else of the
-        // general one.
+        // Each maximal run [a, b) of blanked samples of this lane's line, in
+        // signal order n: a − K + i takes gain i, b + i gain K + i (the
+        // lower-n side takes the table's first half however the line is
+        // sent), of the flat-field table when the elements (of every zone)
+        // within its K of the run are evenly lit, else of the general one.
         let mut n = 0;
         while n < samples {
             if !blanked(n) {
@@ -384,9 +390,10 @@ impl Fringe {
                 }
                 _ => (general.samples_each_side, &general.zones[zone]),
             };
+            // I' = Re(g s), Q' = Im(g s), s = I + iQ.
             let mut gain = |at: usize, i: usize| {
                 let [gr, gi] = gains[i];
-                (re[at], im[at]) = (gr * re[at] - gi * im[at], gr * im[at] + gi * re[at]);
+                sent[at] = if lane == 0 { gr * re[at] - gi * im[at] } else { gr * im[at] + gi * re[at] };
             };
             for i in 0..k {
                 if a + i >= k {
@@ -430,17 +437,28 @@ impl Layout {
         if f.blanking_gains.is_none() {
             return;
         }
-        for zone in 0..signals.len() / 2 {
-            let s = colour * signals.len() + 2 * zone;
-            let (_, line) = f.frame_buffer.channel_and_line(j, s, self.signals_per_hololine());
-            let (re, im) = signals.split_at_mut(2 * zone + 1);
-            f.zone_blanking_gains_reference(
-                f.frame_buffer.line_reversed(line),
-                zone,
-                &mut re[2 * zone],
-                &mut im[0],
-                radiance_range,
-            );
+        let per_colour = signals.len();
+        for zone in 0..per_colour / 2 {
+            // Each lane goes out on its own line, which may be sent the other
+            // way from its partner's (a pair split across two lines): each
+            // takes the runs of its own line.
+            let reversed = |lane: usize| {
+                let s = colour * per_colour + 2 * zone + lane;
+                let (_, line) = f.frame_buffer.channel_and_line(j, s, self.signals_per_hololine());
+                f.frame_buffer.line_reversed(line)
+            };
+            let (re, im) = (signals[2 * zone].clone(), signals[2 * zone + 1].clone());
+            for lane in 0..2 {
+                f.lane_blanking_gains_reference(
+                    reversed(lane),
+                    zone,
+                    lane,
+                    &re,
+                    &im,
+                    &mut signals[2 * zone + lane],
+                    radiance_range,
+                );
+            }
         }
     }
 }

@@ -12,3 +12,4 @@ mod layouts;
 mod physics;
 mod reconstruct;
 mod seams;
+mod vectors;
