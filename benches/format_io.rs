@@ -220,6 +220,13 @@ fn bench(c: &mut Criterion) {
             b.iter(|| write(&path, &m, &options).unwrap())
         });
         group.bench_function(format!("read_{}", compression.name()), |b| b.iter(|| read(&path).unwrap()));
+        if matches!(compression, Compression::None | Compression::Zip) {
+            // The stored f16 samples as they are, no f32 pass (Python's `dtype=numpy.float16`).
+            let file = holo::HoloFile::open(&path).unwrap();
+            group.bench_function(format!("read_{}_as_f16", compression.name()), |b| {
+                b.iter(|| file.read_frame_samples::<half::f16>(0).unwrap())
+            });
+        }
     }
     group.finish();
 }

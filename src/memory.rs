@@ -20,8 +20,15 @@ pub fn zeroed_f32(len: usize) -> Vec<f32> {
     v
 }
 
+/// `len` f16 zeros, in huge pages where possible.
+pub fn zeroed_f16(len: usize) -> Vec<half::f16> {
+    let mut v = vec![half::f16::ZERO; len];
+    advise_huge_pages(&mut v);
+    v
+}
+
 #[cfg(target_os = "linux")]
-fn advise_huge_pages(v: &mut [f32]) {
+fn advise_huge_pages<T>(v: &mut [T]) {
     let bytes = std::mem::size_of_val(v);
     if bytes < HUGE_PAGE_MIN_BYTES {
         return;
@@ -40,4 +47,4 @@ fn advise_huge_pages(v: &mut [f32]) {
 }
 
 #[cfg(not(target_os = "linux"))]
-fn advise_huge_pages(_: &mut [f32]) {}
+fn advise_huge_pages<T>(_: &mut [T]) {}

@@ -83,15 +83,18 @@ class HoloFile:
     def info(self) -> dict[str, Any]:
         """What the header says: version, sample_type, compression, frames, frames_per_second, source,
         software, scale, unit, file_bytes, placement."""
-    def frame(self, index: int) -> Frame:
-        """Frame `index` as a float32 array [channel, hololine, emitter, view]; its digest is checked."""
+    def frame(self, index: int, dtype: Any = None) -> Frame:
+        """Frame `index` as an array [channel, hololine, emitter, view]; its digest is checked. float32 by
+        default; dtype=numpy.float16 hands back an f16 file's samples as stored, without a float32 pass."""
     def region(
         self,
         index: int,
         hololines: Optional[Tuple[int, int]] = None,
         emitters: Optional[Tuple[int, int]] = None,
+        dtype: Any = None,
     ) -> Frame:
-        """Hololines (first, end) and emitters (first, end) of frame `index`, every channel and view."""
+        """Hololines (first, end) and emitters (first, end) of frame `index`, every channel and view; float32,
+        or float16 with dtype=numpy.float16."""
 
 class Layout:
     """A display layout (spec/layouts.md): the geometry the display expects and its frame buffer; checked when made."""

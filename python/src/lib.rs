@@ -10,7 +10,9 @@
 use std::borrow::Cow;
 use std::path::PathBuf;
 
-use numpy::{IntoPyArray, PyArray3, PyArray4, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{
+    IntoPyArray, PyArray3, PyArray4, PyArrayDescrMethods, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
@@ -176,11 +178,37 @@ fn sample_type_name(t: SampleType) -> &'static str {
     }
 }
 
+/// Samples of `g`'s shape as a numpy array `[channel, hololine, emitter,
+/// view]`, without a copy.
+fn samples_array<'py, T: holo::format::FrameSample + numpy::Element>(
+    py: Python<'py>,
+    g: &holo::Geometry,
+    samples: Vec<T>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let shape = [g.channels.len(), g.hololines, g.emitters, g.views.count];
+    Ok(samples.into_pyarray(py).reshape(shape)?.into_any())
+}
+
 /// A frame's samples as a numpy array, without a copy.
 fn frame_array(py: Python<'_>, m: holo::Modulation) -> PyResult<Bound<'_, PyArray4<f32>>> {
     let g = m.geometry();
     let shape = [g.channels.len(), g.hololines, g.emitters, g.views.count];
     m.into_samples().into_pyarray(py).reshape(shape)
+}
+
+/// The element type a read hands back: float32 unless `dtype` (anything
+/// `numpy.dtype` takes) is float16; any other is an error naming both.
+fn read_dtype_is_f16(py: Python<'_>, dtype: Option<&Bound<'_, PyAny>>) -> PyResult<bool> {
+    let Some(dtype) = dtype.filter(|d| !d.is_none()) else { return Ok(false) };
+    let descr = py.import("numpy")?.getattr("dtype")?.call1((dtype,))?;
+    let descr = descr.downcast::<numpy::PyArrayDescr>()?;
+    if descr.is_equiv_to(&numpy::dtype::<half::f16>(py)) {
+        Ok(true)
+    } else if descr.is_equiv_to(&numpy::dtype::<f32>(py)) {
+        Ok(false)
+    } else {
+        Err(InputError::new_err(format!("dtype {descr}: frames are read as float32 or float16")))
+    }
 }
 
 #[pymethods]
@@ -221,23 +249,40 @@ impl HoloFile {
         d.set_item("placement", info.placement.map(|m| m.to_vec()))?;
         Ok(d)
     }
-    /// Frame `index` as a float32 array of shape `geometry.shape`, axes
-    /// `[channel, hololine, emitter, view]`; its digest is checked.
-    fn frame<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray4<f32>>> {
-        let m = py.allow_threads(|| self.inner.read_frame(index)).map_err(to_py)?;
-        frame_array(py, m)
+    /// Frame `index` as an array of shape `geometry.shape`, axes `[channel,
+    /// hololine, emitter, view]`; its digest is checked. float32 by default;
+    /// `dtype=numpy.float16` hands back an f16 file's samples as stored,
+    /// without a float32 pass (an f32 file's are rounded; one too large for
+    /// float16 is an error).
+    #[pyo3(signature = (index, dtype=None))]
+    fn frame<'py>(
+        &self,
+        py: Python<'py>,
+        index: usize,
+        dtype: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let g = self.inner.geometry();
+        if read_dtype_is_f16(py, dtype)? {
+            let samples = py.allow_threads(|| self.inner.read_frame_samples::<half::f16>(index)).map_err(to_py)?;
+            samples_array(py, g, samples)
+        } else {
+            let samples = py.allow_threads(|| self.inner.read_frame_samples::<f32>(index)).map_err(to_py)?;
+            samples_array(py, g, samples)
+        }
     }
     /// Part of frame `index`: hololines `hololines = (first, end)` and
     /// emitters `emitters = (first, end)` (default all), every channel and
-    /// view; a float32 array `[channel, hololine, emitter, view]` of that part.
-    #[pyo3(signature = (index, hololines=None, emitters=None))]
+    /// view; an array `[channel, hololine, emitter, view]` of that part,
+    /// float32 or (`dtype=numpy.float16`) float16 as `frame` says.
+    #[pyo3(signature = (index, hololines=None, emitters=None, dtype=None))]
     fn region<'py>(
         &self,
         py: Python<'py>,
         index: usize,
         hololines: Option<(usize, usize)>,
         emitters: Option<(usize, usize)>,
-    ) -> PyResult<Bound<'py, PyArray4<f32>>> {
+        dtype: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let g = self.inner.geometry();
         let all = Region::all(g);
         let region = Region {
@@ -245,8 +290,16 @@ impl HoloFile {
             emitters: emitters.map_or(all.emitters.clone(), |(a, b)| a..b),
             ..all
         };
-        let m = py.allow_threads(|| self.inner.read_region(index, &region)).map_err(to_py)?;
-        frame_array(py, m)
+        let mut shape = g.clone();
+        (shape.hololines, shape.emitters) = (region.hololines.len(), region.emitters.len());
+        if read_dtype_is_f16(py, dtype)? {
+            let samples =
+                py.allow_threads(|| self.inner.read_region_samples::<half::f16>(index, &region)).map_err(to_py)?;
+            samples_array(py, &shape, samples)
+        } else {
+            let samples = py.allow_threads(|| self.inner.read_region_samples::<f32>(index, &region)).map_err(to_py)?;
+            samples_array(py, &shape, samples)
+        }
     }
     fn __repr__(&self) -> String {
         format!("HoloFile({:?}, {} frame(s))", self.inner.path(), self.frame_count())

@@ -77,7 +77,7 @@ def test_a_written_file_reads_back_bit_exact_through_openexr_and_validates(tmp_p
 
 
 def test_a_frame_read_by_the_package_equals_openexrs_samples():
-    paths = sorted((FIXTURES / "v1.1").glob("*.holo")) + sorted((FIXTURES / "v1.0").glob("*.holo"))
+    paths = [p for v in ("v1.2", "v1.1", "v1.0") for p in sorted((FIXTURES / v).glob("*.holo"))]
     assert paths, "the bundled .holo fixtures are missing"
     for path in paths:
         f = holo.open(path)
@@ -89,6 +89,42 @@ def test_a_frame_read_by_the_package_equals_openexrs_samples():
             # A lossy codec's small negative undershoot reads as +0 (spec §3.4).
             want = np.where(want < 0, np.float32(0), want) if f.info()["compression"] in ("b44", "b44a", "dwaa", "dwab", "pxr24") else want
             assert np.array_equal(got, want), path
+
+
+def test_float16_frames_are_the_stored_samples_without_a_float32_pass(tmp_path):
+    # An f16 file: float16 arrays equal OpenEXR's own float16 channels, bit for bit, whole and in part.
+    g = random_geometry()
+    rng = np.random.default_rng(11)
+    want = rng.uniform(0.0, 3.0, size=g.shape).astype(np.float16)
+    path = tmp_path / "halves.holo"
+    holo.write(path, want.astype(np.float32), g, sample_type="f16", compression="zip")
+    f = holo.open(path)
+    for dtype in (np.float16, "float16", "f2", np.dtype("<f2")):
+        got = f.frame(0, dtype=dtype)
+        assert got.dtype == np.float16 and got.shape == g.shape
+        assert got.tobytes() == want.tobytes()
+    theirs = OpenEXR.File(str(path), separate_channels=True).parts[0].channels
+    assert theirs["v000.R"].pixels.dtype == np.float16
+    assert np.array_equal(got[0, :, :, 0], theirs["v000.R"].pixels)
+    part = f.region(0, hololines=(1, 3), emitters=(2, 5), dtype=np.float16)
+    assert part.dtype == np.float16 and np.array_equal(part, want[:, 1:3, 2:5, :])
+    assert f.frame(0, dtype=np.float32).dtype == np.float32 and f.frame(0).dtype == np.float32
+    # An f32 file read as float16 is rounded; a sample float16 cannot hold is an error, not infinity.
+    g32 = holo.open(FIXTURES / "v1.2" / "frames-rgb-f32-zip.holo")
+    assert np.array_equal(g32.frame(1, dtype=np.float16), g32.frame(1).astype(np.float16))
+    big = np.full(g.shape, 1.0, dtype=np.float32)
+    big[0, 1, 2, 0] = 1e6
+    holo.write(tmp_path / "big.holo", big, g, sample_type="f32")
+    with pytest.raises(holo.InputError, match="too large for f16"):
+        holo.open(tmp_path / "big.holo").frame(0, dtype=np.float16)
+    with pytest.raises(holo.InputError, match="float32 or float16"):
+        f.frame(0, dtype=np.int32)
+    # A damaged f16 file is refused in float16 too: the digest is checked.
+    data = bytearray(path.read_bytes())
+    data[-3] ^= 0x01
+    (tmp_path / "damaged.holo").write_bytes(bytes(data))
+    with pytest.raises(holo.FormatError):
+        holo.open(tmp_path / "damaged.holo").frame(0, dtype=np.float16)
 
 
 def test_a_region_is_that_part_of_the_frame():

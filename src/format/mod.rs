@@ -22,7 +22,7 @@ pub use attributes::{is_known as is_known_attribute, name as attribute, Conversi
 pub use channels::{channel_name, parse_channel_name, view_digits, ChannelOrder};
 pub use digest::frame_digest;
 pub use header::{FileInfo, FrameInfo, Window};
-pub use read::{read, HoloFile, Region};
+pub use read::{read, FrameSample, HoloFile, Region};
 pub use sequence::{Frames, Sequence};
 pub use validate::{validate, Validation};
 pub use write::{write, write_frame_in_bands, write_frames, FormatVersion, WriteOptions, WriteReport};

@@ -83,6 +83,16 @@ impl HoloFile {
 
     /// Read frame `index` (0-based part order) whole and verify its digest.
     pub fn read_frame(&self, index: usize) -> Result<Modulation> {
+        let samples = self.read_frame_samples::<f32>(index)?;
+        Modulation::from_samples(self.info.geometry.clone(), samples)
+    }
+
+    /// Frame `index` whole as samples of type `T`, in [`Modulation`]'s order
+    /// (channel, hololine, emitter, view), its digest verified: `f32`, or
+    /// `half::f16` to have a file's f16 samples as they are stored, without
+    /// a pass through f32 (an f32 file's samples are rounded, and one too
+    /// large for f16 is refused).
+    pub fn read_frame_samples<T: FrameSample>(&self, index: usize) -> Result<Vec<T>> {
         let frame = self.info.frames.get(index);
         // The digest is taken from the decoded blocks' own bytes as they come
         // (they are the stored rows), not from the samples afterwards.
@@ -91,12 +101,17 @@ impl HoloFile {
         let mut digest = frame
             .filter(|f| f.digest.is_some() && from_blocks)
             .map(|f| BlockDigest::new(&self.info.geometry, self.info.sample_type, f.data_window));
-        let mut m = self.read_blocks(index, &Region::all(&self.info.geometry), digest.as_mut())?;
+        let mut samples: Vec<T> = self.read_blocks(index, &Region::all(&self.info.geometry), digest.as_mut())?;
         let frame = &self.info.frames[index];
         if let Some(stored) = &frame.digest {
             let computed = match digest.and_then(BlockDigest::finish) {
                 Some(computed) => computed,
-                None => frame_digest(&m, self.info.sample_type),
+                None => {
+                    // Rare (no hashing thread, or a big-endian machine): the
+                    // digest of the samples, widened exactly to f32.
+                    let widened = samples.iter().map(|x| x.to_f32()).collect();
+                    frame_digest(&Modulation::from_samples(self.info.geometry.clone(), widened)?, self.info.sample_type)
+                }
             };
             if &computed != stored {
                 return Err(Error::DigestMismatch {
@@ -108,19 +123,27 @@ impl HoloFile {
             }
         }
         if self.is_lossy() {
-            clamp_undershoot(&mut m);
+            clamp_undershoot(&mut samples);
         }
-        Ok(m)
+        Ok(samples)
     }
 
     /// Read one region of frame `index`; only the chunks holding its hololines
     /// are read and decompressed. The digest cannot be checked on a part.
     pub fn read_region(&self, index: usize, region: &Region) -> Result<Modulation> {
-        let mut m = self.read_decoded(index, region)?;
+        let samples = self.read_region_samples::<f32>(index, region)?;
+        Modulation::from_samples(sub_geometry(&self.info.geometry, region), samples)
+    }
+
+    /// [`HoloFile::read_region`] as samples of type `T` (see
+    /// [`HoloFile::read_frame_samples`]), in the order of a [`Modulation`] of
+    /// the region.
+    pub fn read_region_samples<T: FrameSample>(&self, index: usize, region: &Region) -> Result<Vec<T>> {
+        let mut samples = self.read_blocks(index, region, None)?;
         if self.is_lossy() {
-            clamp_undershoot(&mut m);
+            clamp_undershoot(&mut samples);
         }
-        Ok(m)
+        Ok(samples)
     }
 
     /// Whether the samples come back from the codec only approximately
@@ -136,12 +159,19 @@ impl HoloFile {
     /// (for measuring a codec; [`HoloFile::read_region`] is what a reader
     /// wants).
     pub fn read_decoded(&self, index: usize, region: &Region) -> Result<Modulation> {
-        self.read_blocks(index, region, None)
+        let samples = self.read_blocks::<f32>(index, region, None)?;
+        Modulation::from_samples(sub_geometry(&self.info.geometry, region), samples)
     }
 
-    /// [`HoloFile::read_decoded`], handing every decoded block's bytes to
-    /// `digest` too (whole frames only).
-    fn read_blocks(&self, index: usize, region: &Region, mut digest: Option<&mut BlockDigest>) -> Result<Modulation> {
+    /// The samples of a region as decoded (see [`HoloFile::read_decoded`]),
+    /// handing every decoded block's bytes to `digest` too (whole frames
+    /// only).
+    fn read_blocks<T: FrameSample>(
+        &self,
+        index: usize,
+        region: &Region,
+        mut digest: Option<&mut BlockDigest>,
+    ) -> Result<Vec<T>> {
         let path = &self.info.path;
         let g = &self.info.geometry;
         let frame = self.info.frames.get(index).ok_or_else(|| Error::no_frame(path, index, self.info.frames.len()))?;
@@ -171,7 +201,10 @@ impl HoloFile {
                 limit: MAX_SAMPLES_PER_FRAME,
             });
         }
-        let mut out = Modulation::zeros(sub)?;
+        let len = usize::try_from(sub.samples_per_frame()).map_err(|_| {
+            Error::argument("region", format!("{}: a region of {} samples", path.display(), sub.samples_per_frame()))
+        })?;
+        let mut out = T::zeroed(len);
         let order = ChannelOrder::new(g);
         let part = frame.part;
         let dw = frame.data_window;
@@ -189,7 +222,7 @@ impl HoloFile {
             })
             .map_err(|e| Error::exr(path, e))?;
         let mut place = |block: exr::block::UncompressedBlock| -> Result<()> {
-            place_block(&mut out, &block, &order, self.info.sample_type, dw.x, dw.y, region)
+            place_block(&mut out, &sub, &block, &order, self.info.sample_type, dw.x, dw.y, region)
                 .map_err(|problem| Error::invalid(path, problem))?;
             if let Some(digest) = digest.as_deref_mut() {
                 digest.push(dw.y + block.index.pixel_position.1, block.index.pixel_size.1, block.data);
@@ -222,7 +255,7 @@ impl HoloFile {
         decoded.unwrap_or_else(|_| {
             Err(Error::invalid(path, format!("frame {index}: a compressed block could not be decoded (it is damaged)")))
         })?;
-        let bad = if self.is_lossy() { first_non_finite(&out) } else { out.first_bad_sample() };
+        let bad = first_bad(&sub, &out, self.is_lossy(), self.info.sample_type);
         if let Some((c, j, e, v, value, why)) = bad {
             return Err(Error::BadSample {
                 path: path.clone(),
@@ -239,26 +272,155 @@ impl HoloFile {
     }
 }
 
-/// Negative samples set to +0: the undershoot a lossy codec (B44's 4×4
-/// blocks, DWA's DCT) adds next to dark samples, which is not light (spec
-/// §3.4).
-fn clamp_undershoot(m: &mut Modulation) {
-    for x in m.samples_mut() {
-        if *x < 0.0 {
-            *x = 0.0;
+/// A type a frame's samples can be read into ([`HoloFile::read_frame_samples`]):
+/// `f32`, holo's working type, or `half::f16`, the type most files store.
+/// Its methods are the reader's; the two implementations are the only ones.
+pub trait FrameSample: Copy + Send + Sync + 'static {
+    /// `len` zeros (+0.0), in huge pages where the buffer is large.
+    #[doc(hidden)]
+    fn zeroed(len: usize) -> Vec<Self>;
+    /// Stored samples (native-endian bytes of `stored`) into every
+    /// `stride`-th place of `dest`, from its first; `scratch` is the
+    /// caller's, reused from run to run.
+    #[doc(hidden)]
+    fn scatter(run: &[u8], stored: SampleType, dest: &mut [Self], stride: usize, scratch: &mut Vec<f32>);
+    /// Finite and not negative (`-0` allowed); with `lossy`, only finite.
+    #[doc(hidden)]
+    fn is_good(self, lossy: bool) -> bool;
+    /// The value, exactly.
+    #[doc(hidden)]
+    fn to_f32(self) -> f32;
+    /// `+0` for a negative value (a lossy codec's undershoot, spec §3.4).
+    #[doc(hidden)]
+    fn clamped(self) -> Self;
+}
+
+impl FrameSample for f32 {
+    fn zeroed(len: usize) -> Vec<f32> {
+        crate::memory::zeroed_f32(len)
+    }
+    fn scatter(run: &[u8], stored: SampleType, dest: &mut [f32], stride: usize, scratch: &mut Vec<f32>) {
+        let values: &[f32] = match stored {
+            SampleType::F16 => {
+                // Converted as a slice (F16C where the processor has it),
+                // then spread with the stride.
+                let halves: Vec<half::f16> =
+                    run.chunks_exact(2).map(|b| half::f16::from_ne_bytes([b[0], b[1]])).collect();
+                scratch.resize(halves.len(), 0.0);
+                halves.convert_to_f32_slice(scratch);
+                scratch
+            }
+            SampleType::F32 => {
+                scratch.clear();
+                scratch.extend(run.chunks_exact(4).map(|b| f32::from_ne_bytes([b[0], b[1], b[2], b[3]])));
+                scratch
+            }
+        };
+        for (x, d) in values.iter().zip(dest.iter_mut().step_by(stride)) {
+            *d = *x;
+        }
+    }
+    fn is_good(self, lossy: bool) -> bool {
+        if lossy {
+            self.is_finite()
+        } else {
+            self >= 0.0 && self <= f32::MAX
+        }
+    }
+    fn to_f32(self) -> f32 {
+        self
+    }
+    fn clamped(self) -> f32 {
+        if self < 0.0 {
+            0.0
+        } else {
+            self
         }
     }
 }
 
-/// The first NaN or infinite sample, as [`Modulation::first_bad_sample`]
-/// reports it; negative values pass.
-fn first_non_finite(m: &Modulation) -> Option<(usize, usize, usize, usize, f32, &'static str)> {
-    if m.samples().iter().all(|x| x.is_finite()) {
+impl FrameSample for half::f16 {
+    fn zeroed(len: usize) -> Vec<half::f16> {
+        crate::memory::zeroed_f16(len)
+    }
+    fn scatter(run: &[u8], stored: SampleType, dest: &mut [half::f16], stride: usize, _: &mut Vec<f32>) {
+        // Straight from the stored bytes to their places: no pass through f32.
+        let dest = dest.iter_mut().step_by(stride);
+        match stored {
+            SampleType::F16 => {
+                for (b, d) in run.chunks_exact(2).zip(dest) {
+                    *d = half::f16::from_ne_bytes([b[0], b[1]]);
+                }
+            }
+            SampleType::F32 => {
+                for (b, d) in run.chunks_exact(4).zip(dest) {
+                    *d = half::f16::from_f32(f32::from_ne_bytes([b[0], b[1], b[2], b[3]]));
+                }
+            }
+        }
+    }
+    fn is_good(self, lossy: bool) -> bool {
+        // By bits: exponent all ones is an infinity or NaN; the sign bit set
+        // on anything but zero is negative.
+        let bits = self.to_bits();
+        let finite = bits & 0x7c00 != 0x7c00;
+        finite && (lossy || bits & 0x8000 == 0 || bits == 0x8000)
+    }
+    fn to_f32(self) -> f32 {
+        f32::from(self)
+    }
+    fn clamped(self) -> half::f16 {
+        if self.to_bits() & 0x8000 != 0 {
+            half::f16::ZERO
+        } else {
+            self
+        }
+    }
+}
+
+/// Negative samples set to +0: the undershoot a lossy codec (B44's 4×4
+/// blocks, DWA's DCT) adds next to dark samples, which is not light (spec
+/// §3.4).
+fn clamp_undershoot<T: FrameSample>(samples: &mut [T]) {
+    for x in samples {
+        *x = x.clamped();
+    }
+}
+
+/// The first sample of `samples` (laid out as a [`Modulation`] of `g`) that
+/// is not finite, or (unless `lossy`) negative. An f32 file's sample read
+/// as f16 can be infinite only by being too large for f16.
+fn first_bad<T: FrameSample>(
+    g: &Geometry,
+    samples: &[T],
+    lossy: bool,
+    stored: SampleType,
+) -> Option<(usize, usize, usize, usize, f32, &'static str)> {
+    // A branch-free scan first (frames are tens of millions of samples),
+    // then the search for the first offender.
+    let all_good = {
+        use rayon::prelude::*;
+        samples.par_chunks(1 << 16).all(|chunk| chunk.iter().fold(true, |ok, x| ok & x.is_good(lossy)))
+    };
+    if all_good {
         return None;
     }
-    let mut clamped = m.clone();
-    clamp_undershoot(&mut clamped);
-    clamped.first_bad_sample()
+    let i = samples.iter().position(|x| !x.is_good(lossy))?;
+    let x = samples[i].to_f32();
+    let (v, e) = (i % g.views.count, (i / g.views.count) % g.emitters);
+    let j = (i / (g.views.count * g.emitters)) % g.hololines;
+    let c = i / (g.views.count * g.emitters * g.hololines);
+    let narrowed = std::any::TypeId::of::<T>() == std::any::TypeId::of::<half::f16>() && stored == SampleType::F32;
+    let why = if x.is_nan() {
+        "not a number"
+    } else if x.is_infinite() && narrowed {
+        "too large for f16 (read it as f32)"
+    } else if x.is_infinite() {
+        "infinite"
+    } else {
+        "negative (radiance cannot be)"
+    };
+    Some((c, j, e, v, x, why))
 }
 
 /// The geometry of a region: positions and view angles of what it holds.
@@ -277,9 +439,12 @@ fn sub_geometry(g: &Geometry, r: &Region) -> Geometry {
     s
 }
 
-/// Copy the samples of one decoded block that fall inside the region.
-fn place_block(
-    out: &mut Modulation,
+/// Copy the samples of one decoded block that fall inside the region into
+/// `out`, the region's samples laid out as a [`Modulation`] of `sub`.
+#[allow(clippy::too_many_arguments)]
+fn place_block<T: FrameSample>(
+    out: &mut [T],
+    sub: &Geometry,
     block: &exr::block::UncompressedBlock,
     order: &ChannelOrder,
     sample_type: SampleType,
@@ -294,10 +459,9 @@ fn place_block(
     if block.data.len() != expected {
         return Err(format!("a block holds {} bytes where {expected} were expected", block.data.len()));
     }
-    let views = out.geometry().views.count;
-    let emitters_out = out.geometry().emitters;
+    let (views, emitters_out, hololines_out) = (sub.views.count, sub.emitters, sub.hololines);
     let (e_lo, e_hi) = (region.emitters.start.max(bx), region.emitters.end.min(bx + w));
-    let (mut halves, mut floats) = (Vec::with_capacity(w), Vec::with_capacity(w));
+    let mut scratch = Vec::with_capacity(w);
     let mut at = 0;
     for line in 0..h {
         let j = by + line;
@@ -311,28 +475,12 @@ fn place_block(
             }
             let jj = j - region.hololines.start;
             let vv = v - region.views.start;
-            let start = out.index(c, jj, 0, 0);
-            let dest = &mut out.samples_mut()[start..start + emitters_out * views];
-            // The wanted run of this channel's row, converted as a slice
-            // (F16C where the processor has it), then spread with the
-            // view stride.
-            let run = &row[(e_lo - bx) * bytes..(e_hi - bx) * bytes];
-            match sample_type {
-                SampleType::F16 => {
-                    halves.clear();
-                    halves.extend(run.chunks_exact(2).map(|b| half::f16::from_ne_bytes([b[0], b[1]])));
-                    floats.resize(halves.len(), 0.0);
-                    halves.convert_to_f32_slice(&mut floats);
-                }
-                SampleType::F32 => {
-                    floats.clear();
-                    floats.extend(run.chunks_exact(4).map(|b| f32::from_ne_bytes([b[0], b[1], b[2], b[3]])));
-                }
-            }
+            let start = (c * hololines_out + jj) * emitters_out * views;
+            let dest = &mut out[start..start + emitters_out * views];
+            // The wanted run of this channel's row, spread with the view stride.
             let first = e_lo - region.emitters.start;
-            for (x, d) in floats.iter().zip(dest[first * views + vv..].iter_mut().step_by(views)) {
-                *d = *x;
-            }
+            let run = &row[(e_lo - bx) * bytes..(e_hi - bx) * bytes];
+            T::scatter(run, sample_type, &mut dest[first * views + vv..], views, &mut scratch);
         }
     }
     Ok(())

@@ -508,3 +508,56 @@ fn the_digest_is_checked_from_the_stored_blocks_in_any_order() {
         assert!(err.contains("digest"), "{err}");
     }
 }
+
+/// `read_frame_samples::<f16>`: an f16 file's samples exactly as stored (the
+/// bits the f32 read widens), whole and by region, digest checked; an f32
+/// file's rounded, with a sample f16 cannot hold refused by name; a lossy
+/// file's undershoot read as +0 in f16 too.
+#[test]
+fn frames_read_as_f16_are_the_stored_halves() {
+    use half::f16;
+    let dir = tempfile::tempdir().unwrap();
+    for (compression, seed) in [(Compression::Zip, 3), (Compression::None, 4), (Compression::Piz, 5)] {
+        let m = rounded_to_f16(&random(geometry(37, 23, 7, true), seed));
+        let path = dir.path().join(format!("halves-{seed}.holo"));
+        write(&path, &m, &options(SampleType::F16, compression)).unwrap();
+        let f = HoloFile::open(&path).unwrap();
+        let halves = f.read_frame_samples::<f16>(0).unwrap();
+        let want: Vec<f16> = m.samples().iter().map(|&x| f16::from_f32(x)).collect();
+        assert!(halves.iter().map(|h| h.to_bits()).eq(want.iter().map(|h| h.to_bits())), "{compression:?}");
+        let region = Region { hololines: 5..19, emitters: 3..20, views: 2..6 };
+        let part = f.read_region_samples::<f16>(0, &region).unwrap();
+        let widened = f.read_region(0, &region).unwrap();
+        assert!(part.iter().map(|h| h.to_f32()).eq(widened.samples().iter().copied()), "{compression:?} region");
+    }
+    // An f32 file: rounded to f16; a sample beyond f16's range is an error.
+    let m = random(geometry(6, 5, 3, false), 6);
+    let path = dir.path().join("floats.holo");
+    write(&path, &m, &options(SampleType::F32, Compression::Zip)).unwrap();
+    let halves = HoloFile::open(&path).unwrap().read_frame_samples::<f16>(0).unwrap();
+    assert!(halves.iter().zip(m.samples()).all(|(h, &x)| h.to_bits() == f16::from_f32(x).to_bits()));
+    let mut big = m.clone();
+    big.set(0, 2, 3, 1, 1e6);
+    write(&path, &big, &WriteOptions { overwrite: true, ..options(SampleType::F32, Compression::Zip) }).unwrap();
+    let err = HoloFile::open(&path).unwrap().read_frame_samples::<f16>(0).unwrap_err().to_string();
+    assert!(err.contains("too large for f16") && err.contains("hololine 2"), "{err}");
+    // The lossy vector: its twelve negative decoded samples read as +0.
+    let lossy = HoloFile::open(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/v1.2/undershoot-y-f16-b44.holo"),
+    )
+    .unwrap();
+    let halves = lossy.read_frame_samples::<f16>(0).unwrap();
+    let floats = lossy.read_frame(0).unwrap();
+    assert!(halves.iter().all(|h| h.to_bits() & 0x8000 == 0));
+    assert!(halves.iter().map(|h| h.to_f32()).eq(floats.samples().iter().copied()));
+    // A damaged sample is found by the digest in f16 as in f32.
+    let m = rounded_to_f16(&random(geometry(4, 3, 2, false), 8));
+    let path = dir.path().join("damaged.holo");
+    write(&path, &m, &options(SampleType::F16, Compression::None)).unwrap();
+    let mut bytes = std::fs::read(&path).unwrap();
+    let at = bytes.len() - 3;
+    bytes[at] ^= 0x01;
+    std::fs::write(&path, &bytes).unwrap();
+    let err = HoloFile::open(&path).unwrap().read_frame_samples::<f16>(0).unwrap_err();
+    assert!(matches!(err, holo::Error::DigestMismatch { .. }), "{err}");
+}
