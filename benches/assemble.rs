@@ -55,15 +55,34 @@ fn bench(c: &mut Criterion) {
         });
         // Segments cross-faded over a whole segment (spec/layouts.md §4.7).
         let mut tapered_layout = layout.clone();
-        if let holo::layout::Basis::Chirp { segment_taper_samples, views_per_zone, chirp_samples, .. } =
-            &mut tapered_layout.fringe.as_mut().unwrap().basis
+        if let holo::layout::Basis::Chirp {
+            segment_taper_samples,
+            piece_taper_samples,
+            views_per_zone,
+            chirp_samples,
+            ..
+        } = &mut tapered_layout.fringe.as_mut().unwrap().basis
         {
             *segment_taper_samples = *chirp_samples / *views_per_zone;
+            *piece_taper_samples = 0;
         }
         let tapered = Assembler::new(&tapered_layout).unwrap();
         group.bench_function("fast_u8_frame_buffer_segment_taper", |b| {
             b.iter(|| tapered.assemble_into(&m, &mut bytes).unwrap())
         });
+        // Hard zone-piece ends (`piece_taper_samples = 0`, Mark III's basis
+        // before its piece taper, spec/layouts.md §4.2), against the default.
+        let mut hard_layout = layout.clone();
+        if let holo::layout::Basis::Chirp { piece_taper_samples, .. } = &mut hard_layout.fringe.as_mut().unwrap().basis
+        {
+            if *piece_taper_samples > 0 {
+                *piece_taper_samples = 0;
+                let hard = Assembler::new(&hard_layout).unwrap();
+                group.bench_function("fast_u8_frame_buffer_hard_piece_ends", |b| {
+                    b.iter(|| hard.assemble_into(&m, &mut bytes).unwrap())
+                });
+            }
+        }
         // Without the layout's blanking gains (spec/layouts.md §5.5; `--raw-blanking`).
         if layout.fringe.as_ref().unwrap().blanking_gains.is_some() {
             let mut raw_layout = layout.clone();

@@ -115,8 +115,12 @@ impl Setup {
         layout.fringe.as_mut().unwrap().frame_buffer.height = HOLOLINES * 6;
         let a = Assembler::new(&layout).unwrap();
         let mut shaped = layout.clone();
-        if let holo::layout::Basis::Chirp { segment_taper_samples, .. } = &mut shaped.fringe.as_mut().unwrap().basis {
+        if let holo::layout::Basis::Chirp { segment_taper_samples, piece_taper_samples, .. } =
+            &mut shaped.fringe.as_mut().unwrap().basis
+        {
+            // Every segment edge cross-faded, the zone pieces' ends as well.
             *segment_taper_samples = 32;
+            *piece_taper_samples = 0;
         }
         let tapered = Assembler::new(&shaped).unwrap();
         let mut shaped = layout.clone();

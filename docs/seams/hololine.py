@@ -72,6 +72,66 @@ BLANKED = (N_IDX % LINE) >= WIDTH
 HOLES = [4096 * j + WIDTH for j in range(6)]        # first blanked sample of each hole
 
 
+# The basis's tapers (spec/layouts.md §4.2): `segment_taper_samples` T and `piece_taper_samples` T_p, from the
+# environment (SEGMENT_TAPER, PIECE_TAPER; both 0, hard segments, unless set), so that every script here can be run
+# for either basis: e.g. `PIECE_TAPER=64 python3 table.py ...` for the `mark3` layout's basis.
+import os
+SEGMENT_TAPER = int(os.environ.get('SEGMENT_TAPER', '0'))
+PIECE_TAPER = int(os.environ.get('PIECE_TAPER', '0'))
+# Which piece ends T_p fades, for the study of docs/seams/README.md §8: 'both' (spec/layouts.md §4.2), 'zones' (where
+# two pieces meet) or 'chirp' (the chirp's own two ends); the others stay as T says.
+PIECE_ENDS = os.environ.get('PIECE_ENDS', 'both')
+SEG = L // 32                                  # samples per view segment
+
+
+def _rise(t, width):
+    return 0.5 * (1 + np.sin(np.pi * np.clip(t / width, -0.5, 0.5)))
+
+
+def windows(zone, T=None, Tp=None):
+    """(first u, weights 32 x len): every view segment's weight over zone `zone`'s piece, widened by half a taper
+    across each edge it shares with a neighbour (chirp.rs `window`): edges inside a piece fade over T, edges between
+    pieces over T_p (T when T_p is 0), the chirp's own two ends over T_p/2 (T/2) inside the segment."""
+    T = SEGMENT_TAPER if T is None else T
+    Tp = PIECE_TAPER if Tp is None else Tp
+    piece = Tp if Tp else T
+    zone_edge = piece if PIECE_ENDS in ('both', 'zones') else T
+    end = piece if PIECE_ENDS in ('both', 'chirp') else T
+    end = int(os.environ.get('END_TAPER', end))
+    h = max(T, zone_edge) // 2
+    u = np.arange(-h, L + h)
+    c = u + 0.5
+    out = np.zeros((32, len(u)))
+    for i in range(32):
+        a, b = i * SEG, (i + 1) * SEG
+        at_start, at_end = zone == 0 and i == 0, zone == Z - 1 and i == 31
+        w_up = zone_edge if i == 0 else T
+        w_down = zone_edge if i == 31 else T
+        if at_start:
+            up = _rise(c - a - end / 4, end / 2) if end else (c >= a) * 1.0
+        else:
+            up = _rise(c - a, w_up) if w_up else (c >= a) * 1.0
+        if at_end:
+            down = _rise(b - c - end / 4, end / 2) if end else (c < b) * 1.0
+        else:
+            down = _rise(b - c, w_down) if w_down else (c < b) * 1.0
+        out[i] = up * down
+    return -h, out
+
+
+def _tapered_templates():
+    out = []
+    for k in range(Z):
+        first, win = windows(k)
+        u = np.arange(first, first + win.shape[1])
+        ph = np.exp(1j * (chirp_phase(offset_samples(k, u)) + 2 * np.pi * np.mod(C[k] * (k * L + u), 1.0)))
+        out.append((first, win, ph))
+    return out
+
+
+TAPERED = _tapered_templates() if (SEGMENT_TAPER or PIECE_TAPER) else None
+
+
 def signals(weights, per_sample=None):
     """Zone signals (Z x N complex) for per-emitter, per-view weights sqrt(m).
 
@@ -81,6 +141,15 @@ def signals(weights, per_sample=None):
     if w.ndim == 1:
         w = np.repeat(w[:, None], 96, axis=1)
     a = np.zeros((Z, N), complex)
+    if TAPERED is not None:
+        for k in range(Z):
+            first, win, ph = TAPERED[k]
+            amp = w[:, 95 - (32 * k + np.arange(32))] @ win          # E x len
+            for e in range(E):
+                n0 = e * S + k * L + first
+                lo, hi = max(n0, 0), min(n0 + win.shape[1], N)
+                a[k, lo:hi] += (amp[e] * ph)[lo - n0:hi - n0]
+        return a / NORM
     for k in range(Z):
         for e in range(E):
             n0 = e * S + k * L

@@ -5,6 +5,8 @@ compensated signal kept inside the 8-bit range for uniform content at full brigh
 
     python3 table.py K ITERATIONS [--start START.npy] [--nominal W] [--out NAME.npy] [--edges | --flat]
 
+for the basis hololine.py models (PIECE_TAPER=64 for `mark3`'s, hololine.py says how);
+
 writes NAME.npy (default table_K{K}.npy): the gains minus 1, zone-major, the K samples before a run then the K
 after it. W weighs the nominal viewer (uniform content, 4 mm pupil, 600 mm) against each other scenario (1).
 --edges adds silhouettes and dark-to-bright random content; --flat keeps uniform content only (every pupil and
@@ -72,18 +74,32 @@ if __name__ == '__main__':
     full = np.concatenate([uniform_signals(1.0)[k, pos] for k in range(Z)])
     print('set up %.0f s' % (time.time() - t)); sys.stdout.flush()
     n = A.shape[1]; p = 8
+    # Scenarios of the same content (pupils, distances) share their spectra: one product with A, and one with its
+    # adjoint, per content and iteration.
+    groups = []
+    for i, (_, s) in enumerate(scen):
+        for g in groups:
+            if np.array_equal(g[0].ideal, s.ideal) and np.array_equal(g[0].S0, s.S0):
+                g[1].append((i, s)); break
+        else:
+            groups.append((s, [(i, s)]))
+    print('%d scenarios, %d contents' % (len(scen), len(groups))); sys.stdout.flush()
     def f(x):
         gx = x[:n] + 1j * x[n:]
         Ltot = 0; G = np.zeros(n, complex)
-        for i, (_, s) in enumerate(scen):
-            wt = args.nominal if i == 0 else 1.0
-            c = s.ideal * gx
-            S = s.S0 + A @ c
-            R = 1 + (s.W @ np.abs(S) ** 2 - s.ref) / s.den
-            d = R - 1; ss = np.sum(d ** p); L = wt * ss ** (1 / p)
-            dR = wt * ss ** (1 / p - 1) * d ** (p - 1)
-            gc = AH @ ((s.W.T @ (dR / s.den)) * S)
-            G += s.ideal.conj() * gc; Ltot += L
+        for first, members in groups:
+            c = first.ideal * gx
+            S = first.S0 + A @ c
+            back = 0
+            for i, s in members:
+                wt = args.nominal if i == 0 else 1.0
+                R = 1 + (s.W @ np.abs(S) ** 2 - s.ref) / s.den
+                d = R - 1; ss = np.sum(d ** p); L = wt * ss ** (1 / p)
+                dR = wt * ss ** (1 / p - 1) * d ** (p - 1)
+                back = back + s.W.T @ (dR / s.den)
+                Ltot += L
+            gc = AH @ (back * S)
+            G += first.ideal.conj() * gc
         # keep I and Q of uniform content 1.0 inside +-PEAK: quadratic penalty beyond it
         y = full * (1 + gx)
         over_r = np.maximum(np.abs(y.real) - PEAK, 0) * np.sign(y.real)
@@ -96,9 +112,17 @@ if __name__ == '__main__':
     if args.start:
         g0 = np.load(args.start); x0 = np.concatenate([g0.real, g0.imag])
     t = time.time()
-    r = minimize(f, x0, jac=True, method='L-BFGS-B', options={'maxiter': iters})
+    out = args.out or 'table_K%d.npy' % K
+    seen = [0]
+    def checkpoint(x):
+        # every 25 iterations the table so far, so that a search stopped early keeps its progress
+        seen[0] += 1
+        if seen[0] % 25 == 0:
+            np.save(out, x[:n] + 1j * x[n:])
+            print('  %d iterations, %.0f s' % (seen[0], time.time() - t)); sys.stdout.flush()
+    r = minimize(f, x0, jac=True, method='L-BFGS-B', options={'maxiter': iters}, callback=checkpoint)
     gx = r.x[:n] + 1j * r.x[n:]
-    np.save(args.out or 'table_K%d.npy' % K, gx)
+    np.save(out, gx)
     print('K=%d table, nominal weight %g, %d iterations, %.0f s, objective %.4f' % (K, args.nominal, r.nit, time.time() - t, r.fun))
     for name, s in scen:
         R = 1 + (s.W @ np.abs(s.S0 + A @ (s.ideal * gx)) ** 2 - s.ref) / s.den

@@ -1,6 +1,7 @@
-"""Write the gain tables found by table.py as the Rust source of the `mark3` layout's blanking gains:
+"""Write the gain tables found by table.py (the flat-field one carried over to the piece taper by carry.py, then
+searched again) as the Rust source of the `mark3` layout's blanking gains:
 
-    python3 to_rust.py table_K64_edges.npy flat_K128.npy 0.05 > ../../src/layout/mark3_blanking.rs
+    python3 to_rust.py table_K64_edges.npy flat_p64.npy 0.05 > ../../src/layout/mark3_blanking.rs
 
 (the general table, the flat-field table and the largest spread of radiances that counts as evenly lit).
 """
@@ -34,7 +35,9 @@ print('//! complex gain per zone and per shown sample near a blanked run. The ge
 print('//! table (%d samples each side) was chosen at once for uniform, random, smooth' % K)
 print('//! and edged content, pupils of 2–6 mm and viewers at 450–800 mm; the flat-field')
 print('//! table (%d samples each side) for evenly lit content alone, over the same' % KF)
-print('//! pupils and viewers. Not edited by hand.')
+print('//! pupils and viewers, carried over from hard segments to the basis\'s piece')
+print('//! taper (`docs/seams/carry.py`) and searched again from there')
+print('//! (docs/seams/README.md §8). Not edited by hand.')
 print()
 print('/// Shown samples the general table takes on each side of a blanked run.')
 print('pub(super) const SAMPLES_EACH_SIDE: usize = %d;' % K)

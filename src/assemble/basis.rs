@@ -77,6 +77,7 @@ struct ChirpShape {
     zones: usize,
     views_per_zone: usize,
     segment_taper_samples: usize,
+    piece_taper_samples: usize,
 }
 
 /// The zoned chirp of one colour, or `None` when its shape cannot be built;
@@ -89,7 +90,8 @@ fn chirp_elements(
     carrier: f64,
     problems: &mut Vec<String>,
 ) -> Option<ZonedChirp> {
-    let ChirpShape { chirp_samples, slot_samples, zones, views_per_zone, segment_taper_samples } = shape;
+    let ChirpShape { chirp_samples, slot_samples, zones, views_per_zone, segment_taper_samples, piece_taper_samples } =
+        shape;
     let shape_ok = zones > 0
         && views_per_zone > 0
         && chirp_samples > 0
@@ -114,10 +116,23 @@ fn chirp_elements(
         views_per_zone,
         carrier_cycles_per_sample: carrier,
         taper_samples: segment_taper_samples,
+        piece_taper_samples,
     };
     if segment_taper_samples % 2 == 1 || segment_taper_samples > c.samples_per_view() {
         problems.push(format!(
             "segment_taper_samples {segment_taper_samples} must be even and at most a view segment ({} samples)",
+            c.samples_per_view()
+        ));
+    }
+    // A segment at a piece's end fades over half the piece taper there and
+    // half of its other edge's fade (the piece taper too when the piece is
+    // one segment): both must fit in it, so that neighbours' weights add to 1.
+    let piece = if piece_taper_samples > 0 { piece_taper_samples } else { segment_taper_samples };
+    let other = if views_per_zone > 1 { segment_taper_samples } else { piece };
+    if piece_taper_samples % 2 == 1 || piece.saturating_add(other) / 2 > c.samples_per_view() {
+        problems.push(format!(
+            "piece_taper_samples {piece_taper_samples} must be even, and half of it and half of the segment's other \
+             fade ({other} samples) must fit in a view segment ({} samples)",
             c.samples_per_view()
         ));
     }
@@ -238,8 +253,22 @@ impl ColourBasis {
             ));
         }
         let elements = match f.basis {
-            Basis::Chirp { chirp_samples, slot_samples, zones, views_per_zone, segment_taper_samples } => {
-                let shape = ChirpShape { chirp_samples, slot_samples, zones, views_per_zone, segment_taper_samples };
+            Basis::Chirp {
+                chirp_samples,
+                slot_samples,
+                zones,
+                views_per_zone,
+                segment_taper_samples,
+                piece_taper_samples,
+            } => {
+                let shape = ChirpShape {
+                    chirp_samples,
+                    slot_samples,
+                    zones,
+                    views_per_zone,
+                    segment_taper_samples,
+                    piece_taper_samples,
+                };
                 match chirp_elements(shape, f, g, wavelength_m, carrier, &mut p) {
                     Some(c) => Elements::Chirp(c),
                     None => return Err(p),
@@ -303,7 +332,7 @@ impl ColourBasis {
             if worst > limit {
                 return Err(vec![format!(
                     "view {v}'s elements fold {worst:.2e} of their energy past half the sampling rate at {:.0} nm; \
-                     the layout accepts {limit:.2e} (segment_taper_samples shapes the segments to fold less)",
+                     the layout accepts {limit:.2e} (segment_taper_samples and piece_taper_samples shape the segments to fold less)",
                     wavelength_m * 1e9
                 )]);
             }

@@ -44,6 +44,24 @@ pub struct ZonedChirp {
     /// Samples over which adjacent segments cross-fade (even, at most a
     /// segment; 0: hard edges).
     pub taper_samples: usize,
+    /// Samples over which the ends of every zone piece fade instead (even;
+    /// 0: as `taper_samples` says): where two pieces of one chirp meet they
+    /// cross-fade over this many, each widened by half of it, and the
+    /// chirp's own two ends rise over half of it inside their segments. The
+    /// piece ends are the band edges of every zone's signal, where a hard
+    /// edge's sidelobes fold past half the sampling rate (spec/layouts.md §4.7).
+    pub piece_taper_samples: usize,
+}
+
+/// What lies beyond one end of a view segment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Edge {
+    /// Another segment of the same zone piece.
+    Segment,
+    /// The neighbouring zone's piece of the same chirp (carried by another signal).
+    Piece,
+    /// Nothing: the chirp's own end.
+    Chirp,
 }
 
 impl ZonedChirp {
@@ -142,53 +160,73 @@ impl ZonedChirp {
     }
     /// Where view `v`'s element lies, in samples from the start of its
     /// zone piece: `[first, first + len)`, its segment widened by half the
-    /// taper on every side that has a neighbour (another segment, or the
+    /// cross-fade on every side that has a neighbour (another segment, or the
     /// next zone's piece); `first` is negative for a zone piece's first
     /// segment that fades in from the zone before.
     pub fn element_extent(&self, v: usize) -> (usize, i64, usize) {
         let (zone, first) = self.segment_of_view(v);
-        let half = (self.taper_samples / 2) as i64;
-        let (at_chirp_start, at_chirp_end) = self.at_chirp_ends(zone, first);
-        let lo = first as i64 - if at_chirp_start { 0 } else { half };
-        let hi = (first + self.samples_per_view()) as i64 + if at_chirp_end { 0 } else { half };
+        let [(up, up_width), (down, down_width)] = self.edges(zone, first);
+        let half = |edge: Edge, width: usize| if edge == Edge::Chirp { 0 } else { (width / 2) as i64 };
+        let lo = first as i64 - half(up, up_width);
+        let hi = (first + self.samples_per_view()) as i64 + half(down, down_width);
         (zone, lo, (hi - lo) as usize)
     }
-    /// Whether the segment starting at `first` of zone `zone` starts the
-    /// whole chirp, and whether it ends it.
-    fn at_chirp_ends(&self, zone: usize, first: usize) -> (bool, bool) {
-        (zone == 0 && first == 0, zone + 1 == self.zones && first + self.samples_per_view() == self.chirp_samples)
+    /// What lies beyond each end of the segment starting at `first` of zone
+    /// `zone` (its start, then its end), and the samples its fade takes.
+    fn edges(&self, zone: usize, first: usize) -> [(Edge, usize); 2] {
+        let last = first + self.samples_per_view();
+        let piece = if self.piece_taper_samples > 0 { self.piece_taper_samples } else { self.taper_samples };
+        let up = match (zone, first) {
+            (0, 0) => (Edge::Chirp, piece),
+            (_, 0) => (Edge::Piece, piece),
+            _ => (Edge::Segment, self.taper_samples),
+        };
+        let down = match (zone + 1 == self.zones, last == self.chirp_samples) {
+            (true, true) => (Edge::Chirp, piece),
+            (false, true) => (Edge::Piece, piece),
+            _ => (Edge::Segment, self.taper_samples),
+        };
+        [up, down]
     }
     /// The weight of view `v`'s element at sample `u` of its zone piece
     /// (`u` may lie before or after the piece, within
     /// [`ZonedChirp::element_extent`]): 1 inside the segment away from its
     /// edges; across each boundary with a neighbour a raised cosine
     /// `½ (1 + sin(π t / T))`, `t` the sample centre's distance past the
-    /// boundary, so that two neighbours' weights add to 1; at the chirp's own
-    /// two ends the same shape over `T/2` samples, inside the segment.
+    /// boundary and `T` that boundary's fade (the piece taper where two zone
+    /// pieces meet, when there is one; the segment taper elsewhere), so that
+    /// two neighbours' weights add to 1; at the chirp's own two ends the same
+    /// shape over `T/2` samples, inside the segment.
     pub fn window(&self, v: usize, u: i64) -> f64 {
-        let t_samples = self.taper_samples as f64;
-        if self.taper_samples == 0 {
+        if self.taper_samples == 0 && self.piece_taper_samples == 0 {
             return 1.0;
         }
         let (zone, first) = self.segment_of_view(v);
-        let (at_start, at_end) = self.at_chirp_ends(zone, first);
-        let rise = |t: f64, width: f64| 0.5 * (1.0 + (PI * (t / width).clamp(-0.5, 0.5)).sin());
+        let rise = |t: f64, width: usize| {
+            if width == 0 {
+                // A hard edge: the element's extent already ends there.
+                return 1.0;
+            }
+            0.5 * (1.0 + (PI * (t / width as f64).clamp(-0.5, 0.5)).sin())
+        };
+        // t past an edge of this kind, into the element.
+        let weight = |t: f64, (edge, width): (Edge, usize)| match edge {
+            Edge::Chirp => rise(t - width as f64 / 4.0, width / 2),
+            Edge::Piece | Edge::Segment => rise(t, width),
+        };
         let centre = u as f64 + 0.5;
         let (a, b) = (first as f64, (first + self.samples_per_view()) as f64);
-        let up =
-            if at_start { rise(centre - a - t_samples / 4.0, t_samples / 2.0) } else { rise(centre - a, t_samples) };
-        let down =
-            if at_end { rise(b - centre - t_samples / 4.0, t_samples / 2.0) } else { rise(b - centre, t_samples) };
-        up * down
+        let [up, down] = self.edges(zone, first);
+        weight(centre - a, up) * weight(b - centre, down)
     }
     /// The largest sum of element weights at one sample of a zone's signal
     /// over all the chirps that overlap it (every view lit at 1): what the
     /// signal is normalised by. Without a taper, the overlap.
     pub fn largest_window_sum(&self) -> f64 {
-        if self.taper_samples == 0 {
+        if self.taper_samples == 0 && self.piece_taper_samples == 0 {
             return self.overlap() as f64;
         }
-        let half = (self.taper_samples / 2) as i64;
+        let half = (self.taper_samples.max(self.piece_taper_samples) / 2) as i64;
         let (l, s) = (self.chirp_samples as i64, self.slot_samples as i64);
         let mut largest: f64 = 0.0;
         for zone in 0..self.zones {
@@ -245,7 +283,58 @@ mod tests {
             views_per_zone: 32,
             carrier_cycles_per_sample: 0.0,
             taper_samples: 0,
+            piece_taper_samples: 0,
         }
+    }
+
+    #[test]
+    fn a_piece_taper_fades_the_zone_pieces_ends_alone() {
+        let hard = mark3();
+        let c = ZonedChirp { piece_taper_samples: 64, ..mark3() };
+        // Only the elements at a piece's end change: views 31, 32, 63, 64
+        // widened by 32 samples across their zone boundary, views 0 and 95
+        // (the chirp's ends) not widened; every other element as it was.
+        for v in 0..96 {
+            let (zone, first, len) = c.element_extent(v);
+            let (_, hard_first, hard_len) = hard.element_extent(v);
+            let widened = match v {
+                31 | 63 => (hard_first - 32, hard_len + 32),
+                32 | 64 => (hard_first, hard_len + 32),
+                _ => (hard_first, hard_len),
+            };
+            assert_eq!((first, len), widened, "view {v}");
+            if !matches!(v, 0 | 31 | 32 | 63 | 64 | 95) {
+                for u in first..first + len as i64 {
+                    assert_eq!(c.window(v, u), 1.0, "view {v} sample {u} of zone {zone}");
+                }
+            }
+        }
+        // The weights of spec/layouts.md §4.2, worked by hand: view 31 is
+        // zone 2's first segment, u = −32 … 31 about the boundary at u = 0;
+        // view 0 is the chirp's end, rising over its whole 32-sample segment.
+        let rise = |t: f64, w: f64| 0.5 * (1.0 + (PI * t / w).sin());
+        for u in [-32i64, -1, 0, 17, 31] {
+            let want = rise(u as f64 + 0.5, 64.0);
+            assert!((c.window(31, u) - want).abs() < 1e-15, "view 31 u {u}: {} against {want}", c.window(31, u));
+        }
+        for u in [992i64, 1000, 1023] {
+            let want = rise(1024.0 - (u as f64 + 0.5) - 16.0, 32.0);
+            assert!((c.window(0, u) - want).abs() < 1e-15, "view 0 u {u}");
+        }
+        // Inside the chirp the weights add to 1 at every sample, across the
+        // zone boundaries too: a fully lit emitter's chirp is unchanged but
+        // for its two ends.
+        for x in 32..3 * 1024 - 32 {
+            let sum: f64 = (0..96)
+                .filter_map(|v| {
+                    let (zone, first, len) = c.element_extent(v);
+                    let u = x - (zone * 1024) as i64;
+                    (u >= first && u < first + len as i64).then(|| c.window(v, u))
+                })
+                .sum();
+            assert!((sum - 1.0).abs() < 1e-12, "chirp sample {x}: {sum}");
+        }
+        assert_eq!(c.largest_window_sum(), 16.0);
     }
 
     #[test]

@@ -734,10 +734,14 @@ mod tests {
         });
     }
 
-    /// `layout` with its chirp segments cross-faded over `taper` samples.
+    /// `layout` with its chirp segments cross-faded over `taper` samples,
+    /// the ends of its zone pieces as well (no piece taper of their own).
     fn tapered(mut layout: Layout, taper: usize) -> Layout {
-        if let crate::layout::Basis::Chirp { segment_taper_samples, .. } = &mut layout.fringe.as_mut().unwrap().basis {
+        if let crate::layout::Basis::Chirp { segment_taper_samples, piece_taper_samples, .. } =
+            &mut layout.fringe.as_mut().unwrap().basis
+        {
             *segment_taper_samples = taper;
+            *piece_taper_samples = 0;
         }
         layout
     }
@@ -806,6 +810,25 @@ mod tests {
         let mut odd = mark3();
         odd = tapered(odd, 31);
         assert!(Assembler::new(&odd).unwrap_err().to_string().contains("segment_taper_samples"));
+        // A piece taper must be even, and a segment must hold half of it and
+        // half of its other edge's fade (spec/layouts.md §4.2).
+        let pieces = |segment: usize, piece: usize| {
+            let mut layout = mark3();
+            if let crate::layout::Basis::Chirp { segment_taper_samples, piece_taper_samples, .. } =
+                &mut layout.fringe.as_mut().unwrap().basis
+            {
+                *segment_taper_samples = segment;
+                *piece_taper_samples = piece;
+            }
+            Assembler::new(&layout).map(|_| ()).map_err(|e| e.to_string())
+        };
+        for (segment, piece) in [(0, 63), (0, 66), (32, 64), (16, 50), (0, usize::MAX)] {
+            let refused = pieces(segment, piece).unwrap_err();
+            assert!(refused.contains("piece_taper_samples"), "{segment}, {piece}: {refused}");
+        }
+        for (segment, piece) in [(0, 64), (0, 2), (32, 32), (16, 48)] {
+            pieces(segment, piece).unwrap();
+        }
     }
 
     #[test]
@@ -816,7 +839,10 @@ mod tests {
         assert_eq!(block(mark1_hogel()), 64);
         assert_eq!(block(mark2()), 64);
         assert_eq!(block(mark4()), 16, "592-sample wafels");
-        assert_eq!(Assembler::new(&mark3()).unwrap().plan(0).max_terms(), 16, "16 overlapping chirps");
+        // 16 overlapping chirps, and beside a zone-piece boundary the
+        // widened end of one more (the piece taper, spec/layouts.md §4.2).
+        assert_eq!(Assembler::new(&mark3()).unwrap().plan(0).max_terms(), 17, "16 overlapping chirps and a fade");
+        assert_eq!(Assembler::new(&tapered(mark3(), 0)).unwrap().plan(0).max_terms(), 16, "16 overlapping chirps");
     }
 
     #[test]

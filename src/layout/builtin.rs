@@ -79,6 +79,10 @@ pub fn mark3() -> Layout {
             zones: 3,
             views_per_zone: 32,
             segment_taper_samples: 0,
+            // The ends of every zone piece cross-fade over two segments (the
+            // chirp's own ends rise over one): the zones' band edges then fold
+            // no light past half the sampling rate (spec/layouts.md §4.2, §4.7).
+            piece_taper_samples: 64,
         },
         signal: SignalKind::Iq,
         carrier_cycles_per_sample: Vec::new(),
@@ -192,6 +196,7 @@ pub fn mark1() -> Layout {
             zones: 1,
             views_per_zone: 5,
             segment_taper_samples: 0,
+            piece_taper_samples: 0,
         })),
     }
 }
@@ -295,6 +300,7 @@ pub fn mark2() -> Layout {
                 zones: 1,
                 views_per_zone: views,
                 segment_taper_samples: 0,
+                piece_taper_samples: 0,
             },
             signal: SignalKind::Real,
             carrier_cycles_per_sample: vec![0.25],

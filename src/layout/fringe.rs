@@ -75,6 +75,15 @@ pub enum Basis {
         /// edges, whose sidelobes fold past half the sampling rate.
         #[serde(default, skip_serializing_if = "is_zero")]
         segment_taper_samples: usize,
+        /// Samples over which the ends of every zone piece fade instead:
+        /// where two pieces of one chirp meet (a raised cosine centred on
+        /// the boundary, each piece's element widened by half of it) and at
+        /// the chirp's own two ends (over half as many, inside the segment).
+        /// The piece ends are the band edges of the zones' signals, whose
+        /// hard edges fold the most (spec/layouts.md §4.2, §4.7); 0 fades
+        /// them as `segment_taper_samples` says.
+        #[serde(default, skip_serializing_if = "is_zero")]
+        piece_taper_samples: usize,
     },
     /// Abutting hogels (Lucente 1994): emitter `e` is the hogel of samples
     /// `e · hogel_samples …`, on the hologram plane; within it every view is a

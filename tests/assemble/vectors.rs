@@ -88,6 +88,7 @@ fn profile(name: &str, channels: usize) -> Layout {
             zones,
             views_per_zone,
             segment_taper_samples: 0,
+            piece_taper_samples: 0,
         },
         signal: SignalKind::Iq,
         carrier_cycles_per_sample: Vec::new(),
