@@ -17,6 +17,15 @@
 //! every ray direction of a hololine is dropped before any work (the
 //! "widened" back-face cull: one view seeing it keeps it), and inside the
 //! hololine only for the views it faces away from.
+//!
+//! See-through materials (glTF `alphaMode` MASK and BLEND,
+//! [`super::AlphaMode`]) take no part in the depth test: once a column's
+//! opaque surfaces are drawn, each see-through segment leaves a fragment at
+//! every sub-emitter where it is in front of them, and a sub-emitter's
+//! fragments are composited nearest first over the opaque surface, each
+//! weighted by its coverage and by what those in front let through, as the
+//! reference ray caster does ([`super::trace::along_ray`]). A hololine
+//! without them is drawn as it always was.
 
 use rayon::prelude::*;
 
@@ -400,6 +409,7 @@ impl SpanColumns {
 
 /// One segment's span in one sub-view: `t = t_first + i·dt` at sub-emitter
 /// `i`, depth `z = z_a + t·dz`.
+#[derive(Clone, Copy)]
 struct Span {
     t_first: f64,
     dt: f64,
@@ -444,6 +454,16 @@ impl Span {
             param[k] = if nearer { t } else { param[k] };
         }
     }
+}
+
+/// A see-through segment in front of a column's opaque surfaces at one
+/// sub-emitter: its depth and parameter there.
+#[derive(Clone, Copy)]
+struct Fragment {
+    pixel: u32,
+    owner: u32,
+    z: f64,
+    t: f64,
 }
 
 /// `⌈x⌉` clamped to `0..=n` (NaN gives 0), without libm's `ceil` and in
@@ -520,6 +540,60 @@ impl EpiRenderer<'_> {
         }
     }
 
+    /// Composite each sub-emitter's `fragments` (sorted by sub-emitter,
+    /// nearest first) over the opaque radiance `layer` holds there:
+    /// `L = Σ L_i α_i Π_{k<i} (1 − α_k) + L_opaque Π_k (1 − α_k)`, a
+    /// fragment of coverage 1 ending it. `s` is the column's ray slope;
+    /// returns the fragments shaded.
+    #[allow(clippy::too_many_arguments)]
+    fn composite(
+        &self,
+        fragments: &[Fragment],
+        segments: &[Segment],
+        s: f64,
+        slot: &[u32],
+        lights: &[&FastLights],
+        columns: &[Column],
+        layer: &mut [Vec<f32>; 3],
+    ) -> u64 {
+        let mut shaded = 0;
+        for at in fragments.chunk_by(|a, b| a.pixel == b.pixel) {
+            let p = at[0].pixel as usize;
+            let (mut sum, mut through) = ([0.0f32; 3], 1.0f32);
+            for f in at {
+                let seg = &segments[f.owner as usize];
+                let material = &self.materials[seg.object as usize];
+                let alpha = fastshade::coverage(
+                    self.s.scene,
+                    material,
+                    &seg.attrs_a,
+                    &seg.attrs_delta,
+                    f.t.clamp(0.0, 1.0) as f32,
+                );
+                if alpha <= 0.0 {
+                    continue;
+                }
+                let run = self.run(seg, seg.nx * s + seg.c > 0.0);
+                let k = slot[f.owner as usize] as usize;
+                let mut l = [[0.0f32]; 3];
+                let [r, g, b] = &mut l;
+                fastshade::shade_run(self.s.scene, lights[k], &columns[k], &run, &[f.t], [r, g, b]);
+                shaded += 1;
+                for (c, l) in sum.iter_mut().zip(l) {
+                    *c += l[0] * (through * alpha);
+                }
+                through *= 1.0 - alpha;
+                if through <= 0.0 {
+                    break;
+                }
+            }
+            for (layer, sum) in layer.iter_mut().zip(sum) {
+                layer[p] = layer[p] * through + sum;
+            }
+        }
+        shaded
+    }
+
     /// Rasterise and shade hololine `j`'s `segments` into `out`.
     fn draw(&self, j: usize, segments: &[Segment], by_view: &mut [f32], stats: &mut RenderStats) {
         let r = self.s.rays;
@@ -563,6 +637,15 @@ impl EpiRenderer<'_> {
         let spans = SpanColumns::new(segments, z_e);
         // (segment, first sub-emitter, end) of the segments a view's column draws.
         let mut covering = vec![(0u32, 0u32, 0u32); segments.len()];
+        // See-through segments: their spans are kept for after the opaque
+        // ones, their fragments composited over a sub-view's opaque radiance
+        // (`layer`) before it joins `acc`.
+        let see_through: Vec<bool> =
+            segments.iter().map(|seg| self.materials[seg.object as usize].see_through()).collect();
+        let any_see_through = see_through.contains(&true);
+        let mut layer = if any_see_through { acc.clone() } else { Default::default() };
+        let mut later: Vec<(Span, usize, usize)> = Vec::new();
+        let mut fragments: Vec<Fragment> = Vec::new();
         for v in 0..v_count {
             for a in &mut acc {
                 a.fill(0.0);
@@ -588,8 +671,26 @@ impl EpiRenderer<'_> {
                     let t_first = (x_first - ua) * inv_du;
                     let dt = dx * inv_du;
                     let span = Span { t_first, dt, z_a: spans.z_a[i], dz: spans.dz[i], owner: si };
+                    if any_see_through && see_through[i] {
+                        later.push((span, i0, i1));
+                        continue;
+                    }
                     span.draw(i0, &mut depth[i0..i1], &mut owner[i0..i1], &mut param[i0..i1], self.lights_avx2);
                 }
+                // The see-through spans in front of the opaque surfaces, nearest first at each sub-emitter.
+                fragments.clear();
+                for (span, i0, i1) in later.drain(..) {
+                    for (i, &d) in depth.iter().enumerate().take(i1).skip(i0) {
+                        let t = span.t_first + i as f64 * span.dt;
+                        let z = span.z_a + t * span.dz;
+                        if z > d {
+                            fragments.push(Fragment { pixel: i as u32, owner: span.owner, z, t });
+                        }
+                    }
+                }
+                fragments.sort_unstable_by(|a, b| {
+                    a.pixel.cmp(&b.pixel).then(b.z.total_cmp(&a.z)).then(a.owner.cmp(&b.owner))
+                });
                 let view = normalize([s as f32, k as f32, 1.0]);
                 for (column, l) in columns.iter_mut().zip(&lights) {
                     column.set(l, view);
@@ -605,7 +706,7 @@ impl EpiRenderer<'_> {
                         }
                     }
                 }
-                let [ar, ag, ab] = &mut acc;
+                let [ar, ag, ab] = if any_see_through { &mut layer } else { &mut acc };
                 for (batch, l) in batches.iter_mut().zip(&lights) {
                     stats.shaded += batch.len() as u64;
                     batch.gather(self.s.scene, &table, l, [&mut ar[..], &mut ag[..], &mut ab[..]]);
@@ -630,6 +731,15 @@ impl EpiRenderer<'_> {
                 }
                 for ((batch, l), column) in batches.iter_mut().zip(&lights).zip(&columns) {
                     batch.shade(l, column, [&mut ar[..], &mut ag[..], &mut ab[..]]);
+                }
+                if any_see_through {
+                    stats.shaded += self.composite(&fragments, segments, s, &slot, &lights, &columns, &mut layer);
+                    for (acc, layer) in acc.iter_mut().zip(&mut layer) {
+                        for (a, l) in acc[lo..hi].iter_mut().zip(&mut layer[lo..hi]) {
+                            *a += *l;
+                            *l = 0.0;
+                        }
+                    }
                 }
                 depth[lo..hi].fill(f64::NEG_INFINITY);
                 owner[lo..hi].fill(NONE);
