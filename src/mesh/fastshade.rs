@@ -790,6 +790,10 @@ pub(crate) struct Batch {
     pixel: Vec<u32>,
     owner: Vec<u32>,
     t: Vec<f32>,
+    /// The pixels were listed with weights ([`Batch::push_weighted`]):
+    /// each one's radiance is added to the column × its weight.
+    weighted: bool,
+    weight: Vec<f32>,
     /// Interpolated (not unit) shading normal, facing the viewer.
     n: [Vec<f32>; 3],
     /// Base colour × vertex colour × texture.
@@ -873,6 +877,20 @@ impl Batch {
         self.count += 1;
     }
 
+    /// [`Batch::push`] with a weight: a see-through surface's coverage ×
+    /// what the surfaces in front of it let through. A column's pixels are
+    /// listed either all with weights or all without.
+    #[inline]
+    pub(crate) fn push_weighted(&mut self, pixel: usize, owner: u32, t: f64, weight: f32) {
+        let at = self.count;
+        if self.weight.len() <= at {
+            self.weight.resize(at + 64, 0.0);
+        }
+        self.weight[at] = weight;
+        self.weighted = true;
+        self.push(pixel, owner, t);
+    }
+
     /// Interpolate the listed pixels' attributes and add their emissive and
     /// ambient terms to `acc` (the column).
     pub(crate) fn gather(&mut self, scene: &Scene, table: &SegmentTable, lights: &FastLights, acc: [&mut [f32]; 3]) {
@@ -924,12 +942,19 @@ impl Batch {
             // The radiance is in `diffuse`.
             let [acc_r, acc_g, acc_b] = acc;
             for (acc, rgb) in [acc_r, acc_g, acc_b].into_iter().zip(&self.diffuse) {
-                for (&p, x) in self.pixel[..count].iter().zip(&rgb[..count]) {
-                    acc[p as usize] += x;
+                if self.weighted {
+                    for ((&p, x), w) in self.pixel[..count].iter().zip(&rgb[..count]).zip(&self.weight) {
+                        acc[p as usize] += w * x;
+                    }
+                } else {
+                    for (&p, x) in self.pixel[..count].iter().zip(&rgb[..count]) {
+                        acc[p as usize] += x;
+                    }
                 }
             }
         }
         self.count = 0;
+        self.weighted = false;
     }
 }
 
@@ -1037,6 +1062,21 @@ fn gather_kernel(b: &mut Batch, scene: &Scene, table: &SegmentTable, lights: &Fa
         }
     }
     let [acc_r, acc_g, acc_b] = acc;
+    if b.weighted {
+        // See-through surfaces: the same terms × each pixel's weight.
+        for (i, &p) in b.pixel[..len].iter().enumerate() {
+            let (p, o, w) = (p as usize, owner[i] as usize, b.weight[i]);
+            let e = table.emissive[o];
+            let ambient = if table.prelit[o] { [1.0; 3] } else { lights.ambient };
+            acc_r[p] += w * (e[0] + alr[i] * ambient[0]);
+            acc_g[p] += w * (e[1] + alg[i] * ambient[1]);
+            acc_b[p] += w * (e[2] + alb[i] * ambient[2]);
+            if table.prelit[o] {
+                (alr[i], alg[i], alb[i]) = (0.0, 0.0, 0.0);
+            }
+        }
+        return;
+    }
     for (i, &p) in b.pixel[..len].iter().enumerate() {
         let (p, o) = (p as usize, owner[i] as usize);
         let e = table.emissive[o];
