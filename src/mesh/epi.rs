@@ -24,7 +24,7 @@
 //! every sub-emitter where it is in front of them, and a sub-emitter's
 //! fragments are composited nearest first over the opaque surface, each
 //! weighted by its coverage and by what those in front let through, as the
-//! reference ray caster does ([`super::trace::along_ray`]). A hololine
+//! reference ray caster does (`trace::along_ray`). A hololine
 //! without them is drawn as it always was.
 
 use rayon::prelude::*;

@@ -2,7 +2,7 @@
 //! in f64, from the viewer line back along `−d`; the surfaces met that face
 //! the viewer (or are double-sided) are shaded one after another, nearest
 //! first, each weighted by its [`coverage`] and by what the ones in front let
-//! through, until an opaque one ends the ray ([`along_ray`]). Obviously
+//! through, until an opaque one ends the ray (`along_ray`). Obviously
 //! correct and slow; the fast rasteriser (`epi.rs`) is tested against it.
 
 use super::bvh::{Bvh, Triangle};
