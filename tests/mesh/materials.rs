@@ -325,8 +325,13 @@ fn the_metallic_roughness_texture_is_read() {
     };
     let quad = [Quad::new([-0.02, 0.02], [-0.012, 0.012], 0.0, 0)];
     let textured = write_gltf(dir.path(), "bed.gltf", &quad, bed(Some(1), None), &[wood.clone(), plain]);
-    let honoured =
-        write_gltf(dir.path(), "factors.gltf", &quad, bed(None, Some((0.0, 200.0 / 255.0))), &[wood.clone()]);
+    let honoured = write_gltf(
+        dir.path(),
+        "factors.gltf",
+        &quad,
+        bed(None, Some((0.0, 200.0 / 255.0))),
+        std::slice::from_ref(&wood),
+    );
     let half_metal = write_gltf(dir.path(), "half.gltf", &quad, bed(Some(1), None), &[wood, metal_right]);
     let g = small_geometry(0.0);
     // The default lights: a key light from the upper left and a dim ambient.

@@ -531,7 +531,7 @@ impl Reader<'_> {
             gltf::material::AlphaMode::Blend => AlphaMode::Blend,
             gltf::material::AlphaMode::Mask => {
                 let cutoff = m.alpha_cutoff().unwrap_or(0.5);
-                if !(cutoff >= 0.0) {
+                if cutoff.is_nan() || cutoff < 0.0 {
                     return Err(self.err(format!(
                         "material \"{name}\": its alphaCutoff is {cutoff}; glTF 2.0 requires a cutoff of 0 or more"
                     )));
