@@ -7,10 +7,11 @@
 //! Every pixel is ray cast through a bounding-volume hierarchy (`bvh.rs`) in f64 from the camera's
 //! centre, box-filtered over `n × n` sub-pixel positions
 //! `u + (a + ½)/n − ½`, `v + (b + ½)/n − ½`. Visibility and shading are
-//! those of the display's reference renderer ([`super::trace`]): the first
-//! surface in front of the camera that faces it (or is double-sided) is
-//! seen, and it sends [`radiance`] with the view vector pointing from the
-//! surface toward the camera. A camera on the display's viewer line
+//! those of the display's reference renderer ([`super::trace`]): the
+//! surfaces in front of the camera that face it (or are double-sided) are
+//! seen nearest first, each sending [`super::shade::radiance`] with the view vector
+//! pointing from the surface toward the camera, until an opaque one ends
+//! the ray (see [`super::Material::alpha_mode`]). A camera on the display's viewer line
 //! therefore sees along each ray exactly what the display stores for it.
 
 use std::io::Write;
@@ -18,8 +19,9 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
-use super::bvh::Bvh;
-use super::shade::{radiance, Hit, Lighting};
+use super::bvh::{Bvh, Triangle};
+use super::shade::Lighting;
+use super::trace::along_ray;
 use super::Scene;
 use crate::cameras::Camera;
 use crate::math::{dot, scale};
@@ -37,7 +39,8 @@ pub struct CameraPicture {
     /// Linear RGB radiance, box-filtered over the pixel (0 where nothing is seen).
     pub rgb: Vec<[f32; 3]>,
     /// Camera `z` (distance along the viewing direction, metres) of the
-    /// visible point on the ray through the pixel's centre;
+    /// visible point on the ray through the pixel's centre (the nearest, where
+    /// see-through surfaces show several);
     /// `f32::INFINITY` where that ray meets nothing.
     pub depth_z: Vec<f32>,
 }
@@ -139,12 +142,9 @@ impl CameraTracer<'_> {
         let scene = self.scene;
         // The light travels along −r, toward the camera: a front face has its
         // normal against r (the display's test `n·d > 0` with d = −r).
-        let hit = self.bvh.nearest(self.camera.pose.centre, r, 0.0, |tri, n| {
-            scene.objects[tri.object as usize].material.double_sided || dot(n, r) < 0.0
-        })?;
-        let h = Hit { object: hit.object, triangle: hit.triangle, b1: hit.b1, b2: hit.b2 };
-        let l = radiance(scene, self.lighting, &h, scale(r, -1.0));
-        Some((l, hit.t * dot(r, self.camera.axis())))
+        let shown = |tri: &Triangle, n| scene.objects[tri.object as usize].material.double_sided || dot(n, r) < 0.0;
+        let (l, t) = along_ray(scene, self.lighting, &self.bvh, self.camera.pose.centre, r, scale(r, -1.0), shown)?;
+        Some((l, t * dot(r, self.camera.axis())))
     }
 }
 

@@ -17,6 +17,15 @@
 //! every ray direction of a hololine is dropped before any work (the
 //! "widened" back-face cull: one view seeing it keeps it), and inside the
 //! hololine only for the views it faces away from.
+//!
+//! See-through materials (glTF `alphaMode` MASK and BLEND,
+//! [`super::AlphaMode`]) take no part in the depth test: once a column's
+//! opaque surfaces are drawn, each see-through segment leaves a fragment at
+//! every sub-emitter where it is in front of them, and a sub-emitter's
+//! fragments are composited nearest first over the opaque surface, each
+//! weighted by its coverage and by what those in front let through, as the
+//! reference ray caster does (`trace::along_ray`). A hololine
+//! without them is drawn as it always was.
 
 use rayon::prelude::*;
 
@@ -400,6 +409,7 @@ impl SpanColumns {
 
 /// One segment's span in one sub-view: `t = t_first + i·dt` at sub-emitter
 /// `i`, depth `z = z_a + t·dz`.
+#[derive(Clone, Copy)]
 struct Span {
     t_first: f64,
     dt: f64,
@@ -443,6 +453,119 @@ impl Span {
             owner[k] = if nearer { self.owner } else { owner[k] };
             param[k] = if nearer { t } else { param[k] };
         }
+    }
+}
+
+/// A see-through segment in front of a column's opaque surfaces at one
+/// sub-emitter: its depth and parameter there.
+#[derive(Clone, Copy, Default)]
+struct Fragment {
+    pixel: u32,
+    owner: u32,
+    z: f64,
+    t: f64,
+}
+
+/// One column's see-through segments, reused from column to column.
+#[derive(Default)]
+struct SeeThrough {
+    /// Their spans, drawn after the opaque ones: (span, first sub-emitter, end).
+    later: Vec<(Span, usize, usize)>,
+    /// The fragments as found, then grouped by sub-emitter, nearest first
+    /// in each group (a counting sort: `start` holds where each
+    /// sub-emitter's group begins, `next` is its cursor).
+    found: Vec<Fragment>,
+    grouped: Vec<Fragment>,
+    start: Vec<u32>,
+    next: Vec<u32>,
+    /// One group's (fragment, weight) pairs.
+    weights: Vec<(Fragment, f32)>,
+}
+
+impl SeeThrough {
+    /// The fragments of the spans in `later` in front of the opaque depth
+    /// `depth` (sub-emitters `lo..hi`), grouped by sub-emitter and sorted
+    /// nearest first (ties by segment).
+    fn fragments(&mut self, depth: &[f64], lo: usize, hi: usize) {
+        self.found.clear();
+        for (span, i0, i1) in self.later.drain(..) {
+            for (i, &d) in depth.iter().enumerate().take(i1).skip(i0) {
+                // As `Span::draw` steps it.
+                let t = span.t_first + i as f64 * span.dt;
+                let z = span.z_a + t * span.dz;
+                if z > d {
+                    self.found.push(Fragment { pixel: i as u32, owner: span.owner, z, t });
+                }
+            }
+        }
+        self.start.clear();
+        self.start.resize(hi - lo + 1, 0);
+        for f in &self.found {
+            self.start[f.pixel as usize - lo + 1] += 1;
+        }
+        for i in 1..self.start.len() {
+            self.start[i] += self.start[i - 1];
+        }
+        self.next.clear();
+        self.next.extend_from_slice(&self.start);
+        self.grouped.clear();
+        self.grouped.resize(self.found.len(), Fragment::default());
+        for f in &self.found {
+            let at = &mut self.next[f.pixel as usize - lo];
+            self.grouped[*at as usize] = *f;
+            *at += 1;
+        }
+        for w in self.start.windows(2) {
+            let group = &mut self.grouped[w[0] as usize..w[1] as usize];
+            if group.len() > 1 {
+                group.sort_unstable_by(|a, b| b.z.total_cmp(&a.z).then(a.owner.cmp(&b.owner)));
+            }
+        }
+    }
+
+    /// Composite each sub-emitter's fragments over the opaque radiance
+    /// `layer` holds there: `L = Σ L_i α_i Π_{k<i} (1 − α_k) + L_opaque Π_k (1 − α_k)`,
+    /// a fragment of coverage 1 ending it. The opaque radiance is scaled
+    /// here; each fragment that covers anything is handed to `shade` with
+    /// its weight `α_i Π_{k<i} (1 − α_k)`, to add its radiance × that to
+    /// `layer`. Returns the fragments handed on.
+    fn composite(
+        &mut self,
+        scene: &super::Scene,
+        segments: &[Segment],
+        materials: &[FastMaterial],
+        layer: [&mut [f32]; 3],
+        shade: &mut impl FnMut(&Fragment, f32, [&mut [f32]; 3]),
+    ) -> u64 {
+        let [r, g, b] = layer;
+        let mut shaded = 0;
+        for group in self.grouped.chunk_by(|a, b| a.pixel == b.pixel) {
+            let p = group[0].pixel as usize;
+            self.weights.clear();
+            let mut through = 1.0f32;
+            for f in group {
+                let seg = &segments[f.owner as usize];
+                let material = &materials[seg.object as usize];
+                let t = f.t.clamp(0.0, 1.0) as f32;
+                let alpha = fastshade::coverage(scene, material, &seg.attrs_a, &seg.attrs_delta, t);
+                if alpha <= 0.0 {
+                    continue;
+                }
+                self.weights.push((*f, through * alpha));
+                through *= 1.0 - alpha;
+                if through <= 0.0 {
+                    break;
+                }
+            }
+            for layer in [&mut *r, &mut *g, &mut *b] {
+                layer[p] *= through;
+            }
+            for &(f, weight) in &self.weights {
+                shade(&f, weight, [&mut *r, &mut *g, &mut *b]);
+            }
+            shaded += self.weights.len() as u64;
+        }
+        shaded
     }
 }
 
@@ -563,6 +686,14 @@ impl EpiRenderer<'_> {
         let spans = SpanColumns::new(segments, z_e);
         // (segment, first sub-emitter, end) of the segments a view's column draws.
         let mut covering = vec![(0u32, 0u32, 0u32); segments.len()];
+        // See-through segments: their spans are kept for after the opaque
+        // ones, their fragments composited over a sub-view's opaque radiance
+        // (`layer`) before it joins `acc`.
+        let see_through: Vec<bool> =
+            segments.iter().map(|seg| self.materials[seg.object as usize].see_through()).collect();
+        let any_see_through = see_through.contains(&true);
+        let mut layer = if any_see_through { acc.clone() } else { Default::default() };
+        let mut see = SeeThrough::default();
         for v in 0..v_count {
             for a in &mut acc {
                 a.fill(0.0);
@@ -588,7 +719,14 @@ impl EpiRenderer<'_> {
                     let t_first = (x_first - ua) * inv_du;
                     let dt = dx * inv_du;
                     let span = Span { t_first, dt, z_a: spans.z_a[i], dz: spans.dz[i], owner: si };
+                    if any_see_through && see_through[i] {
+                        see.later.push((span, i0, i1));
+                        continue;
+                    }
                     span.draw(i0, &mut depth[i0..i1], &mut owner[i0..i1], &mut param[i0..i1], self.lights_avx2);
+                }
+                if any_see_through {
+                    see.fragments(&depth, drawn_lo, drawn_hi.max(drawn_lo));
                 }
                 let view = normalize([s as f32, k as f32, 1.0]);
                 for (column, l) in columns.iter_mut().zip(&lights) {
@@ -605,7 +743,7 @@ impl EpiRenderer<'_> {
                         }
                     }
                 }
-                let [ar, ag, ab] = &mut acc;
+                let [ar, ag, ab] = if any_see_through { &mut layer } else { &mut acc };
                 for (batch, l) in batches.iter_mut().zip(&lights) {
                     stats.shaded += batch.len() as u64;
                     batch.gather(self.s.scene, &table, l, [&mut ar[..], &mut ag[..], &mut ab[..]]);
@@ -630,6 +768,39 @@ impl EpiRenderer<'_> {
                 }
                 for ((batch, l), column) in batches.iter_mut().zip(&lights).zip(&columns) {
                     batch.shade(l, column, [&mut ar[..], &mut ag[..], &mut ab[..]]);
+                }
+                if any_see_through {
+                    // The fragments over the opaque radiance, those of simple
+                    // segments through the batches (weighted), the others run by run.
+                    let [ar, ag, ab] = &mut layer;
+                    let [ar, ag, ab] = [&mut ar[..], &mut ag[..], &mut ab[..]];
+                    let mut weighted = |f: &Fragment, weight: f32, layer: [&mut [f32]; 3]| {
+                        let (o, k) = (f.owner as usize, slot[f.owner as usize] as usize);
+                        if table.simple(o) {
+                            batches[k].push_weighted(f.pixel as usize, f.owner, f.t, weight);
+                            return;
+                        }
+                        let seg = &segments[o];
+                        let run = self.run(seg, seg.nx * s + seg.c > 0.0);
+                        let mut l = [[0.0f32]; 3];
+                        let [r, g, b] = &mut l;
+                        fastshade::shade_run(self.s.scene, lights[k], &columns[k], &run, &[f.t], [r, g, b]);
+                        let p = f.pixel as usize;
+                        for (layer, l) in layer.into_iter().zip(l) {
+                            layer[p] += weight * l[0];
+                        }
+                    };
+                    stats.shaded += see.composite(self.s.scene, segments, &self.materials, [ar, ag, ab], &mut weighted);
+                    for ((batch, l), column) in batches.iter_mut().zip(&lights).zip(&columns) {
+                        batch.gather(self.s.scene, &table, l, [&mut ar[..], &mut ag[..], &mut ab[..]]);
+                        batch.shade(l, column, [&mut ar[..], &mut ag[..], &mut ab[..]]);
+                    }
+                    for (acc, layer) in acc.iter_mut().zip(&mut layer) {
+                        for (a, l) in acc[lo..hi].iter_mut().zip(&mut layer[lo..hi]) {
+                            *a += *l;
+                            *l = 0.0;
+                        }
+                    }
                 }
                 depth[lo..hi].fill(f64::NEG_INFINITY);
                 owner[lo..hi].fill(NONE);
@@ -666,18 +837,19 @@ mod tests {
     use crate::geometry::{channel_weights, rgb_channels, Geometry, Views};
     use crate::mesh::render::{Rays, Supersample};
     use crate::mesh::shade::{Lighting, SpecularModel};
-    use crate::mesh::{Light, Material, Object, Scene, Texture, TextureRef, UvTransform, Wrap};
+    use crate::mesh::{
+        AlphaMode, Light, Material, MetallicRoughness, Object, Scene, Texture, TextureRef, UvTransform, Wrap,
+    };
     use rand::{Rng, SeedableRng};
 
     /// The AVX2 + FMA loops and the portable ones give the same bits (the
     /// compiler does not contract into FMA), on random textured,
-    /// smooth-shaded triangles with two directional lights.
+    /// smooth-shaded triangles with two directional lights, some
+    /// metallic-rough, blended or masked.
     #[test]
     fn simd_and_portable_loops_agree_bit_for_bit() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(21);
-        let texels = (0..19 * 11)
-            .map(|_| [rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0), 1.0])
-            .collect();
+        let texels = (0..19 * 11).map(|_| std::array::from_fn(|_| rng.gen_range(0.0..1.0))).collect();
         let texture = Texture {
             name: "random".into(),
             width: 19,
@@ -686,19 +858,28 @@ mod tests {
             wrap: [Wrap::Repeat, Wrap::MirroredRepeat],
         };
         let mut objects = Vec::new();
-        for k in 0..2 {
+        let textured = || Some(TextureRef { texture: 0, uv_set: 0, transform: UvTransform::default() });
+        for k in 0..4 {
             let mut o = Object {
                 name: format!("random {k}"),
                 material: Material {
                     base_colour: [0.9, 0.7, 0.5, 1.0],
                     specular: [0.4; 3],
                     shininess: 40.0,
-                    base_colour_texture: (k == 0).then(|| TextureRef {
-                        texture: 0,
-                        uv_set: 0,
-                        transform: UvTransform::default(),
-                    }),
+                    base_colour_texture: (k != 1).then(textured).flatten(),
                     double_sided: k == 1,
+                    // Metallic-rough and blended; masked by the texture's alpha.
+                    metallic_roughness: (k == 2).then(|| MetallicRoughness {
+                        metallic: 0.8,
+                        roughness: 0.6,
+                        texture: textured(),
+                    }),
+                    alpha_mode: [
+                        AlphaMode::Opaque,
+                        AlphaMode::Opaque,
+                        AlphaMode::Blend,
+                        AlphaMode::Mask { cutoff: 0.5 },
+                    ][k],
                     ..Material::default()
                 },
                 ..Object::default()

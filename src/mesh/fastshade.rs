@@ -3,11 +3,16 @@
 //! looked up per hit. Along one hololine's segment every attribute is affine
 //! in the segment parameter, so this is exact up to f32 rounding; the tests
 //! compare the two renderers, which holds the two shaders together.
+//!
+//! A material with a metallic-roughness texture gets its diffuse colour,
+//! `k_s` and exponent point by point ([`PointTerms`]), in the batch and in
+//! [`shade_run`] alike; [`coverage`] is the alpha of a point of a
+//! see-through material, which the rasteriser composites with.
 
 use std::collections::HashMap;
 
 use super::shade::{sample, Lighting, SpecularModel};
-use super::{Light, Material, Object, Scene, Texture, TextureRef};
+use super::{AlphaMode, Light, Material, MetallicRoughness, Object, Scene, Texture, TextureRef};
 use crate::math::{add, cross, dot, mul, narrow, normalize, normalize_or, scale, sub};
 use crate::sampling::bilerp;
 
@@ -29,15 +34,20 @@ pub(crate) struct FastMaterial {
     /// Lobe arguments `x` at or below this give a lobe under
     /// [`LOBE_FLOOR`]`/π/max(k_s)` and are skipped.
     x_min: f32,
+    /// Metalness and roughness over the surface, making the diffuse colour,
+    /// `k_s` and exponent per point ([`PointTerms`]).
+    metallic_roughness: Option<MetallicRoughness>,
+    /// The lobe (for the normalisation of a point's exponent).
+    model: SpecularModel,
+    /// See [`Material::alpha_mode`], and the base colour factor's alpha.
+    alpha_mode: AlphaMode,
+    alpha: f32,
 }
 
 impl FastMaterial {
     pub(crate) fn new(m: &Material, model: SpecularModel) -> Self {
         let n = m.shininess.max(0.0);
-        let lobe_norm = match model {
-            SpecularModel::Phong => (n + 2.0) / (2.0 * std::f32::consts::PI),
-            SpecularModel::Blinn => (n + 8.0) / (8.0 * std::f32::consts::PI),
-        };
+        let lobe_norm = lobe_norm(model, n);
         FastMaterial {
             base: [m.base_colour[0], m.base_colour[1], m.base_colour[2]],
             emissive: m.emissive,
@@ -51,6 +61,97 @@ impl FastMaterial {
             normal_texture: m.normal_texture.clone(),
             normal_scale: m.normal_scale,
             x_min: lobe_threshold(lobe_norm as f64, m.specular.iter().fold(0.0f32, |a, &b| a.max(b)) as f64, n as f64),
+            metallic_roughness: m.metallic_roughness.clone(),
+            model,
+            alpha_mode: m.alpha_mode,
+            alpha: m.base_colour[3],
+        }
+    }
+
+    /// Whether what is behind the surface can show through it (its
+    /// [`AlphaMode`] is not opaque).
+    pub(crate) fn see_through(&self) -> bool {
+        self.alpha_mode != AlphaMode::Opaque
+    }
+
+    /// The terms of a point of base colour `base` (factor × vertex colour ×
+    /// texture): a metallic-roughness material's from the texel of its
+    /// texture there (`None`: the factors alone), any other's its own.
+    #[inline]
+    fn point_terms(&self, base: [f32; 3], texel: Option<[f32; 4]>) -> PointTerms {
+        match &self.metallic_roughness {
+            None => PointTerms {
+                albedo: base,
+                ks: self.ks,
+                exponent: self.exponent,
+                lobe_norm: self.lobe_norm,
+                x_min: self.x_min,
+                specular: self.specular,
+            },
+            Some(mr) => PointTerms::metallic_roughness(mr, self.ks, self.model, base, texel),
+        }
+    }
+}
+
+/// The normalisation of a lobe of exponent `n`: `(n + 2)/2π` (Phong) or
+/// `(n + 8)/8π` (Blinn).
+#[inline(always)]
+fn lobe_norm(model: SpecularModel, n: f32) -> f32 {
+    match model {
+        SpecularModel::Phong => (n + 2.0) / (2.0 * std::f32::consts::PI),
+        SpecularModel::Blinn => (n + 8.0) / (8.0 * std::f32::consts::PI),
+    }
+}
+
+/// [`super::shade::exponent_of_roughness`] in f32 (the glTF loader's
+/// factor-only mapping uses it too).
+#[inline(always)]
+pub(crate) fn exponent_of_roughness(roughness: f32) -> f32 {
+    let alpha = (roughness * roughness).max(0.01);
+    2.0 / (alpha * alpha) - 2.0
+}
+
+/// The shading terms of one point: diffuse colour, `k_s`, exponent and
+/// lobe normalisation, the lobe argument at or below which the lobe is
+/// skipped, and whether there is a specular term.
+#[derive(Clone, Copy)]
+pub(crate) struct PointTerms {
+    albedo: [f32; 3],
+    ks: [f32; 3],
+    exponent: f32,
+    lobe_norm: f32,
+    x_min: f32,
+    specular: bool,
+}
+
+impl PointTerms {
+    /// [`super::shade`]'s metallic-roughness mapping: `m` and `r` the
+    /// factors × the texel's B and G, clamped; `ρ = base·(1 − m)`,
+    /// `k_s = k_d + (base − k_d)·m`, `n` from `r`. No lobe is skipped
+    /// (`x_min` 0: finding the threshold per point would cost more than it
+    /// saves).
+    #[inline(always)]
+    fn metallic_roughness(
+        mr: &MetallicRoughness,
+        dielectric: [f32; 3],
+        model: SpecularModel,
+        base: [f32; 3],
+        texel: Option<[f32; 4]>,
+    ) -> PointTerms {
+        let (mut metal, mut rough) = (mr.metallic, mr.roughness);
+        if let Some(t) = texel {
+            metal *= t[2];
+            rough *= t[1];
+        }
+        let metal = metal.clamp(0.0, 1.0);
+        let exponent = exponent_of_roughness(rough.clamp(0.0, 1.0));
+        PointTerms {
+            albedo: std::array::from_fn(|c| base[c] * (1.0 - metal)),
+            ks: std::array::from_fn(|c| dielectric[c] + (base[c] - dielectric[c]) * metal),
+            exponent,
+            lobe_norm: lobe_norm(model, exponent),
+            x_min: 0.0,
+            specular: true,
         }
     }
 
@@ -184,6 +285,8 @@ pub(crate) struct Attrs {
     /// Interpolated vertex normal (not unit), or the face normal.
     pub normal: [f32; 3],
     pub colour: [f32; 3],
+    /// The vertex colours' alpha (1 without vertex colours).
+    pub alpha: f32,
     /// Texture coordinates of up to two sets.
     pub uv: [[f32; 2]; 2],
     pub tangent: [f32; 4],
@@ -210,6 +313,7 @@ impl Attrs {
                 for q in 0..3 {
                     a.colour[q] += o.colours[i][q] * wk;
                 }
+                a.alpha += o.colours[i][3] * wk;
             }
             for (set, uv) in o.uv_sets.iter().take(2).enumerate() {
                 if !uv.is_empty() {
@@ -229,6 +333,7 @@ impl Attrs {
         }
         if o.colours.is_empty() {
             a.colour = [1.0; 3];
+            a.alpha = 1.0;
         }
         a
     }
@@ -240,6 +345,7 @@ impl Attrs {
             pos: d3(self.pos, b.pos),
             normal: d3(self.normal, b.normal),
             colour: d3(self.colour, b.colour),
+            alpha: b.alpha - self.alpha,
             uv: [
                 [b.uv[0][0] - self.uv[0][0], b.uv[0][1] - self.uv[0][1]],
                 [b.uv[1][0] - self.uv[1][0], b.uv[1][1] - self.uv[1][1]],
@@ -363,6 +469,9 @@ pub(crate) fn shade_run(
             let texel = sample_fast(&scene.textures[r.texture], uv(r));
             base = mul(base, [texel[0], texel[1], texel[2]]);
         }
+        let texel = m.metallic_roughness.as_ref().and_then(|mr| mr.texture.as_ref());
+        let terms = m.point_terms(base, texel.map(|r| sample_fast(&scene.textures[r.texture], uv(r))));
+        let mut base = terms.albedo;
         let mut emitted = m.emissive;
         if let Some(r) = &m.emissive_texture {
             let texel = sample_fast(&scene.textures[r.texture], uv(r));
@@ -383,12 +492,12 @@ pub(crate) fn shade_run(
             }
             let ec = scale(l.irradiance, cos_i);
             diffuse = add(diffuse, ec);
-            if m.specular {
+            if terms.specular {
                 let x = match lights.model {
                     SpecularModel::Phong => 2.0 * cos_i * nv - l.lv,
                     SpecularModel::Blinn => dot(normal, l.half),
                 };
-                let lobe = m.lobe(x);
+                let lobe = terms.lobe(x);
                 if lobe > 0.0 {
                     specular = add(specular, scale(ec, lobe));
                 }
@@ -410,7 +519,7 @@ pub(crate) fn shade_run(
                 }
                 let ec = scale(i, inv * cos_i);
                 diffuse = add(diffuse, ec);
-                if m.specular {
+                if terms.specular {
                     let x = match lights.model {
                         SpecularModel::Phong => 2.0 * cos_i * nv - dot(to_light, view),
                         SpecularModel::Blinn => {
@@ -423,7 +532,7 @@ pub(crate) fn shade_run(
                             }
                         }
                     };
-                    let lobe = m.lobe(x);
+                    let lobe = terms.lobe(x);
                     if lobe > 0.0 {
                         specular = add(specular, scale(ec, lobe));
                     }
@@ -433,11 +542,34 @@ pub(crate) fn shade_run(
         let rgb: [f32; 3] = std::array::from_fn(|c| {
             emitted[c]
                 + base[c] * (lights.ambient[c] + diffuse[c] * std::f32::consts::FRAC_1_PI)
-                + m.ks[c] * specular[c]
+                + terms.ks[c] * specular[c]
         });
         acc_r[px] += rgb[0];
         acc_g[px] += rgb[1];
         acc_b[px] += rgb[2];
+    }
+}
+
+/// [`super::shade::coverage`] in f32: how much of a ray the point at
+/// parameter `t` of a segment of material `m` (attributes `a + t·d`) covers.
+pub(crate) fn coverage(scene: &Scene, m: &FastMaterial, a: &Attrs, d: &Attrs, t: f32) -> f32 {
+    let cutoff = match m.alpha_mode {
+        AlphaMode::Opaque => return 1.0,
+        AlphaMode::Mask { cutoff } => Some(cutoff),
+        AlphaMode::Blend => None,
+    };
+    let mut alpha = m.alpha * (a.alpha + d.alpha * t);
+    if let Some(r) = &m.base_texture {
+        let uv = if r.uv_set < 2 {
+            [a.uv[r.uv_set][0] + d.uv[r.uv_set][0] * t, a.uv[r.uv_set][1] + d.uv[r.uv_set][1] * t]
+        } else {
+            [0.0; 2]
+        };
+        alpha *= sample_fast(&scene.textures[r.texture], r.transform.apply(uv))[3];
+    }
+    match cutoff {
+        Some(c) => f32::from(u8::from(alpha >= c)),
+        None => alpha.clamp(0.0, 1.0),
     }
 }
 
@@ -494,12 +626,14 @@ pub(crate) fn pow01(x: f32, n: f32) -> f32 {
 impl Run<'_> {
     /// The run can go through a [`Batch`]: no emissive texture, no normal
     /// map, no point lights and no texture transform (their per-pixel work
-    /// stays in [`shade_run`]); a base-colour texture is looked up while
-    /// gathering.
+    /// stays in [`shade_run`]); a base-colour texture and a
+    /// metallic-roughness one are looked up while gathering.
     pub(crate) fn is_simple(&self, lights: &FastLights) -> bool {
         let m = self.material;
+        let plain = |r: &Option<TextureRef>| r.as_ref().map_or(true, |r| r.transform == super::UvTransform::default());
         m.emissive_texture.is_none()
-            && m.base_texture.as_ref().map_or(true, |r| r.transform == super::UvTransform::default())
+            && plain(&m.base_texture)
+            && m.metallic_roughness.as_ref().map_or(true, |mr| plain(&mr.texture))
             && (m.normal_texture.is_none() || !self.has_tangents)
             && lights.point.is_empty()
             && (!self.has_normals || self.normals_nonzero)
@@ -540,7 +674,7 @@ pub(crate) fn normals_nonzero(a: &Attrs, d: &Attrs) -> bool {
 /// looks up by each pixel's segment (entries of segments that are not
 /// [`Run::is_simple`] are unused).
 #[derive(Default)]
-pub(crate) struct SegmentTable {
+pub(crate) struct SegmentTable<'m> {
     simple: Vec<bool>,
     /// Shading normal at the start and its change to the end (the face
     /// normal and zero when flat), before facing is applied.
@@ -563,15 +697,23 @@ pub(crate) struct SegmentTable {
     texture_width: Vec<i32>,
     uv_a: Vec<[f32; 2]>,
     uv_d: Vec<[f32; 2]>,
+    /// The material of each segment, for a metallic-roughness one's terms
+    /// per point ([`FastMaterial::point_terms`]), and whether it is one.
+    material: Vec<&'m FastMaterial>,
+    metallic_roughness: Vec<bool>,
+    /// Its metallic-roughness texture's coordinates.
+    mr_uv_a: Vec<[f32; 2]>,
+    mr_uv_d: Vec<[f32; 2]>,
+    any_metallic_roughness: bool,
     /// Per view column: +1 where the segment faces the rays, −1 where its
     /// back (double-sided) is seen.
     sign: Vec<f32>,
 }
 
-impl SegmentTable {
+impl<'m> SegmentTable<'m> {
     /// Add the next segment, `run` as seen from its front; it is simple
     /// when [`Run::is_simple`].
-    pub(crate) fn push(&mut self, scene: &Scene, lights: &FastLights, run: &Run) {
+    pub(crate) fn push(&mut self, scene: &Scene, lights: &FastLights, run: &Run<'m>) {
         let m = run.material;
         let (a, d) = (run.a, run.delta);
         let (na, nd) = if run.has_normals { (a.normal, d.normal) } else { (run.face, [0.0; 3]) };
@@ -605,6 +747,13 @@ impl SegmentTable {
                 self.uv_d.push([0.0; 2]);
             }
         }
+        self.material.push(m);
+        self.metallic_roughness.push(m.metallic_roughness.is_some());
+        self.any_metallic_roughness |= m.metallic_roughness.is_some();
+        let mr_set = m.metallic_roughness.as_ref().and_then(|mr| mr.texture.as_ref()).map_or(2, |r| r.uv_set);
+        let (ua, ud) = if mr_set < 2 { (a.uv[mr_set], d.uv[mr_set]) } else { ([0.0; 2], [0.0; 2]) };
+        self.mr_uv_a.push(ua);
+        self.mr_uv_d.push(ud);
         self.sign.push(1.0);
     }
 
@@ -641,6 +790,10 @@ pub(crate) struct Batch {
     pixel: Vec<u32>,
     owner: Vec<u32>,
     t: Vec<f32>,
+    /// The pixels were listed with weights ([`Batch::push_weighted`]):
+    /// each one's radiance is added to the column × its weight.
+    weighted: bool,
+    weight: Vec<f32>,
     /// Interpolated (not unit) shading normal, facing the viewer.
     n: [Vec<f32>; 3],
     /// Base colour × vertex colour × texture.
@@ -724,6 +877,20 @@ impl Batch {
         self.count += 1;
     }
 
+    /// [`Batch::push`] with a weight: a see-through surface's coverage ×
+    /// what the surfaces in front of it let through. A column's pixels are
+    /// listed either all with weights or all without.
+    #[inline]
+    pub(crate) fn push_weighted(&mut self, pixel: usize, owner: u32, t: f64, weight: f32) {
+        let at = self.count;
+        if self.weight.len() <= at {
+            self.weight.resize(at + 64, 0.0);
+        }
+        self.weight[at] = weight;
+        self.weighted = true;
+        self.push(pixel, owner, t);
+    }
+
     /// Interpolate the listed pixels' attributes and add their emissive and
     /// ambient terms to `acc` (the column).
     pub(crate) fn gather(&mut self, scene: &Scene, table: &SegmentTable, lights: &FastLights, acc: [&mut [f32]; 3]) {
@@ -775,12 +942,19 @@ impl Batch {
             // The radiance is in `diffuse`.
             let [acc_r, acc_g, acc_b] = acc;
             for (acc, rgb) in [acc_r, acc_g, acc_b].into_iter().zip(&self.diffuse) {
-                for (&p, x) in self.pixel[..count].iter().zip(&rgb[..count]) {
-                    acc[p as usize] += x;
+                if self.weighted {
+                    for ((&p, x), w) in self.pixel[..count].iter().zip(&rgb[..count]).zip(&self.weight) {
+                        acc[p as usize] += w * x;
+                    }
+                } else {
+                    for (&p, x) in self.pixel[..count].iter().zip(&rgb[..count]) {
+                        acc[p as usize] += x;
+                    }
                 }
             }
         }
         self.count = 0;
+        self.weighted = false;
     }
 }
 
@@ -867,7 +1041,42 @@ fn gather_kernel(b: &mut Batch, scene: &Scene, table: &SegmentTable, lights: &Fa
             alb[i] *= texel[2];
         }
     }
+    if table.any_metallic_roughness {
+        // Metallic-roughness materials: the terms per point, from the base
+        // colour just found and their texture (looked up one by one).
+        for i in 0..len {
+            let (o, t) = (owner[i] as usize, ts[i]);
+            if !table.metallic_roughness[o] {
+                continue;
+            }
+            let m = table.material[o];
+            let texel = m.metallic_roughness.as_ref().and_then(|mr| mr.texture.as_ref()).map(|r| {
+                let (ua, ud) = (table.mr_uv_a[o], table.mr_uv_d[o]);
+                sample_fast(&scene.textures[r.texture], [ua[0] + ud[0] * t, ua[1] + ud[1] * t])
+            });
+            let p = m.point_terms([alr[i], alg[i], alb[i]], texel);
+            [alr[i], alg[i], alb[i]] = p.albedo;
+            [kr[i], kg[i], kb[i]] = p.ks.map(|k| k * p.lobe_norm);
+            ex[i] = p.exponent;
+            xm[i] = p.x_min;
+        }
+    }
     let [acc_r, acc_g, acc_b] = acc;
+    if b.weighted {
+        // See-through surfaces: the same terms × each pixel's weight.
+        for (i, &p) in b.pixel[..len].iter().enumerate() {
+            let (p, o, w) = (p as usize, owner[i] as usize, b.weight[i]);
+            let e = table.emissive[o];
+            let ambient = if table.prelit[o] { [1.0; 3] } else { lights.ambient };
+            acc_r[p] += w * (e[0] + alr[i] * ambient[0]);
+            acc_g[p] += w * (e[1] + alg[i] * ambient[1]);
+            acc_b[p] += w * (e[2] + alb[i] * ambient[2]);
+            if table.prelit[o] {
+                (alr[i], alg[i], alb[i]) = (0.0, 0.0, 0.0);
+            }
+        }
+        return;
+    }
     for (i, &p) in b.pixel[..len].iter().enumerate() {
         let (p, o) = (p as usize, owner[i] as usize);
         let e = table.emissive[o];

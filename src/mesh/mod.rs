@@ -69,7 +69,8 @@ pub struct Object {
 pub struct Material {
     /// Name for messages.
     pub name: String,
-    /// Linear RGBA base (diffuse) colour factor.
+    /// Linear RGBA base (diffuse) colour factor; its alpha is used as
+    /// [`Material::alpha_mode`] says.
     pub base_colour: [f32; 4],
     /// Texture multiplying the base colour (sRGB-decoded).
     pub base_colour_texture: Option<TextureRef>,
@@ -81,10 +82,25 @@ pub struct Material {
     pub emissive: [f32; 3],
     /// Texture multiplying the emissive factor (sRGB-decoded).
     pub emissive_texture: Option<TextureRef>,
-    /// Specular reflectance `k_s` (linear RGB).
+    /// Specular reflectance `k_s` (linear RGB); with
+    /// [`Material::metallic_roughness`], that of the surface where it is not
+    /// metal.
     pub specular: [f32; 3],
-    /// Specular exponent `n` of `(R·V)^n` / `(N·H)^n`.
+    /// Specular exponent `n` of `(R·V)^n` / `(N·H)^n`; with
+    /// [`Material::metallic_roughness`], unused by the renderers (the
+    /// roughness of each point gives it).
     pub shininess: f32,
+    /// Metalness and roughness that vary over the surface (a glTF
+    /// metallic-roughness texture); `None`: the surface is what
+    /// `base_colour`, `specular` and `shininess` say everywhere. See
+    /// [`shade`] for how a point's metalness and roughness become its
+    /// diffuse colour, `k_s` and `n`.
+    pub metallic_roughness: Option<MetallicRoughness>,
+    /// How the alpha of a point (the base colour factor's × the vertex
+    /// colour's × the base colour texture's) is used: ignored (opaque), cut
+    /// at a threshold, or as the coverage through which what is behind
+    /// shows (glTF `alphaMode`).
+    pub alpha_mode: AlphaMode,
     /// Seen from both sides (glTF `doubleSided`); otherwise back faces are invisible.
     pub double_sided: bool,
     /// Pre-lit (a HoloFlick's micropolygons, Deering, *HoloFlicks* §8): the base colour
@@ -128,12 +144,47 @@ impl Default for Material {
             emissive_texture: None,
             specular: [0.04; 3],
             shininess: 10.0,
+            metallic_roughness: None,
+            alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             prelit: false,
             specular_model: None,
             lights: None,
         }
     }
+}
+
+/// What a material does with the alpha of its points (glTF 2.0 §3.9.4,
+/// `alphaMode`). The alpha of a point is the base colour factor's alpha ×
+/// the vertex colour's × the base colour texture's.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum AlphaMode {
+    /// Alpha is ignored: the surface is opaque (OBJ and PLY materials, and
+    /// glTF's default).
+    #[default]
+    Opaque,
+    /// Opaque where alpha ≥ `cutoff`, wholly transparent elsewhere.
+    Mask {
+        /// glTF `alphaCutoff` (0.5 when the file gives none).
+        cutoff: f32,
+    },
+    /// Alpha is how much of a ray the surface covers: a ray's radiance is
+    /// the front-to-back composite of the surfaces it crosses,
+    /// `L = Σ_i L_i α_i Π_{k<i} (1 − α_k)`, an opaque surface ending it.
+    Blend,
+}
+
+/// Metalness and roughness over a surface, as glTF's metallic-roughness
+/// material gives them (glTF 2.0 §3.9.2): each the factor × the texture's
+/// channel (roughness in G, metalness in B; linear), clamped to `[0, 1]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MetallicRoughness {
+    /// Metalness factor.
+    pub metallic: f32,
+    /// Roughness factor.
+    pub roughness: f32,
+    /// The texture (linear); `None`: the factors alone.
+    pub texture: Option<TextureRef>,
 }
 
 /// A material's use of a texture.
@@ -276,7 +327,29 @@ impl Scene {
                 return Some(format!("object {name:?}: a texture coordinate set does not have one entry per vertex"));
             }
             let m = &o.material;
-            for r in [&m.base_colour_texture, &m.normal_texture, &m.emissive_texture].into_iter().flatten() {
+            if let AlphaMode::Mask { cutoff } = m.alpha_mode {
+                if !cutoff.is_finite() {
+                    return Some(format!("object {name:?}: material {:?} has the alpha cutoff {cutoff}", m.name));
+                }
+            }
+            if let Some(mr) = &m.metallic_roughness {
+                if !(mr.metallic.is_finite() && mr.roughness.is_finite()) {
+                    return Some(format!(
+                        "object {name:?}: material {:?} has the metalness {} and roughness {}",
+                        m.name, mr.metallic, mr.roughness
+                    ));
+                }
+            }
+            let metallic_roughness = m.metallic_roughness.as_ref().and_then(|mr| mr.texture.as_ref());
+            for r in [
+                m.base_colour_texture.as_ref(),
+                m.normal_texture.as_ref(),
+                m.emissive_texture.as_ref(),
+                metallic_roughness,
+            ]
+            .into_iter()
+            .flatten()
+            {
                 if r.texture >= self.textures.len() {
                     return Some(format!(
                         "object {name:?}: material {:?} uses texture {} of {}",

@@ -48,8 +48,11 @@ impl Supersample {
 }
 
 impl Default for Supersample {
-    /// 2 × 2: the knob table in the README shows it removes most of the
-    /// aliasing of 1 × 1 at 2–3 times the cost.
+    /// 2 × 2: the supersampling table of BENCHMARKS.md shows it removes
+    /// most of the aliasing of 1 × 1 at 2–3 times the cost. Geometry finer
+    /// than the emitters (cooling fins, grilles, hair) still aliases into
+    /// moiré at 2 × 2, and some factors beat with it (fins 0.25 mm apart on
+    /// Mark III: 3 × 3 is worse than 2 × 2); such scenes want 4 × 4 or more.
     fn default() -> Self {
         Supersample::new(2, 2)
     }

@@ -22,11 +22,36 @@
 //! [`super::Material::specular_model`]; by default every light and the
 //! render's lobe).
 //!
+//! A material with [`super::Material::metallic_roughness`] (glTF's
+//! metallic-roughness texture) has at each point a metalness `m` and a
+//! roughness `r` (factor × texture channel, clamped to `[0, 1]`). With `ρ_b`
+//! the base colour there (factor × vertex colour × texture) and `k_d` the
+//! material's `specular` (the reflectance where it is not metal: glTF's
+//! 0.04), the terms above are those the glTF 2.0 specification's BRDF
+//! (Appendix B) gives a metallic-roughness material:
+//!
+//! ```text
+//! ρ = ρ_b·(1 − m),   k_s = k_d + (ρ_b − k_d)·m,   n = 2/α² − 2,  α = max(r², 0.01)
+//! ```
+//!
+//! A metal has no diffuse part and reflects its base colour; a dielectric
+//! reflects 4 % of the light, white. The exponent: glTF's microfacet
+//! distribution is GGX of width `α = r²`, and a Blinn lobe `(N·H)^n` is a
+//! Beckmann distribution of width `α` when `n = 2/α² − 2` (Walter et al.
+//! 2007); GGX and Beckmann agree near the peak, which is what a highlight
+//! shows ([`exponent_of_roughness`]). `α` is clamped at 0.01 so a
+//! mirror-smooth surface gets a finite exponent (19 998). Fresnel's rise at
+//! grazing angles and the masking term are left out, as in the mapping the
+//! glTF loader makes of materials without the texture.
+//!
+//! [`coverage`] is the alpha of a point as [`super::Material::alpha_mode`]
+//! uses it; the renderers composite the surfaces a ray crosses with it.
+//!
 //! Everything here is f64 and table-free: the reference ray caster and the
 //! fast rasteriser shade with the same function, so comparing them tests
 //! visibility, and the tests below test the formulas.
 
-use super::{Light, Object, Scene, Texture, TextureRef, Wrap};
+use super::{AlphaMode, Light, Object, Scene, Texture, TextureRef, Wrap};
 use crate::math::{add, cross, dot, mul, narrow, normalize, normalize_or, scale, sub, widen};
 use crate::sampling::bilerp;
 
@@ -209,6 +234,61 @@ pub fn face_normal(o: &Object, t: usize) -> [f64; 3] {
     cross(sub(p1, p0), sub(p2, p0))
 }
 
+/// The Blinn exponent of glTF roughness `r` (see the module's text):
+/// `n = 2/α² − 2` with `α = max(r², 0.01)`.
+pub fn exponent_of_roughness(roughness: f64) -> f64 {
+    let alpha = (roughness * roughness).max(0.01);
+    2.0 / (alpha * alpha) - 2.0
+}
+
+/// The barycentric weights of `hit`.
+fn weights(hit: &Hit) -> [f64; 3] {
+    [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2]
+}
+
+/// The coordinates texture `r` is looked up at, at weights `w` of triangle
+/// `tri` of `o` (`[0, 0]` when the object lacks the set).
+fn uv_at(o: &Object, tri: [u32; 3], w: [f64; 3], r: &TextureRef) -> [f32; 2] {
+    let set = match o.uv_sets.get(r.uv_set) {
+        Some(s) if !s.is_empty() => s,
+        _ => return [0.0, 0.0],
+    };
+    let mut uv = [0.0f64; 2];
+    for (k, &i) in tri.iter().enumerate() {
+        let c = set[i as usize];
+        uv[0] += c[0] as f64 * w[k];
+        uv[1] += c[1] as f64 * w[k];
+    }
+    r.transform.apply([uv[0] as f32, uv[1] as f32])
+}
+
+/// How much of a ray the point `hit` covers, as its material's
+/// [`AlphaMode`] says: 1 for an opaque material; for a masked one 1 where
+/// the point's alpha (base colour factor × vertex colour × base colour
+/// texture) reaches the cutoff and 0 elsewhere; for a blended one that
+/// alpha, clamped to `[0, 1]`.
+pub fn coverage(scene: &Scene, hit: &Hit) -> f64 {
+    let o = &scene.objects[hit.object as usize];
+    let m = &o.material;
+    let cutoff = match m.alpha_mode {
+        AlphaMode::Opaque => return 1.0,
+        AlphaMode::Mask { cutoff } => Some(cutoff as f64),
+        AlphaMode::Blend => None,
+    };
+    let (tri, w) = (o.triangles[hit.triangle as usize], weights(hit));
+    let mut alpha = m.base_colour[3] as f64;
+    if !o.colours.is_empty() {
+        alpha *= tri.iter().enumerate().map(|(k, &i)| o.colours[i as usize][3] as f64 * w[k]).sum::<f64>();
+    }
+    if let Some(r) = &m.base_colour_texture {
+        alpha *= sample(&scene.textures[r.texture], uv_at(o, tri, w, r))[3] as f64;
+    }
+    match cutoff {
+        Some(c) => f64::from(u8::from(alpha >= c)),
+        None => alpha.clamp(0.0, 1.0),
+    }
+}
+
 /// Radiance (linear RGB) sent from `hit` along the unit vector `view`
 /// (pointing from the surface toward the viewer), from the lights the hit
 /// object's material receives with its lobe (see [`Lighting`]).
@@ -216,7 +296,7 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
     let o = &scene.objects[hit.object as usize];
     let t = hit.triangle as usize;
     let tri = o.triangles[t];
-    let w = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
+    let w = weights(hit);
     let m = &o.material;
     let mut position = [0.0; 3];
     for (k, &i) in tri.iter().enumerate() {
@@ -241,19 +321,7 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
         }
     };
 
-    let uv = |r: &TextureRef| -> [f32; 2] {
-        let set = match o.uv_sets.get(r.uv_set) {
-            Some(s) if !s.is_empty() => s,
-            _ => return [0.0, 0.0],
-        };
-        let mut uv = [0.0f64; 2];
-        for (k, &i) in tri.iter().enumerate() {
-            let c = set[i as usize];
-            uv[0] += c[0] as f64 * w[k];
-            uv[1] += c[1] as f64 * w[k];
-        }
-        r.transform.apply([uv[0] as f32, uv[1] as f32])
-    };
+    let uv = |r: &TextureRef| uv_at(o, tri, w, r);
 
     if let Some(r) = &m.normal_texture {
         if !o.tangents.is_empty() {
@@ -299,6 +367,20 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
         let texel = sample(&scene.textures[r.texture], uv(r));
         base = mul(base, widen([texel[0], texel[1], texel[2]]));
     }
+    let mut ks = widen(m.specular);
+    let mut n_exp = m.shininess.max(0.0) as f64;
+    if let Some(mr) = &m.metallic_roughness {
+        let (mut metal, mut rough) = (mr.metallic as f64, mr.roughness as f64);
+        if let Some(r) = &mr.texture {
+            let texel = sample(&scene.textures[r.texture], uv(r));
+            metal *= texel[2] as f64;
+            rough *= texel[1] as f64;
+        }
+        let metal = metal.clamp(0.0, 1.0);
+        ks = add(ks, scale(sub(base, ks), metal));
+        base = scale(base, 1.0 - metal);
+        n_exp = exponent_of_roughness(rough.clamp(0.0, 1.0));
+    }
     let mut out = widen(m.emissive);
     if let Some(r) = &m.emissive_texture {
         let texel = sample(&scene.textures[r.texture], uv(r));
@@ -309,8 +391,6 @@ pub fn radiance(scene: &Scene, lighting: &Lighting, hit: &Hit, view: [f64; 3]) -
         out = add(out, base);
         base = [0.0; 3];
     }
-    let ks = widen(m.specular);
-    let n_exp = m.shininess.max(0.0) as f64;
     let diffuse = scale(base, std::f64::consts::FRAC_1_PI);
     let model = m.specular_model.unwrap_or(lighting.model);
     for (index, light) in lighting.lights.iter().enumerate() {

@@ -1,13 +1,53 @@
 //! The reference renderer: every sub-ray is cast on its own through a BVH,
-//! in f64, from the viewer line back along `−d`; the first surface met that
-//! faces the viewer (or is double-sided) is shaded. Obviously correct and
-//! slow; the fast rasteriser (`epi.rs`) is tested against it.
+//! in f64, from the viewer line back along `−d`; the surfaces met that face
+//! the viewer (or are double-sided) are shaded one after another, nearest
+//! first, each weighted by its [`coverage`] and by what the ones in front let
+//! through, until an opaque one ends the ray (`along_ray`). Obviously
+//! correct and slow; the fast rasteriser (`epi.rs`) is tested against it.
 
-use super::bvh::Bvh;
+use super::bvh::{Bvh, Triangle};
 use super::render::{HololineRenderer, RenderStats, Shading};
-use super::shade::{radiance, Hit};
+use super::shade::{coverage, radiance, Hit, Lighting};
+use super::Scene;
 use crate::geometry::Ray;
-use crate::math::{dot, normalize, scale};
+use crate::math::{add, dot, normalize, scale};
+
+/// What a ray from `origin` along `dir` sees of `scene`: the radiance sent
+/// back along it (toward `origin`; `view` is the unit vector that way) and
+/// the ray parameter of the nearest
+/// surface that covers any of it, or `None` when no surface does. The
+/// surfaces `shown(triangle, geometric normal)` allows are met nearest
+/// first; each adds its radiance × its [`coverage`] `α` × what the ones in
+/// front let through, `Π (1 − α_k)`, and an opaque one (`α = 1`) ends the
+/// ray (glTF 2.0 §3.9.4, `alphaMode`). A surface no further than `1e-12`
+/// (in units of the ray parameter) behind the last is the same surface met
+/// again (the shared edge of two triangles), not another.
+pub(crate) fn along_ray(
+    scene: &Scene,
+    lighting: &Lighting,
+    bvh: &Bvh,
+    origin: [f64; 3],
+    dir: [f64; 3],
+    view: [f64; 3],
+    shown: impl Fn(&Triangle, [f64; 3]) -> bool,
+) -> Option<([f64; 3], f64)> {
+    let (mut sum, mut through, mut first, mut t_min) = ([0.0; 3], 1.0, None, 0.0);
+    while let Some(hit) = bvh.nearest(origin, dir, t_min, &shown) {
+        let h = Hit { object: hit.object, triangle: hit.triangle, b1: hit.b1, b2: hit.b2 };
+        let alpha = coverage(scene, &h);
+        if alpha > 0.0 {
+            first = first.or(Some(hit.t));
+            let l = radiance(scene, lighting, &h, view);
+            sum = add(sum, scale(l, through * alpha));
+            through *= 1.0 - alpha;
+            if through <= 0.0 {
+                break;
+            }
+        }
+        t_min = hit.t + 1e-12;
+    }
+    first.map(|t| (sum, t))
+}
 
 pub(crate) struct TraceRenderer<'a> {
     s: Shading<'a>,
@@ -29,11 +69,8 @@ impl<'a> TraceRenderer<'a> {
         let back = scale(d, -1.0);
         let scene = self.s.scene;
         // Front faces face the viewer: their normal has a positive component along d.
-        let hit = self.bvh.nearest(origin, back, 0.0, |tri, n| {
-            scene.objects[tri.object as usize].material.double_sided || dot(n, d) > 0.0
-        })?;
-        let h = Hit { object: hit.object, triangle: hit.triangle, b1: hit.b1, b2: hit.b2 };
-        Some(radiance(scene, self.s.lighting, &h, normalize(d)))
+        let shown = |tri: &Triangle, n| scene.objects[tri.object as usize].material.double_sided || dot(n, d) > 0.0;
+        along_ray(scene, self.s.lighting, &self.bvh, origin, back, normalize(d), shown).map(|(l, _)| l)
     }
 }
 

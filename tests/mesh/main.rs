@@ -12,6 +12,7 @@ mod cull;
 mod dice;
 mod end_to_end;
 mod load;
+mod materials;
 mod micro;
 mod normals;
 mod pipeline;

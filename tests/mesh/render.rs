@@ -15,7 +15,7 @@ use rand_chacha::ChaCha8Rng;
 
 /// A small display: 21 hololines, 48 emitters of 1 mm, 32 views over ±20°,
 /// emitter plane at 0, viewer at 500 mm.
-fn small_geometry(emitter_z_m: f64) -> Geometry {
+pub(crate) fn small_geometry(emitter_z_m: f64) -> Geometry {
     Geometry::centred(
         21,
         48,
@@ -28,7 +28,7 @@ fn small_geometry(emitter_z_m: f64) -> Geometry {
     )
 }
 
-fn both(scene: &Scene, g: &Geometry, options: &RenderOptions) -> (Modulation, Modulation, RenderStats) {
+pub(crate) fn both(scene: &Scene, g: &Geometry, options: &RenderOptions) -> (Modulation, Modulation, RenderStats) {
     let fast =
         render(scene, g, &RenderOptions { engine: Engine::Fast, ..options.clone() }, &holo::progress::Silent).unwrap();
     let reference =
@@ -39,7 +39,12 @@ fn both(scene: &Scene, g: &Geometry, options: &RenderOptions) -> (Modulation, Mo
 
 /// Both engines on a random scene that must cover a tenth of the display:
 /// the reference, and [`compare`]'s figures for the fast path, printed.
-fn fast_against_reference(seed: u64, scene: &Scene, g: &Geometry, options: &RenderOptions) -> (Modulation, f64, f64) {
+pub(crate) fn fast_against_reference(
+    seed: u64,
+    scene: &Scene,
+    g: &Geometry,
+    options: &RenderOptions,
+) -> (Modulation, f64, f64) {
     let (fast, reference, stats) = both(scene, g, options);
     let (off, mean) = compare(&fast, &reference);
     println!(
@@ -55,7 +60,7 @@ fn fast_against_reference(seed: u64, scene: &Scene, g: &Geometry, options: &Rend
 }
 
 /// (fraction of samples differing by more than 1% of the peak, mean |difference| / mean value).
-fn compare(fast: &Modulation, reference: &Modulation) -> (f64, f64) {
+pub(crate) fn compare(fast: &Modulation, reference: &Modulation) -> (f64, f64) {
     let peak = reference.samples().iter().fold(0.0f32, |a, &b| a.max(b)) as f64;
     let mean = reference.samples().iter().map(|&v| v as f64).sum::<f64>() / reference.samples().len() as f64;
     let mut off = 0usize;
@@ -71,7 +76,7 @@ fn compare(fast: &Modulation, reference: &Modulation) -> (f64, f64) {
     (off as f64 / n, sum / n / mean.max(1e-30))
 }
 
-fn random_scene(rng: &mut ChaCha8Rng, triangles: usize) -> Scene {
+pub(crate) fn random_scene(rng: &mut ChaCha8Rng, triangles: usize) -> Scene {
     let mut objects = Vec::new();
     for o in 0..3 {
         let mut obj = Object {
@@ -107,7 +112,7 @@ fn random_scene(rng: &mut ChaCha8Rng, triangles: usize) -> Scene {
     Scene { source: "random".into(), objects, ..Scene::default() }
 }
 
-fn lighting(model: SpecularModel) -> Lighting {
+pub(crate) fn lighting(model: SpecularModel) -> Lighting {
     Lighting {
         lights: vec![
             Light::Directional { direction: [0.3, -0.5, -1.0], irradiance: [2.0, 2.0, 2.0], name: "key".into() },

@@ -24,7 +24,9 @@ use crate::math::{
     cofactor3, det3, linear, mat3_apply, mat_mul, transform_direction, transform_point, translation, transpose, unit,
     Mat3, Mat4, IDENTITY4,
 };
-use crate::mesh::{Light, Material, Object, Scene, Texture, TextureRef, UvTransform, Wrap};
+use crate::mesh::{
+    AlphaMode, Light, Material, MetallicRoughness, Object, Scene, Texture, TextureRef, UvTransform, Wrap,
+};
 use crate::{Error, Result};
 
 /// An opened glTF file, ready to be posed.
@@ -465,11 +467,11 @@ impl Reader<'_> {
 
     /// Every material, its metallic-roughness terms turned into the
     /// shader's Phong terms, with the textures it uses.
-    fn materials(&mut self, doc: &gltf::Document, warnings: &mut Vec<String>) -> Result<Vec<Material>> {
-        doc.materials().map(|m| self.material(doc, &m, warnings)).collect()
+    fn materials(&mut self, doc: &gltf::Document) -> Result<Vec<Material>> {
+        doc.materials().map(|m| self.material(doc, &m)).collect()
     }
 
-    fn material(&mut self, doc: &gltf::Document, m: &gltf::Material, warnings: &mut Vec<String>) -> Result<Material> {
+    fn material(&mut self, doc: &gltf::Document, m: &gltf::Material) -> Result<Material> {
         let name = m.name().map(str::to_string).unwrap_or_else(|| format!("#{}", m.index().unwrap_or(0)));
         let pbr = m.pbr_metallic_roughness();
         let base = pbr.base_color_factor();
@@ -483,14 +485,15 @@ impl Reader<'_> {
         // The GGX lobe of width α = roughness² matches a Blinn-Phong
         // lobe (N·H)^n with n = 2/α² − 2 (Walter et al. 2007, the
         // Beckmann/Phong equivalence); α is clamped to ≥ 0.01 so a
-        // mirror-smooth material gets a finite exponent (19 998).
-        let alpha = (roughness * roughness).max(0.01);
+        // mirror-smooth material gets a finite exponent (19 998). With a
+        // metallic-roughness texture the same is done point by point
+        // (crate::mesh::shade), from the factors × the texture.
         let specular = [0, 1, 2].map(|k| 0.04 + (base[k] - 0.04) * metallic);
         let mut mat = Material {
             name: name.clone(),
             base_colour: [base[0] * (1.0 - metallic), base[1] * (1.0 - metallic), base[2] * (1.0 - metallic), base[3]],
             specular,
-            shininess: 2.0 / (alpha * alpha) - 2.0,
+            shininess: crate::mesh::fastshade::exponent_of_roughness(roughness),
             emissive: m.emissive_factor(),
             double_sided: m.double_sided(),
             ..Material::default()
@@ -513,12 +516,29 @@ impl Reader<'_> {
                 Some(TextureRef { texture: t, uv_set: tc.unwrap_or(nt.tex_coord()) as usize, transform });
             mat.normal_scale = nt.scale();
         }
-        if pbr.metallic_roughness_texture().is_some() {
-            warnings.push(format!(
-                "{}: material \"{name}\": the metallic-roughness texture is not used (its factors are)",
-                file_name(self.path)
-            ));
+        if let Some(info) = pbr.metallic_roughness_texture() {
+            // Metalness in B, roughness in G (linear), each × its factor:
+            // the terms are found point by point, from the base colour as
+            // the file gives it and the dielectric's reflectance.
+            let t = self.texture(doc, info.texture(), false, &name, "metallic-roughness")?;
+            mat.base_colour = base;
+            mat.specular = [0.04; 3];
+            mat.metallic_roughness =
+                Some(MetallicRoughness { metallic, roughness, texture: Some(texture_ref(&info, t)) });
         }
+        mat.alpha_mode = match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+            gltf::material::AlphaMode::Mask => {
+                let cutoff = m.alpha_cutoff().unwrap_or(0.5);
+                if cutoff.is_nan() || cutoff < 0.0 {
+                    return Err(self.err(format!(
+                        "material \"{name}\": its alphaCutoff is {cutoff}; glTF 2.0 requires a cutoff of 0 or more"
+                    )));
+                }
+                AlphaMode::Mask { cutoff }
+            }
+        };
         Ok(mat)
     }
 
@@ -978,7 +998,7 @@ impl GltfSource {
         };
         let order = node_order(path, doc)?;
         check_triangle_budget(path, doc, &order, limits)?;
-        let materials = rd.materials(doc, &mut warnings)?;
+        let materials = rd.materials(doc)?;
         let meshes = rd.meshes(doc, &materials, &mut warnings)?;
         let mut nodes: Vec<NodeData> = doc.nodes().map(|n| node_data(&n)).collect();
         let lights = doc.lights().map(|ls| ls.map(|l| light_def(&l)).collect()).unwrap_or_default();

@@ -207,10 +207,16 @@ pub(crate) fn finish_scene(path: &Path, scene: &mut Scene) -> Result<()> {
         // left out (with a warning) rather than sampled at garbage.
         let (uv_sets, n_textures) = (o.uv_sets.len(), scene.textures.len());
         let m = &mut o.material;
+        let mut none = None;
+        let metallic_roughness = match &mut m.metallic_roughness {
+            Some(mr) => &mut mr.texture,
+            None => &mut none,
+        };
         for (slot, r) in [
             ("base colour", &mut m.base_colour_texture),
             ("normal", &mut m.normal_texture),
             ("emissive", &mut m.emissive_texture),
+            ("metallic-roughness", metallic_roughness),
         ] {
             if let Some(t) = r {
                 if t.texture >= n_textures || t.uv_set >= uv_sets {
