@@ -16,7 +16,7 @@ use holo::holoflick::convert::HoloFlickSource;
 use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
 use holo::math::Mat4;
 use holo::mesh::convert::{convert_mesh, ConvertOptions, MeshRender, SceneFrames, SceneFramesOptions};
-use holo::mesh::place::{display_volume, Placement};
+use holo::mesh::place::display_volume;
 use holo::mesh::render::{Engine, RenderOptions, Supersample};
 use holo::mesh::shade::{parse_light, read_lights, Lighting};
 use holo::pipeline::decide;
@@ -24,7 +24,8 @@ use holo::pipeline::decide;
 use super::farm::{Decided, FrameJob};
 use super::{check_output, Failure, Outcome};
 use crate::args::{
-    self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, SpecularChoice, WriteArgs,
+    self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, PlacementArgs, SpecularChoice,
+    WriteArgs,
 };
 use crate::out::{say, warn};
 use crate::progress::Reporter;
@@ -170,18 +171,8 @@ pub struct MeshArgs {
     /// Ignore the scene's own lights (glTF KHR_lights_punctual).
     #[arg(long)]
     no_scene_lights: bool,
-    /// Rotation before fitting, degrees about x, y, z: RX,RY,RZ.
-    #[arg(long = "rotate", value_parser = args::triple("RX,RY,RZ in degrees"), allow_hyphen_values = true)]
-    rotate_deg: Option<[f64; 3]>,
-    /// Display millimetres per scene unit, instead of fitting the scene to the display.
-    #[arg(long = "scale", value_parser = args::positive_millimetres())]
-    scale_m: Option<f64>,
-    /// Offset after centring, millimetres: X,Y,Z.
-    #[arg(long = "translate", value_parser = args::millimetre_triple(), allow_hyphen_values = true)]
-    translate_m: Option<[f64; 3]>,
-    /// A row-major 4x4 matrix (16 numbers, scene units to display metres) instead of fitting.
-    #[arg(long, value_parser = args::matrix(), allow_hyphen_values = true)]
-    matrix: Option<[[f64; 4]; 4]>,
+    #[command(flatten)]
+    placement: PlacementArgs,
     /// Render with the reference ray caster (slow; for checking).
     #[arg(long)]
     reference: bool,
@@ -238,12 +229,7 @@ fn mesh_options(a: &MeshArgs, g: &holo::Geometry) -> Result<ConvertOptions, Fail
     }
     Ok(ConvertOptions {
         scene: SceneFramesOptions {
-            placement: Placement {
-                rotate_deg: a.rotate_deg.unwrap_or([0.0; 3]),
-                scale: a.scale_m,
-                translate_m: a.translate_m.unwrap_or([0.0; 3]),
-                matrix: a.matrix,
-            },
+            placement: a.placement.placement(),
             frames: a.frames.clone(),
             frames_per_second: a.fps,
             smooth_normals_deg: a.smooth_normals,
@@ -421,7 +407,7 @@ impl FrameJob for MeshArgs {
 
     fn for_frame(&mut self, n: usize, output: PathBuf, placement: Option<Mat4>) {
         self.frames = Some(n..n + 1);
-        self.matrix = placement.or(self.matrix);
+        self.placement.matrix = placement.or(self.placement.matrix);
         self.target.one_frame(output);
     }
 }

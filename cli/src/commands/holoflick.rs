@@ -13,7 +13,7 @@ use holo::holoflick::tools::{info, pack, unpack, PackOptions, PackReport};
 use holo::mesh::convert::SceneFramesOptions;
 
 use super::{check_output, Outcome};
-use crate::args::{self, layout_geometry, layout_help};
+use crate::args::{self, layout_geometry, layout_help, PlacementArgs};
 use crate::out::{put, say, warn};
 use crate::progress::Reporter;
 
@@ -165,6 +165,8 @@ pub struct EncodeArgs {
     #[arg(long, value_name = "DEG", value_parser = args::degrees_0_to_180())]
     smooth_normals: Option<f64>,
     #[command(flatten)]
+    placement: PlacementArgs,
+    #[command(flatten)]
     movie: MovieArgs,
 }
 
@@ -178,10 +180,10 @@ fn run_encode(a: EncodeArgs) -> Outcome {
         shadows: a.shadows,
         encode: m.encode(),
         scene: SceneFramesOptions {
+            placement: a.placement.placement(),
             frames: m.frames.clone(),
             frames_per_second: m.fps,
             smooth_normals_deg: a.smooth_normals,
-            ..Default::default()
         },
         key_interval: m.key_interval,
         overwrite: m.force,

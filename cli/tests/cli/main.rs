@@ -7,6 +7,7 @@ use std::process::{Command, Output};
 
 mod commands;
 mod farm;
+mod first_use;
 mod inputs;
 mod output;
 mod pictures;

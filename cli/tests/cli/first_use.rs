@@ -1,0 +1,68 @@
+//! What a new user meets first, from the README and `--help` alone: lights
+//! that say what they replace and which way they shine, a scene placed in
+//! the unit `--scale` takes and said when it leaves the display, `holoflick
+//! encode` placed as `convert mesh` is, quilts that say which tiles are cut,
+//! `check` with a verdict, every argument checked before the output, and
+//! messages that name flags, never the library's types.
+
+use super::{holo, ok, spot, text};
+
+/// The line of `out` that starts with `start`.
+fn line<'a>(out: &'a str, start: &str) -> &'a str {
+    out.lines().find(|l| l.starts_with(start)).unwrap_or_else(|| panic!("no line {start:?} in:\n{out}"))
+}
+
+#[test]
+fn placement_is_said_in_millimetres_and_a_scene_beyond_the_display_is_warned() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let spot = &spot();
+    let base = ["convert", "mesh", spot, "--layout", "mark1", "--supersample", "1"];
+    let fitted = text(&ok(holo(&[&base[..], &["-o", "fit.holo"]].concat(), d)));
+    assert!(line(&fitted, "placed at ").contains(" display mm per scene unit"), "{fitted}");
+    assert!(!fitted.contains("leaves the display"), "{fitted}");
+    // Mark I's 5 views resolve little depth, and its hololines span 19 mm: 20 mm a
+    // unit puts the cow's head and feet beyond them.
+    let large = text(&ok(holo(&[&base[..], &["-o", "large.holo", "--scale", "20"]].concat(), d)));
+    assert!(line(&large, "placed at ").starts_with("placed at 20 display mm per scene unit"), "{large}");
+    assert!(large.contains("spot.obj: placed, the scene leaves the display's volume: y from"), "{large}");
+    assert!(large.contains("y up to +17.0 mm, beyond the display's edge at +9.6 mm (cut off)"), "{large}");
+    assert!(large.contains("the views resolve (blurred)"), "{large}");
+    // The same warning from holoflick encode, which places alike.
+    let o = text(&ok(holo(&["holoflick", "encode", spot, "--layout", "mark1", "-o", "l.hflk", "--scale", "20"], d)));
+    assert!(o.contains("leaves the display's volume: y from"), "{o}");
+}
+
+#[test]
+fn holoflick_encode_places_the_scene_as_convert_mesh_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let spot = &spot();
+    let matrix = "0.01,0,0,0.002,0,0.01,0,0,0,0,0.01,0,0,0,0,1";
+    for (k, placement) in [
+        &["--scale", "10"][..],
+        &["--rotate", "0,-60,0"],
+        &["--rotate", "0,90,0", "--translate", "0,5,-2"],
+        &["--matrix", matrix],
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let holo_out = format!("m{k}.holo");
+        let mesh = ["convert", "mesh", spot, "--layout", "mark1", "--supersample", "1", "-o", &holo_out];
+        let mesh = text(&ok(holo(&[&mesh[..], placement].concat(), d)));
+        let hflk = format!("e{k}.hflk");
+        let encode = text(&ok(holo(
+            &[&["holoflick", "encode", spot, "--layout", "mark1", "-o", &hflk][..], placement].concat(),
+            d,
+        )));
+        assert_eq!(line(&encode, "placed at "), line(&mesh, "placed at "), "{placement:?}");
+        // The file records the placement chosen.
+        let info = text(&ok(holo(&["holoflick", "info", &hflk], d)));
+        assert!(info.contains(line(&mesh, "placed at ")), "{placement:?}: {info}");
+    }
+    // Fitted, nothing chosen: the provenance is as it was.
+    ok(holo(&["holoflick", "encode", spot, "--layout", "mark1", "-o", "fit.hflk"], d));
+    let info = text(&ok(holo(&["holoflick", "info", "fit.hflk"], d)));
+    assert!(!info.contains("placed at"), "{info}");
+}
