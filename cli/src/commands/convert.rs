@@ -27,7 +27,7 @@ use crate::args::{
     self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, PlacementArgs, SpecularChoice,
     WriteArgs,
 };
-use crate::out::{say, warn};
+use crate::out::{note, say, warn};
 use crate::progress::Reporter;
 
 #[derive(Subcommand)]
@@ -162,11 +162,18 @@ pub struct MeshArgs {
     /// Specular lobe.
     #[arg(long, value_enum, default_value = "blinn")]
     specular: SpecularChoice,
-    /// A light (repeatable): dir:DX,DY,DZ[:R,G,B], point:X,Y,Z[:R,G,B] (mm) or ambient:R,G,B.
-    #[arg(long)]
+    /// A light (repeatable): dir:DX,DY,DZ[:R,G,B], point:X,Y,Z[:R,G,B] or ambient:R,G,B. Lights given are
+    /// added to the scene's own and replace the two default lights (dir:1,-1,-1 and ambient:0.08,0.08,0.08),
+    /// which light only a scene given no lights: a side the given lights miss is then dark (a note says
+    /// so). dir: a distant light travelling along DX,DY,DZ, the way its light goes (x right, y up, z toward
+    /// the viewer: dir:0,0,-1 lights the scene's front); point: a light at X,Y,Z millimetres (display
+    /// coordinates); ambient: radiance. R,G,B: irradiance at the scene (default π: a white surface facing
+    /// the light has radiance 1).
+    #[arg(long, value_name = "KIND:VALUES")]
     light: Vec<String>,
-    /// A file of lights, one per line in --light's form.
-    #[arg(long)]
+    /// A file of lights, one per line as --light takes them (# starts a comment); like --light, they
+    /// replace the default lights.
+    #[arg(long, value_name = "FILE")]
     lights: Option<PathBuf>,
     /// Ignore the scene's own lights (glTF KHR_lights_punctual).
     #[arg(long)]
@@ -211,6 +218,15 @@ fn mesh(a: MeshArgs) -> Outcome {
         report.stats.segments,
         report.stats.shaded
     );
+    // The lights given are all the lights (the scene has none of its own, or
+    // they are ignored): the two default ones are not used.
+    let given = options.render.lighting.lights.len();
+    if given > 0 && report.lights.len() == given {
+        note(format_args!(
+            "the lights given replace the default ones (--light {}); give those too to keep them",
+            Lighting::DEFAULT_SPECS.join(" --light ")
+        ));
+    }
     a.target.say_timings(&report.timings, report.frames.len());
     Ok(ExitCode::SUCCESS)
 }

@@ -13,6 +13,28 @@ fn line<'a>(out: &'a str, start: &str) -> &'a str {
 }
 
 #[test]
+fn a_light_given_says_it_replaces_the_default_lights_and_dir_says_where_light_goes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let help = text(&ok(holo(&["convert", "mesh", "--help"], d)));
+    for words in ["replace the two default lights", "dir:1,-1,-1", "travelling along DX,DY,DZ, the way its light goes"]
+    {
+        assert!(help.contains(words), "{words}: {help}");
+    }
+    let spot = &spot();
+    let o = text(&ok(holo(&["convert", "mesh", spot, "--layout", "mark1", "-o", "a.holo", "--supersample", "1"], d)));
+    assert!(!o.contains("note:"), "{o}");
+    let args = ["convert", "mesh", spot, "--layout", "mark1", "-o", "b.holo", "--supersample", "1"];
+    let o = text(&ok(holo(&[&args[..], &["--light", "dir:0,0,-1"]].concat(), d)));
+    assert!(
+        o.contains(
+            "holo: note: the lights given replace the default ones (--light dir:1,-1,-1 --light ambient:0.08,0.08,0.08)"
+        ),
+        "{o}"
+    );
+}
+
+#[test]
 fn placement_is_said_in_millimetres_and_a_scene_beyond_the_display_is_warned() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
