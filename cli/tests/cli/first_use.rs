@@ -88,3 +88,17 @@ fn holoflick_encode_places_the_scene_as_convert_mesh_does() {
     let info = text(&ok(holo(&["holoflick", "info", "fit.hflk"], d)));
     assert!(!info.contains("placed at"), "{info}");
 }
+
+#[test]
+fn export_quilt_says_which_tiles_see_the_display_from_beyond_its_views() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark3", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    let o = text(&ok(holo(&["export-quilt", "ramp.holo", "-o", "q.png"], d)));
+    assert!(o.contains("of 48 tiles see part of the display from beyond the file's views"), "{o}");
+    assert!(o.contains("views 0–") && o.contains("–47 are black there, with a hard edge"), "{o}");
+    let cone = o.split("a view cone of ").nth(1).and_then(|t| t.split('°').next()).expect("a cone said");
+    // The cone said shows every tile whole (and leaves the outer views out, as is said).
+    let o = text(&ok(holo(&["export-quilt", "ramp.holo", "-o", "whole.png", "--view-cone", cone], d)));
+    assert!(!o.contains("beyond") && o.contains("views lie outside the quilt's"), "{o}");
+}
