@@ -5,7 +5,7 @@
 //! `check` with a verdict, every argument checked before the output, and
 //! messages that name flags, never the library's types.
 
-use super::{holo, ok, spot, text};
+use super::{fixture, holo, ok, spot, text};
 
 /// The line of `out` that starts with `start`.
 fn line<'a>(out: &'a str, start: &str) -> &'a str {
@@ -101,4 +101,58 @@ fn export_quilt_says_which_tiles_see_the_display_from_beyond_its_views() {
     // The cone said shows every tile whole (and leaves the outer views out, as is said).
     let o = text(&ok(holo(&["export-quilt", "ramp.holo", "-o", "whole.png", "--view-cone", cone], d)));
     assert!(!o.contains("beyond") && o.contains("views lie outside the quilt's"), "{o}");
+}
+
+#[test]
+fn check_judges_the_figures_by_the_spec_s_bounds() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "--level", "0.8", "-o", "ramp.holo"], d));
+    let o = text(&ok(holo(&["check", "ramp.holo", "--layout", "mark1"], d)));
+    assert_eq!(o.matches("    pass: ").count(), 2, "{o}");
+    assert!(o.contains("is below the bound 1.2%") && o.contains("is below the bound 6.0%"), "{o}");
+    assert!(o.contains("verdict: pass (the bounds of spec/layouts.md §9.1 for mark1, 8-bit fringes)"), "{o}");
+    let o = ok(holo(&["check", "ramp.holo", "--layout", "mark1", "--json"], d));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(json["verdict"]["pass"], true);
+    assert_eq!(json["verdict"]["bounds"]["signal"], 0.012);
+    // Far brighter than the 8-bit quantization holds: clipped, and failed.
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "--level", "40", "-o", "hot.holo"], d));
+    let o = holo(&["check", "hot.holo", "--layout", "mark1"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(
+        text(&o).contains("FAIL") && text(&o).contains("outside the bounds of spec/layouts.md §9.1"),
+        "{}",
+        text(&o)
+    );
+    let o = ok(holo(&["check", "hot.holo", "--layout", "mark1", "--report-only", "--json"], d));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(json["verdict"]["pass"], false);
+    // A layout the spec states no bound for: figures only, exit 0.
+    ok(holo(&["pattern", "--layout", "mark1-hogel", "--kind", "view-ramp", "-o", "hogel.holo"], d));
+    let o = text(&ok(holo(&["check", "hogel.holo", "--layout", "mark1-hogel", "--hololines", "0..2"], d)));
+    assert!(o.contains("verdict: none (spec/layouts.md §9.1 states bounds for mark3 and mark1"), "{o}");
+}
+
+#[test]
+fn check_takes_the_frames_of_a_movie() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cube = fixture("mesh/AnimatedMorphCube.glb");
+    let cube = cube.to_str().unwrap();
+    let convert =
+        ["convert", "mesh", cube, "--layout", "mark1", "--fps", "0.5", "--supersample", "1", "-o", "cube.holo"];
+    ok(holo(&convert, d));
+    let o = text(&ok(holo(&["check", "cube.holo", "--layout", "mark1", "--frames", "0..3"], d)));
+    assert_eq!(o.matches("verdict: pass").count(), 3, "{o}");
+    assert!(o.contains("cube.holo frame 2 on layout mark1") && o.contains("verdict over frames 0..3: pass"), "{o}");
+    let o = ok(holo(&["check", "cube.holo", "--layout", "mark1", "--frames", "1..=2", "--json"], d));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!((json["frames"].as_array().unwrap().len(), &json["pass"]), (2, &serde_json::Value::Bool(true)));
+    assert_eq!(json["frames"][1]["frame"], 2);
+    let o = holo(&["check", "cube.holo", "--layout", "mark1", "--frames", "2..5"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("cube.holo") && text(&o).contains("2..5"), "{}", text(&o));
+    let o = holo(&["check", "cube.holo", "--frame", "1", "--frames", "0..2"], d);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
 }
