@@ -307,7 +307,7 @@ pub struct CamerasArgs {
     #[arg(long, value_parser = args::positive())]
     baseline: Option<f64>,
     /// Folder or Stanford: focal length in pixels.
-    #[arg(long, value_parser = args::positive())]
+    #[arg(long, value_parser = args::positive(), conflicts_with = "fov_deg")]
     focal_px: Option<f64>,
     /// Folder or Stanford: horizontal field of view in degrees.
     #[arg(long = "fov", value_parser = args::angle_below_180_degrees())]
@@ -358,7 +358,8 @@ fn cameras(a: CamerasArgs) -> Outcome {
         write: write.options(String::new()),
     };
     let started = Instant::now();
-    let report = convert_camera_files(&a.input, &g, &write.output, &options, &Reporter::on_stderr())?;
+    let report = convert_camera_files(&a.input, &g, &write.output, &options, &Reporter::on_stderr())
+        .map_err(with_capture_flags)?;
     report.resample.warnings.iter().chain(&report.written.warnings).for_each(warn);
     let r = &report.resample;
     let (input, output, seconds) = (a.input.display(), report.path.display(), started.elapsed().as_secs_f64());
@@ -391,6 +392,32 @@ fn cameras(a: CamerasArgs) -> Outcome {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// What a capture's files do not say, by the words the library's sentences
+/// name it with, and the flags that give it.
+const CAPTURE_FLAGS: [(&str, &str); 4] = [
+    ("the baseline", "--baseline"),
+    ("focal length", "--focal-px or --fov"),
+    ("field of view", "--focal-px or --fov"),
+    ("the focus distance", "--focus"),
+];
+
+/// A capture refused for something only the user can give, with the flags
+/// that give it (the library names quantities, the command line its flags).
+fn with_capture_flags(e: holo::Error) -> Failure {
+    let mut flags: Vec<&str> = Vec::new();
+    if let holo::Error::Rig { problem, .. } = &e {
+        for (words, flag) in CAPTURE_FLAGS {
+            if problem.contains(words) && !flags.contains(&flag) {
+                flags.push(flag);
+            }
+        }
+    }
+    match flags.as_slice() {
+        [] => Failure::from(e),
+        _ => Failure(format!("{e} ({})", flags.join("; "))),
+    }
 }
 
 /// A conversion as `holo farm` splits it: one file of the numbered sequence

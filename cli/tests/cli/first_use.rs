@@ -5,6 +5,8 @@
 //! `check` with a verdict, every argument checked before the output, and
 //! messages that name flags, never the library's types.
 
+use std::path::Path;
+
 use super::{fixture, holo, ok, spot, text};
 
 /// The line of `out` that starts with `start`.
@@ -154,5 +156,42 @@ fn check_takes_the_frames_of_a_movie() {
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(text(&o).contains("cube.holo") && text(&o).contains("2..5"), "{}", text(&o));
     let o = holo(&["check", "cube.holo", "--frame", "1", "--frames", "0..2"], d);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+}
+
+/// Pictures for a capture folder.
+fn pictures(d: &Path, names: &[&str]) {
+    std::fs::create_dir_all(d).unwrap();
+    for name in names {
+        image::RgbImage::from_pixel(8, 6, image::Rgb([90, 120, 60])).save(d.join(name)).unwrap();
+    }
+}
+
+#[test]
+fn messages_name_flags_never_the_library_s_types() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    pictures(&d.join("rail"), &["a.png", "b.png"]);
+    pictures(&d.join("stanford"), &["out_00_00_-10.0_-10.0_.png", "out_00_01_-10.0_10.0_.png"]);
+    let convert = |capture: &str, more: &[&str]| {
+        let args = [&["convert", "cameras", capture, "--layout", "mark1", "-o", "c.holo"][..], more].concat();
+        let o = holo(&args, d);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        text(&o)
+    };
+    let cases = [
+        (convert("rail", &[]), "--baseline"),
+        (convert("rail", &["--baseline", "1"]), "--focal-px or --fov"),
+        (convert("stanford", &[]), "--focal-px or --fov"),
+        (convert("stanford", &["--focal-px", "10"]), "--focus"),
+    ];
+    for (message, flag) in &cases {
+        assert!(message.contains(flag), "{flag}: {message}");
+        assert_eq!(message.lines().count(), 1, "{message}");
+        for library in ["Options", "CameraHints", "focal_length_px", "horizontal_fov_deg", "focus_distance", "::"] {
+            assert!(!message.contains(library), "{library}: {message}");
+        }
+    }
+    let o = holo(&["convert", "cameras", "rail", "-o", "c.holo", "--focal-px", "10", "--fov", "40"], d);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
 }
