@@ -22,7 +22,7 @@ use holo::mesh::shade::{parse_light, read_lights, Lighting};
 use holo::pipeline::decide;
 
 use super::farm::{Decided, FrameJob};
-use super::{check_output, Failure, Outcome};
+use super::{check_output, inputs_exist, Failure, Outcome};
 use crate::args::{
     self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, PlacementArgs, SpecularChoice,
     WriteArgs,
@@ -100,8 +100,9 @@ pub struct HoloflickArgs {
 }
 
 fn holoflick(a: HoloflickArgs) -> Outcome {
-    check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
     let g = layout_geometry(&a.target.layout)?;
+    inputs_exist(&[&a.file])?;
+    check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
     let options = holoflick_options(&a);
     let started = Instant::now();
     let report = convert_holoflick(&a.file, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
@@ -191,11 +192,12 @@ pub struct MeshArgs {
 }
 
 fn mesh(a: MeshArgs) -> Outcome {
+    let g = layout_geometry(&a.target.layout)?;
+    let options = mesh_options(&a, &g)?;
+    inputs_exist(&[&a.scene])?;
     let mut read = vec![a.scene.as_path(), Path::new(&a.target.layout)];
     read.extend(a.lights.as_deref());
     check_output(&a.target.write.output, &read, a.target.write.force)?;
-    let g = layout_geometry(&a.target.layout)?;
-    let options = mesh_options(&a, &g)?;
     let started = Instant::now();
     let report = convert_mesh(&a.scene, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
     report.warnings.iter().for_each(warn);
@@ -325,11 +327,12 @@ pub struct CamerasArgs {
 
 fn cameras(a: CamerasArgs) -> Outcome {
     let write = &a.target.write;
+    let g = layout_geometry(&a.target.layout)?;
+    inputs_exist(&[&a.input])?;
     check_output(&write.output, &[&a.input, Path::new(&a.target.layout)], write.force)?;
     if let Some(mask) = &a.unseen_mask {
         check_output(mask, &[&a.input, &write.output], write.force)?;
     }
-    let g = layout_geometry(&a.target.layout)?;
     let mut open = OpenOptions::default();
     open.folder.baseline = a.baseline;
     let camera = CameraHints { focal_length_px: a.focal_px, horizontal_fov_deg: a.fov_deg, focus_distance: a.focus };

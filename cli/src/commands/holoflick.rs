@@ -12,7 +12,7 @@ use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions, DEFAULT_
 use holo::holoflick::tools::{info, pack, unpack, PackOptions, PackReport};
 use holo::mesh::convert::SceneFramesOptions;
 
-use super::{check_output, Outcome};
+use super::{check_output, inputs_exist, Outcome};
 use crate::args::{self, layout_geometry, layout_help, PlacementArgs};
 use crate::out::{put, say, warn};
 use crate::progress::Reporter;
@@ -50,6 +50,7 @@ pub fn run(command: HoloflickCommand) -> Outcome {
         HoloflickCommand::Pack(a) => return run_pack(a),
         HoloflickCommand::Encode(a) => return run_encode(a),
         HoloflickCommand::Unpack { file, frame, output, force } => {
+            inputs_exist(&[&file])?;
             check_output(&output, &[&file], force)?;
             let triangles = unpack(&file, frame, &output, force)?;
             say!("wrote {} ({triangles} triangles of frame {frame})", output.display());
@@ -118,6 +119,7 @@ pub struct PackArgs {
 fn run_pack(a: PackArgs) -> Outcome {
     let m = &a.movie;
     let read: Vec<&Path> = a.meshes.iter().map(PathBuf::as_path).collect();
+    inputs_exist(&read)?;
     check_output(&a.output, &read, m.force)?;
     let options = PackOptions {
         encode: m.encode(),
@@ -171,8 +173,9 @@ pub struct EncodeArgs {
 }
 
 fn run_encode(a: EncodeArgs) -> Outcome {
-    check_output(&a.output, &[&a.scene, Path::new(&a.layout)], a.movie.force)?;
     let g = layout_geometry(&a.layout)?;
+    inputs_exist(&[&a.scene])?;
+    check_output(&a.output, &[&a.scene, Path::new(&a.layout)], a.movie.force)?;
     let m = &a.movie;
     let options = HoloFlickEncodeOptions {
         micropolygon: a.micropolygon,

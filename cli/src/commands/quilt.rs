@@ -8,7 +8,7 @@ use holo::cameras::quilt::{export_quilt, quilt_file_name, view_cone_deg_for, Qui
 
 use holo::picture::White;
 
-use super::{check_output, Failure, Outcome};
+use super::{check_output, inputs_exist, Failure, Outcome};
 use crate::args::{self, white_help, PresetChoice};
 use crate::out::{say, warn};
 
@@ -55,6 +55,7 @@ pub struct ExportQuiltArgs {
 }
 
 pub fn run(a: ExportQuiltArgs) -> Outcome {
+    inputs_exist(&[&a.file])?;
     let mut spec = a.preset.spec()?;
     spec.columns = a.columns.unwrap_or(spec.columns);
     spec.rows = a.rows.unwrap_or(spec.rows);

@@ -8,7 +8,7 @@ use holo::reconstruct::files::{is_fringe_dir, view_file, EyeAt};
 
 use holo::picture::White;
 
-use super::{check_output, Outcome};
+use super::{check_output, inputs_exist, Outcome};
 use crate::args::{self, layout_help, load_layout, white_help};
 use crate::out::say;
 use crate::progress::Reporter;
@@ -53,6 +53,7 @@ pub struct ViewArgs {
 }
 
 pub fn run(a: ViewArgs) -> Outcome {
+    inputs_exist(&[&a.input])?;
     let layout = match &a.layout {
         Some(name) => Some(a.blanking.apply(load_layout(name)?)),
         None if is_fringe_dir(&a.input) => None,

@@ -195,3 +195,37 @@ fn messages_name_flags_never_the_library_s_types() {
     let o = holo(&["convert", "cameras", "rail", "-o", "c.holo", "--focal-px", "10", "--fov", "40"], d);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
 }
+
+#[test]
+fn every_argument_is_checked_before_the_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for name in ["exists.holo", "exists.hflk", "exists.png"] {
+        std::fs::write(d.join(name), b"a file of the user's").unwrap();
+    }
+    pictures(&d.join("rail"), &["a.png", "b.png"]);
+    let spot = &spot();
+    let unknown = "unknown layout \"mark9\"";
+    for (args, said) in [
+        (&["convert", "mesh", spot, "--layout", "mark9", "-o", "exists.holo"][..], unknown),
+        (&["convert", "cameras", "rail", "--layout", "mark9", "-o", "exists.holo"], unknown),
+        (&["convert", "holoflick", "x.hflk", "--layout", "mark9", "-o", "exists.holo"], unknown),
+        (&["holoflick", "encode", spot, "--layout", "mark9", "-o", "exists.hflk"], unknown),
+        (&["pattern", "--layout", "mark9", "--kind", "view-ramp", "-o", "exists.holo"], unknown),
+        (&["convert", "mesh", "missing.obj", "--layout", "mark1", "-o", "exists.holo"], "missing.obj"),
+        (&["convert", "mesh", spot, "--light", "dir:0,0,0", "-o", "exists.holo"], "zero direction"),
+        (&["convert", "holoflick", "missing.hflk", "-o", "exists.holo"], "missing.hflk"),
+        (&["holoflick", "encode", "missing.obj", "-o", "exists.hflk"], "missing.obj"),
+        (&["holoflick", "pack", "missing.obj", "-o", "exists.hflk"], "missing.obj"),
+        (&["export-quilt", "missing.holo", "-o", "exists.png", "--view-cone", "20"], "missing.holo"),
+        (&["view", "missing.holo", "-o", "exists.png"], "missing.holo"),
+        (&["import-views", "no-views", "--geometry", "mark1", "-o", "exists.holo"], "no-views"),
+    ] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains(said) && !text(&o).contains("already exists"), "{args:?}: {}", text(&o));
+    }
+    for name in ["exists.holo", "exists.hflk", "exists.png"] {
+        assert_eq!(std::fs::read(d.join(name)).unwrap(), b"a file of the user's");
+    }
+}
