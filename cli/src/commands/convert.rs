@@ -95,7 +95,7 @@ pub struct HoloflickArgs {
     fit: bool,
     /// A row-major 4x4 matrix (16 numbers, world to display metres) placing the content instead of
     /// deciding on the first frame converted (what holo farm gives every chunk).
-    #[arg(long, value_parser = args::matrix(), allow_hyphen_values = true)]
+    #[arg(long, value_name = "16 NUMBERS", value_parser = args::matrix(), allow_hyphen_values = true)]
     matrix: Option<[[f64; 4]; 4]>,
 }
 
@@ -279,7 +279,7 @@ pub struct CamerasArgs {
     #[arg(long, value_parser = args::positive())]
     focus: Option<f64>,
     /// Display millimetres per rig unit (default: from --framing).
-    #[arg(long = "scale", value_parser = args::positive_millimetres())]
+    #[arg(long = "scale", value_name = "MM", value_parser = args::positive_millimetres())]
     scale_m: Option<f64>,
     /// The rig point shown at the middle of the emitter plane, rig units: X,Y,Z (default: the focus point).
     #[arg(long, value_parser = args::triple("X,Y,Z in rig units"), allow_hyphen_values = true)]
@@ -312,13 +312,13 @@ pub struct CamerasArgs {
     #[arg(long, value_parser = args::positive(), conflicts_with = "fov_deg")]
     focal_px: Option<f64>,
     /// Folder or Stanford: horizontal field of view in degrees.
-    #[arg(long = "fov", value_parser = args::angle_below_180_degrees())]
+    #[arg(long = "fov", value_name = "DEG", value_parser = args::angle_below_180_degrees())]
     fov_deg: Option<f64>,
     /// Quilt: angle between the first and last view, degrees.
-    #[arg(long = "view-cone", default_value_t = DEFAULT_VIEW_CONE_DEG, value_parser = args::angle_below_180_degrees())]
+    #[arg(long = "view-cone", value_name = "DEG", default_value_t = DEFAULT_VIEW_CONE_DEG, value_parser = args::angle_below_180_degrees())]
     view_cone_deg: f64,
     /// Quilt: vertical field of view of each view, degrees.
-    #[arg(long = "quilt-fov", default_value_t = DEFAULT_VERTICAL_FOV_DEG, value_parser = args::angle_below_180_degrees())]
+    #[arg(long = "quilt-fov", value_name = "DEG", default_value_t = DEFAULT_VERTICAL_FOV_DEG, value_parser = args::angle_below_180_degrees())]
     quilt_fov_deg: f64,
     /// Locate rays among the cameras by brute force (slow; for checking).
     #[arg(long)]

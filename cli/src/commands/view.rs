@@ -23,13 +23,13 @@ pub struct ViewArgs {
     layout: Option<String>,
     /// Eye position X[,Y] in millimetres on the viewer's side (X along the
     /// hololines, 0 = centre).
-    #[arg(long, default_value = "0", value_parser = args::eye_millimetres(), allow_hyphen_values = true)]
+    #[arg(long, value_name = "X[,Y]", default_value = "0", value_parser = args::eye_millimetres(), allow_hyphen_values = true)]
     eye: (f64, f64),
     /// Viewer distance in millimetres (default: the layout's).
-    #[arg(long, value_parser = args::positive_millimetres())]
+    #[arg(long, value_name = "MM", value_parser = args::positive_millimetres())]
     distance: Option<f64>,
     /// Pupil diameter in millimetres.
-    #[arg(long, default_value = "4", value_parser = args::positive_millimetres())]
+    #[arg(long, value_name = "MM", default_value = "4", value_parser = args::positive_millimetres())]
     pupil: f64,
     /// A coherent eye: the pupil images the emitter plane and the light of
     /// neighbouring emitters interferes (slower; default: each emitter's
