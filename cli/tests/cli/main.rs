@@ -11,6 +11,7 @@ mod first_use;
 mod inputs;
 mod output;
 mod pictures;
+mod reference;
 
 const HOLO: &str = env!("CARGO_BIN_EXE_holo");
 
