@@ -17,6 +17,8 @@ use crate::args::{self, layout_geometry, layout_help, PlacementArgs};
 use crate::out::{put, say, warn};
 use crate::progress::Reporter;
 
+// Parsed once per run: the size of its largest variant does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 pub enum HoloflickCommand {
     /// Describe a HoloFlick (.hflk) or Java 3D compressed-geometry (.cg) file:

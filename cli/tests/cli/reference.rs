@@ -164,7 +164,8 @@ fn the_reference_page_and_help_agree_on_every_command_and_option() {
 
 #[test]
 fn the_page_s_parser_reads_what_it_must() {
-    let section = "\nText.\n\n- `--a`, `--b N` (default `zip`), `--c`: what.\n- `-o, --output DIR`: a `--not-an-option`.\n\
+    let section =
+        "\nText.\n\n- `--a`, `--b N` (default `zip`), `--c`: what.\n- `-o, --output DIR`: a `--not-an-option`.\n\
                    - `--light KIND:VALUES` (repeatable): `dir:1,2,3`.\nNot a bullet `--x`.\n";
     let names: Vec<String> = page_options(section).into_iter().map(|(o, _)| o).collect();
     assert_eq!(names, ["--a", "--b", "--c", "--output", "--light"]);
