@@ -198,28 +198,16 @@ fn leaves_volume(bounds: ([f64; 3], [f64; 3]), g: &Geometry) -> Option<String> {
     const SLACK_M: f64 = 1e-6;
     let mut sides = Vec::new();
     for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
-        let (low, high) = (bounds.0[k] * 1e3, bounds.1[k] * 1e3);
-        let (edge_low, edge_high) = (lo[k] * 1e3, hi[k] * 1e3);
-        if k < 2 {
-            if low < edge_low - SLACK_M * 1e3 {
-                sides.push(format!(
-                    "{axis} from {low:+.1} mm, beyond the display's edge at {edge_low:+.1} mm (cut off)"
-                ));
-            }
-            if high > edge_high + SLACK_M * 1e3 {
-                sides.push(format!(
-                    "{axis} up to {high:+.1} mm, beyond the display's edge at {edge_high:+.1} mm (cut off)"
-                ));
-            }
-        } else {
-            if low < edge_low - SLACK_M * 1e3 {
-                sides.push(format!("z from {low:+.1} mm, behind the {edge_low:+.1} mm the views resolve (blurred)"));
-            }
-            if high > edge_high + SLACK_M * 1e3 {
-                sides.push(format!(
-                    "z up to {high:+.1} mm, in front of the {edge_high:+.1} mm the views resolve (blurred)"
-                ));
-            }
+        // Across, a point beyond the emitters or hololines is cut off; in depth, blurred.
+        let (below, above, what) = match k {
+            2 => ("behind the", "in front of the", "the views resolve (blurred)"),
+            _ => ("beyond the display's edge at", "beyond the display's edge at", "(cut off)"),
+        };
+        if bounds.0[k] < lo[k] - SLACK_M {
+            sides.push(format!("{axis} from {:+.1} mm, {below} {:+.1} mm {what}", bounds.0[k] * 1e3, lo[k] * 1e3));
+        }
+        if bounds.1[k] > hi[k] + SLACK_M {
+            sides.push(format!("{axis} up to {:+.1} mm, {above} {:+.1} mm {what}", bounds.1[k] * 1e3, hi[k] * 1e3));
         }
     }
     (!sides.is_empty()).then(|| sides.join("; "))

@@ -271,8 +271,6 @@ fn bare(e: &Error, path: &Path) -> String {
     text.strip_prefix(&prefix).map(str::to_string).unwrap_or(text)
 }
 
-/// Focal length in pixels from a focal length or a horizontal field of
-/// view; `options` names the options for the message.
 /// The focal length in pixels from the one of `focal` (pixels) and `fov_deg`
 /// (the horizontal field of view over `width` pixels) given, or what is
 /// wrong, in words a caller maps to its own options (the quantities, never
