@@ -181,8 +181,9 @@ fn zone_legend(a: &Assembler) -> Vec<String> {
 }
 
 /// The share of the envelope's peak above which a stretch of the signal is
-/// a lobe: below it, the dimmer stretches between bright ones (the cow's
-/// flank either side of a dark patch of its hide reads as two lobes).
+/// a lobe: below it, the dimmer stretches between bright ones (the demo's
+/// hololine reads as two lobes, its dip between them at about a seventh of
+/// the peak).
 const LOBE_SHARE: f64 = 0.3;
 
 /// The lobes of a signal of zone `zone` of colour 0 (`row`): stretches of
