@@ -178,6 +178,23 @@ pub fn mono_channel() -> Vec<ColourChannel> {
     vec![ColourChannel::new("Y", 633e-9)]
 }
 
+/// A length in metres as the millimetres a user types (lengths and scales
+/// are typed in millimetres): four significant digits, trailing zeros
+/// dropped, without an exponent from 0.001 mm to 10⁹ mm.
+pub fn millimetres_text(length_m: f64) -> String {
+    let mm = length_m * 1e3;
+    if !(mm.abs() >= 1e-3 && mm.abs() < 1e9) {
+        return format!("{mm:.3e}");
+    }
+    let decimals = (3 - mm.abs().log10().floor() as i32).clamp(0, 6) as usize;
+    let text = format!("{mm:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
 /// How linear RGB radiance (a shader's, a camera picture's) becomes each
 /// channel of a file: `R`, `G`, `B` take their component; `Y` (one
 /// wavelength) takes the Rec. 709 luminance `0.2126 R + 0.7152 G + 0.0722 B`.
@@ -444,6 +461,17 @@ impl Geometry {
 mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn lengths_are_said_in_the_millimetres_typed() {
+        assert_eq!(millimetres_text(0.045), "45");
+        assert_eq!(millimetres_text(0.0123456), "12.35");
+        assert_eq!(millimetres_text(1.5e-5), "0.015");
+        assert_eq!(millimetres_text(2.0), "2000");
+        assert_eq!(millimetres_text(-0.25), "-250");
+        assert_eq!(millimetres_text(1e-9), "1.000e-6");
+        assert_eq!(millimetres_text(f64::NAN), "NaN");
+    }
 
     /// View `v`'s direction from the definition of each spacing: equal
     /// steps of `tan θ`, `sin θ` or `θ` from the first view, or the list.

@@ -1,6 +1,6 @@
 //! Views as pictures: one PNG per view (`view_000.png`, …), `emitters` wide
 //! and `hololines` tall, and back. The tone mapping is [`crate::picture`]'s
-//! (README, "Views as PNG"): `linear = clamp(sample / white, 0, 1)`, encoded
+//! (docs/commands.md, "Pictures: tone mapping and shape"): `linear = clamp(sample / white, 0, 1)`, encoded
 //! with the sRGB transfer function and quantised to 8 or 16 bits; import
 //! inverts it. A sidecar `holo-views.json` records the geometry and the tone
 //! mapping (the white level as the number used, however it was chosen), so

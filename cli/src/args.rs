@@ -296,6 +296,39 @@ fn missing_file(name: &str) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Where a scene goes in the display (`convert mesh`, `holoflick encode`):
+/// fitted into the display's volume unless a scale or a matrix is given
+/// (`holo::mesh::place`).
+#[derive(Args, Clone, Debug, Default)]
+pub struct PlacementArgs {
+    /// Rotation before fitting, degrees about x, then y, then z: RX,RY,RZ.
+    #[arg(long = "rotate", value_name = "RX,RY,RZ", value_parser = triple("RX,RY,RZ in degrees"), allow_hyphen_values = true)]
+    pub rotate_deg: Option<[f64; 3]>,
+    /// Display millimetres per scene unit, instead of fitting the scene to the display (a scene that then
+    /// leaves the display's volume is said).
+    #[arg(long = "scale", value_name = "MM", value_parser = positive_millimetres())]
+    pub scale_m: Option<f64>,
+    /// Offset after centring, millimetres: X,Y,Z (x right, y up, z toward the viewer).
+    #[arg(long = "translate", value_name = "X,Y,Z", value_parser = millimetre_triple(), allow_hyphen_values = true)]
+    pub translate_m: Option<[f64; 3]>,
+    /// A row-major 4x4 matrix (16 numbers, scene units to display metres) instead of fitting; the other
+    /// placement options are then not used.
+    #[arg(long, value_name = "16 NUMBERS", value_parser = matrix(), allow_hyphen_values = true)]
+    pub matrix: Option<[[f64; 4]; 4]>,
+}
+
+impl PlacementArgs {
+    /// The library's placement.
+    pub fn placement(&self) -> holo::mesh::place::Placement {
+        holo::mesh::place::Placement {
+            rotate_deg: self.rotate_deg.unwrap_or([0.0; 3]),
+            scale: self.scale_m,
+            translate_m: self.translate_m.unwrap_or([0.0; 3]),
+            matrix: self.matrix,
+        }
+    }
+}
+
 /// The output of a command writing one `.holo` file, and how it is written.
 #[derive(Args)]
 pub struct WriteArgs {

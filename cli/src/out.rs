@@ -1,5 +1,6 @@
 //! Everything the commands print goes through here: results to stdout
-//! ([`say!`], [`put!`], [`json`]), warnings to stderr ([`warn`]). What a
+//! ([`say!`], [`put!`], [`json`]), warnings and notes to stderr ([`warn`],
+//! [`note`]). What a
 //! failed or closed stdout means is decided in one place, [`print`]: a
 //! closed stdout ends the listing quietly.
 
@@ -54,4 +55,10 @@ pub fn json(value: &impl serde::Serialize) -> Result<(), Failure> {
 /// A warning on stderr, `holo: warning: …`.
 pub fn warn(warning: impl fmt::Display) {
     eprintln!("holo: warning: {warning}");
+}
+
+/// A note on stderr, `holo: note: …`: what a command decided for the user
+/// that they may not expect, though nothing is wrong.
+pub fn note(note: impl fmt::Display) {
+    eprintln!("holo: note: {note}");
 }

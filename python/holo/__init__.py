@@ -8,7 +8,7 @@ display sends in every view direction. This package reads and writes them as num
     f = holo.open("scene.holo")
     f.geometry.shape            # (channels, hololines, emitters, views)
     frame = f.frame(0)          # numpy float32 array of that shape
-    holo.write("copy.holo", frame, f.geometry)
+    holo.write("copy.holo", frame, f.geometry)  # any real float array: float64 (numpy 2's frame * k) is converted
     mark3 = holo.Layout.load("mark3")
     images = holo.assemble(frame, mark3)      # the display's frame-buffer images, uint8
     seen = holo.view(frame, mark3, [0.0])     # what an eye at x = 0 sees, [hololine, emitter, channel]

@@ -9,6 +9,8 @@ import numpy.typing as npt
 
 PathLike = Union[str, "os.PathLike[str]"]
 Frame = npt.NDArray[np.float32]
+# Frames, colours and pictures given to holo: float32, or any real floating-point array (converted).
+Floats = npt.NDArray[np.floating[Any]]
 
 class HoloError(Exception):
     """Anything holo refuses or cannot do."""
@@ -117,12 +119,12 @@ class Layout:
     def image_names(self) -> list[str]:
         """The frame buffer's image names, in the order assemble returns them."""
 
-def assemble(frame: Frame, layout: Layout, *, samples: str = "u8") -> list[np.ndarray]:
+def assemble(frame: Floats, layout: Layout, *, samples: str = "u8") -> list[np.ndarray]:
     """One frame into the layout's frame buffer: one array [row, column, component] per image, uint8 codes
     ("u8") or the float signals before quantization ("f32"); the same bytes as `holo assemble`."""
 
 def view(
-    frame: Frame,
+    frame: Floats,
     layout: Layout,
     eyes_x_m: Sequence[float],
     *,
@@ -133,9 +135,10 @@ def view(
     """What eyes at these positions see of the frame on the display: one [hololine, emitter, channel] array
     per eye, 1 for a fully lit emitter; coherent=True lets neighbouring emitters interfere."""
 
-def check(frame: Frame, layout: Layout) -> dict[str, Any]:
+def check(frame: Floats, layout: Layout) -> dict[str, Any]:
     """The frame assembled to 8 bits and recovered two ways: {signal, optical} with relative_l2, psnr_db,
-    peak and the worst emitter."""
+    peak and the worst emitter, and the verdict against spec/layouts.md §9.1's bounds (verdict: bounds,
+    signal, optical, pass; None where no bound is stated)."""
 
 Progress = Callable[[str, int, int], Optional[bool]]
 
@@ -151,14 +154,14 @@ def render_mesh(
     faces: npt.ArrayLike,
     layout: Layout,
     *,
-    colours: Optional[npt.NDArray[np.float32]] = None,
+    colours: Optional[Floats] = None,
     progress: Optional[Progress] = None,
 ) -> Frame:
     """A mesh given as arrays (vertices (n, 3), faces (m, 3), optional per-vertex linear RGB(A) colours),
     fitted to the layout's display and rendered with the default lights: one frame for write()."""
 
 def resample_cameras(
-    pictures: Sequence[npt.NDArray[np.float32]],
+    pictures: Sequence[Floats],
     intrinsics: Sequence[npt.ArrayLike],
     poses: Sequence[npt.ArrayLike],
     layout: Layout,
@@ -176,7 +179,7 @@ def open(path: PathLike) -> HoloFile:
 
 def write(
     path: PathLike,
-    frames: Union[Frame, Sequence[Frame], Iterable[Frame], Iterator[Frame]],
+    frames: Union[Floats, Sequence[Floats], Iterable[Floats], Iterator[Floats]],
     geometry: Geometry,
     *,
     frame_count: Optional[int] = None,

@@ -314,11 +314,32 @@ fn open(py: Python<'_>, path: PathBuf) -> PyResult<HoloFile> {
     Ok(HoloFile { inner })
 }
 
-/// A float32 array of exactly `g`'s frame shape as a modulation (copied).
+/// `array` as float32 samples: a float32 numpy array as it is, any other
+/// real floating-point one (float16, float64, long double; any memory
+/// order) converted, as numpy 2 makes `frame * k` float64 for a float64 `k`;
+/// anything else refused, naming `what`.
+fn float32_array<'py>(array: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonlyArrayDyn<'py, f32>> {
+    if let Ok(samples) = array.extract::<PyReadonlyArrayDyn<'py, f32>>() {
+        return Ok(samples);
+    }
+    let dtype = array.getattr("dtype").ok();
+    let kind = dtype.as_ref().and_then(|d| d.getattr("kind").ok()).and_then(|k| k.extract::<String>().ok());
+    match kind.as_deref() {
+        Some("f") => array.call_method1("astype", ("float32",))?.extract(),
+        Some(_) => Err(InputError::new_err(format!(
+            "{what}: a numpy array of {} samples; give real floating-point ones (float16, float32 or float64)",
+            dtype.map_or_else(|| "other".to_string(), |d| d.to_string())
+        ))),
+        None => Err(InputError::new_err(format!(
+            "{what}: not a numpy array; give one of real floating-point samples (float16, float32 or float64)"
+        ))),
+    }
+}
+
+/// A real floating-point array ([`float32_array`]) of exactly `g`'s frame
+/// shape as a modulation (copied).
 fn modulation_of(g: &holo::Geometry, array: &Bound<'_, PyAny>, index: usize) -> PyResult<holo::Modulation> {
-    let array: PyReadonlyArrayDyn<f32> = array.extract().map_err(|_| {
-        InputError::new_err(format!("frame {index}: not a float32 numpy array (use array.astype(numpy.float32))"))
-    })?;
+    let array = float32_array(array, &format!("frame {index}"))?;
     let want = [g.channels.len(), g.hololines, g.emitters, g.views.count];
     if array.shape() != want {
         return Err(InputError::new_err(format!(
@@ -327,15 +348,18 @@ fn modulation_of(g: &holo::Geometry, array: &Bound<'_, PyAny>, index: usize) -> 
             want
         )));
     }
+    // A contiguous slice is in memory order, which for a Fortran-ordered
+    // array is not [channel, hololine, emitter, view]: only a C-ordered one
+    // is copied as it lies.
     let samples = match array.as_slice() {
-        Ok(s) => s.to_vec(),
-        Err(_) => array.as_array().iter().copied().collect(),
+        Ok(s) if array.is_c_contiguous() => s.to_vec(),
+        _ => array.as_array().iter().copied().collect(),
     };
     holo::Modulation::from_samples(g.clone(), samples).map_err(to_py)
 }
 
-/// Write frames to a new `.holo` file. `frames` is one frame (a float32
-/// array of `geometry.shape`), an array of frames (one more leading axis),
+/// Write frames to a new `.holo` file. `frames` is one frame (an array of
+/// `geometry.shape`, float32 or any other real floating-point type, converted), an array of frames (one more leading axis),
 /// a sequence of frames, or an iterator or generator of frames (give
 /// `frame_count`: the file's headers say how many frames follow). Frames from
 /// an iterator are taken one at a time, so a long movie is never in memory.
@@ -517,12 +541,12 @@ impl Layout {
     }
 }
 
-/// A frame from an array (float32, the layout's geometry's shape).
+/// A frame from an array (real floating-point, the layout's geometry's shape).
 fn frame_for(layout: &Layout, frame: &Bound<'_, PyAny>) -> PyResult<holo::Modulation> {
     modulation_of(&layout.layout().geometry, frame, 0)
 }
 
-/// Assemble one frame (a float32 array of `layout.geometry.shape`) into the
+/// Assemble one frame (a float array of `layout.geometry.shape`) into the
 /// layout's frame buffer: one array per image (`layout.image_names`),
 /// `[row, column, component]`, uint8 codes as the display takes them, or
 /// with `samples="f32"` the float signals before quantization (0 where no
@@ -725,7 +749,7 @@ fn holo_cancelled() -> PyErr {
 /// Render a mesh given as arrays into one frame for `layout`'s display, as
 /// `convert_mesh` renders a file: `vertices` (n, 3) float64 in any units
 /// (the scene is fitted to the display), `faces` (m, 3) integer indices,
-/// optional `colours` (n, 3) or (n, 4) float32 linear RGB(A) per vertex (else
+/// optional `colours` (n, 3) or (n, 4) float linear RGB(A) per vertex (else
 /// white); lit by the default lights. Returns the frame (float32 array of
 /// `layout.geometry.shape`) for `write`.
 #[pyfunction]
@@ -735,7 +759,7 @@ fn render_mesh<'py>(
     vertices: PyReadonlyArrayDyn<'py, f64>,
     faces: &Bound<'py, PyAny>,
     layout: &Layout,
-    colours: Option<PyReadonlyArrayDyn<'py, f32>>,
+    colours: Option<Bound<'py, PyAny>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyArray4<f32>>> {
     let shape = vertices.shape().to_vec();
@@ -771,6 +795,7 @@ fn render_mesh<'py>(
     let colours = match colours {
         None => Vec::new(),
         Some(c) => {
+            let c = float32_array(&c, "colours")?;
             let cs = c.shape().to_vec();
             if cs.len() != 2 || cs[0] != positions.len() || !(cs[1] == 3 || cs[1] == 4) {
                 return Err(InputError::new_err(format!(
@@ -813,7 +838,7 @@ fn matrix(m: &Bound<'_, PyAny>, what: &str, rows: usize) -> PyResult<Vec<Vec<f64
 
 /// Resample pictures from a calibrated camera rig into one frame for
 /// `layout`'s display, as `holo convert cameras` does a rig file: one
-/// float32 array `(height, width, 3)` of linear RGB per camera, its 3×3
+/// float array `(height, width, 3)` of linear RGB per camera, its 3×3
 /// intrinsic matrix `K` (pixels; pixel centres at integers, `(0, 0)` top left)
 /// and its 3×4 or 4×4 world-to-camera extrinsics `[R | t]` (OpenCV's
 /// convention: `x_camera = R x_world + t`, camera `x` right, `y` down, `z`
@@ -826,7 +851,7 @@ fn matrix(m: &Bound<'_, PyAny>, what: &str, rows: usize) -> PyResult<Vec<Vec<f64
 #[allow(clippy::too_many_arguments)]
 fn resample_cameras<'py>(
     py: Python<'py>,
-    pictures: Vec<PyReadonlyArrayDyn<'py, f32>>,
+    pictures: Vec<Bound<'py, PyAny>>,
     intrinsics: Vec<Bound<'py, PyAny>>,
     poses: Vec<Bound<'py, PyAny>>,
     layout: &Layout,
@@ -846,6 +871,7 @@ fn resample_cameras<'py>(
     let mut cameras = Vec::new();
     let mut views = Vec::new();
     for (k, ((picture, kk), pose)) in pictures.iter().zip(&intrinsics).zip(&poses).enumerate() {
+        let picture = float32_array(picture, &format!("picture {k}"))?;
         let shape = picture.shape().to_vec();
         if shape.len() != 3 || shape[2] != 3 {
             return Err(InputError::new_err(format!(

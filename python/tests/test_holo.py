@@ -150,6 +150,43 @@ def test_frames_stream_from_a_generator_one_at_a_time(tmp_path):
     assert all(float(f.frame(i)[0, 0, 0, 0]) == i / 4 for i in range(4))
 
 
+def test_any_real_float_array_is_taken_converted_to_float32(tmp_path):
+    g = random_geometry()
+    frame = np.random.default_rng(3).uniform(0.0, 2.0, size=g.shape)
+    # float64 (numpy 2 makes `frame * k` so for a float64 k), float16, and float arrays in any memory order.
+    wide = np.concatenate([frame, frame], axis=3)
+    for name, array in {
+        "f64": frame,
+        "f16": frame.astype(np.float16),
+        "fortran": np.asfortranarray(frame.astype(np.float32)),
+        "strided": wide[..., : g.shape[3]],
+        "reversed": frame[:, ::-1].copy()[:, ::-1],
+        "longdouble": frame.astype(np.longdouble),
+    }.items():
+        path = tmp_path / f"{name}.holo"
+        holo.write(path, array, g, sample_type="f32")
+        assert np.array_equal(holo.open(path).frame(0), array.astype(np.float32)), name
+    # The README's example: frames streamed from a generator of float64 products.
+    f32 = frame.astype(np.float32)
+    path = tmp_path / "scaled.holo"
+    holo.write(path, (f32 * k for k in np.linspace(0, 1, 3)), g, frame_count=3, sample_type="f32")
+    back = holo.open(path)
+    for i, k in enumerate(np.linspace(0, 1, 3)):
+        assert np.array_equal(back.frame(i), (f32 * k).astype(np.float32)), i
+    # The calls that take a frame, colours or pictures take them too.
+    layout = holo.Layout.load("mark1")
+    ramp = np.linspace(0.0, 1.0, int(np.prod(layout.geometry.shape))).reshape(layout.geometry.shape)
+    for a, b in zip(holo.assemble(ramp, layout), holo.assemble(ramp.astype(np.float32), layout)):
+        assert np.array_equal(a, b)
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float64)
+    faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    red = np.tile([[1.0, 0.0, 0.0]], (4, 1))
+    assert np.array_equal(
+        holo.render_mesh(vertices, faces, layout, colours=red),
+        holo.render_mesh(vertices, faces, layout, colours=red.astype(np.float32)),
+    )
+
+
 def test_geometry_round_trips_through_a_dict():
     g = random_geometry()
     d = g.to_dict()
@@ -179,8 +216,10 @@ def test_bad_input_raises_the_documented_exception_naming_the_file(tmp_path):
     g = random_geometry()
     with pytest.raises(holo.InputError, match="shape"):
         holo.write(tmp_path / "x.holo", np.zeros((1, 2, 3, 4), np.float32), g)
-    with pytest.raises(holo.InputError, match="float32"):
-        holo.write(tmp_path / "x.holo", np.zeros(g.shape, np.float64), g)
+    with pytest.raises(holo.InputError, match="int32 samples; give real floating-point ones"):
+        holo.write(tmp_path / "x.holo", np.zeros(g.shape, np.int32), g)
+    with pytest.raises(holo.InputError, match="frame 0: not a numpy array"):
+        holo.write(tmp_path / "x.holo", [[1.0]], g)
     with pytest.raises(holo.InputError, match="compression"):
         holo.write(tmp_path / "x.holo", np.zeros(g.shape, np.float32), g, compression="gzip")
     bad = np.zeros(g.shape, np.float32)
@@ -362,3 +401,6 @@ def test_a_camera_rig_from_arrays_resamples_into_a_frame():
         holo.resample_cameras(pictures, intrinsics[:2], poses, layout)
     with pytest.raises(holo.InputError, match="picture 0"):
         holo.resample_cameras([p[..., :2].copy() for p in pictures], intrinsics, poses, layout)
+    # Pictures in float64 (as `image / 255.0` makes them) are taken, converted.
+    again, _ = holo.resample_cameras([p.astype(np.float64) for p in pictures], intrinsics, poses, layout, focus_distance=1.0)
+    assert np.array_equal(again, frame)

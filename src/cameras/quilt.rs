@@ -28,6 +28,15 @@
 //! interpolated linearly. Rays outside the emitters, hololines or views (by
 //! more than half a pitch or half a view) are black.
 //!
+//! **Beyond the views.** The outer cameras see the far side of the display
+//! along directions steeper than the file's last view: those pixels are
+//! black, with a hard edge where the views end. That is what the display
+//! itself shows an eye there (no light leaves an emitter beyond its views);
+//! a fill from the outermost view would show light the file does not hold,
+//! and a fade would hide where the file ends. [`export_quilt`] says which
+//! tiles are so cut, and the view cone that shows every tile whole
+//! ([`whole_tiles_view_cone_deg`]), at the cost of parallax.
+//!
 //! **Presets**: Looking Glass's quilt settings per device, from its
 //! key-concepts page <https://lfdocs.lookingglassfactory.com/keyconcepts/quilts>
 //! as the Looking Glass Blender add-on (Alice/LG, the `pylightio` quilt
@@ -320,6 +329,9 @@ pub struct Quilt {
     pub rgb: Vec<[f32; 3]>,
     /// Pixels whose ray the modulation does not hold (black).
     pub outside: u64,
+    /// Per tile (view 0 first), its pixels that show the emitters from
+    /// beyond the file's views: black, where the rest of the tile is lit.
+    pub beyond_views: Vec<u64>,
 }
 
 /// Linear interpolation taps of fractional index `f` among `n` samples,
@@ -360,11 +372,13 @@ pub fn quilt_from_modulation(m: &Modulation, spec: &QuiltSpec) -> Result<Quilt> 
         })
         .collect();
     let grey = g.channels.len() == 1 && g.channels[0].name == "Y";
-    let rows: Vec<(Vec<[f32; 3]>, u64)> = (0..height)
+    let rows: Vec<(Vec<[f32; 3]>, u64, Vec<u64>)> = (0..height)
         .into_par_iter()
         .map(|py| {
             let mut row = vec![[0f32; 3]; width];
             let mut outside = 0u64;
+            // Per tile of this row.
+            let mut beyond = vec![0u64; spec.columns];
             let row_up = spec.rows - 1 - py / spec.tile_height;
             let v = (py % spec.tile_height) as f64;
             for (px, out) in row.iter_mut().enumerate() {
@@ -377,6 +391,7 @@ pub fn quilt_from_modulation(m: &Modulation, spec: &QuiltSpec) -> Result<Quilt> 
                 let tv = if g.views.count == 1 { taps(0.0, 1) } else { taps(g.views.index_at(theta), g.views.count) };
                 let (Some(tj), Some(te), Some(tv)) = (tj, te, tv) else {
                     outside += 1;
+                    beyond[px / spec.tile_width] += u64::from(tj.is_some() && te.is_some());
                     continue;
                 };
                 for (c, to) in &slots {
@@ -396,14 +411,25 @@ pub fn quilt_from_modulation(m: &Modulation, spec: &QuiltSpec) -> Result<Quilt> 
                     }
                 }
             }
-            (row, outside)
+            (row, outside, beyond)
         })
         .collect();
-    let mut quilt =
-        Quilt { spec: spec.clone(), width, height, grey, rgb: Vec::with_capacity(width * height), outside: 0 };
-    for (row, outside) in rows {
+    let mut quilt = Quilt {
+        spec: spec.clone(),
+        width,
+        height,
+        grey,
+        rgb: Vec::with_capacity(width * height),
+        outside: 0,
+        beyond_views: vec![0; spec.views()],
+    };
+    for (py, (row, outside, beyond)) in rows.into_iter().enumerate() {
         quilt.rgb.extend(row);
         quilt.outside += outside;
+        let row_up = spec.rows - 1 - py / spec.tile_height;
+        for (column, n) in beyond.into_iter().enumerate() {
+            quilt.beyond_views[row_up * spec.columns + column] += n;
+        }
     }
     Ok(quilt)
 }
@@ -473,13 +499,20 @@ pub fn view_cone_deg_for(views: &Views) -> f64 {
     2.0 * views.first_theta_rad.abs().min(views.last_theta_rad.abs()).to_degrees()
 }
 
-/// What a quilt of `spec` leaves out of `views`, or shows beyond them.
-fn view_cone_warnings(views: &Views, spec: &QuiltSpec) -> Vec<String> {
+/// The tiles whose centre looks from beyond `views`: black, or nearly.
+fn black_tiles(views: &Views, spec: &QuiltSpec) -> Vec<usize> {
     let n = spec.views();
     let half_rad = spec.view_cone_deg.to_radians() / 2.0;
     let phi = |i: usize| if n > 1 { (i as f64 / (n - 1) as f64 - 0.5) * 2.0 * half_rad } else { 0.0 };
     let span = views.count as f64 - 0.5;
-    let black = (0..n).filter(|&i| !(-0.5..=span).contains(&views.index_at(phi(i)))).count();
+    (0..n).filter(|&i| !(-0.5..=span).contains(&views.index_at(phi(i)))).collect()
+}
+
+/// What a quilt of `spec` leaves out of `views`, or shows beyond them.
+fn view_cone_warnings(views: &Views, spec: &QuiltSpec) -> Vec<String> {
+    let n = spec.views();
+    let half_rad = spec.view_cone_deg.to_radians() / 2.0;
+    let black = black_tiles(views, spec).len();
     let left_out = (0..views.count).filter(|&k| views.theta_rad(k).abs() > half_rad + 1e-12).count();
     let range = format!(
         "the file's views run from {:+.1}° to {:+.1}°",
@@ -502,6 +535,77 @@ fn view_cone_warnings(views: &Views, spec: &QuiltSpec) -> Vec<String> {
         ));
     }
     warnings
+}
+
+/// The widest view cone, degrees, whose every tile shows all the emitters
+/// from within the file's views (none partly black), or `None` when no cone
+/// does (the views are too narrow for the display's width at the viewer's
+/// distance). The rightmost camera sees the leftmost emitter edge at the
+/// steepest angle, the leftmost camera the rightmost edge.
+pub fn whole_tiles_view_cone_deg(g: &Geometry) -> Option<f64> {
+    let views = &g.views;
+    if views.count <= 1 {
+        return None;
+    }
+    let s = g.viewer_distance_m - g.emitter_z_m;
+    let pe = g.emitter_pitch_m / 2.0;
+    let (left, right) = (g.emitter_left_x_m - pe, g.emitter_x_m(g.emitters - 1) + pe);
+    let centre = (left + right) / 2.0;
+    // The directions the file holds, each view half an interval either side.
+    let (lo, hi) = (views.theta_at(-0.5), views.theta_at(views.count as f64 - 0.5));
+    let (lo, hi) = (lo.min(hi), lo.max(hi));
+    let right_camera = (hi.tan() - (centre - left) / s).atan();
+    let left_camera = (lo.tan() + (right - centre) / s).atan();
+    let half = right_camera.min(-left_camera);
+    (half > 0.0).then(|| 2.0 * half.to_degrees())
+}
+
+/// `views` (sorted) as runs: `0–7 and 40–47`.
+fn runs_text(views: &[usize]) -> String {
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for &v in views {
+        match runs.last_mut() {
+            Some((_, end)) if *end + 1 == v => *end = v,
+            _ => runs.push((v, v)),
+        }
+    }
+    let text: Vec<String> =
+        runs.iter().map(|&(a, b)| if a == b { a.to_string() } else { format!("{a}–{b}") }).collect();
+    match text.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => text.join(""),
+    }
+}
+
+/// Tiles that show part of the display from beyond the file's views: black
+/// there, with a hard edge where the views end, as the display itself shows
+/// that part of its picture to an eye there (no light); said with the view
+/// cone that shows every tile whole. Tiles wholly beyond the views are said
+/// by [`view_cone_warnings`].
+fn partly_black_warning(quilt: &Quilt, g: &Geometry, black_centres: &[usize]) -> Option<String> {
+    let spec = &quilt.spec;
+    let partly: Vec<usize> =
+        (0..spec.views()).filter(|i| quilt.beyond_views[*i] > 0 && !black_centres.contains(i)).collect();
+    if partly.is_empty() {
+        return None;
+    }
+    let most = partly.iter().map(|&i| quilt.beyond_views[i]).max().unwrap_or(0);
+    let share = 100.0 * most as f64 / (spec.tile_width * spec.tile_height) as f64;
+    let fix = match whole_tiles_view_cone_deg(g) {
+        // Rounded down, so the cone said is one that does.
+        Some(cone) => format!(
+            "a view cone of {:.1}° or less shows every tile whole, with less parallax",
+            (cone * 10.0).floor() / 10.0
+        ),
+        None => "no view cone shows every tile whole: the file's views are too narrow for the display's width".into(),
+    };
+    Some(format!(
+        "{} of {} tiles see part of the display from beyond the file's views, which hold no light there: views {} \
+         are black there, with a hard edge (up to {share:.0}% of a tile); {fix}",
+        partly.len(),
+        spec.views(),
+        runs_text(&partly)
+    ))
 }
 
 /// Read frame `frame` of `holo_path` and write its quilt to `out_path` (an
@@ -528,6 +632,9 @@ pub fn export_quilt(
     let white = quilt.white_level(options.white);
     quilt.write_png(out_path, white, options.overwrite)?;
     let f = Framing::new(m.geometry(), spec);
+    let views = &m.geometry().views;
+    let mut warnings = view_cone_warnings(views, spec);
+    warnings.extend(partly_black_warning(&quilt, m.geometry(), &black_tiles(views, spec)));
     Ok(QuiltReport {
         path: out_path.to_path_buf(),
         width: quilt.width,
@@ -538,7 +645,7 @@ pub fn export_quilt(
         frame_m: [f.x[0], f.x[1], f.y[0], f.y[1]],
         distance_m: f.s,
         vertical_fov_deg: (2.0 * ((f.y[1] - f.y[0]) / (2.0 * f.s)).atan()).to_degrees(),
-        warnings: view_cone_warnings(&m.geometry().views, spec),
+        warnings,
     })
 }
 
@@ -707,6 +814,41 @@ mod tests {
         assert_eq!(q2.white_level(White::Max), 999.0);
         q2.rgb = vec![[0.0; 3]; 10];
         assert_eq!(q2.white_level(White::Auto), 1.0);
+    }
+
+    #[test]
+    fn tiles_that_see_the_display_from_beyond_the_views_are_said() {
+        let dir = tempfile::tempdir().unwrap();
+        // 48 views over ±0.3 rad: the display's 20 mm at 495 mm span more than half a view.
+        let g = geometry(Views::tan_spaced(48, -0.3, 0.3));
+        let m = by_view(g.clone());
+        let holo = dir.path().join("ramp.holo");
+        crate::write(&holo, &m, &crate::WriteOptions::default()).unwrap();
+        // The cone that fits the views: the outer cameras look at the display's
+        // centre along the outermost views, at its far side beyond them.
+        let fitting = QuiltSpec { view_cone_deg: view_cone_deg_for(&g.views), ..spec() };
+        let q = quilt_from_modulation(&m, &fitting).unwrap();
+        let cut: Vec<usize> = (0..12).filter(|&i| q.beyond_views[i] > 0).collect();
+        assert!(cut.contains(&0) && cut.contains(&11) && !cut.contains(&5) && !cut.contains(&6), "{cut:?}");
+        // Cut where the views end: tile 0's left emitters are lit, its right ones black.
+        let (x0, y0) = fitting.tile_origin(0);
+        let mid = (y0 + fitting.tile_height / 2) * q.width;
+        assert!(q.rgb[mid + x0 + 2][0] > 0.0 && q.rgb[mid + x0 + fitting.tile_width - 3][0] == 0.0);
+        let out = dir.path().join("q.png");
+        let report = export_quilt(&holo, 0, &fitting, &out, &QuiltOptions::default()).unwrap();
+        let w = report.warnings.join("\n");
+        let said = format!("{} of 12 tiles see part of the display from beyond the file's views", cut.len());
+        assert!(w.contains(&said) && w.contains(&format!("views {}", runs_text(&cut))), "{w}");
+        let cone = whole_tiles_view_cone_deg(&g).unwrap();
+        assert!(w.contains(&format!("a view cone of {:.1}° or less", (cone * 10.0).floor() / 10.0)), "{w}");
+        // That cone shows every tile whole; a wider one cuts the outer tiles.
+        assert!(cone < fitting.view_cone_deg);
+        let whole = quilt_from_modulation(&m, &QuiltSpec { view_cone_deg: cone, ..fitting.clone() }).unwrap();
+        assert!(whole.beyond_views.iter().all(|&n| n == 0), "{:?}", whole.beyond_views);
+        let wider = quilt_from_modulation(&m, &QuiltSpec { view_cone_deg: cone + 0.5, ..fitting }).unwrap();
+        assert!(wider.beyond_views[0] > 0 && wider.beyond_views[11] > 0 && wider.beyond_views[5] == 0);
+        assert_eq!(runs_text(&[0, 1, 2, 3, 8, 10, 11]), "0–3, 8 and 10–11");
+        assert_eq!(runs_text(&[4]), "4");
     }
 
     #[test]

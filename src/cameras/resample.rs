@@ -42,7 +42,7 @@ use spade::{DelaunayTriangulation, Point2, PositionInTriangulation, Triangulatio
 
 use super::image::Picture;
 use super::{Camera, Rig};
-use crate::geometry::{channel_weights, Geometry};
+use crate::geometry::{channel_weights, millimetres_text, Geometry};
 use crate::math::{add, cross, det3, dot, length, mat3_transpose_apply, normalize_or, scale, sub, Mat3, Plane};
 use crate::progress::Progress;
 use crate::{Band, Error, Modulation, Result};
@@ -1592,7 +1592,7 @@ fn display_scale(
     let viewer_span = g.viewer_distance_m - g.emitter_z_m;
     let no_viewer_line = viewer_span.is_nan() || viewer_span <= 0.0;
     let (scale_d, scale_words) = match request.scale {
-        Some(s) if s > 0.0 && s.is_finite() => (s, format!("scale {s} m per unit (given)")),
+        Some(s) if s > 0.0 && s.is_finite() => (s, format!("scale {} display mm per capture unit (given)", millimetres_text(s))),
         Some(s) => return Err(Error::argument("scale", format!("the scale must be a positive number of display metres per capture unit, not {s}"))),
         None if matches!(request.framing, Framing::Fit | Framing::Fill) => {
             let (width_fits, height_fits) = (display_width / view_width, display_height / view_height);
@@ -1604,7 +1604,8 @@ fn display_scale(
             (
                 s,
                 format!(
-                    "scale {s:.4e} m per unit: camera {}'s view at the focus ({view_width:.4} × {view_height:.4} units) {verb} the display's {:.1} × {:.1} mm",
+                    "scale {} display mm per capture unit: camera {}'s view at the focus ({view_width:.4} × {view_height:.4} units) {verb} the display's {:.1} × {:.1} mm",
+                    millimetres_text(s),
                     cam.name,
                     display_width * 1e3,
                     display_height * 1e3
@@ -1614,8 +1615,8 @@ fn display_scale(
         None if request.framing == Framing::FillWidth || no_viewer_line => (
             display_width / view_width,
             format!(
-                "scale {:.4e} m per unit: camera {}'s view at the focus ({view_width:.4} units wide) fills the display's {:.1} mm",
-                display_width / view_width,
+                "scale {} display mm per capture unit: camera {}'s view at the focus ({view_width:.4} units wide) fills the display's {:.1} mm",
+                millimetres_text(display_width / view_width),
                 cam.name,
                 display_width * 1e3
             ),
@@ -1625,7 +1626,8 @@ fn display_scale(
             (
                 s,
                 format!(
-                    "scale {s:.4e} m per unit: the cameras ({focus_depth:.4} units from the focus) at the viewer's {:.0} mm; camera {}'s view at the focus spans {:.1} mm of the display's {:.1} mm",
+                    "scale {} display mm per capture unit: the cameras ({focus_depth:.4} units from the focus) at the viewer's {:.0} mm; camera {}'s view at the focus spans {:.1} mm of the display's {:.1} mm",
+                    millimetres_text(s),
                     viewer_span * 1e3,
                     cam.name,
                     view_width * s * 1e3,

@@ -7,6 +7,12 @@
 //! each thumbnail pixel shows instead the RMS signal of the block of
 //! frame-buffer pixels under it, per component, so the picture shows where
 //! the light of the scene is carried.
+//!
+//! A legend says what it shows: which signal each component carries (so
+//! the false colour reads as zones: on Mark III head 1's red and green are
+//! zone 1's sine and cosine, together yellow), which views each zone
+//! carries, and what the lobes of the hololine's signal are (stretches of
+//! emitters the scene lights, each lit emitter's chirp a run of samples).
 
 use std::ops::Range;
 
@@ -42,6 +48,184 @@ pub struct FringePicture {
     pub signal: usize,
     /// The samples shown.
     pub samples: Range<usize>,
+    /// The legend drawn: what the colours, zones and lobes are.
+    pub legend: Vec<String>,
+    /// The emitters of each lobe of the hololine's signal, in order.
+    pub lobes: Vec<Range<usize>>,
+}
+
+/// Characters a legend line holds at [`LABEL_SCALE`] in the picture's width.
+fn line_chars(width: usize) -> usize {
+    (width - 2 * MARGIN) / (font::ADVANCE * LABEL_SCALE)
+}
+
+/// `items` joined by `sep` into lines of at most `chars` characters.
+fn wrapped(items: &[String], sep: &str, chars: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for item in items {
+        match lines.last_mut() {
+            Some(line) if line.chars().count() + sep.chars().count() + item.chars().count() <= chars => {
+                line.push_str(sep);
+                line.push_str(item);
+            }
+            _ => lines.push(item.clone()),
+        }
+    }
+    lines
+}
+
+/// The name of signal `s` of a hololine (`zone1.cos`, or `R.zone1` with
+/// several colours sent separately).
+fn signal_name(layout: &crate::layout::Layout, s: usize) -> String {
+    let fringe = layout.fringe.as_ref().expect("an assembler's layout has a fringe side");
+    let names = fringe.signal_names();
+    let channels = &layout.geometry.channels;
+    match fringe.colours {
+        crate::layout::ColourSignals::Separate if channels.len() > 1 => {
+            format!("{}.{}", channels[s / names.len()].name, names[s % names.len()])
+        }
+        _ => names[s % names.len()].clone(),
+    }
+}
+
+/// What each image's false colour shows: its components' signals, grouped
+/// by the zone they carry, each group named by the colour its components
+/// make together.
+fn colour_legend(layout: &crate::layout::Layout) -> Vec<String> {
+    let fringe = layout.fringe.as_ref().expect("an assembler's layout has a fringe side");
+    let fb = &fringe.frame_buffer;
+    let signals = layout.signals_per_hololine();
+    // The signals each channel carries, over as many hololines as it takes to repeat.
+    let mut carried: Vec<Vec<usize>> = vec![Vec::new(); fb.channels.len()];
+    for k in 0..signals * fb.channels.len() {
+        let (channel, s) = (k % fb.channels.len(), k % signals);
+        if !carried[channel].contains(&s) {
+            carried[channel].push(s);
+        }
+    }
+    const COMPONENTS: [&str; 4] = ["red", "green", "blue", "alpha"];
+    let mut lines = Vec::new();
+    for (image, name) in fb.image_names.iter().enumerate() {
+        // (group, its components, each with what of the group it carries)
+        let mut groups: Vec<(String, Vec<(usize, String)>)> = Vec::new();
+        for (channel, slot) in fb.channels.iter().enumerate().filter(|(_, s)| s.image == image) {
+            let names: Vec<String> = carried[channel].iter().map(|&s| signal_name(layout, s)).collect();
+            let (group, part) = match names.as_slice() {
+                [one] => match one.rsplit_once('.') {
+                    Some((g, p)) if p == "cos" || p == "sin" => (g.to_string(), p.to_string()),
+                    _ => (one.clone(), String::new()),
+                },
+                many => (many.join("/"), String::new()),
+            };
+            match groups.iter_mut().find(|(g, _)| *g == group) {
+                Some((_, parts)) => parts.push((slot.component, part)),
+                None => groups.push((group, vec![(slot.component, part)])),
+            }
+        }
+        // Each group's components in order, the groups by their first (red first).
+        groups.iter_mut().for_each(|(_, parts)| parts.sort());
+        groups.sort_by_key(|(_, parts)| parts[0].0);
+        let said: Vec<String> = groups
+            .iter()
+            .map(|(group, parts)| {
+                if fb.components == 1 {
+                    return format!("brightness = {group}");
+                }
+                let mask = parts.iter().fold(0, |m, (c, _)| m | 1 << c);
+                let colour = match mask & 7 {
+                    1 => "red",
+                    2 => "green",
+                    4 => "blue",
+                    3 => "yellow",
+                    5 => "magenta",
+                    6 => "cyan",
+                    7 => "white",
+                    _ => "alpha",
+                };
+                let what: Vec<String> = parts
+                    .iter()
+                    .map(|(c, p)| {
+                        let c = COMPONENTS[(*c).min(3)];
+                        if p.is_empty() {
+                            c.to_string()
+                        } else {
+                            format!("{c} {p}")
+                        }
+                    })
+                    .collect();
+                format!("{colour} = {group} ({})", what.join(", "))
+            })
+            .collect();
+        lines.push(format!("{name}: {}", said.join(", ")));
+    }
+    lines
+}
+
+/// The views each zone of colour 0 carries, as `zone1: +4.1 to +11.9 deg`.
+fn zone_legend(a: &Assembler) -> Vec<String> {
+    let layout = a.layout();
+    let basis = a.plan(0).basis();
+    let views = &layout.geometry.views;
+    let e = basis.emitters / 2;
+    (0..basis.zones())
+        .filter_map(|zone| {
+            let degrees: Vec<f64> = (0..views.count)
+                .filter(|&v| basis.segment(e, v).zone == zone)
+                .map(|v| views.theta_rad(v).to_degrees())
+                .collect();
+            let lo = degrees.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = degrees.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            (!degrees.is_empty()).then(|| format!("zone{}: views {lo:+.1} to {hi:+.1} deg", zone + 1))
+        })
+        .collect()
+}
+
+/// The share of the envelope's peak above which a stretch of the signal is
+/// a lobe: below it, the dimmer stretches between bright ones (the demo's
+/// hololine reads as two lobes, its dip between them at about a seventh of
+/// the peak).
+const LOBE_SHARE: f64 = 0.3;
+
+/// The lobes of a signal of zone `zone` of colour 0 (`row`): stretches of
+/// samples whose RMS over an emitter's step is above [`LOBE_SHARE`] of the
+/// largest, as the emitters whose pieces of that zone lie within each.
+fn lobes(a: &Assembler, row: &[f32], zone: usize) -> Vec<Range<usize>> {
+    let basis = a.plan(0).basis();
+    let step = basis.step.max(1);
+    let windows: Vec<f64> = row
+        .chunks(step)
+        .map(|w| (w.iter().map(|v| f64::from(*v).powi(2)).sum::<f64>() / w.len() as f64).sqrt())
+        .collect();
+    let peak = windows.iter().copied().fold(0.0, f64::max);
+    if peak == 0.0 {
+        return Vec::new();
+    }
+    // Runs of lit windows; a gap of one window is the chirps' own ripple.
+    let mut runs: Vec<Range<usize>> = Vec::new();
+    for (k, _) in windows.iter().enumerate().filter(|(_, &w)| w > LOBE_SHARE * peak) {
+        match runs.last_mut() {
+            Some(run) if k <= run.end + 1 => run.end = k + 1,
+            _ => runs.push(k..k + 1),
+        }
+    }
+    // Each emitter's extent in this zone's signal.
+    let extent = |e: usize| {
+        let pieces = (0..basis.views).map(|v| basis.segment(e, v)).filter(|s| s.zone == zone);
+        pieces.fold((usize::MAX, 0), |(lo, hi), s| (lo.min(s.start), hi.max(s.start + s.len)))
+    };
+    runs.iter()
+        .filter(|run| run.len() > 1)
+        .filter_map(|run| {
+            let (n0, n1) = (run.start * step, run.end * step);
+            let inside: Vec<usize> = (0..basis.emitters)
+                .filter(|&e| {
+                    let (lo, hi) = extent(e);
+                    lo >= n0 && hi <= n1
+                })
+                .collect();
+            Some(*inside.first()?..*inside.last()? + 1)
+        })
+        .collect()
 }
 
 fn label_height() -> usize {
@@ -81,7 +265,38 @@ pub fn fringe_picture(a: &Assembler, images: &FrameImages<u8>) -> Result<FringeP
     let start = first.saturating_sub(count / 16).min(row.len() - count);
     let samples = start..start + count;
 
-    let height = MARGIN + 3 * (label_height() + MARGIN) + th + 2 * ZOOM_HEIGHT + MARGIN;
+    // The legend: under the thumbnails what their colours are; under the
+    // whole hololine's label what its lobes are.
+    let chars = line_chars(width);
+    let mut colours = vec![format!(
+        "colour: rms signal of {THUMBNAIL_SHRINK} x {THUMBNAIL_SHRINK} frame-buffer pixels, per component"
+    )];
+    colours.extend(colour_legend(layout));
+    colours.extend(wrapped(&zone_legend(a), ", ", chars));
+    let zone = 0;
+    let lobes = lobes(a, row, zone);
+    let lobe_words: Vec<String> = lobes
+        .iter()
+        .map(|r| {
+            let g = &layout.geometry;
+            // Whole millimetres, without a "-0".
+            let mm = |x_m: f64| (x_m * 1e3).round() + 0.0;
+            let (x0, x1) = (mm(g.emitter_x_m(r.start)), mm(g.emitter_x_m(r.end - 1)));
+            format!("emitters {}-{} (x {x0:+.0} to {x1:+.0} mm)", r.start, r.end - 1)
+        })
+        .collect();
+    let mut about_lobes =
+        vec![format!("envelope: the light of the scene along the hololine in zone{} views", zone + 1)];
+    if lobe_words.is_empty() {
+        about_lobes.push("lobes: none, the hololine is dark".to_string());
+    } else {
+        about_lobes.push(format!("lobes: the bright stretches (above {LOBE_SHARE} of the peak), darker between:"));
+        about_lobes.extend(wrapped(&lobe_words, ", ", chars));
+    }
+    let legend_lines = colours.len() + about_lobes.len();
+
+    let height =
+        MARGIN + 3 * (label_height() + MARGIN) + legend_lines * label_height() + MARGIN + th + 2 * ZOOM_HEIGHT + MARGIN;
     let mut canvas = Canvas::new(width, height, true);
     let top = MARGIN + label_height();
     for (k, (t, name)) in thumbnails.iter().zip(&fringe.frame_buffer.image_names).enumerate() {
@@ -104,10 +319,28 @@ pub fn fringe_picture(a: &Assembler, images: &FrameImages<u8>) -> Result<FringeP
         outline(&mut canvas, (x0 + c0).saturating_sub(3), (top + r0).saturating_sub(3), c1 - c0 + 7, r1 - r0 + 7);
     }
 
+    let mut y = top + th + MARGIN;
+    for line in &colours {
+        canvas.text(MARGIN, y, LABEL_SCALE, line, WHITE);
+        y += label_height();
+    }
+
     // The whole hololine, then the zoom, each with its label.
-    let whole_top = top + th + MARGIN;
-    canvas.text(MARGIN, whole_top, LABEL_SCALE, &format!("hololine {hololine}: its {} samples", row.len()), WHITE);
-    let whole_plot = whole_top + label_height();
+    let whole_top = y + MARGIN;
+    let signal_name = signal_name(layout, 0);
+    canvas.text(
+        MARGIN,
+        whole_top,
+        LABEL_SCALE,
+        &format!("hololine {hololine}, signal {signal_name}: its {} samples", row.len()),
+        WHITE,
+    );
+    let mut y = whole_top + label_height();
+    for line in &about_lobes {
+        canvas.text(MARGIN, y, LABEL_SCALE, line, WHITE);
+        y += label_height();
+    }
+    let whole_plot = y;
     plot(&mut canvas, (MARGIN, whole_plot), plot_width, row, row_peak.max(f32::MIN_POSITIVE));
     let per_column = row.len() as f64 / plot_width as f64;
     let (z0, z1) = ((samples.start as f64 / per_column) as usize, (samples.end as f64 / per_column).ceil() as usize);
@@ -127,7 +360,8 @@ pub fn fringe_picture(a: &Assembler, images: &FrameImages<u8>) -> Result<FringeP
         &row[samples.clone()],
         row_peak.max(f32::MIN_POSITIVE),
     );
-    Ok(FringePicture { canvas, hololine, signal: 0, samples })
+    let legend = colours.into_iter().chain(about_lobes).collect();
+    Ok(FringePicture { canvas, hololine, signal: 0, samples, legend, lobes })
 }
 
 /// A `width × height` outline in [`MARK`] with its top left at `(x, y)`.
@@ -185,4 +419,49 @@ fn thumbnail(images: &FrameImages<u8>, image: &[u8], offset: f64, gain: f64) -> 
         }
     });
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Modulation;
+
+    #[test]
+    fn the_legend_says_what_the_colours_zones_and_lobes_are() {
+        let layout = crate::layout::mark3();
+        let a = Assembler::new(&layout).unwrap();
+        // Two stretches of lit emitters on every hololine, every view.
+        let lit = |e: usize| (40..100).contains(&e) || (150..230).contains(&e);
+        let m = Modulation::from_fn(
+            layout.geometry.clone(),
+            |_, _, e, v| if lit(e) { 0.2 + 0.005 * v as f32 } else { 0.0 },
+        )
+        .unwrap();
+        let (images, _) = a.assemble::<u8>(&m).unwrap();
+        let picture = fringe_picture(&a, &images).unwrap();
+        let legend = picture.legend.join("\n");
+        // Spec/layouts.md §7.1: head 1 R, G = zone 1 sine, cosine; B = zone 2 sine.
+        assert!(legend.contains("head1: yellow = zone1 (red sin, green cos), blue = zone2 (blue sin)"), "{legend}");
+        assert!(legend.contains("head2: yellow = zone3 (red sin, green cos), blue = zone2 (blue cos)"), "{legend}");
+        // Zone 1 carries the views toward +θ, zone 3 those toward −θ.
+        assert!(legend.contains("zone1: views +4.") && legend.contains("to +11.9 deg"), "{legend}");
+        assert!(legend.contains("zone3: views -11.9 to -4."), "{legend}");
+        assert_eq!(picture.lobes.len(), 2, "{legend}");
+        for (lobe, want) in picture.lobes.iter().zip([40..100, 150..230]) {
+            assert!(lobe.start.abs_diff(want.start) <= 3 && lobe.end.abs_diff(want.end) <= 3, "{lobe:?}: {legend}");
+        }
+        assert!(legend.contains("lobes: the bright stretches") && legend.contains("emitters 4"), "{legend}");
+        let chars = line_chars(picture.canvas.width);
+        for line in &picture.legend {
+            assert!(font::covers(line) && line.chars().count() <= chars, "{line:?}");
+        }
+        // Drawn: the rows under the thumbnails are no longer black.
+        let th = images.height / THUMBNAIL_SHRINK;
+        let below = (MARGIN + label_height() + th + MARGIN) * picture.canvas.width;
+        let lit_pixels = picture.canvas.rgb[below..below + label_height() * picture.canvas.width]
+            .iter()
+            .filter(|p| p[0] > 0.5)
+            .count();
+        assert!(lit_pixels > 100, "{lit_pixels}");
+    }
 }

@@ -1,7 +1,8 @@
 //! `holo holoflick encode`: the geometry shader of Deering, *HoloFlicks* §8 over a glTF
 //! (or OBJ, PLY) scene, for one display. Every frame (an animated glTF: one
 //! per `1/fps`) is placed in display metres as `holo convert mesh` places it
-//! (fitted on the first frame, kept after), diced into micropolygons sized
+//! (fitted on the first frame, kept after; or as the caller's placement
+//! says, which the file's provenance then records), diced into micropolygons sized
 //! for what the display resolves at their depth ([`super::shader::dice`],
 //! far from the emitter plane they are larger, Deering, *HoloFlicks* §12), lit once
 //! (ambient, diffuse and optionally shadows baked into vertex colours,
@@ -126,6 +127,7 @@ pub fn encode_holoflick(
         report: PackReport::default(),
         micropolygons: 0,
         shadowed: 0,
+        placed: None,
     };
     let open = |input: &Path| SceneFrames::open(input, geometry, &options.scene, stage);
     let sink = HoloFlickSink::new(output, options.overwrite);
@@ -149,6 +151,9 @@ pub struct Encode<'a> {
     report: PackReport,
     micropolygons: usize,
     shadowed: usize,
+    /// The placement in words, when the caller chose it (a fitted one
+    /// follows from the scene alone and is not said).
+    placed: Option<String>,
 }
 
 impl SceneStage for Encode<'_> {
@@ -158,19 +163,23 @@ impl SceneStage for Encode<'_> {
         frame_rate_fraction(frames_per_second)
     }
 
-    fn placed(&mut self, _: &Scene, _: &Placed) {}
+    fn placed(&mut self, _: &Scene, placed: &Placed) {
+        let chosen = self.options.scene.placement != crate::mesh::place::Placement::default();
+        self.placed = chosen.then(|| placed.to_string());
+    }
 
     fn provenance(&self, input: &Path) -> String {
         let o = self.options;
         format!(
-            "holo holoflick encode {} (micropolygons {}× the display's resolution{}{}; {}/{}/{} bits)",
+            "holo holoflick encode {} (micropolygons {}× the display's resolution{}{}; {}/{}/{} bits{})",
             input.display(),
             o.micropolygon,
             if o.smooth { ", smooth" } else { "" },
             if o.shadows { ", shadows" } else { "" },
             o.encode.position_bits,
             o.encode.color_bits,
-            o.encode.normal_bits
+            o.encode.normal_bits,
+            self.placed.as_ref().map_or(String::new(), |p| format!("; {p}"))
         )
     }
 

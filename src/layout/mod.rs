@@ -65,8 +65,14 @@ impl Layout {
         if !profile && !path.exists() {
             return Err(Error::UnknownLayout { name: name_or_path.to_string() });
         }
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
         let bad = |why: String| Error::layout(path.display().to_string(), why);
+        let text = std::fs::read_to_string(path).map_err(|e| match e.kind() {
+            // A file that is not text (a `.holo` file given as the layout).
+            std::io::ErrorKind::InvalidData => {
+                bad("not a layout profile: a profile is a TOML or JSON text file".into())
+            }
+            _ => Error::io(path, e),
+        })?;
         let layout: Layout = match path.extension().and_then(|e| e.to_str()) {
             Some("json") => serde_json::from_str(&text).map_err(|e| bad(format!("not a layout profile: {e}")))?,
             _ => toml::from_str(&text).map_err(|e| bad(format!("not a layout profile: {e}")))?,

@@ -11,7 +11,7 @@
 //! kept in front of the viewer line. An explicit 4×4 matrix replaces all this.
 
 use super::{Light, Scene};
-use crate::geometry::Geometry;
+use crate::geometry::{millimetres_text, Geometry};
 use crate::math::{
     cofactor3, det3, linear, mat3_apply, narrow, normalize_or, rotation_xyz, transform_point, transpose, unit, widen,
     Mat3, Mat4,
@@ -53,8 +53,8 @@ impl std::fmt::Display for Placed {
         let (lo, hi) = self.bounds_m;
         write!(
             f,
-            "placed at {:.4} display m per scene unit: x {:+.1}..{:+.1} mm, y {:+.1}..{:+.1} mm, z {:+.1}..{:+.1} mm",
-            self.scale,
+            "placed at {} display mm per scene unit: x {:+.1}..{:+.1} mm, y {:+.1}..{:+.1} mm, z {:+.1}..{:+.1} mm",
+            millimetres_text(self.scale),
             lo[0] * 1e3,
             hi[0] * 1e3,
             lo[1] * 1e3,
@@ -168,7 +168,49 @@ pub fn place(scene: &mut Scene, g: &Geometry, placement: &Placement) -> Result<P
             g.hololine_y_m(0) * 1e3,
         ));
     }
+    if let Some(outside) = leaves_volume(placed_bounds, g) {
+        scene.warnings.push(format!(
+            "{}: placed, the scene leaves the display's volume: {outside}; scale it down or move it",
+            scene.source
+        ));
+    }
     Ok(Placed { matrix, scale, bounds_m: placed_bounds, volume_m: volume })
+}
+
+/// The volume a scene should stay in, as a box: across, the emitters' and
+/// hololines' extent (each half a pitch beyond its centre), where a point
+/// outside is drawn by no emitter or hololine and cut off; in depth, the
+/// depth of field of [`display_volume`], beyond which a point blurs over
+/// more than an emitter.
+pub fn display_extent(g: &Geometry) -> ([f64; 3], [f64; 3]) {
+    let (volume_lo, volume_hi) = display_volume(g);
+    let (pe, pj) = (g.emitter_pitch_m / 2.0, g.hololine_pitch_m / 2.0);
+    let (x0, x1) = (g.emitter_x_m(0), g.emitter_x_m(g.emitters.saturating_sub(1)));
+    let (y0, y1) = (g.hololine_y_m(g.hololines.saturating_sub(1)), g.hololine_y_m(0));
+    ([x0.min(x1) - pe, y0.min(y1) - pj, volume_lo[2]], [x0.max(x1) + pe, y0.max(y1) + pj, volume_hi[2]])
+}
+
+/// Where the box `bounds` leaves [`display_extent`], in words (millimetres,
+/// each side that is out); `None` when it stays inside.
+fn leaves_volume(bounds: ([f64; 3], [f64; 3]), g: &Geometry) -> Option<String> {
+    let (lo, hi) = display_extent(g);
+    // Less than a micrometre out is rounding, not a scene that is too large.
+    const SLACK_M: f64 = 1e-6;
+    let mut sides = Vec::new();
+    for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
+        // Across, a point beyond the emitters or hololines is cut off; in depth, blurred.
+        let (below, above, what) = match k {
+            2 => ("behind the", "in front of the", "the views resolve (blurred)"),
+            _ => ("beyond the display's edge at", "beyond the display's edge at", "(cut off)"),
+        };
+        if bounds.0[k] < lo[k] - SLACK_M {
+            sides.push(format!("{axis} from {:+.1} mm, {below} {:+.1} mm {what}", bounds.0[k] * 1e3, lo[k] * 1e3));
+        }
+        if bounds.1[k] > hi[k] + SLACK_M {
+            sides.push(format!("{axis} up to {:+.1} mm, {above} {:+.1} mm {what}", bounds.1[k] * 1e3, hi[k] * 1e3));
+        }
+    }
+    (!sides.is_empty()).then(|| sides.join("; "))
 }
 
 /// What makes a placement matrix unusable, if anything.
@@ -278,4 +320,69 @@ impl LinearPart {
 /// Rotation about x, then y, then z (degrees), row-major.
 pub fn rotation(deg: [f64; 3]) -> Mat3 {
     rotation_xyz(deg.map(f64::to_radians))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{mono_channel, Views};
+    use crate::mesh::Object;
+
+    /// 20 hololines and 40 emitters of 1 mm, 9 views over ±10°, the
+    /// emitter plane 10 mm in front of the hologram, the viewer at 500 mm.
+    fn display() -> Geometry {
+        Geometry::centred(20, 40, Views::tan_spaced(9, -0.17, 0.17), 1e-3, 1e-3, 0.01, 0.5, mono_channel())
+    }
+
+    /// A unit cube (two triangles a face are not needed: its corners give the box).
+    fn cube() -> Scene {
+        let positions = (0..8).map(|i| [(i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64]).collect();
+        let object =
+            Object { name: "cube".into(), positions, triangles: vec![[0, 1, 2], [5, 6, 7]], ..Object::default() };
+        Scene { source: "cube.obj".into(), objects: vec![object], ..Scene::default() }
+    }
+
+    #[test]
+    fn scales_are_said_in_millimetres_as_typed() {
+        let mut scene = cube();
+        let placed = place(&mut scene, &display(), &Placement { scale: Some(0.01), ..Placement::default() }).unwrap();
+        assert!(placed.to_string().starts_with("placed at 10 display mm per scene unit: x -5.0..+5.0 mm"), "{placed}");
+    }
+
+    #[test]
+    fn a_scene_placed_beyond_the_display_is_said_fitted_ones_are_not() {
+        let g = display();
+        let (lo, hi) = display_extent(&g);
+        // 40 × 20 mm of emitters and hololines; the depth of field 23.5 mm either side of the emitter plane.
+        assert!((lo[0] + 0.020).abs() < 1e-12 && (hi[1] - 0.010).abs() < 1e-12, "{lo:?} {hi:?}");
+        let mut fitted = cube();
+        place(&mut fitted, &g, &Placement::default()).unwrap();
+        assert!(fitted.warnings.is_empty(), "{:?}", fitted.warnings);
+        let mut inside = cube();
+        place(&mut inside, &g, &Placement { scale: Some(0.015), ..Placement::default() }).unwrap();
+        assert!(inside.warnings.is_empty(), "{:?}", inside.warnings);
+        // 60 mm a unit: wider and taller than the display, deeper than it resolves.
+        let mut large = cube();
+        place(&mut large, &g, &Placement { scale: Some(0.06), ..Placement::default() }).unwrap();
+        let w = large.warnings.join("\n");
+        assert_eq!(large.warnings.len(), 1, "{w}");
+        for side in [
+            "x from -30.0 mm, beyond the display's edge at -20.0 mm (cut off)",
+            "x up to +30.0 mm",
+            "y up to +30.0 mm, beyond the display's edge at +10.0 mm (cut off)",
+            "z from -20.0 mm, behind the -13.5 mm the views resolve (blurred)",
+        ] {
+            assert!(w.contains(side), "{side}: {w}");
+        }
+        assert!(w.starts_with("cube.obj: placed, the scene leaves the display's volume"), "{w}");
+        // Moved up alone: only the top is said.
+        let mut moved = cube();
+        let up = Placement { scale: Some(0.01), translate_m: [0.0, 0.008, 0.0], ..Placement::default() };
+        place(&mut moved, &g, &up).unwrap();
+        let w = moved.warnings.join("\n");
+        assert!(
+            w.contains("y up to +13.0 mm, beyond the display's edge at +10.0 mm (cut off)") && !w.contains("x "),
+            "{w}"
+        );
+    }
 }

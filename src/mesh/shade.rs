@@ -106,10 +106,17 @@ impl Lighting {
         })
     }
 
+    /// [`Lighting::default_lights`] as [`parse_light`] specs, for a user who
+    /// gives lights of their own (which replace these) and wants to keep them.
+    pub const DEFAULT_SPECS: [&'static str; 2] = ["dir:1,-1,-1", "ambient:0.08,0.08,0.08"];
+
     /// The lights used when neither the scene nor the user gives any
     /// ([`super::render::RenderOptions::default_lights`]): one
-    /// white directional key light from the upper left, in front (so a white
-    /// surface facing it has radiance 1), and a dim ambient of 0.08.
+    /// white directional key light from the upper left, in front, travelling
+    /// along `(1, −1, −1)` (so a white surface facing it has radiance 1), and
+    /// a dim ambient of 0.08 ([`Lighting::DEFAULT_SPECS`]). Any light given
+    /// replaces both: a surface turned from the key light is then as dark as
+    /// the lights given leave it.
     pub fn default_lights() -> Vec<Light> {
         let d = normalize([1.0, -1.0, -1.0]);
         vec![
@@ -123,11 +130,14 @@ impl Lighting {
     }
 }
 
-/// A light from the command line or a light file, in display coordinates:
+/// A light from the command line or a light file, in display coordinates
+/// (`x` right, `y` up, `z` toward the viewer; docs/optics.md §1.2):
 ///
 /// - `dir:DX,DY,DZ[:R,G,B]`: a directional light travelling along
-///   `(DX, DY, DZ)`, giving irradiance `R,G,B` (default π: a white surface
-///   facing it has radiance 1);
+///   `(DX, DY, DZ)`, the direction its light goes, not the direction toward
+///   the light (`dir:0,0,-1` shines from the viewer's side onto the scene's
+///   front), giving irradiance `R,G,B` (default π: a white surface facing it
+///   has radiance 1);
 /// - `point:X,Y,Z[:R,G,B]`: a point light at `(X, Y, Z)` millimetres, giving
 ///   irradiance `R,G,B` (default π) at `centre_m`, the middle of the display
 ///   volume (so its intensity is `E·d²`);
@@ -486,6 +496,29 @@ mod tests {
             ..Object::default()
         };
         Scene { objects: vec![o], ..Scene::default() }
+    }
+
+    #[test]
+    fn the_default_lights_are_their_specs_and_dir_is_where_the_light_goes() {
+        let parsed: Vec<Light> =
+            Lighting::DEFAULT_SPECS.iter().map(|s| parse_light(s, [0.0, 0.0, 0.1]).unwrap()).collect();
+        let named = |l: &Light| match l {
+            Light::Directional { direction, irradiance, .. } => (0, *direction, irradiance.map(f64::from)),
+            Light::Ambient { radiance } => (1, [0.0; 3], radiance.map(f64::from)),
+            Light::Point { position, intensity, .. } => (2, *position, intensity.map(f64::from)),
+        };
+        let defaults: Vec<_> = Lighting::default_lights().iter().map(named).collect();
+        assert_eq!(parsed.iter().map(named).collect::<Vec<_>>(), defaults);
+        // dir:0,0,-1 travels away from the viewer: it lights a face turned
+        // toward the viewer (+z), not one turned away.
+        let lighting =
+            Lighting { lights: vec![parse_light("dir:0,0,-1", [0.0; 3]).unwrap()], model: Default::default() };
+        let white = Material { specular: [0.0; 3], ..Material::default() };
+        let hit = Hit { object: 0, triangle: 0, b1: 0.25, b2: 0.25 };
+        let front = radiance(&plane(white.clone()), &lighting, &hit, [0.0, 0.0, 1.0]);
+        assert!((front[0] - 1.0).abs() < 1e-6, "{front:?}");
+        let behind = Lighting { lights: vec![parse_light("dir:0,0,1", [0.0; 3]).unwrap()], model: Default::default() };
+        assert_eq!(radiance(&plane(white), &behind, &hit, [0.0, 0.0, 1.0]), [0.0; 3]);
     }
 
     #[test]

@@ -239,9 +239,24 @@ impl fmt::Display for FileCheck {
             r.hololines.end,
             self.fringes
         )?;
-        for (what, e) in [
-            (format!("signal recovery (least squares, {} iterations at most)", r.iterations), &r.signal),
-            ("optical recovery (each view's light at the emitter plane)".to_string(), &r.optical),
+        let v = &r.verdict;
+        let smooth =
+            v.bounds.optical_smooth.map(|b| format!("; content smooth across views keeps within {}", percent(b)));
+        for (what, e, pass, bound, note) in [
+            (
+                format!("signal recovery (least squares, {} iterations at most)", r.iterations),
+                &r.signal,
+                v.signal,
+                v.bounds.signal,
+                None,
+            ),
+            (
+                "optical recovery (each view's light at the emitter plane)".to_string(),
+                &r.optical,
+                v.optical,
+                v.bounds.optical,
+                smooth,
+            ),
         ] {
             writeln!(f, "  {what}")?;
             writeln!(
@@ -249,7 +264,42 @@ impl fmt::Display for FileCheck {
                 "    relative L2 {:.3e}   PSNR {:.1} dB (peak {:.3})   worst emitter: {} hololine {} emitter {}, RMS error {:.3} of the modulation's RMS",
                 e.relative_l2, e.psnr_db, e.peak, e.worst.channel, e.worst.hololine, e.worst.emitter, e.worst.relative_rms
             )?;
+            match (pass, bound) {
+                (Some(pass), Some(bound)) => writeln!(
+                    f,
+                    "    {}: {} {} the bound {}{}",
+                    if pass { "pass" } else { "FAIL" },
+                    percent(e.relative_l2),
+                    if pass { "is below" } else { "is not below" },
+                    percent(bound),
+                    note.unwrap_or_default()
+                )?,
+                _ => writeln!(f, "    no bound stated")?,
+            }
         }
-        Ok(())
+        let whose = match v.bounds.stated_for {
+            Some(name) => format!("the bounds of spec/layouts.md §9.1 for {name}, 8-bit fringes"),
+            None if v.bounds.signal.is_some() => "the bound of spec/layouts.md §9.1 for float fringes".to_string(),
+            None => format!(
+                "spec/layouts.md §9.1 states bounds for mark3 and mark1 (8-bit fringes) and for float fringes, not for \
+                 layout {}: figures only",
+                r.layout
+            ),
+        };
+        match v.pass {
+            Some(true) => writeln!(f, "  verdict: pass ({whose})"),
+            Some(false) => writeln!(f, "  verdict: FAIL ({whose})"),
+            None => writeln!(f, "  verdict: none ({whose})"),
+        }
+    }
+}
+
+/// A relative error as a percentage, with the digits it needs.
+fn percent(x: f64) -> String {
+    let p = 100.0 * x;
+    if p >= 1.0 {
+        format!("{p:.1}%")
+    } else {
+        format!("{p:.2e}%")
     }
 }

@@ -77,6 +77,36 @@ fn random_modulation_comes_back_within_the_stated_errors() {
     }
 }
 
+/// `holo check` judges by the library's table of spec/layouts.md §9.1's
+/// bounds: the same numbers as this test's, for the built-in layouts (and
+/// a profile saved from one), none for the others, 1e-5 from float fringes.
+#[test]
+fn holo_check_judges_by_the_bounds_the_spec_states() {
+    use holo::reconstruct::check::{stated_bounds, Verdict};
+    for (name, rough, signal, optical) in BOUNDS {
+        let b = stated_bounds(&builtin(name).unwrap(), false);
+        assert_eq!((b.stated_for, b.signal), (Some(name), Some(signal)));
+        assert_eq!(if rough { b.optical } else { b.optical_smooth }, Some(optical), "{name}");
+    }
+    let mut renamed = builtin("mark3").unwrap();
+    renamed.name = "my-display".into();
+    assert_eq!(stated_bounds(&renamed, false).optical, Some(0.25));
+    let mut changed = renamed.clone();
+    changed.geometry.viewer_distance_m *= 2.0;
+    for other in [changed, builtin("mark2").unwrap(), builtin("mark1-hogel").unwrap()] {
+        let b = stated_bounds(&other, false);
+        assert_eq!((b.signal, b.optical), (None, None), "{}", other.name);
+        assert_eq!(Verdict::of(b, 0.5, 0.5).pass, None);
+    }
+    let float = stated_bounds(&builtin("mark4").unwrap(), true);
+    assert_eq!((float.signal, float.optical), (Some(1e-5), None));
+    let mark3 = stated_bounds(&builtin("mark3").unwrap(), false);
+    assert_eq!(Verdict::of(mark3, 0.02, 0.2).pass, Some(true));
+    let v = Verdict::of(mark3, 0.02, 0.3);
+    assert_eq!((v.signal, v.optical, v.pass), (Some(true), Some(false), Some(false)));
+    assert_eq!(Verdict::of(mark3, f64::NAN, 0.1).pass, Some(false));
+}
+
 fn artefact(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("../test-artefacts/reconstruction");
     std::fs::create_dir_all(&dir).unwrap();

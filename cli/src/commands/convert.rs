@@ -16,17 +16,18 @@ use holo::holoflick::convert::HoloFlickSource;
 use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
 use holo::math::Mat4;
 use holo::mesh::convert::{convert_mesh, ConvertOptions, MeshRender, SceneFrames, SceneFramesOptions};
-use holo::mesh::place::{display_volume, Placement};
+use holo::mesh::place::display_volume;
 use holo::mesh::render::{Engine, RenderOptions, Supersample};
 use holo::mesh::shade::{parse_light, read_lights, Lighting};
 use holo::pipeline::decide;
 
 use super::farm::{Decided, FrameJob};
-use super::{check_output, Failure, Outcome};
+use super::{check_output, inputs_exist, Failure, Outcome};
 use crate::args::{
-    self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, SpecularChoice, WriteArgs,
+    self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, PlacementArgs, SpecularChoice,
+    WriteArgs,
 };
-use crate::out::{say, warn};
+use crate::out::{note, say, warn};
 use crate::progress::Reporter;
 
 #[derive(Subcommand)]
@@ -94,13 +95,14 @@ pub struct HoloflickArgs {
     fit: bool,
     /// A row-major 4x4 matrix (16 numbers, world to display metres) placing the content instead of
     /// deciding on the first frame converted (what holo farm gives every chunk).
-    #[arg(long, value_parser = args::matrix(), allow_hyphen_values = true)]
+    #[arg(long, value_name = "16 NUMBERS", value_parser = args::matrix(), allow_hyphen_values = true)]
     matrix: Option<[[f64; 4]; 4]>,
 }
 
 fn holoflick(a: HoloflickArgs) -> Outcome {
-    check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
     let g = layout_geometry(&a.target.layout)?;
+    inputs_exist(&[&a.file])?;
+    check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
     let options = holoflick_options(&a);
     let started = Instant::now();
     let report = convert_holoflick(&a.file, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
@@ -161,27 +163,24 @@ pub struct MeshArgs {
     /// Specular lobe.
     #[arg(long, value_enum, default_value = "blinn")]
     specular: SpecularChoice,
-    /// A light (repeatable): dir:DX,DY,DZ[:R,G,B], point:X,Y,Z[:R,G,B] (mm) or ambient:R,G,B.
-    #[arg(long)]
+    /// A light (repeatable): dir:DX,DY,DZ[:R,G,B], point:X,Y,Z[:R,G,B] or ambient:R,G,B. Lights given are
+    /// added to the scene's own and replace the two default lights (dir:1,-1,-1 and ambient:0.08,0.08,0.08),
+    /// which light only a scene given no lights: a side the given lights miss is then dark (a note says
+    /// so). dir: a distant light travelling along DX,DY,DZ, the way its light goes (x right, y up, z toward
+    /// the viewer: dir:0,0,-1 lights the scene's front); point: a light at X,Y,Z millimetres (display
+    /// coordinates); ambient: radiance. R,G,B: irradiance at the scene (default π: a white surface facing
+    /// the light has radiance 1).
+    #[arg(long, value_name = "KIND:VALUES")]
     light: Vec<String>,
-    /// A file of lights, one per line in --light's form.
-    #[arg(long)]
+    /// A file of lights, one per line as --light takes them (# starts a comment); like --light, they
+    /// replace the default lights.
+    #[arg(long, value_name = "FILE")]
     lights: Option<PathBuf>,
     /// Ignore the scene's own lights (glTF KHR_lights_punctual).
     #[arg(long)]
     no_scene_lights: bool,
-    /// Rotation before fitting, degrees about x, y, z: RX,RY,RZ.
-    #[arg(long = "rotate", value_parser = args::triple("RX,RY,RZ in degrees"), allow_hyphen_values = true)]
-    rotate_deg: Option<[f64; 3]>,
-    /// Display millimetres per scene unit, instead of fitting the scene to the display.
-    #[arg(long = "scale", value_parser = args::positive_millimetres())]
-    scale_m: Option<f64>,
-    /// Offset after centring, millimetres: X,Y,Z.
-    #[arg(long = "translate", value_parser = args::millimetre_triple(), allow_hyphen_values = true)]
-    translate_m: Option<[f64; 3]>,
-    /// A row-major 4x4 matrix (16 numbers, scene units to display metres) instead of fitting.
-    #[arg(long, value_parser = args::matrix(), allow_hyphen_values = true)]
-    matrix: Option<[[f64; 4]; 4]>,
+    #[command(flatten)]
+    placement: PlacementArgs,
     /// Render with the reference ray caster (slow; for checking).
     #[arg(long)]
     reference: bool,
@@ -193,11 +192,12 @@ pub struct MeshArgs {
 }
 
 fn mesh(a: MeshArgs) -> Outcome {
+    let g = layout_geometry(&a.target.layout)?;
+    let options = mesh_options(&a, &g)?;
+    inputs_exist(&[&a.scene])?;
     let mut read = vec![a.scene.as_path(), Path::new(&a.target.layout)];
     read.extend(a.lights.as_deref());
     check_output(&a.target.write.output, &read, a.target.write.force)?;
-    let g = layout_geometry(&a.target.layout)?;
-    let options = mesh_options(&a, &g)?;
     let started = Instant::now();
     let report = convert_mesh(&a.scene, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
     report.warnings.iter().for_each(warn);
@@ -220,6 +220,15 @@ fn mesh(a: MeshArgs) -> Outcome {
         report.stats.segments,
         report.stats.shaded
     );
+    // The lights given are all the lights (the scene has none of its own, or
+    // they are ignored): the two default ones are not used.
+    let given = options.render.lighting.lights.len();
+    if given > 0 && report.lights.len() == given {
+        note(format_args!(
+            "the lights given replace the default ones (--light {}); give those too to keep them",
+            Lighting::DEFAULT_SPECS.join(" --light ")
+        ));
+    }
     a.target.say_timings(&report.timings, report.frames.len());
     Ok(ExitCode::SUCCESS)
 }
@@ -238,12 +247,7 @@ fn mesh_options(a: &MeshArgs, g: &holo::Geometry) -> Result<ConvertOptions, Fail
     }
     Ok(ConvertOptions {
         scene: SceneFramesOptions {
-            placement: Placement {
-                rotate_deg: a.rotate_deg.unwrap_or([0.0; 3]),
-                scale: a.scale_m,
-                translate_m: a.translate_m.unwrap_or([0.0; 3]),
-                matrix: a.matrix,
-            },
+            placement: a.placement.placement(),
             frames: a.frames.clone(),
             frames_per_second: a.fps,
             smooth_normals_deg: a.smooth_normals,
@@ -275,7 +279,7 @@ pub struct CamerasArgs {
     #[arg(long, value_parser = args::positive())]
     focus: Option<f64>,
     /// Display millimetres per rig unit (default: from --framing).
-    #[arg(long = "scale", value_parser = args::positive_millimetres())]
+    #[arg(long = "scale", value_name = "MM", value_parser = args::positive_millimetres())]
     scale_m: Option<f64>,
     /// The rig point shown at the middle of the emitter plane, rig units: X,Y,Z (default: the focus point).
     #[arg(long, value_parser = args::triple("X,Y,Z in rig units"), allow_hyphen_values = true)]
@@ -305,16 +309,16 @@ pub struct CamerasArgs {
     #[arg(long, value_parser = args::positive())]
     baseline: Option<f64>,
     /// Folder or Stanford: focal length in pixels.
-    #[arg(long, value_parser = args::positive())]
+    #[arg(long, value_parser = args::positive(), conflicts_with = "fov_deg")]
     focal_px: Option<f64>,
     /// Folder or Stanford: horizontal field of view in degrees.
-    #[arg(long = "fov", value_parser = args::angle_below_180_degrees())]
+    #[arg(long = "fov", value_name = "DEG", value_parser = args::angle_below_180_degrees())]
     fov_deg: Option<f64>,
     /// Quilt: angle between the first and last view, degrees.
-    #[arg(long = "view-cone", default_value_t = DEFAULT_VIEW_CONE_DEG, value_parser = args::angle_below_180_degrees())]
+    #[arg(long = "view-cone", value_name = "DEG", default_value_t = DEFAULT_VIEW_CONE_DEG, value_parser = args::angle_below_180_degrees())]
     view_cone_deg: f64,
     /// Quilt: vertical field of view of each view, degrees.
-    #[arg(long = "quilt-fov", default_value_t = DEFAULT_VERTICAL_FOV_DEG, value_parser = args::angle_below_180_degrees())]
+    #[arg(long = "quilt-fov", value_name = "DEG", default_value_t = DEFAULT_VERTICAL_FOV_DEG, value_parser = args::angle_below_180_degrees())]
     quilt_fov_deg: f64,
     /// Locate rays among the cameras by brute force (slow; for checking).
     #[arg(long)]
@@ -323,11 +327,12 @@ pub struct CamerasArgs {
 
 fn cameras(a: CamerasArgs) -> Outcome {
     let write = &a.target.write;
+    let g = layout_geometry(&a.target.layout)?;
+    inputs_exist(&[&a.input])?;
     check_output(&write.output, &[&a.input, Path::new(&a.target.layout)], write.force)?;
     if let Some(mask) = &a.unseen_mask {
         check_output(mask, &[&a.input, &write.output], write.force)?;
     }
-    let g = layout_geometry(&a.target.layout)?;
     let mut open = OpenOptions::default();
     open.folder.baseline = a.baseline;
     let camera = CameraHints { focal_length_px: a.focal_px, horizontal_fov_deg: a.fov_deg, focus_distance: a.focus };
@@ -356,7 +361,8 @@ fn cameras(a: CamerasArgs) -> Outcome {
         write: write.options(String::new()),
     };
     let started = Instant::now();
-    let report = convert_camera_files(&a.input, &g, &write.output, &options, &Reporter::on_stderr())?;
+    let report = convert_camera_files(&a.input, &g, &write.output, &options, &Reporter::on_stderr())
+        .map_err(with_capture_flags)?;
     report.resample.warnings.iter().chain(&report.written.warnings).for_each(warn);
     let r = &report.resample;
     let (input, output, seconds) = (a.input.display(), report.path.display(), started.elapsed().as_secs_f64());
@@ -391,6 +397,32 @@ fn cameras(a: CamerasArgs) -> Outcome {
     Ok(ExitCode::SUCCESS)
 }
 
+/// What a capture's files do not say, by the words the library's sentences
+/// name it with, and the flags that give it.
+const CAPTURE_FLAGS: [(&str, &str); 4] = [
+    ("the baseline", "--baseline"),
+    ("focal length", "--focal-px or --fov"),
+    ("field of view", "--focal-px or --fov"),
+    ("the focus distance", "--focus"),
+];
+
+/// A capture refused for something only the user can give, with the flags
+/// that give it (the library names quantities, the command line its flags).
+fn with_capture_flags(e: holo::Error) -> Failure {
+    let mut flags: Vec<&str> = Vec::new();
+    if let holo::Error::Rig { problem, .. } = &e {
+        for (words, flag) in CAPTURE_FLAGS {
+            if problem.contains(words) && !flags.contains(&flag) {
+                flags.push(flag);
+            }
+        }
+    }
+    match flags.as_slice() {
+        [] => Failure::from(e),
+        _ => Failure(format!("{e} ({})", flags.join("; "))),
+    }
+}
+
 /// A conversion as `holo farm` splits it: one file of the numbered sequence
 /// per frame, the movie placed once.
 impl Target {
@@ -421,7 +453,7 @@ impl FrameJob for MeshArgs {
 
     fn for_frame(&mut self, n: usize, output: PathBuf, placement: Option<Mat4>) {
         self.frames = Some(n..n + 1);
-        self.matrix = placement.or(self.matrix);
+        self.placement.matrix = placement.or(self.placement.matrix);
         self.target.one_frame(output);
     }
 }

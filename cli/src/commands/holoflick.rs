@@ -12,11 +12,13 @@ use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions, DEFAULT_
 use holo::holoflick::tools::{info, pack, unpack, PackOptions, PackReport};
 use holo::mesh::convert::SceneFramesOptions;
 
-use super::{check_output, Outcome};
-use crate::args::{self, layout_geometry, layout_help};
+use super::{check_output, inputs_exist, Outcome};
+use crate::args::{self, layout_geometry, layout_help, PlacementArgs};
 use crate::out::{put, say, warn};
 use crate::progress::Reporter;
 
+// Parsed once per run: the size of its largest variant does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 pub enum HoloflickCommand {
     /// Describe a HoloFlick (.hflk) or Java 3D compressed-geometry (.cg) file:
@@ -50,6 +52,7 @@ pub fn run(command: HoloflickCommand) -> Outcome {
         HoloflickCommand::Pack(a) => return run_pack(a),
         HoloflickCommand::Encode(a) => return run_encode(a),
         HoloflickCommand::Unpack { file, frame, output, force } => {
+            inputs_exist(&[&file])?;
             check_output(&output, &[&file], force)?;
             let triangles = unpack(&file, frame, &output, force)?;
             say!("wrote {} ({triangles} triangles of frame {frame})", output.display());
@@ -118,6 +121,7 @@ pub struct PackArgs {
 fn run_pack(a: PackArgs) -> Outcome {
     let m = &a.movie;
     let read: Vec<&Path> = a.meshes.iter().map(PathBuf::as_path).collect();
+    inputs_exist(&read)?;
     check_output(&a.output, &read, m.force)?;
     let options = PackOptions {
         encode: m.encode(),
@@ -165,12 +169,15 @@ pub struct EncodeArgs {
     #[arg(long, value_name = "DEG", value_parser = args::degrees_0_to_180())]
     smooth_normals: Option<f64>,
     #[command(flatten)]
+    placement: PlacementArgs,
+    #[command(flatten)]
     movie: MovieArgs,
 }
 
 fn run_encode(a: EncodeArgs) -> Outcome {
-    check_output(&a.output, &[&a.scene, Path::new(&a.layout)], a.movie.force)?;
     let g = layout_geometry(&a.layout)?;
+    inputs_exist(&[&a.scene])?;
+    check_output(&a.output, &[&a.scene, Path::new(&a.layout)], a.movie.force)?;
     let m = &a.movie;
     let options = HoloFlickEncodeOptions {
         micropolygon: a.micropolygon,
@@ -178,10 +185,10 @@ fn run_encode(a: EncodeArgs) -> Outcome {
         shadows: a.shadows,
         encode: m.encode(),
         scene: SceneFramesOptions {
+            placement: a.placement.placement(),
             frames: m.frames.clone(),
             frames_per_second: m.fps,
             smooth_normals_deg: a.smooth_normals,
-            ..Default::default()
         },
         key_interval: m.key_interval,
         overwrite: m.force,

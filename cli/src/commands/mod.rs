@@ -48,6 +48,18 @@ impl From<String> for Failure {
 /// What a command ends with: its exit code, or why it failed.
 pub type Outcome = Result<ExitCode, Failure>;
 
+/// Refuse an input that is not there, naming it, before the output is looked
+/// at: every argument is checked before the output, so a user who fixes one
+/// problem is not then told of another that was already there.
+fn inputs_exist(inputs: &[&Path]) -> Result<(), Failure> {
+    for input in inputs {
+        if let Err(e) = std::fs::metadata(input) {
+            return Err(Failure(format!("{}: {e}", input.display())));
+        }
+    }
+    Ok(())
+}
+
 /// Refuse, before any work, an output that exists (without `force`), whose
 /// folder is missing, or that is one of `inputs`, where an input folder
 /// stands for itself and every file in it.

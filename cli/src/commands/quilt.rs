@@ -8,7 +8,7 @@ use holo::cameras::quilt::{export_quilt, quilt_file_name, view_cone_deg_for, Qui
 
 use holo::picture::White;
 
-use super::{check_output, Failure, Outcome};
+use super::{check_output, inputs_exist, Failure, Outcome};
 use crate::args::{self, white_help, PresetChoice};
 use crate::out::{say, warn};
 
@@ -44,8 +44,10 @@ pub struct ExportQuiltArgs {
     #[arg(long, value_parser = args::positive())]
     aspect: Option<f64>,
     /// Angle between the outermost views, degrees (default: the file's own
-    /// view range; HoloPlay renders with 35).
-    #[arg(long, value_parser = args::angle_below_180_degrees())]
+    /// view range; HoloPlay renders with 35). The outer tiles see the
+    /// display's far side from beyond the file's views, black there: which
+    /// tiles is said, with the cone that shows every tile whole.
+    #[arg(long, value_name = "DEG", value_parser = args::angle_below_180_degrees())]
     view_cone: Option<f64>,
     #[arg(long, default_value = "auto", value_parser = args::white(), help = white_help!("the samples are the quilt's pixels"))]
     white: White,
@@ -55,6 +57,7 @@ pub struct ExportQuiltArgs {
 }
 
 pub fn run(a: ExportQuiltArgs) -> Outcome {
+    inputs_exist(&[&a.file])?;
     let mut spec = a.preset.spec()?;
     spec.columns = a.columns.unwrap_or(spec.columns);
     spec.rows = a.rows.unwrap_or(spec.rows);

@@ -8,7 +8,7 @@ use holo::reconstruct::files::{is_fringe_dir, view_file, EyeAt};
 
 use holo::picture::White;
 
-use super::{check_output, Outcome};
+use super::{check_output, inputs_exist, Outcome};
 use crate::args::{self, layout_help, load_layout, white_help};
 use crate::out::say;
 use crate::progress::Reporter;
@@ -23,13 +23,13 @@ pub struct ViewArgs {
     layout: Option<String>,
     /// Eye position X[,Y] in millimetres on the viewer's side (X along the
     /// hololines, 0 = centre).
-    #[arg(long, default_value = "0", value_parser = args::eye_millimetres(), allow_hyphen_values = true)]
+    #[arg(long, value_name = "X[,Y]", default_value = "0", value_parser = args::eye_millimetres(), allow_hyphen_values = true)]
     eye: (f64, f64),
     /// Viewer distance in millimetres (default: the layout's).
-    #[arg(long, value_parser = args::positive_millimetres())]
+    #[arg(long, value_name = "MM", value_parser = args::positive_millimetres())]
     distance: Option<f64>,
     /// Pupil diameter in millimetres.
-    #[arg(long, default_value = "4", value_parser = args::positive_millimetres())]
+    #[arg(long, value_name = "MM", default_value = "4", value_parser = args::positive_millimetres())]
     pupil: f64,
     /// A coherent eye: the pupil images the emitter plane and the light of
     /// neighbouring emitters interferes (slower; default: each emitter's
@@ -53,6 +53,7 @@ pub struct ViewArgs {
 }
 
 pub fn run(a: ViewArgs) -> Outcome {
+    inputs_exist(&[&a.input])?;
     let layout = match &a.layout {
         Some(name) => Some(a.blanking.apply(load_layout(name)?)),
         None if is_fringe_dir(&a.input) => None,

@@ -8,7 +8,7 @@ use holo::views::{import_views_file, ToneMapping, SIDECAR};
 
 use holo::picture::White;
 
-use super::{check_output, wrote, Failure, Outcome};
+use super::{check_output, inputs_exist, wrote, Failure, Outcome};
 use crate::args::{self, layout_geometry, white_help, PngBits, WriteArgs};
 use crate::out::say;
 use crate::progress::Reporter;
@@ -63,6 +63,7 @@ pub struct ImportViewsArgs {
 }
 
 pub fn run_import(a: ImportViewsArgs) -> Outcome {
+    inputs_exist(&[&a.dir])?;
     let sidecar_path = a.dir.join(SIDECAR);
     let sidecar = sidecar_path.exists().then(|| holo::views::read_sidecar(&sidecar_path)).transpose()?;
     let g = match (&a.geometry, &sidecar) {

@@ -7,9 +7,11 @@ use std::process::{Command, Output};
 
 mod commands;
 mod farm;
+mod first_use;
 mod inputs;
 mod output;
 mod pictures;
+mod reference;
 
 const HOLO: &str = env!("CARGO_BIN_EXE_holo");
 

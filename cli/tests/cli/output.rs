@@ -350,8 +350,20 @@ fn an_output_never_replaces_its_input() {
         assert!(text(&o).contains("is the input"), "{}", text(&o));
         assert_eq!(std::fs::read(d.join("same.holo")).unwrap(), before, "{output}");
     }
+    // A layout profile is an input too.
+    std::fs::write(d.join("profile.toml"), ok(holo(&["layout", "mark1"], d)).stdout).unwrap();
+    let profile = std::fs::read(d.join("profile.toml")).unwrap();
+    let o =
+        holo(&["pattern", "--layout", "profile.toml", "--kind", "checkerboard", "-o", "profile.toml", "--force"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("is the input"), "{}", text(&o));
+    assert_eq!(std::fs::read(d.join("profile.toml")).unwrap(), profile);
+    // A .holo file given as the layout is refused as a layout, before the output is looked at.
+    let o = holo(&["pattern", "--layout", "same.holo", "--kind", "checkerboard", "-o", "linked.holo", "--force"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("same.holo: not a layout profile"), "{}", text(&o));
+    assert_eq!(std::fs::read(d.join("same.holo")).unwrap(), before);
     for args in [
-        &["pattern", "--layout", "same.holo", "--kind", "checkerboard", "-o", "linked.holo", "--force"][..],
         &["view", "same.holo", "--layout", "mark1", "-o", "same.holo", "--force"],
         &["import-views", ".", "--geometry", "mark1", "-o", "same.holo", "--force"],
     ] {

@@ -10,8 +10,9 @@ fn tile_centre(quilt: &image::RgbImage, columns: u32, rows: u32, i: u32) -> [u8;
 }
 
 /// By default a quilt spans the file's own views: every tile shows one, and
-/// nothing is said; a cone wider or narrower than the views is said, with
-/// the cone that fits.
+/// only the outer tiles' view of the display's far side, beyond the views, is
+/// said; a cone wider or narrower than the views is said, with the cone that
+/// fits.
 #[test]
 fn a_quilt_fits_the_file_s_views_by_default() {
     let dir = tempfile::tempdir().unwrap();
@@ -23,7 +24,9 @@ fn a_quilt_fits_the_file_s_views_by_default() {
         d,
     ));
     let o = ok(holo(&["export-quilt", "c.holo", "-o", "fit.png"], d));
-    assert!(!text(&o).contains("warning"), "{}", text(&o));
+    assert!(!text(&o).contains("look from beyond the file's views"), "{}", text(&o));
+    // What is said: the outer tiles see the display's far side beyond the views.
+    assert!(text(&o).contains("16 of 48 tiles see part of the display from beyond"), "{}", text(&o));
     assert!(text(&o).contains("a 23.8° view cone"), "{}", text(&o));
     let fit = image::open(d.join("fit.png")).unwrap().to_rgb8();
     for i in 0..48 {

@@ -22,24 +22,23 @@ pub fn read_folder(folder: &Path, options: &FolderOptions) -> Result<Rig> {
     }
     let baseline = match options.baseline {
         Some(b) if b > 0.0 && b.is_finite() => b,
-        Some(b) => return Err(usage(format!("FolderOptions baseline must be positive (got {b})"))),
+        Some(b) => return Err(usage(format!("the baseline must be positive, not {b}"))),
         None if images.len() == 1 => 0.0,
         None => {
             return Err(usage(
-                "a folder of images does not say how far apart its cameras are: set FolderOptions baseline \
-                 (world units between neighbouring cameras)"
+                "a folder of images does not say how far apart its cameras are: give the baseline (the distance \
+                 between neighbouring cameras, in the capture's units)"
                     .into(),
             ))
         }
     };
     if let Some(f) = options.camera.focus_distance {
         if !(f > 0.0 && f.is_finite()) {
-            return Err(usage(format!("FolderOptions camera.focus_distance must be positive (got {f})")));
+            return Err(usage(format!("the focus distance must be positive, not {f}")));
         }
     }
     let size = common_size(&images)?;
-    let f = focal_px(options.camera.focal_length_px, options.camera.horizontal_fov_deg, size.0, "FolderOptions")
-        .map_err(usage)?;
+    let f = focal_px(options.camera.focal_length_px, options.camera.horizontal_fov_deg, size.0).map_err(usage)?;
     let centre = [0.0, 0.0, options.camera.focus_distance.unwrap_or(0.0)];
     let frame = ArrayFrame::new(centre, [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]).map_err(usage)?;
     let n = images.len() as f64;

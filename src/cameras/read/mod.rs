@@ -271,18 +271,21 @@ fn bare(e: &Error, path: &Path) -> String {
     text.strip_prefix(&prefix).map(str::to_string).unwrap_or(text)
 }
 
-/// Focal length in pixels from a focal length or a horizontal field of
-/// view; `options` names the options for the message.
-fn focal_px(focal: Option<f64>, fov_deg: Option<f64>, width: usize, options: &str) -> Result<f64, String> {
+/// The focal length in pixels from the one of `focal` (pixels) and `fov_deg`
+/// (the horizontal field of view over `width` pixels) given, or what is
+/// wrong, in words a caller maps to its own options (the quantities, never
+/// the fields of [`CameraHints`]).
+fn focal_px(focal: Option<f64>, fov_deg: Option<f64>, width: usize) -> Result<f64, String> {
     match (focal, fov_deg) {
-        (Some(_), Some(_)) => Err(format!("give {options} focal_length_px or horizontal_fov_deg, not both")),
+        (Some(_), Some(_)) => Err("give the focal length in pixels or the horizontal field of view, not both".into()),
         (Some(f), None) if f > 0.0 && f.is_finite() => Ok(f),
-        (Some(f), None) => Err(format!("{options} focal_length_px must be positive (got {f})")),
+        (Some(f), None) => Err(format!("the focal length must be a positive number of pixels, not {f}")),
         (None, Some(a)) if a > 0.0 && a < 180.0 => Ok(width as f64 / 2.0 / (a.to_radians() / 2.0).tan()),
-        (None, Some(a)) => Err(format!("{options} horizontal_fov_deg must be between 0 and 180 (got {a})")),
-        (None, None) => Err(format!(
-            "the files do not give the cameras' focal length: set {options} focal_length_px or horizontal_fov_deg"
-        )),
+        (None, Some(a)) => Err(format!("the horizontal field of view must be between 0 and 180 degrees, not {a}")),
+        (None, None) => {
+            Err("the files do not give the cameras' focal length: give it in pixels, or the horizontal field of view"
+                .into())
+        }
     }
 }
 

@@ -48,13 +48,13 @@ pub fn read_stanford(folder: &Path, options: &StanfordOptions) -> Result<Rig> {
     views.sort_by_key(|v| (v.0 .0, v.0 .1));
     let named: Vec<(String, PathBuf)> = views.iter().map(|v| (v.1.clone(), v.2.clone())).collect();
     let size = common_size(&named)?;
-    let f = focal_px(options.camera.focal_length_px, options.camera.horizontal_fov_deg, size.0, "StanfordOptions")
+    let f = focal_px(options.camera.focal_length_px, options.camera.horizontal_fov_deg, size.0)
         .map_err(|e| Error::rig(folder, e))?;
     let Some(focus) = options.camera.focus_distance else {
         return Err(Error::rig(
             folder,
             "the Stanford archive does not record how far its reference plane (zero parallax) is from the \
-             cameras: set StanfordOptions camera.focus_distance (in the file names' units)",
+             cameras: give the focus distance (in the file names' units)",
         ));
     };
     let n = views.len() as f64;
