@@ -274,6 +274,99 @@ impl Plane {
     }
 }
 
+/// The mean of points (each divided by the count first, in order).
+pub fn mean(v: &[[f64; 3]]) -> [f64; 3] {
+    let n = v.len().max(1) as f64;
+    let mut m = [0.0; 3];
+    for p in v {
+        for k in 0..3 {
+            m[k] += p[k] / n;
+        }
+    }
+    m
+}
+
+/// The principal axes of points (unit, by decreasing spread), the
+/// standard deviations along them, and the largest distance from their mean.
+pub fn principal_axes(points: &[[f64; 3]]) -> ([[f64; 3]; 3], [f64; 3], f64) {
+    let m = mean(points);
+    let mut cov = [[0.0; 3]; 3];
+    let mut extent = 0.0f64;
+    for p in points {
+        let d = sub(*p, m);
+        extent = extent.max(length(d));
+        for a in 0..3 {
+            for b in 0..3 {
+                cov[a][b] += d[a] * d[b] / points.len() as f64;
+            }
+        }
+    }
+    let (vectors, values) = symmetric_eigen(cov);
+    (vectors, values.map(|x| x.max(0.0).sqrt()), extent)
+}
+
+/// Eigenvectors (rows, unit) and eigenvalues of a symmetric 3 × 3 matrix,
+/// by decreasing eigenvalue: cyclic Jacobi rotations, f64, to convergence.
+pub fn symmetric_eigen(mut a: [[f64; 3]; 3]) -> ([[f64; 3]; 3], [f64; 3]) {
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..64 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        let diag = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
+        if off <= 1e-15 * diag || off == 0.0 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let (c, s) = (1.0 / (t * t + 1.0).sqrt(), t / (t * t + 1.0).sqrt());
+            // A ← Jᵀ A J with J the rotation in the (p, q) plane.
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
+            }
+            let (rp, rq) = (a[p], a[q]);
+            for k in 0..3 {
+                a[p][k] = c * rp[k] - s * rq[k];
+                a[q][k] = s * rp[k] + c * rq[k];
+            }
+            for row in &mut v {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    // Columns of v are the eigenvectors.
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&i, &j| a[j][j].total_cmp(&a[i][i]));
+    let vectors = order.map(|i| [v[0][i], v[1][i], v[2][i]]);
+    (vectors, order.map(|i| a[i][i]))
+}
+
+/// `x` with `m · x = r` by Cramer's rule, or `None` when `m` is singular
+/// (its determinant NaN or below 1e-9 of its largest entry cubed).
+pub fn solve3(m: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
+    let det = det3(&m);
+    let scale_m = m.iter().flatten().fold(0.0f64, |a, &b| a.max(b.abs()));
+    if det.is_nan() || det.abs() <= 1e-9 * scale_m.powi(3) {
+        return None;
+    }
+    // Cramer's rule, columns replaced by r.
+    let col = |k: usize| -> f64 {
+        let mut c = m;
+        for i in 0..3 {
+            c[i][k] = r[i];
+        }
+        det3(&c) / det
+    };
+    Some([col(0), col(1), col(2)])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

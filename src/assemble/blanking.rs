@@ -29,7 +29,7 @@
 use std::ops::Range;
 
 use super::basis::ColourBasis;
-use super::pack::{Encoder, FringeSample};
+use super::pack::{AfterKernel, Encoder, FringeSample};
 use super::plan::{BlockSink, PaddedWeights, Plan};
 use crate::layout::{BlankingGains, Fringe};
 
@@ -149,6 +149,12 @@ pub(crate) struct HololineGains<'a> {
     gains: &'a BlankingCompensation,
     colour: usize,
     hololine: &'a [f32],
+}
+
+impl AfterKernel for HololineGains<'_> {
+    fn after<T: FringeSample>(self, plan: &Plan, weights: &PaddedWeights, zone: usize, sink: &mut Encoder<'_, T>) {
+        self.apply(plan, weights, zone, sink);
+    }
 }
 
 impl<'a> HololineGains<'a> {

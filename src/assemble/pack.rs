@@ -6,7 +6,6 @@
 
 use std::any::Any;
 
-use super::blanking::HololineGains;
 use super::plan::{BlockSink, Blocks, LaneSink, PaddedWeights, Plan};
 use crate::layout::Quantization;
 use crate::simd::Simd;
@@ -183,6 +182,15 @@ fn encode_with(signal: &[f32], reversed: bool, out: &mut [u8], code: impl Fn(f32
     u64::from(clipped)
 }
 
+/// What is done to a zone's samples of one hololine once the kernel has
+/// encoded them: the blanking gains (spec/layouts.md §5.5) make the samples
+/// beside each blanked run again, with their gains, and encode them over the
+/// kernel's.
+pub(super) trait AfterKernel: Copy {
+    /// Send zone `zone`'s samples again through `sink`, made from `weights`.
+    fn after<T: FringeSample>(self, plan: &Plan, weights: &PaddedWeights, zone: usize, sink: &mut Encoder<'_, T>);
+}
+
 /// The kernel's sink in frame assembly: each lane's blocks encoded straight
 /// into the codes of the channel that carries it, in the order they are sent.
 pub(super) struct Encoder<'a, T> {
@@ -205,24 +213,24 @@ impl<T: FringeSample> Encoder<'_, T> {
     /// ([`Plan::padded_weights_into`]), encoded; returns the samples clipped.
     /// 8-bit codes are made in the kernel's registers (the downcast picks
     /// that sink for `u8`), other sample types from blocks of floats.
-    /// With `blanking` (the layout's gains for this hololine), the samples
-    /// beside the blanked runs are then sent again with their gains.
-    pub fn encode(self, plan: &Plan, weights: &PaddedWeights, zone: usize, blanking: Option<HololineGains<'_>>) -> u64 {
+    /// With `after` (the layout's blanking gains for this hololine), some
+    /// samples are then sent again over what the kernel wrote.
+    pub fn encode<A: AfterKernel>(self, plan: &Plan, weights: &PaddedWeights, zone: usize, after: Option<A>) -> u64 {
         let Encoder { lane_channel, codes, samples, reversed, q, clipped } = self;
         match (codes as &mut dyn Any).downcast_mut::<Vec<Vec<u8>>>() {
             Some(codes) => {
                 let mut sink = Encoder { lane_channel, codes, samples, reversed, q, clipped };
                 plan.zone_padded(weights, zone, &mut sink);
-                if let Some(b) = blanking {
-                    b.apply(plan, weights, zone, &mut sink);
+                if let Some(a) = after {
+                    a.after(plan, weights, zone, &mut sink);
                 }
                 sink.clipped
             }
             None => {
                 let mut sink = Encoder { lane_channel, codes, samples, reversed, q, clipped };
                 plan.zone_padded(weights, zone, &mut Blocks::<_, true>(&mut sink));
-                if let Some(b) = blanking {
-                    b.apply(plan, weights, zone, &mut sink);
+                if let Some(a) = after {
+                    a.after(plan, weights, zone, &mut sink);
                 }
                 sink.clipped
             }

@@ -15,6 +15,7 @@
 //! produce a file the reader refuses.
 
 mod checksum;
+mod chunk;
 mod codec;
 mod error;
 mod model;

@@ -200,7 +200,7 @@ mod tests {
     use super::*;
     use crate::cameras::{look_rotation, ImageSource, Intrinsics, Pose};
     use crate::geometry::{channel_weights, rgb_channels, Geometry, Views};
-    use crate::mesh::render::{Rays, Shading, Supersample};
+    use crate::mesh::rays::{Rays, Shading, Supersample};
     use crate::mesh::shade::SpecularModel;
     use crate::mesh::trace::{eye_picture, TraceRenderer};
     use crate::mesh::{Light, Material, Object};

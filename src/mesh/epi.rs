@@ -30,7 +30,7 @@
 use rayon::prelude::*;
 
 use super::fastshade::{self, Attrs, Batch, Column, FastLights, FastMaterial, LightGroups, Run, SegmentTable};
-use super::render::{HololineRenderer, RenderStats, Shading};
+use super::rays::{HololineRenderer, RenderStats, Shading};
 use crate::math::{cross, narrow, normalize, sub};
 
 /// One triangle as the rasteriser sees it, made from the scene when a
@@ -835,7 +835,7 @@ impl EpiRenderer<'_> {
 mod tests {
     use super::*;
     use crate::geometry::{channel_weights, rgb_channels, Geometry, Views};
-    use crate::mesh::render::{Rays, Supersample};
+    use crate::mesh::rays::{Rays, Supersample};
     use crate::mesh::shade::{Lighting, SpecularModel};
     use crate::mesh::{
         AlphaMode, Light, Material, MetallicRoughness, Object, Scene, Texture, TextureRef, UvTransform, Wrap,

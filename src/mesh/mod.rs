@@ -18,6 +18,7 @@ mod fastshade;
 pub mod load;
 pub mod normals;
 pub mod place;
+mod rays;
 pub mod render;
 pub mod shade;
 pub mod trace;

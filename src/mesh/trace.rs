@@ -6,7 +6,7 @@
 //! correct and slow; the fast rasteriser (`epi.rs`) is tested against it.
 
 use super::bvh::{Bvh, Triangle};
-use super::render::{HololineRenderer, RenderStats, Shading};
+use super::rays::{HololineRenderer, RenderStats, Shading};
 use super::shade::{coverage, radiance, Hit, Lighting};
 use super::Scene;
 use crate::geometry::Ray;
@@ -126,7 +126,7 @@ pub fn eye_picture(
     pupil_samples: usize,
 ) -> crate::Result<Vec<f32>> {
     use rayon::prelude::*;
-    let rays = super::render::Rays::new(geometry, super::render::Supersample::new(1, 1))?;
+    let rays = super::rays::Rays::new(geometry, super::rays::Supersample::new(1, 1))?;
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = crate::geometry::channel_weights(&names);
     let s = Shading { scene, lighting, weights: &weights, rays: &rays, geometry };

@@ -10,7 +10,7 @@
 //! a guard against storage and transfer faults, not against tampering
 //! (anyone can recompute it).
 
-use super::codec::{padding, put_chunk, CHUNK_HEADER};
+use super::chunk::{padding, put_chunk, CHUNK_HEADER};
 use super::error::Problem;
 
 /// Tag of the checksum chunk.

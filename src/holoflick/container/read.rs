@@ -11,7 +11,8 @@ use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
 use super::checksum;
-use super::codec::{self, check_tag, is_critical, padding};
+use super::chunk::{self, check_tag, is_critical, padding};
+use super::codec;
 use super::error::{tag_text, At, ContainerError, Problem};
 use super::model::{Frame, GeometryBlock, Info, ObjectRecord, ResolvedFrame, ResolvedObject};
 use super::*;
@@ -158,7 +159,7 @@ impl HoloFlickReader {
         if self.header_sums.is_some_and(|sums| checksum::crc32(&raw) != sums.index) {
             return Err(fail(Problem::Damaged("the frame index does not match its checksum".into())));
         }
-        let mut c = codec::Cursor::new(&raw);
+        let mut c = chunk::Cursor::new(&raw);
         let (tag, payload) = c.chunk().map_err(fail)?.ok_or_else(|| fail(Problem::Truncated("the index".into())))?;
         if &tag != b"INDX" {
             return Err(fail(Problem::Invalid(format!(
@@ -166,7 +167,7 @@ impl HoloFlickReader {
                 tag_text(tag)
             ))));
         }
-        let mut c = codec::Cursor::new(payload);
+        let mut c = chunk::Cursor::new(payload);
         let listed = c.u32("the index").map_err(fail)? as u64;
         c.u32("the index").map_err(fail)?;
         if listed != count || c.remaining() as u64 != count * INDEX_ENTRY {
@@ -317,7 +318,7 @@ impl HoloFlickReader {
         let fail = |p: Problem| p.at(&self.path, Some(n));
         // Damage is found before the bytes are interpreted (spec §3.3).
         let required = self.header_sums.is_some();
-        checksum::verify_frame(bytes.get(codec::CHUNK_HEADER..).unwrap_or(&[]), required).map_err(fail)?;
+        checksum::verify_frame(bytes.get(chunk::CHUNK_HEADER..).unwrap_or(&[]), required).map_err(fail)?;
         let (number, frame) = codec::decode_frame(&bytes).map_err(fail)?;
         if number != n {
             return Err(fail(Problem::Invalid(format!("the frame's chunk says it is frame {number}"))));

@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 use crate::output::AtomicFile;
 
 use super::checksum;
-use super::codec::{self, put_chunk};
+use super::chunk::put_chunk;
+use super::codec;
 use super::error::{At, ContainerError};
 use super::model::{text_problem, Frame, GeometryBlock, ObjectRecord};
 use super::*;
