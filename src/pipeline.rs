@@ -232,7 +232,8 @@ where
 {
     let inputs = source.inputs();
     let read: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    crate::output::check_output(sink.path(), &read, sink.overwrite())?;
+    // Held until the output is in place.
+    let _claim = crate::output::check_output(sink.path(), &read, sink.overwrite())?;
     let frames = frame_range(&source.name(), frames, source.frame_count())?;
     cancelled(progress)?;
     let mut warnings = Warnings::default();
@@ -300,7 +301,7 @@ where
     S: Source,
     K: Sink<S::Frame>,
 {
-    crate::output::check_output(sink.path(), &[input], sink.overwrite())?;
+    let _claim = crate::output::check_output(sink.path(), &[input], sink.overwrite())?;
     let started = std::time::Instant::now();
     let mut source = open(input)?;
     let opening = started.elapsed();

@@ -74,7 +74,7 @@ pub fn export_views(m: &Modulation, dir: &Path, tone: &ToneMapping, overwrite: b
     let png_tone = tone.tone().map_err(|e| e.naming(dir))?;
     let g = m.geometry();
     let names: Vec<String> = (0..g.views.count).map(|v| view_file_name(v, g.views.count)).collect();
-    check_set_output(dir, SIDECAR, &names, &[], overwrite)?;
+    let _claim = check_set_output(dir, SIDECAR, &names, &[], overwrite)?;
     let mut set = FileSet::create(dir, SIDECAR)?;
     // Which RGB component each channel fills; a mono file is grey.
     let slots: Vec<(usize, usize)> = g

@@ -147,7 +147,7 @@ pub fn assemble_file(
         fb.image_names.iter().map(|n| image_file_name(index, n, options.format)).collect()
     };
     let all_names: Vec<String> = range.clone().flat_map(names).collect();
-    check_set_output(out_dir, FRINGE_SIDECAR, &all_names, &[input], options.overwrite)?;
+    let _claim = check_set_output(out_dir, FRINGE_SIDECAR, &all_names, &[input], options.overwrite)?;
     // Check the geometry before any work, with the file named.
     let zero = crate::Modulation::zeros(file.geometry().clone())?;
     let fits = assembler.check_geometry(&zero);

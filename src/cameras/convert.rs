@@ -13,6 +13,7 @@ use super::resample::{CameraOptions, CameraReport, CameraView, RigResampler, Uns
 use super::{Camera, Rig};
 use crate::format::{WriteOptions, WriteReport};
 use crate::geometry::Geometry;
+use crate::output::Claim;
 use crate::pipeline::{self, HoloSink, Source, Warnings};
 use crate::progress::{Progress, Steps};
 use crate::provenance::{Conversion, ConverterOptions};
@@ -238,15 +239,15 @@ fn write_unseen_png(path: &Path, g: &Geometry, grey: &[u8], overwrite: bool) -> 
 
 /// The outputs (the `.holo` file and the unseen picture) checked before any
 /// work against each other's rules and the inputs.
-fn check_outputs(output: &Path, options: &CameraConvertOptions, inputs: &[&Path]) -> Result<()> {
+fn check_outputs(output: &Path, options: &CameraConvertOptions, inputs: &[&Path]) -> Result<Vec<Claim>> {
     let overwrite = options.write.overwrite;
-    crate::output::check_output(output, inputs, overwrite)?;
+    let mut claims = vec![crate::output::check_output(output, inputs, overwrite)?];
     if let Some(png) = &options.unseen_png {
         let mut read = inputs.to_vec();
         read.push(output);
-        crate::output::check_output(png, &read, overwrite)?;
+        claims.push(crate::output::check_output(png, &read, overwrite)?);
     }
-    Ok(())
+    Ok(claims)
 }
 
 /// A camera's picture (linear) and, when `use_depth` and the
@@ -268,7 +269,7 @@ pub fn convert_camera_files(
     options: &CameraConvertOptions,
     progress: &dyn Progress,
 ) -> Result<CameraConvertReport> {
-    check_outputs(output, options, &[input])?;
+    let _claims = check_outputs(output, options, &[input])?;
     let rig = super::open_rig_with(input, &options.open)?;
     let (linear, use_depth) = (rig.linear, options.resample.use_depth);
     let load = |cam: &Camera| load_view(cam, linear, use_depth);

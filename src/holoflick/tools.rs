@@ -105,7 +105,7 @@ pub fn pack(inputs: &[PathBuf], output: &Path, options: &PackOptions, progress: 
     }
     check_key_interval(options.key_interval)?;
     let read: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    crate::output::check_output(output, &read, options.overwrite)?;
+    let _claim = crate::output::check_output(output, &read, options.overwrite)?;
     let mut source = PackSource::open(inputs, options)?;
     let sink = HoloFlickSink::new(output, options.overwrite);
     let run = pipeline::run(&mut source, sink, options.frames.clone(), progress)?;
@@ -401,7 +401,7 @@ fn stored_object_error(path: &Path, problem: String) -> Error {
 
 /// `holo holoflick unpack`: frame `frame` of `input` as a `.glb` or `.ply` mesh.
 pub fn unpack(input: &Path, frame: usize, output: &Path, overwrite: bool) -> Result<usize> {
-    crate::output::check_output(output, &[input], overwrite)?;
+    let _claim = crate::output::check_output(output, &[input], overwrite)?;
     let objects = frame_objects(input, frame)?;
     crate::mesh::write::write_mesh(output, &objects, overwrite)?;
     Ok(objects.iter().map(|o| o.triangles.len()).sum())

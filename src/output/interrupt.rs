@@ -20,12 +20,20 @@ struct Registry {
     live: BTreeMap<u64, PathBuf>,
     /// Folders a run writes into, cleaned up after the files.
     folders: BTreeMap<u64, Cleanup>,
+    /// The outputs' locks this process holds (lock file, open and locked),
+    /// with how many claims share each.
+    locks: BTreeMap<PathBuf, (usize, File)>,
     /// Set once the cleanup has begun: no temporary is created or renamed after.
     interrupted: bool,
 }
 
-static REGISTRY: Mutex<Registry> =
-    Mutex::new(Registry { next_id: 0, live: BTreeMap::new(), folders: BTreeMap::new(), interrupted: false });
+static REGISTRY: Mutex<Registry> = Mutex::new(Registry {
+    next_id: 0,
+    live: BTreeMap::new(),
+    folders: BTreeMap::new(),
+    locks: BTreeMap::new(),
+    interrupted: false,
+});
 
 /// The registry, whatever a panicking holder left: its map stays
 /// consistent because every update is a single insert or remove.
@@ -72,6 +80,14 @@ pub(super) fn rename_registered(id: u64, from: &Path, to: &Path, overwrite: bool
         return Err(interrupted(to));
     }
     if overwrite {
+        // A FIFO, a device or a socket at `to` is never replaced: whatever
+        // checked it before the work, it may have appeared since.
+        if let Some(kind) = std::fs::symlink_metadata(to).ok().as_ref().and_then(super::check::special_kind) {
+            return Err(Error::Output {
+                path: to.to_path_buf(),
+                problem: OutputProblem::NotRegular { kind, wanted: "a regular file" },
+            });
+        }
         std::fs::rename(from, to).map_err(|e| Error::io(to, e))?;
     } else {
         // An atomic no-replace rename (renameat2 where the file system has
@@ -102,6 +118,37 @@ pub(super) fn remove_in_place(path: &Path) -> Result<()> {
     match std::fs::remove_file(path) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path, e)),
         _ => Ok(()),
+    }
+}
+
+/// Hold the lock file `path` for one more claim: taken with `take` (which
+/// opens and locks it, or says who holds it) when this process does not
+/// hold it yet. Returns whether it was taken now. Refused once the cleanup
+/// has begun.
+pub(super) fn take_lock(path: &Path, take: impl FnOnce() -> Result<File>) -> Result<bool> {
+    let mut registry = registry();
+    if registry.interrupted {
+        return Err(interrupted(path));
+    }
+    if let Some((claims, _)) = registry.locks.get_mut(path) {
+        *claims += 1;
+        return Ok(false);
+    }
+    let file = take()?;
+    registry.locks.insert(path.to_path_buf(), (1, file));
+    Ok(true)
+}
+
+/// One claim of the lock file `path` fewer: the last removes the file, then
+/// closes it (which releases the lock), so a process that opened it in
+/// between finds its lock on a file no longer there and opens again.
+pub(super) fn release_lock(path: &Path) {
+    let mut registry = registry();
+    let Some((claims, _)) = registry.locks.get_mut(path) else { return };
+    *claims -= 1;
+    if *claims == 0 {
+        let _ = std::fs::remove_file(path);
+        registry.locks.remove(path);
     }
 }
 
@@ -186,6 +233,12 @@ fn remove_all(registry: &mut Registry) -> usize {
     registry.interrupted = true;
     let live = std::mem::take(&mut registry.live);
     let removed = live.values().filter(|path| std::fs::remove_file(path).is_ok()).count();
+    // The locks before the folders, so a folder they are in can be empty;
+    // each removed before it is closed (see `release_lock`). Nothing is put
+    // in place from here on, so no output needs them any more.
+    for path in std::mem::take(&mut registry.locks).into_keys() {
+        let _ = std::fs::remove_file(path);
+    }
     for cleanup in std::mem::take(&mut registry.folders).into_values() {
         clean_up(&cleanup);
     }

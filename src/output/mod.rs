@@ -1,12 +1,18 @@
 //! How holo writes files: one discipline for every output.
 //!
 //! - Every file goes to a hidden temporary beside its destination
-//!   (`.NAME.XXXXXX.partial`; a scratch file is `.NAME.XXXXXX.spool`), is
-//!   flushed and synced, then renamed into place (never over an existing
-//!   file unless replacing was asked), and the folder is synced:
-//!   [`AtomicFile`], [`write_bytes_beside`]. Nothing is ever truncated under
-//!   its final name; a temporary dropped without being put in place is
-//!   removed.
+//!   (`.NAME.PID.XXXXXX.partial`; a scratch file is `.NAME.PID.XXXXXX.spool`;
+//!   `NAME` shortened where the name leaves too little room), is flushed and
+//!   synced, then renamed into place (never over an existing file unless
+//!   replacing was asked, and never over a FIFO, a device or a socket), and
+//!   the folder is synced: [`AtomicFile`], [`write_bytes_beside`]. Nothing is
+//!   ever truncated under its final name; a temporary dropped without being
+//!   put in place is removed.
+//! - One writer per output: a [`Claim`] (a lock on `.NAME.lock` beside the
+//!   output or set folder) is taken before any work and held until the
+//!   output is in place; another process asking for it is refused, naming
+//!   the first. The first claim also removes the temporaries that writers
+//!   which no longer run left beside the output, said by [`take_notices`].
 //! - Every temporary is in a process-wide registry from its creation until
 //!   it is renamed or removed. [`install_interrupt_cleanup`] makes SIGINT,
 //!   SIGTERM and SIGHUP remove them all, leave every previous file as it
@@ -18,19 +24,24 @@
 //!   set made for itself are removed again if it is not committed, on a
 //!   signal too.
 //! - [`check_output`] and [`check_set_output`] find, before any work, an
-//!   output that exists, whose folder is missing, or that is an input.
+//!   output that exists, whose folder is missing, whose name is longer than
+//!   its file system takes, that is not a regular file (or folder), that is
+//!   an input, or that another process is writing.
 //! - A run that fills a folder of its own (`holo demo`) claims it as a
 //!   [`RunFolder`]: new or empty, and emptied again (a new one removed) if
 //!   the run fails or is interrupted.
 
 mod check;
+mod claim;
 mod interrupt;
+mod naming;
 mod set;
 mod temporary;
 
 use std::path::Path;
 
 pub use check::{check_output, check_set_output, same_file};
+pub use claim::{take_notices, Claim};
 pub use interrupt::{install_interrupt_cleanup, remove_temporaries};
 pub use set::{check_set_complete, verify_set, FileSet, SetFile};
 pub(crate) use set::{file_sha256, require_manifest};

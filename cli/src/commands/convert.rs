@@ -99,7 +99,7 @@ pub struct HoloflickArgs {
 }
 
 fn holoflick(a: HoloflickArgs) -> Outcome {
-    check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
+    let _claim = check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
     let g = layout_geometry(&a.target.layout)?;
     let options = holoflick_options(&a);
     let started = Instant::now();
@@ -195,7 +195,7 @@ pub struct MeshArgs {
 fn mesh(a: MeshArgs) -> Outcome {
     let mut read = vec![a.scene.as_path(), Path::new(&a.target.layout)];
     read.extend(a.lights.as_deref());
-    check_output(&a.target.write.output, &read, a.target.write.force)?;
+    let _claim = check_output(&a.target.write.output, &read, a.target.write.force)?;
     let g = layout_geometry(&a.target.layout)?;
     let options = mesh_options(&a, &g)?;
     let started = Instant::now();
@@ -323,10 +323,9 @@ pub struct CamerasArgs {
 
 fn cameras(a: CamerasArgs) -> Outcome {
     let write = &a.target.write;
-    check_output(&write.output, &[&a.input, Path::new(&a.target.layout)], write.force)?;
-    if let Some(mask) = &a.unseen_mask {
-        check_output(mask, &[&a.input, &write.output], write.force)?;
-    }
+    let _claim = check_output(&write.output, &[&a.input, Path::new(&a.target.layout)], write.force)?;
+    let _mask_claim =
+        a.unseen_mask.as_ref().map(|mask| check_output(mask, &[&a.input, &write.output], write.force)).transpose()?;
     let g = layout_geometry(&a.target.layout)?;
     let mut open = OpenOptions::default();
     open.folder.baseline = a.baseline;

@@ -50,7 +50,7 @@ pub fn run(command: HoloflickCommand) -> Outcome {
         HoloflickCommand::Pack(a) => return run_pack(a),
         HoloflickCommand::Encode(a) => return run_encode(a),
         HoloflickCommand::Unpack { file, frame, output, force } => {
-            check_output(&output, &[&file], force)?;
+            let _claim = check_output(&output, &[&file], force)?;
             let triangles = unpack(&file, frame, &output, force)?;
             say!("wrote {} ({triangles} triangles of frame {frame})", output.display());
         }
@@ -118,7 +118,7 @@ pub struct PackArgs {
 fn run_pack(a: PackArgs) -> Outcome {
     let m = &a.movie;
     let read: Vec<&Path> = a.meshes.iter().map(PathBuf::as_path).collect();
-    check_output(&a.output, &read, m.force)?;
+    let _claim = check_output(&a.output, &read, m.force)?;
     let options = PackOptions {
         encode: m.encode(),
         frames_per_second: m.fps,
@@ -169,7 +169,7 @@ pub struct EncodeArgs {
 }
 
 fn run_encode(a: EncodeArgs) -> Outcome {
-    check_output(&a.output, &[&a.scene, Path::new(&a.layout)], a.movie.force)?;
+    let _claim = check_output(&a.output, &[&a.scene, Path::new(&a.layout)], a.movie.force)?;
     let g = layout_geometry(&a.layout)?;
     let m = &a.movie;
     let options = HoloFlickEncodeOptions {

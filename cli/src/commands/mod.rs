@@ -49,9 +49,11 @@ impl From<String> for Failure {
 pub type Outcome = Result<ExitCode, Failure>;
 
 /// Refuse, before any work, an output that exists (without `force`), whose
-/// folder is missing, or that is one of `inputs`, where an input folder
-/// stands for itself and every file in it.
-fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<(), Failure> {
+/// folder is missing, that is one of `inputs` (where an input folder
+/// stands for itself and every file in it), that is not a regular file, or
+/// that another process is writing; the claim keeps other processes from
+/// writing it while it is held (hold it until the output is written).
+fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<holo::output::Claim, Failure> {
     let mut read: Vec<PathBuf> = Vec::new();
     for input in inputs {
         read.push(input.to_path_buf());

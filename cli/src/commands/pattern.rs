@@ -40,7 +40,7 @@ pub struct PatternArgs {
 }
 
 pub fn run(a: PatternArgs) -> Outcome {
-    check_output(&a.write.output, &[Path::new(&a.layout)], a.write.force)?;
+    let _claim = check_output(&a.write.output, &[Path::new(&a.layout)], a.write.force)?;
     let mut geometry = layout_geometry(&a.layout)?;
     if let Some(c) = a.channels {
         geometry.channels = c.channels();
