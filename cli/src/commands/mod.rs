@@ -27,13 +27,17 @@ use crate::out::{say, warn};
 pub struct Failure(pub String);
 
 /// A library error as the one sentence the user reads; a refusal to
-/// replace something says how to ask for it.
+/// replace something says how to ask for it, a set left half replaced how
+/// to repair it, and a value the user typed names its flag.
 impl From<holo::Error> for Failure {
     fn from(e: holo::Error) -> Self {
         match &e {
             holo::Error::Output {
                 problem: holo::OutputProblem::Exists | holo::OutputProblem::SetExists(_), ..
             } => Failure(format!("{e} (use --force to replace it)")),
+            holo::Error::Set { problem: holo::SetProblem::Interrupted { .. }, .. } => {
+                Failure(format!("{e}, replacing them with --force"))
+            }
             _ => Failure(e.to_string()),
         }
     }

@@ -63,8 +63,7 @@ pub struct ImportViewsArgs {
 }
 
 pub fn run_import(a: ImportViewsArgs) -> Outcome {
-    let sidecar_path = a.dir.join(SIDECAR);
-    let sidecar = sidecar_path.exists().then(|| holo::views::read_sidecar(&sidecar_path)).transpose()?;
+    let sidecar = holo::views::folder_sidecar(&a.dir)?;
     let g = match (&a.geometry, &sidecar) {
         (Some(name), _) => layout_geometry(name)?,
         (None, Some(s)) => s.geometry.clone(),

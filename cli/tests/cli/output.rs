@@ -616,3 +616,35 @@ fn temporaries_a_killed_run_left_are_removed_by_the_next_run_and_said() {
     assert!(text(&o).contains(left[0].as_str()) && text(&o).contains("removed"), "{}", text(&o));
     assert_eq!(hidden(&d.join("fringes")), Vec::<String>::new());
 }
+
+#[test]
+fn every_reader_of_a_set_says_its_replacement_was_interrupted_and_how_to_repair_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    ok(holo(&["assemble", "ramp.holo", "--layout", "mark1", "-o", "fringes"], d));
+    ok(holo(&["export-views", "ramp.holo", "-o", "views"], d));
+    // As a replacement interrupted between taking the old set apart and
+    // putting the new manifest in place leaves them.
+    for (folder, manifest) in [("fringes", "holo-fringes.json"), ("views", "holo-views.json")] {
+        std::fs::write(d.join(folder).join(format!(".{manifest}.incomplete")), b"interrupted").unwrap();
+        std::fs::remove_file(d.join(folder).join(manifest)).unwrap();
+    }
+    for args in [
+        &["view", "fringes", "-o", "v.png"][..],
+        &["check", "ramp.holo", "--fringes", "fringes"],
+        &["import-views", "views", "-o", "back.holo"],
+        &["import-views", "views", "--geometry", "mark1", "-o", "back.holo"],
+    ] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(
+            text(&o).contains("replacement was interrupted") && text(&o).contains("with --force"),
+            "{args:?}: {}",
+            text(&o)
+        );
+    }
+    // Repaired as it says.
+    ok(holo(&["assemble", "ramp.holo", "--layout", "mark1", "-o", "fringes", "--force"], d));
+    ok(holo(&["view", "fringes", "-o", "v.png"], d));
+}
