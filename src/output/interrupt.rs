@@ -162,6 +162,19 @@ pub(super) enum Cleanup {
     /// Each removed in turn while empty, innermost first (the folders a
     /// [`super::FileSet`] made: its own and missing parents).
     RemoveEmpty(Vec<PathBuf>),
+    /// An earlier run's files put back ([`super::RunFolder::take_over`]):
+    /// of `names` in `folder`, those the earlier run had (`present`) come
+    /// back from `aside`, the others are removed.
+    Restore {
+        /// The run's folder.
+        folder: PathBuf,
+        /// Where the earlier run's files were moved.
+        aside: PathBuf,
+        /// What the run writes.
+        names: Vec<String>,
+        /// What of it the earlier run had.
+        present: Vec<String>,
+    },
 }
 
 /// Register a folder a run writes into, under the lock; refused once the
@@ -172,6 +185,7 @@ pub(super) fn register_folder(cleanup: Cleanup) -> Result<u64> {
         let path = match &cleanup {
             Cleanup::Remove(p) | Cleanup::Empty(p) => p.as_path(),
             Cleanup::RemoveEmpty(p) => p.first().map_or(Path::new("."), |p| p.as_path()),
+            Cleanup::Restore { folder, .. } => folder.as_path(),
         };
         return Err(interrupted(path));
     }
@@ -216,7 +230,38 @@ fn clean_up(cleanup: &Cleanup) {
         Cleanup::RemoveEmpty(folders) => {
             let _ = folders.iter().try_for_each(std::fs::remove_dir);
         }
+        Cleanup::Restore { folder, aside, names, present } => restore_aside(folder, aside, names, present),
     }
+}
+
+/// Put back what [`super::RunFolder::take_over`] moved from `folder` into
+/// `aside`: each entry of `aside` replaces what the run made under its name,
+/// and what the run made under the other `names` that the earlier run did
+/// not have (`present`) is removed; then `aside` goes. (With `names` empty,
+/// only the entries of `aside` come back: an aside left by a run killed
+/// outright, which said nothing of what it had.)
+pub(super) fn restore_aside(folder: &Path, aside: &Path, names: &[String], present: &[String]) {
+    let remove = |p: &Path| {
+        let _ = match std::fs::symlink_metadata(p) {
+            Ok(m) if m.is_dir() => std::fs::remove_dir_all(p),
+            Ok(_) => std::fs::remove_file(p),
+            Err(_) => Ok(()),
+        };
+    };
+    for name in names {
+        let was_aside = aside.join(name).exists();
+        // Not moved yet (the run stopped while moving): still the earlier run's.
+        if was_aside || !present.contains(name) {
+            remove(&folder.join(name));
+        }
+    }
+    for entry in std::fs::read_dir(aside).into_iter().flatten().flatten() {
+        let to = folder.join(entry.file_name());
+        remove(&to);
+        let _ = std::fs::rename(entry.path(), &to);
+    }
+    let _ = std::fs::remove_dir_all(aside);
+    let _ = super::temporary::sync_folder(folder);
 }
 
 /// Remove every registered temporary (and what the unfinished runs wrote

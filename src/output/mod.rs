@@ -29,7 +29,9 @@
 //!   an input, or that another process is writing.
 //! - A run that fills a folder of its own (`holo demo`) claims it as a
 //!   [`RunFolder`]: new or empty, and emptied again (a new one removed) if
-//!   the run fails or is interrupted.
+//!   the run fails or is interrupted; or an earlier run's, whose files are
+//!   moved aside and put back if the run fails or is interrupted
+//!   ([`RunFolder::take_over`]).
 
 mod check;
 mod claim;
@@ -60,6 +62,8 @@ use crate::Result;
 pub struct RunFolder {
     id: Option<u64>,
     path: std::path::PathBuf,
+    /// The folder claimed for this process while the run writes it.
+    _claim: Claim,
 }
 
 impl RunFolder {
@@ -70,6 +74,7 @@ impl RunFolder {
         use crate::{Error, OutputProblem};
         let wrong =
             |what: &'static str| Error::Output { path: path.to_path_buf(), problem: OutputProblem::WrongKind(what) };
+        let claim = claim_folder(path)?;
         let existed = match std::fs::metadata(path) {
             Ok(m) if !m.is_dir() => return Err(wrong("is a file; a folder is needed here")),
             Ok(_) => {
@@ -89,10 +94,46 @@ impl RunFolder {
             Some(outermost) => interrupt::Cleanup::Remove(outermost),
             None => interrupt::Cleanup::Empty(path.to_path_buf()),
         })?;
-        let folder = RunFolder { id: Some(id), path: path.to_path_buf() };
+        let folder = RunFolder { id: Some(id), path: path.to_path_buf(), _claim: claim };
         if !existed {
             std::fs::create_dir_all(path).map_err(|e| Error::io(path, e))?;
         }
+        Ok(folder)
+    }
+
+    /// Claim `path`, a folder an earlier run filled, for a new run: what
+    /// of it is named `names` (the files and folders the run writes) is
+    /// moved aside into a hidden folder in it. If the run does not finish
+    /// (dropped without [`keep`](Self::keep), or interrupted by a signal),
+    /// what it made under those names is removed and the earlier ones are
+    /// put back, so the folder is as the earlier run left it; when it
+    /// finishes, the earlier ones are removed. Nothing else in the folder is
+    /// touched. What a run killed outright (SIGKILL) had moved aside is put
+    /// back first.
+    pub fn take_over(path: &Path, names: &[&str]) -> Result<RunFolder> {
+        use crate::Error;
+        let claim = claim_folder(path)?;
+        let aside = path.join(PREVIOUS_RUN);
+        if aside.is_dir() {
+            interrupt::restore_aside(path, &aside, &[], &[]);
+        }
+        let names: Vec<String> = names.iter().map(|n| n.to_string()).collect();
+        let present: Vec<String> =
+            names.iter().filter(|n| std::fs::symlink_metadata(path.join(n)).is_ok()).cloned().collect();
+        // Registered before anything moves, so a signal at any point puts
+        // back what had moved.
+        let id = interrupt::register_folder(interrupt::Cleanup::Restore {
+            folder: path.to_path_buf(),
+            aside: aside.clone(),
+            names,
+            present: present.clone(),
+        })?;
+        let folder = RunFolder { id: Some(id), path: path.to_path_buf(), _claim: claim };
+        std::fs::create_dir(&aside).map_err(|e| Error::io(&aside, e))?;
+        for name in &present {
+            std::fs::rename(path.join(name), aside.join(name)).map_err(|e| Error::io(path.join(name), e))?;
+        }
+        temporary::sync_folder(path)?;
         Ok(folder)
     }
 
@@ -101,19 +142,42 @@ impl RunFolder {
         &self.path
     }
 
-    /// The run succeeded: its files stay.
+    /// The run succeeded: its files stay (and what an earlier run's were
+    /// moved aside for is removed).
     pub fn keep(mut self) {
         if let Some(id) = self.id.take() {
             interrupt::forget_folder(id);
         }
+        let aside = self.path.join(PREVIOUS_RUN);
+        if aside.is_dir() {
+            // Nothing useful can be done about an earlier run's files that
+            // cannot be removed: they stay hidden, and the next run puts
+            // them back before it begins.
+            let _ = std::fs::remove_dir_all(&aside);
+        }
     }
 }
+
+/// The hidden folder in an earlier run's folder where [`RunFolder::take_over`]
+/// keeps its files while a new run writes.
+const PREVIOUS_RUN: &str = ".holo-previous-run";
 
 impl Drop for RunFolder {
     fn drop(&mut self) {
         if let Some(id) = self.id.take() {
             interrupt::remove_folder(id);
         }
+    }
+}
+
+/// Claim the folder `path` for this process's run (another process
+/// writing into it is refused): its lock beside it once its parent is
+/// there, else nothing to claim yet.
+pub(crate) fn claim_folder(path: &Path) -> Result<Claim> {
+    if folder_of(path).is_dir() {
+        Claim::take(claim::Scope::Set(path), "")
+    } else {
+        Ok(Claim::none())
     }
 }
 
@@ -198,5 +262,40 @@ mod tests {
             assert!(matches!(e, crate::Error::Output { ref path, .. } if *path == taken), "{e}");
         }
         assert!(new.join("sub/a.txt").is_file() && new.join("b.txt").is_file());
+    }
+
+    #[test]
+    fn a_run_over_an_earlier_one_puts_the_earlier_files_back_unless_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let folder = dir.path().join("run");
+        std::fs::create_dir_all(folder.join("sub")).unwrap();
+        for (name, text) in [("sub/a.txt", "earlier a"), ("b.txt", "earlier b"), ("yours.txt", "yours")] {
+            std::fs::write(folder.join(name), text).unwrap();
+        }
+        let read = |name: &str| std::fs::read_to_string(folder.join(name)).ok();
+        let names = ["sub", "b.txt", "c.txt"];
+        // Moved aside while the run writes; a run that fails leaves the
+        // earlier files (and yours) as they were, and nothing of its own.
+        let run = RunFolder::take_over(&folder, &names).unwrap();
+        assert_eq!((read("sub/a.txt"), read("b.txt")), (None, None));
+        std::fs::create_dir(folder.join("sub")).unwrap();
+        write_bytes_beside(&folder.join("sub/a.txt"), b"new a", false).unwrap();
+        write_bytes_beside(&folder.join("c.txt"), b"new c", false).unwrap();
+        drop(run);
+        assert_eq!(read("sub/a.txt").as_deref(), Some("earlier a"));
+        assert_eq!(read("b.txt").as_deref(), Some("earlier b"));
+        assert_eq!((read("c.txt"), read("yours.txt").as_deref()), (None, Some("yours")));
+        // Kept: the run's files stay, the earlier ones are gone, yours stay.
+        let run = RunFolder::take_over(&folder, &names).unwrap();
+        write_bytes_beside(&folder.join("c.txt"), b"new c", false).unwrap();
+        run.keep();
+        assert_eq!((read("sub/a.txt"), read("b.txt")), (None, None));
+        assert_eq!((read("c.txt").as_deref(), read("yours.txt").as_deref()), (Some("new c"), Some("yours")));
+        let mut left: Vec<String> =
+            std::fs::read_dir(&folder).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
+        left.sort();
+        assert_eq!(left, ["c.txt", "yours.txt"]);
+        let beside: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(beside, ["run"], "the lock is gone with the run");
     }
 }

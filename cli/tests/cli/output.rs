@@ -648,3 +648,51 @@ fn every_reader_of_a_set_says_its_replacement_was_interrupted_and_how_to_repair_
     ok(holo(&["assemble", "ramp.holo", "--layout", "mark1", "-o", "fringes", "--force"], d));
     ok(holo(&["view", "fringes", "-o", "v.png"], d));
 }
+
+#[test]
+fn an_interrupted_demo_into_an_earlier_demos_folder_leaves_it_as_it_was() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // An earlier demo's folder (its marker, its files), with a file of yours.
+    let folder = d.join("earlier");
+    std::fs::create_dir_all(folder.join("spot")).unwrap();
+    std::fs::create_dir_all(folder.join("movie")).unwrap();
+    std::fs::write(folder.join(".holo-demo"), "Made by `holo demo`.\n").unwrap();
+    for name in ["demo.holo", "demo_qs8x6a0.75.png", "fringe.png", "eyes.png", "eyes-moving.png", "movie/cube.holo"] {
+        std::fs::write(folder.join(name), format!("the earlier demo's {name}")).unwrap();
+    }
+    std::fs::write(folder.join("notes.txt"), "my notes").unwrap();
+    let before = snapshot(&folder);
+    let mut child = spawn(&["demo", "-o", "earlier"], d);
+    // Once the new demo.holo is complete (its temporary gone again), before the rest.
+    let partial = |dir: &Path| -> bool {
+        fn walk(dir: &Path, found: &mut bool) {
+            for e in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                *found |= name.starts_with(".demo.holo.") && name.ends_with(".partial");
+                if e.file_type().is_ok_and(|t| t.is_dir()) {
+                    walk(&e.path(), found);
+                }
+            }
+        }
+        let mut found = false;
+        walk(dir, &mut found);
+        found
+    };
+    let started = Instant::now();
+    while !partial(&folder) {
+        assert!(child.try_wait().unwrap().is_none(), "the demo ended before writing demo.holo");
+        assert!(started.elapsed() < Duration::from_secs(300));
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    while partial(&folder) {
+        assert!(child.try_wait().unwrap().is_none(), "the demo ended while writing demo.holo");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let (status, messages) = interrupt(child, "INT");
+    assert_eq!(status, Some(130), "{messages}");
+    assert!(snapshot(&folder) == before, "the interrupted demo left a mix: {:?}", snapshot(&folder).keys());
+    let mut all_hidden = hidden(&folder);
+    all_hidden.retain(|n| n != ".holo-demo");
+    assert_eq!(all_hidden, Vec::<String>::new());
+}
