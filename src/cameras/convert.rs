@@ -76,7 +76,11 @@ fn convert(
     progress: &dyn Progress,
 ) -> Result<CameraConvertReport> {
     rig.check()?;
-    check_outputs(output, options, &[])?;
+    // The rig's pictures and depth maps are inputs as much as its file.
+    let mut read = rig.files();
+    read.extend(input.map(Path::to_path_buf));
+    let read_paths: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
+    let _claims = check_outputs(output, options, &read_paths)?;
     let decoding = std::time::Instant::now();
     let loaded = Steps::begin(progress, "pictures", rig.cameras.len());
     let views: Vec<CameraView> = rig
@@ -103,7 +107,8 @@ fn convert(
     let resampler = RigResampler::new(rig, &views, geometry, &resample_options)?;
     let mut source = CameraSource {
         rig,
-        inputs: input.map(Path::to_path_buf).into_iter().collect(),
+        input: input.map(Path::to_path_buf),
+        inputs: read,
         resampler: &resampler,
         options,
         unseen: Unseen::default(),
@@ -136,6 +141,9 @@ fn convert(
 /// for the unseen picture, a byte per emitter), never the whole frame.
 struct CameraSource<'a> {
     rig: &'a Rig,
+    /// The rig's file or folder, when it was read from one.
+    input: Option<PathBuf>,
+    /// Every file read: the rig's and its pictures and depth maps.
     inputs: Vec<PathBuf>,
     resampler: &'a RigResampler<'a>,
     options: &'a CameraConvertOptions,
@@ -187,7 +195,7 @@ impl Source for CameraSource<'_> {
         options.resample.want_mask = false;
         options.write = WriteOptions::default();
         let options = ConverterOptions::Cameras(options);
-        match self.inputs.first() {
+        match &self.input {
             Some(input) => Conversion::of_input(input, options).map(Some),
             None => Ok(Some(Conversion { input: self.rig.source.clone(), input_sha256: None, options })),
         }

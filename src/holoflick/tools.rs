@@ -182,8 +182,13 @@ impl<'a> PackSource<'a> {
 impl Source for PackSource<'_> {
     type Frame = Frame;
 
+    /// The meshes and every file they refer to.
     fn inputs(&self) -> Vec<PathBuf> {
-        self.inputs.to_vec()
+        self.scenes.iter().flat_map(|s| s.files().iter().cloned()).collect()
+    }
+
+    fn name(&self) -> String {
+        self.inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(" ")
     }
 
     fn frame_count(&self) -> usize {

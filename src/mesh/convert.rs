@@ -226,8 +226,13 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
 impl<S: SceneStage> Source for SceneFrames<'_, S> {
     type Frame = S::Frame;
 
+    /// The scene file and every file it refers to.
     fn inputs(&self) -> Vec<PathBuf> {
-        vec![self.source.path().to_path_buf()]
+        self.source.files().to_vec()
+    }
+
+    fn name(&self) -> String {
+        self.source.path().display().to_string()
     }
 
     /// The animation's frames at the frame rate (its first and last pose

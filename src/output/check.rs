@@ -65,6 +65,17 @@ pub(crate) fn special_kind(metadata: &std::fs::Metadata) -> Option<&'static str>
     Some("a special file")
 }
 
+/// Whether `path` (followed through links) is a regular file an input can
+/// be read from: a phrase saying what it is when it is something else (a
+/// FIFO, whose opening would wait for a writer, a device, a folder). A path
+/// that is not there passes: opening it says so.
+pub(crate) fn regular_file(path: &Path) -> std::result::Result<(), String> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => Err(format!("not a regular file ({})", special_kind(&m).unwrap_or("a folder"))),
+        _ => Ok(()),
+    }
+}
+
 /// Refuse `path` when it exists (following links) as something a file
 /// cannot be written over: a FIFO, a device, a socket.
 fn not_special(path: &Path, wanted: &'static str) -> Result<()> {

@@ -43,6 +43,7 @@ mod temporary;
 use std::path::Path;
 
 pub use check::{check_output, check_set_output, same_file};
+pub(crate) use check::{regular_file, special_kind};
 pub use claim::{take_notices, Claim};
 pub use interrupt::{install_interrupt_cleanup, remove_temporaries};
 pub use set::{check_set_complete, verify_set, FileSet, SetFile};
