@@ -118,6 +118,14 @@ impl Sink<Frame> for HoloFlickSink {
         self.overwrite
     }
 
+    fn max_frames(&self) -> (u64, &'static str) {
+        if self.is_cg() {
+            (1, "a .cg file")
+        } else {
+            (super::container::MAX_FRAMES, "a HoloFlick")
+        }
+    }
+
     fn write(self, job: &Job, render: &mut dyn FnMut(usize, &mut Frame) -> Result<()>) -> Result<HoloFlickWritten> {
         if self.is_cg() {
             return self.write_cg(job, render);

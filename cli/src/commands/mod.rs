@@ -38,6 +38,7 @@ impl From<holo::Error> for Failure {
             holo::Error::Set { problem: holo::SetProblem::Interrupted { .. }, .. } => {
                 Failure(format!("{e}, replacing them with --force"))
             }
+            holo::Error::Argument { what: "frame rate", .. } => Failure(format!("{e} (--fps)")),
             _ => Failure(e.to_string()),
         }
     }

@@ -438,6 +438,33 @@ fn referenced_files_are_read_only_as_far_as_they_declare() {
 }
 
 #[test]
+fn frame_rates_and_counts_are_checked_before_any_work_with_a_message_about_the_rate() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    let p = profile.to_str().unwrap();
+    let glb = super::fixture("mesh/AnimatedMorphCube.glb");
+    let glb = glb.to_str().unwrap();
+    // (The cube's animation lasts 4.2 s.)
+    for (args, needle) in [
+        (&["holoflick", "pack", glb, "--fps", "1e9", "-o", "a.hflk"][..], "frame rate"),
+        (&["holoflick", "pack", glb, "--fps", "1e7", "-o", "a.hflk"], "frame rate"),
+        (&["holoflick", "pack", glb, "--fps", "1e6", "-o", "a.hflk"], "frame rate"),
+        (&["holoflick", "encode", glb, "--layout", p, "--fps", "1e300", "-o", "a.hflk"], "frame rate"),
+        (&["holoflick", "encode", glb, "--layout", p, "--fps", "1e-300", "-o", "a.hflk"], "frame rate"),
+        (&["convert", "mesh", glb, "--layout", p, "--fps", "1e7", "-o", "a.holo"], "frame rate"),
+        (&["convert", "mesh", glb, "--layout", p, "--fps", "1e5", "-o", "a.holo"], "frame rate"),
+        (&["convert", "mesh", glb, "--layout", p, "--fps", "1e300", "-o", "a.holo"], "frame rate"),
+    ] {
+        let o = super::holo_bounded(args, d, 10, 3072);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains(needle) && text(&o).contains("--fps"), "{args:?}: {}", text(&o));
+        assert!(!text(&o).contains("frames 0..0"), "{args:?}: {}", text(&o));
+    }
+    assert!(!d.join("a.hflk").exists() && !d.join("a.holo").exists());
+}
+
+#[test]
 fn triangle_strips_are_read_and_what_is_skipped_or_unreadable_is_said() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
