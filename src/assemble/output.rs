@@ -366,7 +366,14 @@ fn write_exr(out: &mut AtomicFile, images: &FrameImages<f32>, image: usize) -> c
     let layer = Layer::new(
         (w, h),
         LayerAttributes::named("fringe"),
-        Encoding { compression: exr::compression::Compression::ZIP16, ..Encoding::default() },
+        // Tiles stored in increasing y (then x), whatever order the
+        // compressing threads finish in: the same frame gives the same bytes
+        // at any thread count.
+        Encoding {
+            compression: exr::compression::Compression::ZIP16,
+            line_order: LineOrder::Increasing,
+            ..Encoding::default()
+        },
         AnyChannels::sort(channels),
     );
     Image::from_layer(layer).write().to_buffered(out).map_err(|e| crate::Error::exr(&path, e))
