@@ -39,6 +39,7 @@ impl From<holo::Error> for Failure {
                 Failure(format!("{e}, replacing them with --force"))
             }
             holo::Error::Argument { what: "frame rate", .. } => Failure(format!("{e} (--fps)")),
+            holo::Error::Argument { what: "pupil", .. } => Failure(format!("{e} (--pupil, in millimetres)")),
             _ => Failure(e.to_string()),
         }
     }

@@ -503,3 +503,24 @@ fn triangle_strips_are_read_and_what_is_skipped_or_unreadable_is_said() {
         assert!(text(&o).contains(needle), "{scene}: {}", text(&o));
     }
 }
+
+/// A pupil wider than any light the display sends can reach is refused at
+/// once, saying the bound, instead of imaging for hours.
+#[test]
+fn a_pupil_wider_than_the_viewing_zone_is_refused_saying_the_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    for coherent in [true, false] {
+        let mut args = vec!["view", "ramp.holo", "--layout", "mark1", "--pupil", "1e6", "-o", "v.png"];
+        if coherent {
+            args.push("--coherent");
+        }
+        let o = super::holo_bounded(&args, d, 20, 4096);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains("--pupil") && text(&o).contains("at most"), "{args:?}: {}", text(&o));
+    }
+    assert!(!d.join("v.png").exists());
+    // A wide pupil within the zone is fine.
+    ok(holo(&["view", "ramp.holo", "--layout", "mark1", "--pupil", "50", "--coherent", "-o", "v.png"], d));
+}
