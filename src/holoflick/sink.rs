@@ -118,12 +118,9 @@ impl Sink<Frame> for HoloFlickSink {
         self.overwrite
     }
 
+    /// (A `.cg` file, one frame, says so itself when it is asked for more.)
     fn max_frames(&self) -> (u64, &'static str) {
-        if self.is_cg() {
-            (1, "a .cg file")
-        } else {
-            (super::container::MAX_FRAMES, "a HoloFlick")
-        }
+        (super::container::MAX_FRAMES, "a HoloFlick")
     }
 
     fn write(self, job: &Job, render: &mut dyn FnMut(usize, &mut Frame) -> Result<()>) -> Result<HoloFlickWritten> {
