@@ -50,8 +50,16 @@ impl Claim {
         if !super::folder_of(&path).is_dir() {
             return Ok(Claim::none());
         }
-        let fresh = interrupt::take_lock(&path, || lock(&path, refused))?;
-        if fresh {
+        let mut guarded = false;
+        let fresh = interrupt::take_lock(&path, || {
+            let (file, locked) = lock(&path, refused)?;
+            guarded = locked;
+            Ok(file)
+        })?;
+        // Only under a lock that excludes other writers: where the file
+        // system has no locks, a temporary whose writer is not running here
+        // may be another machine's, being written.
+        if fresh && guarded {
             remove_stale(&scope);
         }
         Ok(Claim { lock: Some(path) })
@@ -72,20 +80,21 @@ impl Drop for Claim {
     }
 }
 
-/// Open `path` and take its lock for this process, or say who holds it.
-/// A failure to make the lock file names the output, which cannot be
-/// written there either.
-fn lock(path: &Path, output: &Path) -> Result<File> {
+/// Open `path` and take its lock for this process, or say who holds it;
+/// with whether the lock excludes other processes (not where the file
+/// system has no locks). A failure to make the lock file names the output,
+/// which cannot be written there either.
+fn lock(path: &Path, output: &Path) -> Result<(File, bool)> {
     let io = |e| Error::io(output, e);
     loop {
         let mut file =
             std::fs::OpenOptions::new().read(true).write(true).create(true).truncate(false).open(path).map_err(io)?;
-        if !try_lock(&file).map_err(io)? {
+        let Some(guarded) = try_lock(&file).map_err(io)? else {
             let mut text = String::new();
             let _ = file.read_to_string(&mut text);
             let pid = text.trim().parse().ok();
             return Err(Error::Output { path: output.to_path_buf(), problem: OutputProblem::Locked { pid } });
-        }
+        };
         // The holder before us may have removed the file between our open
         // and our lock: then the lock is on a file no one else will open.
         if !still_at(&file, path) {
@@ -94,32 +103,33 @@ fn lock(path: &Path, output: &Path) -> Result<File> {
         file.set_len(0).map_err(io)?;
         file.rewind().map_err(io)?;
         writeln!(file, "{}", std::process::id()).map_err(io)?;
-        return Ok(file);
+        return Ok((file, guarded));
     }
 }
 
-/// Take `file`'s exclusive lock without waiting: `false` when another
-/// process holds it. A file system that has no locks (some network file
-/// systems answer `ENOLCK`) is written as before locks: unguarded.
-fn try_lock(file: &File) -> std::io::Result<bool> {
+/// Take `file`'s exclusive lock without waiting: `Some(true)` when taken,
+/// `None` when another process holds it, `Some(false)` on a file system
+/// that has no locks (some network file systems answer `ENOLCK`), which is
+/// written as before locks: unguarded.
+fn try_lock(file: &File) -> std::io::Result<Option<bool>> {
     #[cfg(target_os = "linux")]
     {
         use std::os::unix::io::AsRawFd;
         // SAFETY: the descriptor is open for as long as `file` lives.
         if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0 {
-            return Ok(true);
+            return Ok(Some(true));
         }
         let e = std::io::Error::last_os_error();
         match e.raw_os_error() {
-            Some(libc::EWOULDBLOCK) => Ok(false),
-            Some(libc::ENOLCK | libc::EOPNOTSUPP | libc::ENOSYS) => Ok(true),
+            Some(libc::EWOULDBLOCK) => Ok(None),
+            Some(libc::ENOLCK | libc::EOPNOTSUPP | libc::ENOSYS) => Ok(Some(false)),
             _ => Err(e),
         }
     }
     #[cfg(not(target_os = "linux"))]
     {
         let _ = file;
-        Ok(true)
+        Ok(Some(false))
     }
 }
 
