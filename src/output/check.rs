@@ -117,7 +117,7 @@ pub fn check_output(output: &Path, inputs: &[&Path], overwrite: bool) -> Result<
     if !overwrite && output.exists() {
         return Err(refuse(output, OutputProblem::Exists));
     }
-    Claim::take(Scope::File(output), "")
+    Claim::take(Scope::File(output))
 }
 
 /// Whether the set of files `names` with manifest `manifest` can be written
@@ -127,8 +127,8 @@ pub fn check_output(output: &Path, inputs: &[&Path], overwrite: bool) -> Result<
 /// `overwrite` the folder holds no set (no manifest) and none of the
 /// files, and no other process is writing a set there. The returned
 /// [`Claim`] keeps other processes from writing the set until it is
-/// dropped (a folder whose parent is still to be made is claimed by
-/// [`super::FileSet::create`]).
+/// dropped (a folder still to be made is claimed by
+/// [`super::FileSet::create`], once made).
 pub fn check_set_output(
     folder: &Path,
     manifest: &str,
@@ -164,8 +164,8 @@ pub fn check_set_output(
             return Err(refuse(&path, OutputProblem::Exists));
         }
     }
-    if parent.is_dir() {
-        Claim::take(Scope::Set(folder), manifest)
+    if folder.is_dir() {
+        Claim::take(Scope::Folder(folder, manifest))
     } else {
         Ok(Claim::none())
     }

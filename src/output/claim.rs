@@ -1,6 +1,7 @@
 //! One writer per output: a [`Claim`] is an advisory lock (`flock`) on a
-//! hidden file beside the output or set folder (`.NAME.lock`), taken before
-//! any work and held until the output is in place. A second process that
+//! hidden file beside the output (`.NAME.lock`), or in the folder of a set
+//! (`.MANIFEST.lock`), taken before any work and held until the output is
+//! in place. A second process that
 //! asks for the same output is refused at once, naming the first; a lock
 //! file whose process has died (the system released its lock) is no
 //! obstacle. Within one process a claim is shared: the command's check and
@@ -17,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Mutex, PoisonError};
 
 use super::interrupt;
-use super::naming::{lock_path, may_be_running, parse_temporary, stem_of};
+use super::naming::{file_lock, folder_lock, may_be_running, parse_temporary, stem_of};
 use crate::{Error, OutputProblem, Result};
 
 /// An output claimed by this process (see the module docs): the lock is
@@ -34,19 +35,22 @@ pub struct Claim {
 pub(super) enum Scope<'a> {
     /// A file: temporaries beside it with its stem.
     File(&'a Path),
-    /// A set's folder: every temporary in it.
-    Set(&'a Path),
+    /// A folder a set (or a run) writes, named by its manifest (or the
+    /// run's name): every temporary in it.
+    Folder(&'a Path, &'a str),
 }
 
 impl Claim {
-    /// Claim `output` (a file, or a set's folder whose manifest is named
-    /// `manifest`) for this process; refused when another holds it.
-    pub(super) fn take(scope: Scope<'_>, manifest: &str) -> Result<Claim> {
+    /// Claim an output (a file, or the folder of a set or run) for this
+    /// process; refused when another holds it.
+    pub(super) fn take(scope: Scope<'_>) -> Result<Claim> {
         let (path, refused) = match scope {
-            Scope::File(p) | Scope::Set(p) => (lock_path(p, manifest), p),
+            Scope::File(p) => (file_lock(p), p),
+            Scope::Folder(p, name) => (folder_lock(p, name), p),
         };
-        // Without its folder there is nothing to lock yet (and nothing to
-        // write: the writer says so, naming the folder).
+        // Without its folder there is nothing to lock yet: a set's folder is
+        // claimed once it is made; a file's is missing, which its writer
+        // says, naming the folder.
         if !super::folder_of(&path).is_dir() {
             return Ok(Claim::none());
         }
@@ -168,7 +172,7 @@ pub fn take_notices() -> Vec<String> {
 fn remove_stale(scope: &Scope<'_>) {
     let (folder, stem) = match scope {
         Scope::File(p) => (super::folder_of(p).to_path_buf(), Some(stem_of(p))),
-        Scope::Set(p) => (p.to_path_buf(), None),
+        Scope::Folder(p, _) => (p.to_path_buf(), None),
     };
     let Ok(entries) = std::fs::read_dir(&folder) else { return };
     for entry in entries.flatten() {

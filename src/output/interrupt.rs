@@ -217,7 +217,9 @@ fn clean_up(cleanup: &Cleanup) {
             let _ = std::fs::remove_dir_all(path);
         }
         Cleanup::Empty(path) => {
-            for entry in std::fs::read_dir(path).into_iter().flatten().flatten() {
+            // The run's own lock goes with its claim, which is still held.
+            let lock = format!(".{}.lock", super::RUN_LOCK);
+            for entry in std::fs::read_dir(path).into_iter().flatten().flatten().filter(|e| e.file_name() != *lock) {
                 let p = entry.path();
                 let _ = if entry.file_type().is_ok_and(|t| t.is_dir()) {
                     std::fs::remove_dir_all(&p)

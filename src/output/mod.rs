@@ -8,9 +8,9 @@
 //!   the folder is synced: [`AtomicFile`], [`write_bytes_beside`]. Nothing is
 //!   ever truncated under its final name; a temporary dropped without being
 //!   put in place is removed.
-//! - One writer per output: a [`Claim`] (a lock on `.NAME.lock` beside the
-//!   output or set folder) is taken before any work and held until the
-//!   output is in place; another process asking for it is refused, naming
+//! - One writer per output: a [`Claim`] (a lock on `.NAME.lock` beside a
+//!   file, or `.MANIFEST.lock` in a set's folder) is taken before any work
+//!   and held until the output is in place; another process asking for it is refused, naming
 //!   the first. The first claim also removes the temporaries that writers
 //!   which no longer run left beside the output, said by [`take_notices`].
 //! - Every temporary is in a process-wide registry from its creation until
@@ -75,7 +75,6 @@ impl RunFolder {
         use crate::{Error, OutputProblem};
         let wrong =
             |what: &'static str| Error::Output { path: path.to_path_buf(), problem: OutputProblem::WrongKind(what) };
-        let claim = claim_folder(path)?;
         let existed = match std::fs::metadata(path) {
             Ok(m) if !m.is_dir() => return Err(wrong("is a file; a folder is needed here")),
             Ok(_) => {
@@ -95,10 +94,11 @@ impl RunFolder {
             Some(outermost) => interrupt::Cleanup::Remove(outermost),
             None => interrupt::Cleanup::Empty(path.to_path_buf()),
         })?;
-        let folder = RunFolder { id: Some(id), path: path.to_path_buf(), _claim: claim };
+        let mut folder = RunFolder { id: Some(id), path: path.to_path_buf(), _claim: Claim::none() };
         if !existed {
             std::fs::create_dir_all(path).map_err(|e| Error::io(path, e))?;
         }
+        folder._claim = claim_folder(path)?;
         Ok(folder)
     }
 
@@ -172,15 +172,14 @@ impl Drop for RunFolder {
 }
 
 /// Claim the folder `path` for this process's run (another process
-/// writing into it is refused): its lock beside it once its parent is
-/// there, else nothing to claim yet.
-pub(crate) fn claim_folder(path: &Path) -> Result<Claim> {
-    if folder_of(path).is_dir() {
-        Claim::take(claim::Scope::Set(path), "")
-    } else {
-        Ok(Claim::none())
-    }
+/// writing into it is refused): its lock ([`RUN_LOCK`]) in it.
+fn claim_folder(path: &Path) -> Result<Claim> {
+    Claim::take(claim::Scope::Folder(path, RUN_LOCK))
 }
+
+/// The name of a run folder's lock (`.holo-run.lock` in it), which a
+/// failed run's emptying leaves to its claim.
+pub(crate) const RUN_LOCK: &str = "holo-run";
 
 /// The folders `create_dir_all(path)` would make: `path` and its missing
 /// parents, innermost first (none when `path` exists).
@@ -297,6 +296,6 @@ mod tests {
         left.sort();
         assert_eq!(left, ["c.txt", "yours.txt"]);
         let beside: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
-        assert_eq!(beside, ["run"], "the lock is gone with the run");
+        assert_eq!(beside, ["run"]);
     }
 }

@@ -87,19 +87,18 @@ pub(super) fn parse_temporary(name: &str) -> Option<(&str, u32)> {
         .flatten()
 }
 
-/// The lock file of the output `path` (a file, or a set's folder):
-/// `.STEM.lock` beside it. A folder named only by `.`, `..` or `/` is
-/// named by where it is; the root's lock is in it, called `.NAME.lock` for
-/// the manifest name `inside`.
-pub(super) fn lock_path(path: &Path, inside: &str) -> PathBuf {
-    let named = match path.file_name() {
-        Some(_) => Some(path.to_path_buf()),
-        _ => path.canonicalize().ok().filter(|p| p.file_name().is_some()),
-    };
-    match named {
-        Some(p) => super::folder_of(&p).join(format!(".{}.lock", stem_of(&p))),
-        None => path.join(format!(".{inside}.lock")),
-    }
+/// The lock file of the output file `path`: `.STEM.lock` beside it (where
+/// its temporaries go too).
+pub(super) fn file_lock(path: &Path) -> PathBuf {
+    super::folder_of(path).join(format!(".{}.lock", stem_of(path)))
+}
+
+/// The lock file of a set, or a run's files, in the folder `folder`:
+/// `.NAME.lock` in it, `NAME` the set's manifest (`holo-fringes.json`) or
+/// the run's name. In the folder, not beside it: writing a folder's files
+/// needs no right to its parent (`-o .` in a home folder).
+pub(super) fn folder_lock(folder: &Path, name: &str) -> PathBuf {
+    folder.join(format!(".{name}.lock"))
 }
 
 /// Whether process `pid` may still be running: only a process the system

@@ -71,12 +71,9 @@ impl FileSet {
             created,
             claim: None,
         };
-        // Claimed once its parent is there (made here when missing).
-        if let Some(parent) = folder.parent().filter(|p| !p.as_os_str().is_empty()) {
-            std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
-        }
-        set.claim = Some(Claim::take(Scope::Set(folder), manifest)?);
         std::fs::create_dir_all(folder).map_err(|e| Error::io(folder, e))?;
+        // Claimed once it is there (before anything is written into it).
+        set.claim = Some(Claim::take(Scope::Folder(folder, manifest))?);
         Ok(set)
     }
 

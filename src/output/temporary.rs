@@ -75,7 +75,7 @@ impl AtomicFile {
     /// it may be replaced is decided at [`commit`](Self::commit).
     pub fn create(destination: impl AsRef<Path>) -> Result<AtomicFile> {
         let destination = destination.as_ref();
-        let claim = Claim::take(Scope::File(destination), "")?;
+        let claim = Claim::take(Scope::File(destination))?;
         Self::create_claimed(destination, Some(claim))
     }
 
