@@ -244,6 +244,30 @@ pub enum OutputProblem {
     /// A file is wanted where a folder is, or a folder where a file is.
     #[error("{0}")]
     WrongKind(&'static str),
+    /// Something other than a regular file or a folder (a FIFO, a device,
+    /// a socket) stands where the output goes: it is never replaced.
+    #[error("is {kind}, not {wanted}")]
+    NotRegular {
+        /// What is there (`a FIFO`, `a character device`, ...).
+        kind: &'static str,
+        /// What the output is (`a regular file`, `a folder`).
+        wanted: &'static str,
+    },
+    /// The output's name is longer than its file system takes.
+    #[error("its name is {bytes} bytes long; the file system takes at most {limit}")]
+    NameTooLong {
+        /// The name's length in bytes.
+        bytes: usize,
+        /// The longest name the file system takes.
+        limit: usize,
+    },
+    /// Another process is writing the same output (it holds the output's
+    /// lock).
+    #[error("is being written by another process{}; wait for it to finish, or stop it", .pid.map(|p| format!(" (pid {p})")).unwrap_or_default())]
+    Locked {
+        /// The process holding the lock, when its lock file says.
+        pid: Option<u32>,
+    },
     /// A folder already holds a set of files (its manifest names them) and
     /// replacing it was not asked for.
     #[error("already exists as a set of files ({0} lists them); not overwritten")]

@@ -123,6 +123,12 @@ pub trait Sink<F> {
     /// Whether an existing output may be replaced.
     fn overwrite(&self) -> bool;
 
+    /// The most frames the output holds, and what it is (`a .holo file`),
+    /// for the message when more are asked.
+    fn max_frames(&self) -> (u64, &'static str) {
+        (u64::MAX, "the output")
+    }
+
     /// Write the frames of `job`, asking `render(number, buffer)` for each
     /// (for a banded `.holo` frame: for each band, in order).
     fn write(self, job: &Job, render: &mut dyn FnMut(usize, &mut F) -> Result<()>) -> Result<Self::Written>;
@@ -232,8 +238,24 @@ where
 {
     let inputs = source.inputs();
     let read: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    crate::output::check_output(sink.path(), &read, sink.overwrite())?;
+    // Held until the output is in place.
+    let _claim = crate::output::check_output(sink.path(), &read, sink.overwrite())?;
     let frames = frame_range(&source.name(), frames, source.frame_count())?;
+    let (most, output) = sink.max_frames();
+    if frames.len() as u64 > most {
+        let rate = match source.frames_per_second() {
+            Some((n, d)) => format!(" at {} frames per second", rate_text(f64::from(n) / f64::from(d))),
+            None => String::new(),
+        };
+        return Err(Error::argument(
+            "frame rate",
+            format!(
+                "{}: {} frames{rate} asked for; {output} holds at most {most}: lower the frame rate, or ask for fewer frames",
+                source.name(),
+                frames.len(),
+            ),
+        ));
+    }
     cancelled(progress)?;
     let mut warnings = Warnings::default();
     let mut timings = Timings::default();
@@ -300,7 +322,7 @@ where
     S: Source,
     K: Sink<S::Frame>,
 {
-    crate::output::check_output(sink.path(), &[input], sink.overwrite())?;
+    let _claim = crate::output::check_output(sink.path(), &[input], sink.overwrite())?;
     let started = std::time::Instant::now();
     let mut source = open(input)?;
     let opening = started.elapsed();
@@ -323,6 +345,69 @@ pub fn open_and_write<S: Source<Frame = Band>>(
     progress: &dyn Progress,
 ) -> Result<(S, Run<WriteReport>)> {
     open_and_run(input, open, HoloSink::new(output, geometry, write.clone()), frames, progress)
+}
+
+/// The lowest frame rate of a movie, frames per second (one frame in a
+/// thousand seconds: rates are written as fractions whose denominators go
+/// up to 1000).
+pub const MIN_FRAMES_PER_SECOND: f64 = 1e-3;
+
+/// The highest frame rate of a movie, frames per second: far past any
+/// display's (holographic video runs at tens of frames a second), short of
+/// rates whose frame counts no file holds.
+pub const MAX_FRAMES_PER_SECOND: f64 = 1e6;
+
+/// The most frames one source may make: as many as the largest output
+/// holds (a HoloFlick).
+pub const MAX_SOURCE_FRAMES: u64 = crate::holoflick::container::MAX_FRAMES;
+
+/// A frame rate as text: plain, or in scientific notation when far from 1.
+fn rate_text(frames_per_second: f64) -> String {
+    if (1e-3..1e7).contains(&frames_per_second.abs()) {
+        format!("{frames_per_second}")
+    } else {
+        format!("{frames_per_second:e}")
+    }
+}
+
+/// Refuse a frame rate (frames per second) outside
+/// [`MIN_FRAMES_PER_SECOND`] ..= [`MAX_FRAMES_PER_SECOND`]: what every
+/// command that samples an animation checks before any work.
+pub fn check_frame_rate(frames_per_second: f64) -> Result<()> {
+    if (MIN_FRAMES_PER_SECOND..=MAX_FRAMES_PER_SECOND).contains(&frames_per_second) {
+        return Ok(());
+    }
+    Err(Error::argument(
+        "frame rate",
+        format!(
+            "the frame rate must be from {} to {} frames per second, not {}",
+            rate_text(MIN_FRAMES_PER_SECOND),
+            rate_text(MAX_FRAMES_PER_SECOND),
+            rate_text(frames_per_second)
+        ),
+    ))
+}
+
+/// The frames of `name`'s animation of `duration_s` seconds sampled at
+/// `frames_per_second` (checked, [`check_frame_rate`]): its first and last
+/// pose included, `floor(duration × rate) + 1`, refused past
+/// [`MAX_SOURCE_FRAMES`] with a message about the rate, before anything is
+/// made for them.
+pub fn animation_frames(name: &Path, duration_s: f64, frames_per_second: f64) -> Result<usize> {
+    check_frame_rate(frames_per_second)?;
+    let count = (duration_s.max(0.0) * frames_per_second).floor() + 1.0;
+    if count.is_nan() || count > MAX_SOURCE_FRAMES as f64 {
+        return Err(Error::argument(
+            "frame rate",
+            format!(
+                "{}: its animation of {duration_s:.3} s at {} frames per second is {count:.0} frames, more than \
+                 the {MAX_SOURCE_FRAMES} a movie may have: lower the frame rate",
+                name.display(),
+                rate_text(frames_per_second)
+            ),
+        ));
+    }
+    Ok(count as usize)
 }
 
 /// `asked` (all of `count` frames by default), checked against them.
@@ -427,6 +512,10 @@ impl Sink<Band> for HoloSink<'_> {
 
     fn overwrite(&self) -> bool {
         self.options.overwrite
+    }
+
+    fn max_frames(&self) -> (u64, &'static str) {
+        (crate::format::MAX_FRAMES, "a .holo file")
     }
 
     fn write(self, job: &Job, render: &mut dyn FnMut(usize, &mut Band) -> Result<()>) -> Result<WriteReport> {

@@ -74,7 +74,7 @@ pub fn export_views(m: &Modulation, dir: &Path, tone: &ToneMapping, overwrite: b
     let png_tone = tone.tone().map_err(|e| e.naming(dir))?;
     let g = m.geometry();
     let names: Vec<String> = (0..g.views.count).map(|v| view_file_name(v, g.views.count)).collect();
-    check_set_output(dir, SIDECAR, &names, &[], overwrite)?;
+    let _claim = check_set_output(dir, SIDECAR, &names, &[], overwrite)?;
     let mut set = FileSet::create(dir, SIDECAR)?;
     // Which RGB component each channel fills; a mono file is grey.
     let slots: Vec<(usize, usize)> = g
@@ -121,6 +121,18 @@ pub fn read_sidecar(path: &Path) -> Result<Sidecar> {
     serde_json::from_str(&text).map_err(|e| malformed(path, format!("not a holo-views sidecar: {e}")))
 }
 
+/// The sidecar of the folder `dir` when it has one (`None`: pictures made
+/// elsewhere, read as they are). A folder whose set's replacement was
+/// interrupted is refused first, whatever else it holds.
+pub fn folder_sidecar(dir: &Path) -> Result<Option<Sidecar>> {
+    check_set_complete(dir, SIDECAR, REMEDY)?;
+    let path = dir.join(SIDECAR);
+    path.exists().then(|| read_sidecar(&path)).transpose()
+}
+
+/// What to do about a set of views that cannot be read as one.
+const REMEDY: &str = "export the views again";
+
 /// Read a geometry from a JSON file: a bare [`Geometry`] or a sidecar.
 pub fn read_geometry_json(path: &Path) -> Result<Geometry> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
@@ -142,11 +154,8 @@ pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Resu
     Bits::from_count(tone.bits).map_err(|e| e.naming(dir))?;
     // Even pictures read without their sidecar may not be of a set whose
     // replacement was interrupted: they could be of two sets.
-    check_set_complete(dir, SIDECAR, "export the views again")?;
-    let sidecar_path = dir.join(SIDECAR);
-    if sidecar_path.exists() {
-        let sidecar = read_sidecar(&sidecar_path)?;
-        verify_set(dir, SIDECAR, &sidecar.files, "export the views again")?;
+    if let Some(sidecar) = folder_sidecar(dir)? {
+        verify_set(dir, SIDECAR, &sidecar.files, REMEDY)?;
     }
     let g = geometry;
     let mut m = Modulation::zeros(g.clone())?;

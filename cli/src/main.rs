@@ -69,7 +69,10 @@ fn main() -> ExitCode {
     std::panic::set_hook(Box::new(|info| {
         eprintln!("holo: internal error ({info}); please report it");
     }));
-    match std::panic::catch_unwind(|| run(cli.command)) {
+    let outcome = std::panic::catch_unwind(|| run(cli.command));
+    // What holo did beside the outputs unasked (stale temporaries removed).
+    holo::output::take_notices().iter().for_each(out::warn);
+    match outcome {
         Ok(Ok(code)) => code,
         Ok(Err(Failure(message))) => {
             eprintln!("holo: error: {message}");

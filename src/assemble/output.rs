@@ -147,7 +147,7 @@ pub fn assemble_file(
         fb.image_names.iter().map(|n| image_file_name(index, n, options.format)).collect()
     };
     let all_names: Vec<String> = range.clone().flat_map(names).collect();
-    check_set_output(out_dir, FRINGE_SIDECAR, &all_names, &[input], options.overwrite)?;
+    let _claim = check_set_output(out_dir, FRINGE_SIDECAR, &all_names, &[input], options.overwrite)?;
     // Check the geometry before any work, with the file named.
     let zero = crate::Modulation::zeros(file.geometry().clone())?;
     let fits = assembler.check_geometry(&zero);
@@ -233,6 +233,9 @@ fn with_frame(e: Error, input: &Path, frame: usize) -> Error {
 /// images are missing, mixed with others or damaged, is refused, naming the
 /// file.
 pub fn read_sidecar(dir: &Path) -> Result<FringeSidecar> {
+    // An interrupted replacement first: its sidecar is gone, which would
+    // otherwise be all a reader says.
+    crate::output::check_set_complete(dir, FRINGE_SIDECAR, REMEDY)?;
     let path = crate::output::require_manifest(dir, FRINGE_SIDECAR)?;
     let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
     let sidecar: FringeSidecar =
@@ -241,7 +244,7 @@ pub fn read_sidecar(dir: &Path) -> Result<FringeSidecar> {
     if !problems.is_empty() {
         return Err(malformed(&path, format!("inconsistent layout: {}", problems.join("; "))));
     }
-    verify_set(dir, FRINGE_SIDECAR, &sidecar.files, "assemble the fringes again")?;
+    verify_set(dir, FRINGE_SIDECAR, &sidecar.files, REMEDY)?;
     if let Some(name) =
         sidecar.frames.iter().flat_map(|f| &f.files).find(|n| !sidecar.files.iter().any(|f| &f.name == *n))
     {
@@ -249,6 +252,9 @@ pub fn read_sidecar(dir: &Path) -> Result<FringeSidecar> {
     }
     Ok(sidecar)
 }
+
+/// What to do about a fringe set that cannot be read as one.
+const REMEDY: &str = "assemble the fringes again";
 
 /// Fringe images read back, in their stored type.
 #[derive(Clone, Debug)]
@@ -360,7 +366,14 @@ fn write_exr(out: &mut AtomicFile, images: &FrameImages<f32>, image: usize) -> c
     let layer = Layer::new(
         (w, h),
         LayerAttributes::named("fringe"),
-        Encoding { compression: exr::compression::Compression::ZIP16, ..Encoding::default() },
+        // Tiles stored in increasing y (then x), whatever order the
+        // compressing threads finish in: the same frame gives the same bytes
+        // at any thread count.
+        Encoding {
+            compression: exr::compression::Compression::ZIP16,
+            line_order: LineOrder::Increasing,
+            ..Encoding::default()
+        },
         AnyChannels::sort(channels),
     );
     Image::from_layer(layer).write().to_buffered(out).map_err(|e| crate::Error::exr(&path, e))

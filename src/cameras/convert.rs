@@ -13,6 +13,7 @@ use super::resample::{CameraOptions, CameraReport, CameraView, RigResampler, Uns
 use super::{Camera, Rig};
 use crate::format::{WriteOptions, WriteReport};
 use crate::geometry::Geometry;
+use crate::output::Claim;
 use crate::pipeline::{self, HoloSink, Source, Warnings};
 use crate::progress::{Progress, Steps};
 use crate::provenance::{Conversion, ConverterOptions};
@@ -75,7 +76,11 @@ fn convert(
     progress: &dyn Progress,
 ) -> Result<CameraConvertReport> {
     rig.check()?;
-    check_outputs(output, options, &[])?;
+    // The rig's pictures and depth maps are inputs as much as its file.
+    let mut read = rig.files();
+    read.extend(input.map(Path::to_path_buf));
+    let read_paths: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
+    let _claims = check_outputs(output, options, &read_paths)?;
     let decoding = std::time::Instant::now();
     let loaded = Steps::begin(progress, "pictures", rig.cameras.len());
     let views: Vec<CameraView> = rig
@@ -102,7 +107,8 @@ fn convert(
     let resampler = RigResampler::new(rig, &views, geometry, &resample_options)?;
     let mut source = CameraSource {
         rig,
-        inputs: input.map(Path::to_path_buf).into_iter().collect(),
+        input: input.map(Path::to_path_buf),
+        inputs: read,
         resampler: &resampler,
         options,
         unseen: Unseen::default(),
@@ -135,6 +141,9 @@ fn convert(
 /// for the unseen picture, a byte per emitter), never the whole frame.
 struct CameraSource<'a> {
     rig: &'a Rig,
+    /// The rig's file or folder, when it was read from one.
+    input: Option<PathBuf>,
+    /// Every file read: the rig's and its pictures and depth maps.
     inputs: Vec<PathBuf>,
     resampler: &'a RigResampler<'a>,
     options: &'a CameraConvertOptions,
@@ -186,7 +195,7 @@ impl Source for CameraSource<'_> {
         options.resample.want_mask = false;
         options.write = WriteOptions::default();
         let options = ConverterOptions::Cameras(options);
-        match self.inputs.first() {
+        match &self.input {
             Some(input) => Conversion::of_input(input, options).map(Some),
             None => Ok(Some(Conversion { input: self.rig.source.clone(), input_sha256: None, options })),
         }
@@ -238,15 +247,15 @@ fn write_unseen_png(path: &Path, g: &Geometry, grey: &[u8], overwrite: bool) -> 
 
 /// The outputs (the `.holo` file and the unseen picture) checked before any
 /// work against each other's rules and the inputs.
-fn check_outputs(output: &Path, options: &CameraConvertOptions, inputs: &[&Path]) -> Result<()> {
+fn check_outputs(output: &Path, options: &CameraConvertOptions, inputs: &[&Path]) -> Result<Vec<Claim>> {
     let overwrite = options.write.overwrite;
-    crate::output::check_output(output, inputs, overwrite)?;
+    let mut claims = vec![crate::output::check_output(output, inputs, overwrite)?];
     if let Some(png) = &options.unseen_png {
         let mut read = inputs.to_vec();
         read.push(output);
-        crate::output::check_output(png, &read, overwrite)?;
+        claims.push(crate::output::check_output(png, &read, overwrite)?);
     }
-    Ok(())
+    Ok(claims)
 }
 
 /// A camera's picture (linear) and, when `use_depth` and the
@@ -268,7 +277,7 @@ pub fn convert_camera_files(
     options: &CameraConvertOptions,
     progress: &dyn Progress,
 ) -> Result<CameraConvertReport> {
-    check_outputs(output, options, &[input])?;
+    let _claims = check_outputs(output, options, &[input])?;
     let rig = super::open_rig_with(input, &options.open)?;
     let (linear, use_depth) = (rig.linear, options.resample.use_depth);
     let load = |cam: &Camera| load_view(cam, linear, use_depth);

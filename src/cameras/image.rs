@@ -65,6 +65,7 @@ pub fn image_size(path: &Path) -> Result<(usize, usize)> {
 }
 
 fn open(path: &Path) -> Result<ImageReader<std::io::BufReader<std::fs::File>>, String> {
+    crate::output::regular_file(path)?;
     let reader = ImageReader::open(path)
         .map_err(|e| format!("cannot open the image: {e}"))?
         .with_guessed_format()

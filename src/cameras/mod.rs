@@ -253,6 +253,23 @@ pub fn look_rotation(forward: [f64; 3], down: [f64; 3]) -> Mat3 {
 }
 
 impl Rig {
+    /// Every file the rig's pictures and depth maps are read from, each
+    /// once, in the cameras' order: an output may be none of them.
+    pub fn files(&self) -> Vec<PathBuf> {
+        let mut files: Vec<PathBuf> = Vec::new();
+        for camera in &self.cameras {
+            let picture = match &camera.image {
+                ImageSource::File(file) | ImageSource::Tile { file, .. } => file,
+            };
+            for file in std::iter::once(picture).chain(camera.depth.as_ref().map(|d| &d.file)) {
+                if !files.contains(file) {
+                    files.push(file.clone());
+                }
+            }
+        }
+        files
+    }
+
     /// The first thing wrong with the rig, naming the camera: no cameras,
     /// bad units or focus distance, bad calibration.
     pub fn problem(&self) -> Option<String> {

@@ -21,6 +21,7 @@ const MAX_HEADER_BYTES: usize = 4096;
 /// checked against the file's before anything is allocated.
 pub fn read_pfm(path: &Path) -> Result<(usize, usize, usize, Vec<f32>)> {
     let bad = |problem: String| Error::rig(path, format!("not a readable PFM file: {problem}"));
+    crate::output::regular_file(path).map_err(|problem| Error::rig(path, problem))?;
     let mut file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
     let mut head = Vec::with_capacity(MAX_HEADER_BYTES);

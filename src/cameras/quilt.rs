@@ -625,7 +625,7 @@ pub fn export_quilt(
     if let Some(problem) = options.white.problem() {
         return Err(Error::argument("white level", format!("{}: {problem}", out_path.display())));
     }
-    crate::output::check_output(out_path, &[holo_path], options.overwrite)?;
+    let _claim = crate::output::check_output(out_path, &[holo_path], options.overwrite)?;
     let file = crate::HoloFile::open(holo_path)?;
     let m = file.read_frame(frame)?;
     let quilt = quilt_from_modulation(&m, spec)?;

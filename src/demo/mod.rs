@@ -126,16 +126,20 @@ const GAP: usize = 8;
 /// and the bundled scene), whose files are replaced; a folder holding other
 /// files is refused, so no file the demo did not make is ever written over.
 /// A demo that does not finish (an error, or a signal with
-/// [`crate::output::install_interrupt_cleanup`]) in a new or empty folder
-/// leaves it as it was.
+/// [`crate::output::install_interrupt_cleanup`]) leaves the folder as it
+/// was: a new or empty one as such, an earlier demo's with the earlier
+/// demo's files (moved aside while the demo runs,
+/// [`crate::output::RunFolder::take_over`]).
 pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {
     let dir = dir.as_ref();
-    if dir.join(MARKER).is_file() {
-        return demo_in(dir, progress);
-    }
-    if made_by_an_earlier_demo(dir) {
-        crate::output::write_bytes_beside(&dir.join(MARKER), MARKER_TEXT.as_bytes(), false)?;
-        return demo_in(dir, progress);
+    if dir.join(MARKER).is_file() || made_by_an_earlier_demo(dir) {
+        let folder = crate::output::RunFolder::take_over(dir, &WRITES)?;
+        let demo = demo_in(dir, progress)?;
+        if !dir.join(MARKER).is_file() {
+            crate::output::write_bytes_beside(&dir.join(MARKER), MARKER_TEXT.as_bytes(), false)?;
+        }
+        folder.keep();
+        return Ok(demo);
     }
     if std::fs::read_dir(dir).is_ok_and(|mut entries| entries.next().is_some()) {
         return Err(crate::Error::Output {
@@ -151,6 +155,11 @@ pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {
     folder.keep();
     Ok(demo)
 }
+
+/// What the demo writes into its folder: an earlier demo's files of these
+/// names are replaced.
+const WRITES: [&str; 7] =
+    ["spot", "demo.holo", "demo_qs8x6a0.75.png", "fringe.png", "eyes.png", "eyes-moving.png", "movie"];
 
 /// The file that marks a folder as the demo's own: a later demo writes over
 /// its files there.

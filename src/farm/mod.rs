@@ -390,7 +390,7 @@ pub fn join_sequence(
     let sequence = crate::format::Sequence::open(name)?;
     let members: Vec<&HoloFile> = frames.clone().map(|n| sequence.member(n)).collect::<Result<_>>()?;
     let inputs: Vec<&Path> = members.iter().map(|m| m.path().as_path()).collect();
-    crate::output::check_output(output, &inputs, overwrite)?;
+    let _claim = crate::output::check_output(output, &inputs, overwrite)?;
     let info = members[0].info();
     let options = crate::format::WriteOptions {
         sample_type: info.sample_type,
@@ -422,7 +422,7 @@ pub fn join_fringes(output: &Path, frames: Range<usize>, folder: &Path, overwrit
         names.extend(sidecar.frames.iter().flat_map(|f| f.files.clone()));
         sidecars.push((set, sidecar));
     }
-    crate::output::check_set_output(folder, FRINGE_SIDECAR, &names, &[output], overwrite)?;
+    let _claim = crate::output::check_set_output(folder, FRINGE_SIDECAR, &names, &[output], overwrite)?;
     let mut joined = sidecars[0].1.clone();
     joined.frames.clear();
     let mut set = crate::output::FileSet::create(folder, FRINGE_SIDECAR)?;

@@ -118,6 +118,11 @@ impl Sink<Frame> for HoloFlickSink {
         self.overwrite
     }
 
+    /// (A `.cg` file, one frame, says so itself when it is asked for more.)
+    fn max_frames(&self) -> (u64, &'static str) {
+        (super::container::MAX_FRAMES, "a HoloFlick")
+    }
+
     fn write(self, job: &Job, render: &mut dyn FnMut(usize, &mut Frame) -> Result<()>) -> Result<HoloFlickWritten> {
         if self.is_cg() {
             return self.write_cg(job, render);

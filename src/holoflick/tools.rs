@@ -105,7 +105,7 @@ pub fn pack(inputs: &[PathBuf], output: &Path, options: &PackOptions, progress: 
     }
     check_key_interval(options.key_interval)?;
     let read: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    crate::output::check_output(output, &read, options.overwrite)?;
+    let _claim = crate::output::check_output(output, &read, options.overwrite)?;
     let mut source = PackSource::open(inputs, options)?;
     let sink = HoloFlickSink::new(output, options.overwrite);
     let run = pipeline::run(&mut source, sink, options.frames.clone(), progress)?;
@@ -148,18 +148,31 @@ struct PackSource<'a> {
 impl<'a> PackSource<'a> {
     fn open(inputs: &'a [PathBuf], options: &'a PackOptions) -> Result<Self> {
         let fps = options.frames_per_second;
-        if !(fps.is_finite() && fps > 0.0) {
+        pipeline::check_frame_rate(fps)?;
+        let scenes: Vec<SceneSource> = inputs.iter().map(|p| SceneSource::open(p)).collect::<Result<_>>()?;
+        // Counted (and refused past what a movie may have) before any is made.
+        let counts = scenes
+            .iter()
+            .map(|s| match s.animation_duration_s() {
+                Some(d) if d > 0.0 => pipeline::animation_frames(s.path(), d, fps),
+                _ => Ok(1),
+            })
+            .collect::<Result<Vec<usize>>>()?;
+        let total: u64 = counts.iter().map(|&c| c as u64).sum();
+        if total > pipeline::MAX_SOURCE_FRAMES {
             return Err(Error::argument(
                 "frame rate",
-                format!("the frame rate must be a positive number of frames per second, not {fps}"),
+                format!(
+                    "the meshes make {total} frames at {fps} frames per second, more than the {} a movie may have: \
+                     lower the frame rate",
+                    pipeline::MAX_SOURCE_FRAMES
+                ),
             ));
         }
-        let scenes: Vec<SceneSource> = inputs.iter().map(|p| SceneSource::open(p)).collect::<Result<_>>()?;
         let mut frames = Vec::new();
-        for (input, s) in scenes.iter().enumerate() {
+        for (input, (s, &count)) in scenes.iter().zip(&counts).enumerate() {
             match s.animation_duration_s() {
                 Some(d) if d > 0.0 => {
-                    let count = (d * fps).floor() as usize + 1;
                     frames.extend((0..count).map(|k| FrameSource { input, time_s: k as f64 / fps }));
                 }
                 _ => frames.push(FrameSource { input, time_s: 0.0 }),
@@ -182,8 +195,13 @@ impl<'a> PackSource<'a> {
 impl Source for PackSource<'_> {
     type Frame = Frame;
 
+    /// The meshes and every file they refer to.
     fn inputs(&self) -> Vec<PathBuf> {
-        self.inputs.to_vec()
+        self.scenes.iter().flat_map(|s| s.files().iter().cloned()).collect()
+    }
+
+    fn name(&self) -> String {
+        self.inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(" ")
     }
 
     fn frame_count(&self) -> usize {
@@ -401,7 +419,7 @@ fn stored_object_error(path: &Path, problem: String) -> Error {
 
 /// `holo holoflick unpack`: frame `frame` of `input` as a `.glb` or `.ply` mesh.
 pub fn unpack(input: &Path, frame: usize, output: &Path, overwrite: bool) -> Result<usize> {
-    crate::output::check_output(output, &[input], overwrite)?;
+    let _claim = crate::output::check_output(output, &[input], overwrite)?;
     let objects = frame_objects(input, frame)?;
     crate::mesh::write::write_mesh(output, &objects, overwrite)?;
     Ok(objects.iter().map(|o| o.triangles.len()).sum())

@@ -158,6 +158,8 @@ const FLAT_HINT_TRIANGLES: usize = 1000;
 #[derive(Debug)]
 pub struct SceneFrames<'a, S> {
     source: SceneSource,
+    /// The animation's frames at the frame rate, or 1.
+    frame_count: usize,
     geometry: &'a Geometry,
     options: SceneFramesOptions,
     /// The first frame of the run, kept from placement until it is made.
@@ -174,15 +176,17 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
     /// Open `input` for `geometry`, placed and sampled as `options` say
     /// (its frame range is the run's: [`pipeline::run`]).
     pub fn open(input: &Path, geometry: &'a Geometry, options: &SceneFramesOptions, stage: S) -> Result<Self> {
-        let frames_per_second = options.frames_per_second;
-        if !(frames_per_second.is_finite() && frames_per_second > 0.0) {
-            return Err(Error::argument(
-                "frame rate",
-                format!("the frame rate must be a positive number of frames per second, not {frames_per_second}"),
-            ));
-        }
+        // The rate before the scene is read, the frame count it makes as
+        // soon as the animation's length is known.
+        pipeline::check_frame_rate(options.frames_per_second)?;
+        let source = SceneSource::open(input)?;
+        let frame_count = match source.animation_duration_s() {
+            Some(d) => pipeline::animation_frames(input, d, options.frames_per_second)?,
+            None => 1,
+        };
         Ok(SceneFrames {
-            source: SceneSource::open(input)?,
+            source,
+            frame_count,
             geometry,
             options: options.clone(),
             first: None,
@@ -226,17 +230,19 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
 impl<S: SceneStage> Source for SceneFrames<'_, S> {
     type Frame = S::Frame;
 
+    /// The scene file and every file it refers to.
     fn inputs(&self) -> Vec<PathBuf> {
-        vec![self.source.path().to_path_buf()]
+        self.source.files().to_vec()
+    }
+
+    fn name(&self) -> String {
+        self.source.path().display().to_string()
     }
 
     /// The animation's frames at the frame rate (its first and last pose
     /// included), or one frame for a still scene.
     fn frame_count(&self) -> usize {
-        match self.source.animation_duration_s() {
-            Some(d) => (d * self.options.frames_per_second).floor() as usize + 1,
-            None => 1,
-        }
+        self.frame_count
     }
 
     fn frames_per_second(&self) -> Option<(u32, u32)> {

@@ -20,12 +20,20 @@ struct Registry {
     live: BTreeMap<u64, PathBuf>,
     /// Folders a run writes into, cleaned up after the files.
     folders: BTreeMap<u64, Cleanup>,
+    /// The outputs' locks this process holds (lock file, open and locked),
+    /// with how many claims share each.
+    locks: BTreeMap<PathBuf, (usize, File)>,
     /// Set once the cleanup has begun: no temporary is created or renamed after.
     interrupted: bool,
 }
 
-static REGISTRY: Mutex<Registry> =
-    Mutex::new(Registry { next_id: 0, live: BTreeMap::new(), folders: BTreeMap::new(), interrupted: false });
+static REGISTRY: Mutex<Registry> = Mutex::new(Registry {
+    next_id: 0,
+    live: BTreeMap::new(),
+    folders: BTreeMap::new(),
+    locks: BTreeMap::new(),
+    interrupted: false,
+});
 
 /// The registry, whatever a panicking holder left: its map stays
 /// consistent because every update is a single insert or remove.
@@ -72,6 +80,14 @@ pub(super) fn rename_registered(id: u64, from: &Path, to: &Path, overwrite: bool
         return Err(interrupted(to));
     }
     if overwrite {
+        // A FIFO, a device or a socket at `to` is never replaced: whatever
+        // checked it before the work, it may have appeared since.
+        if let Some(kind) = std::fs::symlink_metadata(to).ok().as_ref().and_then(super::check::special_kind) {
+            return Err(Error::Output {
+                path: to.to_path_buf(),
+                problem: OutputProblem::NotRegular { kind, wanted: "a regular file" },
+            });
+        }
         std::fs::rename(from, to).map_err(|e| Error::io(to, e))?;
     } else {
         // An atomic no-replace rename (renameat2 where the file system has
@@ -105,6 +121,37 @@ pub(super) fn remove_in_place(path: &Path) -> Result<()> {
     }
 }
 
+/// Hold the lock file `path` for one more claim: taken with `take` (which
+/// opens and locks it, or says who holds it) when this process does not
+/// hold it yet. Returns whether it was taken now. Refused once the cleanup
+/// has begun.
+pub(super) fn take_lock(path: &Path, take: impl FnOnce() -> Result<File>) -> Result<bool> {
+    let mut registry = registry();
+    if registry.interrupted {
+        return Err(interrupted(path));
+    }
+    if let Some((claims, _)) = registry.locks.get_mut(path) {
+        *claims += 1;
+        return Ok(false);
+    }
+    let file = take()?;
+    registry.locks.insert(path.to_path_buf(), (1, file));
+    Ok(true)
+}
+
+/// One claim of the lock file `path` fewer: the last removes the file, then
+/// closes it (which releases the lock), so a process that opened it in
+/// between finds its lock on a file no longer there and opens again.
+pub(super) fn release_lock(path: &Path) {
+    let mut registry = registry();
+    let Some((claims, _)) = registry.locks.get_mut(path) else { return };
+    *claims -= 1;
+    if *claims == 0 {
+        let _ = std::fs::remove_file(path);
+        registry.locks.remove(path);
+    }
+}
+
 /// What becomes of a registered folder when its run does not finish.
 #[derive(Debug)]
 pub(super) enum Cleanup {
@@ -115,6 +162,19 @@ pub(super) enum Cleanup {
     /// Each removed in turn while empty, innermost first (the folders a
     /// [`super::FileSet`] made: its own and missing parents).
     RemoveEmpty(Vec<PathBuf>),
+    /// An earlier run's files put back ([`super::RunFolder::take_over`]):
+    /// of `names` in `folder`, those the earlier run had (`present`) come
+    /// back from `aside`, the others are removed.
+    Restore {
+        /// The run's folder.
+        folder: PathBuf,
+        /// Where the earlier run's files were moved.
+        aside: PathBuf,
+        /// What the run writes.
+        names: Vec<String>,
+        /// What of it the earlier run had.
+        present: Vec<String>,
+    },
 }
 
 /// Register a folder a run writes into, under the lock; refused once the
@@ -125,6 +185,7 @@ pub(super) fn register_folder(cleanup: Cleanup) -> Result<u64> {
         let path = match &cleanup {
             Cleanup::Remove(p) | Cleanup::Empty(p) => p.as_path(),
             Cleanup::RemoveEmpty(p) => p.first().map_or(Path::new("."), |p| p.as_path()),
+            Cleanup::Restore { folder, .. } => folder.as_path(),
         };
         return Err(interrupted(path));
     }
@@ -156,7 +217,9 @@ fn clean_up(cleanup: &Cleanup) {
             let _ = std::fs::remove_dir_all(path);
         }
         Cleanup::Empty(path) => {
-            for entry in std::fs::read_dir(path).into_iter().flatten().flatten() {
+            // The run's own lock goes with its claim, which is still held.
+            let lock = format!(".{}.lock", super::RUN_LOCK);
+            for entry in std::fs::read_dir(path).into_iter().flatten().flatten().filter(|e| e.file_name() != *lock) {
                 let p = entry.path();
                 let _ = if entry.file_type().is_ok_and(|t| t.is_dir()) {
                     std::fs::remove_dir_all(&p)
@@ -169,7 +232,38 @@ fn clean_up(cleanup: &Cleanup) {
         Cleanup::RemoveEmpty(folders) => {
             let _ = folders.iter().try_for_each(std::fs::remove_dir);
         }
+        Cleanup::Restore { folder, aside, names, present } => restore_aside(folder, aside, names, present),
     }
+}
+
+/// Put back what [`super::RunFolder::take_over`] moved from `folder` into
+/// `aside`: each entry of `aside` replaces what the run made under its name,
+/// and what the run made under the other `names` that the earlier run did
+/// not have (`present`) is removed; then `aside` goes. (With `names` empty,
+/// only the entries of `aside` come back: an aside left by a run killed
+/// outright, which said nothing of what it had.)
+pub(super) fn restore_aside(folder: &Path, aside: &Path, names: &[String], present: &[String]) {
+    let remove = |p: &Path| {
+        let _ = match std::fs::symlink_metadata(p) {
+            Ok(m) if m.is_dir() => std::fs::remove_dir_all(p),
+            Ok(_) => std::fs::remove_file(p),
+            Err(_) => Ok(()),
+        };
+    };
+    for name in names {
+        let was_aside = aside.join(name).exists();
+        // Not moved yet (the run stopped while moving): still the earlier run's.
+        if was_aside || !present.contains(name) {
+            remove(&folder.join(name));
+        }
+    }
+    for entry in std::fs::read_dir(aside).into_iter().flatten().flatten() {
+        let to = folder.join(entry.file_name());
+        remove(&to);
+        let _ = std::fs::rename(entry.path(), &to);
+    }
+    let _ = std::fs::remove_dir_all(aside);
+    let _ = super::temporary::sync_folder(folder);
 }
 
 /// Remove every registered temporary (and what the unfinished runs wrote
@@ -186,6 +280,12 @@ fn remove_all(registry: &mut Registry) -> usize {
     registry.interrupted = true;
     let live = std::mem::take(&mut registry.live);
     let removed = live.values().filter(|path| std::fs::remove_file(path).is_ok()).count();
+    // The locks before the folders, so a folder they are in can be empty;
+    // each removed before it is closed (see `release_lock`). Nothing is put
+    // in place from here on, so no output needs them any more.
+    for path in std::mem::take(&mut registry.locks).into_keys() {
+        let _ = std::fs::remove_file(path);
+    }
     for cleanup in std::mem::take(&mut registry.folders).into_values() {
         clean_up(&cleanup);
     }

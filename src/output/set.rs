@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
+use super::claim::{Claim, Scope};
 use super::interrupt::{forget_folder, register_folder, remove_folder, remove_in_place, Cleanup};
 use super::temporary::{sync_folder, AtomicFile};
 use crate::{Error, OutputProblem, Result, SetProblem};
@@ -41,6 +42,8 @@ pub struct FileSet {
     /// registered to be removed again, while empty, if the set is dropped
     /// or the process interrupted before the commit.
     created: Option<u64>,
+    /// The folder claimed for this process until the set is in place.
+    claim: Option<Claim>,
 }
 
 /// Whether `name` is a plain file name: no folder part, not hidden.
@@ -55,12 +58,22 @@ impl FileSet {
     /// A set to be written into `folder` (created, with its parents, if
     /// missing) under the manifest name `manifest`. Call it once the inputs
     /// are open and checked, so a refused input leaves no folder behind.
+    /// Another process writing a set into the same folder is refused (see
+    /// [`super::check_set_output`]).
     pub fn create(folder: &Path, manifest: &str) -> Result<FileSet> {
         let created = super::missing_folders(folder);
         // Registered before they are made, so a signal in between finds them.
         let created = if created.is_empty() { None } else { Some(register_folder(Cleanup::RemoveEmpty(created))?) };
-        let set = FileSet { folder: folder.to_path_buf(), manifest: manifest.to_string(), pending: vec![], created };
+        let mut set = FileSet {
+            folder: folder.to_path_buf(),
+            manifest: manifest.to_string(),
+            pending: vec![],
+            created,
+            claim: None,
+        };
         std::fs::create_dir_all(folder).map_err(|e| Error::io(folder, e))?;
+        // Claimed once it is there (before anything is written into it).
+        set.claim = Some(Claim::take(Scope::Folder(folder, manifest))?);
         Ok(set)
     }
 
@@ -80,7 +93,7 @@ impl FileSet {
                 ),
             ));
         }
-        let mut file = AtomicFile::create(self.folder.join(name))?;
+        let mut file = AtomicFile::create_claimed(&self.folder.join(name), None)?;
         fill(&mut file)?;
         let bytes = file.finish()?;
         let sha256 = file_sha256(file.temporary_path())?;
@@ -122,7 +135,7 @@ impl FileSet {
                 return Err(Error::Output { path: existing, problem: OutputProblem::Exists });
             }
         }
-        let mut new_manifest = AtomicFile::create(&manifest_path)?;
+        let mut new_manifest = AtomicFile::create_claimed(&manifest_path, None)?;
         new_manifest.write_all(&manifest(&files)?).map_err(|e| Error::io(new_manifest.destination(), e))?;
         new_manifest.finish()?;
         let previous = previous_names(&manifest_path, &self.manifest);
@@ -132,8 +145,19 @@ impl FileSet {
         let marker = mark_incomplete(&self.folder, &self.manifest)?;
         remove_in_place(&manifest_path)?;
         sync_folder(&self.folder)?;
+        let mut placed: Vec<PathBuf> = Vec::new();
         for file in temporaries {
-            file.rename_into_place(overwrite)?;
+            let destination = file.destination().to_path_buf();
+            if let Err(e) = file.rename_into_place(overwrite) {
+                // Not replacing, every file put in place was new: taken
+                // out again, the folder holds no file of this set.
+                if !overwrite {
+                    placed.iter().for_each(|p| drop(remove_in_place(p)));
+                    let _ = remove_in_place(&marker);
+                }
+                return Err(e);
+            }
+            placed.push(destination);
         }
         let kept: BTreeSet<&str> = files.iter().map(|f| f.name.as_str()).collect();
         for name in previous.iter().filter(|n| !kept.contains(n.as_str())) {
@@ -157,8 +181,9 @@ impl FileSet {
 
 impl Drop for FileSet {
     fn drop(&mut self) {
-        // Temporaries first, so the folder can be empty.
+        // Temporaries and the lock first, so the folder can be empty.
         self.pending.clear();
+        self.claim.take();
         // Fails, as it should, when anything else is in the folder.
         if let Some(id) = self.created.take() {
             remove_folder(id);
@@ -251,7 +276,7 @@ fn incomplete_marker(folder: &Path, manifest: &str) -> PathBuf {
 /// before any file of the old set is touched).
 fn mark_incomplete(folder: &Path, manifest: &str) -> Result<PathBuf> {
     let path = incomplete_marker(folder, manifest);
-    let mut marker = AtomicFile::create(&path)?;
+    let mut marker = AtomicFile::create_claimed(&path, None)?;
     marker
         .write_all(b"a set of files is being replaced here; if this file remains, the replacement was interrupted\n")
         .map_err(|e| Error::io(marker.destination(), e))?;

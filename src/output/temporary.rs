@@ -6,8 +6,10 @@ use std::fs::File;
 use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
+use super::claim::{Claim, Scope};
 use super::folder_of;
 use super::interrupt;
+use super::naming::{stem_of, temporary_prefix};
 use crate::{Error, Result};
 
 /// Bytes gathered before a write reaches the operating system.
@@ -23,13 +25,13 @@ struct Temporary {
 }
 
 impl Temporary {
-    /// A new hidden file `.NAME.XXXXXX{suffix}` beside `destination`,
-    /// registered before anything can interrupt between its creation and
-    /// its registration.
+    /// A new hidden file `.NAME.PID.XXXXXX{suffix}` beside `destination`
+    /// (`NAME` shortened when the name leaves too little room, see
+    /// [`super::naming`]), registered before anything can interrupt between
+    /// its creation and its registration.
     fn create(destination: &Path, suffix: &str) -> Result<(Temporary, File)> {
         let folder = folder_of(destination);
-        let name = destination.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let prefix = format!(".{name}.");
+        let prefix = temporary_prefix(&stem_of(destination));
         let (id, path, file) = interrupt::create_registered(destination, || {
             let mut builder = tempfile::Builder::new();
             builder.prefix(&prefix).suffix(suffix);
@@ -54,7 +56,7 @@ impl Drop for Temporary {
 }
 
 /// A file being written: bytes go to a hidden temporary beside the
-/// destination (`.NAME.XXXXXX.partial`), and [`commit`](Self::commit) puts
+/// destination (`.NAME.PID.XXXXXX.partial`), and [`commit`](Self::commit) puts
 /// it in place whole. Dropped without a commit, the temporary is removed and
 /// the destination is untouched.
 #[derive(Debug)]
@@ -62,18 +64,30 @@ pub struct AtomicFile {
     destination: PathBuf,
     out: BufWriter<File>,
     temp: Temporary,
+    /// The destination claimed for this process until the file is in place
+    /// (`None` for a file of a set, whose folder is claimed).
+    _claim: Option<Claim>,
 }
 
 impl AtomicFile {
-    /// Start writing `destination`. Whether it may be replaced is decided
-    /// at [`commit`](Self::commit).
+    /// Start writing `destination`, claimed for this process (another
+    /// process writing it is refused; see [`super::check_output`]). Whether
+    /// it may be replaced is decided at [`commit`](Self::commit).
     pub fn create(destination: impl AsRef<Path>) -> Result<AtomicFile> {
         let destination = destination.as_ref();
+        let claim = Claim::take(Scope::File(destination))?;
+        Self::create_claimed(destination, Some(claim))
+    }
+
+    /// [`AtomicFile::create`] for a file whose claim is held elsewhere (a
+    /// file of a set: the set's folder is claimed).
+    pub(super) fn create_claimed(destination: &Path, claim: Option<Claim>) -> Result<AtomicFile> {
         let (temp, file) = Temporary::create(destination, ".partial")?;
         Ok(AtomicFile {
             destination: destination.to_path_buf(),
             out: BufWriter::with_capacity(BUFFER_BYTES, file),
             temp,
+            _claim: claim,
         })
     }
 
@@ -139,7 +153,7 @@ impl Seek for AtomicFile {
     }
 }
 
-/// A scratch file beside an output (`.NAME.XXXXXX.spool`) that is never put
+/// A scratch file beside an output (`.NAME.PID.XXXXXX.spool`) that is never put
 /// in place: removed when dropped, or by the interrupt cleanup.
 #[derive(Debug)]
 pub struct Spool {

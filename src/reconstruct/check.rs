@@ -327,6 +327,21 @@ pub fn view(a: &Assembler, images: FrameRef<'_>, eyes: &[Eye], progress: &dyn Pr
                 ),
             ));
         }
+        // A pupil wider than the stretch the views reach at its distance
+        // gathers no more light, only more work (a coherent eye's imaging
+        // grows with it); such a width means no eye.
+        let (lo, hi) = g.reach_at_m(eye.z_m);
+        let widest_m = hi - lo;
+        if widest_m.is_nan() || eye.pupil_m > widest_m {
+            return Err(Error::argument(
+                "pupil",
+                format!(
+                    "a pupil {} m wide is wider than the views reach at {} m from the display ({} m across, from x = \
+                     {} to {} m): it must be at most {} m",
+                    eye.pupil_m, eye.z_m, widest_m, lo, hi, widest_m
+                ),
+            ));
+        }
     }
     let unpacked = images.unpack(a, g.hololines)?;
     let colours = g.channels.len();

@@ -35,9 +35,11 @@ impl Fringes {
     }
 }
 
-/// Whether `path` is a directory of fringes (it holds `holo-fringes.json`).
+/// Whether `path` is a directory of fringes: it holds `holo-fringes.json`,
+/// or held a set whose replacement was interrupted (which its reader then
+/// says).
 pub fn is_fringe_dir(path: &Path) -> bool {
-    path.join(FRINGE_SIDECAR).is_file()
+    path.join(FRINGE_SIDECAR).is_file() || crate::output::check_set_complete(path, FRINGE_SIDECAR, "").is_err()
 }
 
 /// Frame `frame` (its index in the source file) of the fringes in `dir`; the

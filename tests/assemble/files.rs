@@ -141,3 +141,64 @@ fn holo_scale_does_not_change_the_fringes() {
     }
     assert!(compared > 0, "{:?}", files[0].files);
 }
+
+/// The (y, x) of each tile of the EXR file at `path`, in the order they
+/// are stored.
+fn exr_tiles(path: &Path) -> Vec<(usize, usize)> {
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let reader = exr::block::read(file, true).unwrap();
+    assert_eq!(reader.meta_data().headers[0].line_order, exr::meta::attribute::LineOrder::Increasing);
+    reader
+        .all_chunks(true)
+        .unwrap()
+        .map(|chunk| match chunk.unwrap().compressed_block {
+            exr::block::chunk::CompressedBlock::Tile(block) => {
+                let at = block.coordinates.tile_index;
+                (at.y(), at.x())
+            }
+            _ => panic!("{}: not a tile", path.display()),
+        })
+        .collect()
+}
+
+/// The same input gives the same bytes in every format whatever the number
+/// of threads (what `holo farm gather`'s byte-for-byte check relies on), and
+/// an EXR's chunks are stored in increasing y, as its header says.
+#[test]
+fn fringes_are_the_same_bytes_at_any_thread_count_in_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    // Mark III's whole frame buffer (64 × 53 tiles of 64 × 64 in an EXR)
+    // for a few hololines.
+    let mut layout = holo::layout::mark3();
+    layout.geometry.hololines = 4;
+    let input = dir.path().join("in.holo");
+    holo::write(&input, &random(&layout, 3), &WriteOptions::default()).unwrap();
+    for format in [FringeFormat::Exr, FringeFormat::Png, FringeFormat::Raw] {
+        let mut first: Option<Vec<Vec<u8>>> = None;
+        for threads in [1, 2, 5] {
+            let out = dir.path().join(format!("{}-{threads}", format.extension()));
+            let options = AssembleOptions { frames: None, format, overwrite: false, resample: false };
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let report =
+                pool.install(|| assemble_file(&input, &layout, &out, &options, &holo::progress::Silent)).unwrap();
+            let images: Vec<Vec<u8>> = report
+                .files
+                .iter()
+                .filter(|f| !f.ends_with("holo-fringes.json"))
+                .map(|f| std::fs::read(f).unwrap())
+                .collect();
+            assert_eq!(images.len(), 2);
+            if format == FringeFormat::Exr {
+                for f in report.files.iter().filter(|f| f.extension().is_some_and(|e| e == "exr")) {
+                    let tiles = exr_tiles(f);
+                    assert_eq!(tiles.len(), 4080usize.div_ceil(64) * 3386usize.div_ceil(64), "{}", f.display());
+                    assert!(tiles.windows(2).all(|w| w[0] < w[1]), "{}: tiles stored as {tiles:?}", f.display());
+                }
+            }
+            match &first {
+                None => first = Some(images),
+                Some(expected) => assert!(images == *expected, "{format:?}: {threads} threads gave other bytes"),
+            }
+        }
+    }
+}

@@ -60,7 +60,8 @@ fn an_atomic_file_is_whole_at_its_destination_or_absent() {
     file.write_all(b"half").unwrap();
     let temp = file.temporary_path().file_name().unwrap().to_string_lossy().into_owned();
     assert!(temp.starts_with(".a.bin.") && temp.ends_with(".partial"), "{temp}");
-    assert_eq!(names(dir.path()), vec![temp]);
+    // Beside it, while it is written, the lock that keeps other writers out.
+    assert_eq!(names(dir.path()), vec![temp, ".a.bin.lock".to_string()]);
     drop(file);
     assert!(names(dir.path()).is_empty());
 
@@ -99,7 +100,7 @@ fn outputs_are_checked_before_any_work() {
     std::fs::hard_link(&input, d.join("hard.holo")).unwrap();
     std::os::unix::fs::symlink(&input, d.join("soft.holo")).unwrap();
     let inputs = [input.as_path()];
-    check_output(&d.join("new.holo"), &inputs, false).unwrap();
+    drop(check_output(&d.join("new.holo"), &inputs, false).unwrap());
     for same in ["in.holo", "hard.holo", "soft.holo"] {
         for overwrite in [false, true] {
             let e = check_output(&d.join(same), &inputs, overwrite).unwrap_err();
@@ -111,7 +112,7 @@ fn outputs_are_checked_before_any_work() {
     std::fs::write(d.join("taken.png"), b"mine").unwrap();
     let e = check_output(&d.join("taken.png"), &inputs, false).unwrap_err();
     assert!(is_output(&e, &OutputProblem::Exists), "{e}");
-    check_output(&d.join("taken.png"), &inputs, true).unwrap();
+    drop(check_output(&d.join("taken.png"), &inputs, true).unwrap());
     let e = check_output(&d.join("no/folder/x.holo"), &inputs, true).unwrap_err();
     assert!(is_output(&e, &OutputProblem::FolderMissing(d.join("no/folder"))), "{e}");
     assert!(e.to_string().contains("does not exist"), "{e}");
@@ -119,12 +120,12 @@ fn outputs_are_checked_before_any_work() {
 
     // Sets: a folder holding a manifest is a set; a file of the set may not be an input.
     let set_names = vec!["v0.png".to_string(), "v1.png".to_string()];
-    check_set_output(&d.join("views"), "m.json", &set_names, &inputs, false).unwrap();
+    drop(check_set_output(&d.join("views"), "m.json", &set_names, &inputs, false).unwrap());
     std::fs::create_dir(d.join("views")).unwrap();
     std::fs::write(d.join("views/m.json"), b"{}").unwrap();
     let e = check_set_output(&d.join("views"), "m.json", &set_names, &inputs, false).unwrap_err();
     assert!(is_output(&e, &OutputProblem::SetExists("m.json".into())), "{e}");
-    check_set_output(&d.join("views"), "m.json", &set_names, &inputs, true).unwrap();
+    drop(check_set_output(&d.join("views"), "m.json", &set_names, &inputs, true).unwrap());
     let e = check_set_output(d, "m.json", &["in.holo".to_string()], &inputs, true).unwrap_err();
     assert!(is_output(&e, &OutputProblem::IsAnInput(input.clone())), "{e}");
     assert!(check_set_output(&input, "m.json", &set_names, &[], true).is_err(), "a file is no folder");
@@ -420,4 +421,49 @@ fn a_banded_write_leaves_no_spool_and_keeps_an_existing_file() {
     let frames = [Modulation::zeros(g.clone()).unwrap()];
     holo::format::write_frames(&path, &g, 1, &options, |i| Ok(Cow::Borrowed(&frames[i]))).unwrap();
     assert_eq!(names(dir.path()), vec!["kept.holo"]);
+}
+
+/// What is not a regular file (a FIFO here; a device the same) is never
+/// replaced, whether the check before the work or only the final rename
+/// meets it; a name the file system takes is written whatever its length
+/// (its temporary's own name kept within the limit), and one it cannot
+/// take is refused before any work, saying so.
+#[test]
+fn outputs_that_are_not_regular_files_or_too_long_a_name_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let fifo = d.join("n");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let is_fifo = || {
+        use std::os::unix::fs::FileTypeExt;
+        std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo()
+    };
+    for overwrite in [false, true] {
+        let e = check_output(&fifo, &[], overwrite).unwrap_err();
+        assert!(e.to_string().ends_with("n: is a FIFO, not a regular file"), "{e}");
+        let mut file = AtomicFile::create(&fifo).unwrap();
+        file.write_all(b"bytes").unwrap();
+        let e = file.commit(overwrite).unwrap_err();
+        assert!(e.to_string().contains("is a FIFO, not a regular file") || !overwrite, "{e}");
+        let e = holo::format::write_bytes_beside(&fifo, b"bytes", overwrite).unwrap_err();
+        assert!(e.to_string().contains("n: ") && is_fifo(), "{e}");
+    }
+    assert_eq!(names(d), vec!["n"]);
+    let e = check_set_output(d, "m.json", &["n".to_string()], &[], true).unwrap_err();
+    assert!(e.to_string().contains("is a FIFO, not a regular file"), "{e}");
+
+    for length in [200, 245, 255] {
+        let path = d.join("a".repeat(length));
+        drop(check_output(&path, &[], false).unwrap());
+        let mut file = AtomicFile::create(&path).unwrap();
+        let temp = file.temporary_path().file_name().unwrap().len();
+        assert!(temp <= 255, "a temporary's name of {temp} bytes");
+        let spool = Spool::create(&path).unwrap();
+        assert!(spool.path().file_name().unwrap().len() <= 255);
+        file.write_all(b"whole").unwrap();
+        file.commit(false).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"whole");
+    }
+    let e = check_output(&d.join("a".repeat(256)), &[], false).unwrap_err();
+    assert!(e.to_string().contains("name is 256 bytes long; the file system takes at most 255"), "{e}");
 }

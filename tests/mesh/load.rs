@@ -1053,3 +1053,65 @@ fn obj_variants_the_common_readers_accept() {
         }
     }
 }
+
+/// PLY triangle strips as old exporters wrote them (a `tristrips` element:
+/// vertex indices, -1 restarting the strip): triangle i of a strip is
+/// (a, b, c) for even i and (b, a, c) for odd i, so every triangle keeps the
+/// strip's winding; triangles that repeat a vertex (the joins between
+/// strips some exporters write) are dropped, and elements holo does not
+/// read are named.
+#[test]
+fn ply_triangle_strips_keep_their_winding_and_restart() {
+    let dir = tempfile::tempdir().unwrap();
+    for format in ["ascii", "binary_little_endian", "binary_big_endian"] {
+        let strip: [i32; 11] = [0, 1, 2, 3, 4, -1, 5, 6, 7, 7, 6];
+        let header = format!(
+            "ply\nformat {format} 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n\
+             element tristrips 1\nproperty list uchar int vertex_indices\nelement other 2\nproperty uchar k\nend_header\n"
+        );
+        let positions: [[f32; 3]; 8] = [
+            [0., 0., 0.],
+            [0., 1., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [2., 0., 0.],
+            [5., 0., 0.],
+            [5., 1., 0.],
+            [6., 0., 0.],
+        ];
+        let mut bytes = header.into_bytes();
+        match format {
+            "ascii" => {
+                for p in positions {
+                    bytes.extend(format!("{} {} {}\n", p[0], p[1], p[2]).bytes());
+                }
+                let list: Vec<String> = strip.iter().map(|i| i.to_string()).collect();
+                bytes.extend(format!("{} {}\n1\n2\n", strip.len(), list.join(" ")).bytes());
+            }
+            _ => {
+                let big = format == "binary_big_endian";
+                for c in positions.iter().flatten() {
+                    bytes.extend(if big { c.to_be_bytes() } else { c.to_le_bytes() });
+                }
+                bytes.push(strip.len() as u8);
+                for i in strip {
+                    bytes.extend(if big { i.to_be_bytes() } else { i.to_le_bytes() });
+                }
+                bytes.extend([1, 2]);
+            }
+        }
+        let path = dir.path().join(format!("strip-{format}.ply"));
+        std::fs::write(&path, bytes).unwrap();
+        let scene = load_ok(&path);
+        assert_eq!(scene.objects.len(), 1);
+        // Strip 0 1 2 3 4: (0 1 2), (2 1 3), (2 3 4); strip 5 6 7 7 6:
+        // (5 6 7), then (7 6 7) and (7 7 6) repeat a vertex.
+        assert_eq!(scene.objects[0].triangles, vec![[0, 1, 2], [2, 1, 3], [2, 3, 4], [5, 6, 7]], "{format}");
+        assert!(
+            scene.warnings.iter().any(|w| w.contains("element \"other\"") && w.contains("skipped")),
+            "{format}: {:?}",
+            scene.warnings
+        );
+        assert!(!scene.warnings.iter().any(|w| w.contains("zero area")), "{format}: {:?}", scene.warnings);
+    }
+}

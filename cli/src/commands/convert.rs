@@ -102,7 +102,7 @@ pub struct HoloflickArgs {
 fn holoflick(a: HoloflickArgs) -> Outcome {
     let g = layout_geometry(&a.target.layout)?;
     inputs_exist(&[&a.file])?;
-    check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
+    let _claim = check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
     let options = holoflick_options(&a);
     let started = Instant::now();
     let report = convert_holoflick(&a.file, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
@@ -197,7 +197,7 @@ fn mesh(a: MeshArgs) -> Outcome {
     inputs_exist(&[&a.scene])?;
     let mut read = vec![a.scene.as_path(), Path::new(&a.target.layout)];
     read.extend(a.lights.as_deref());
-    check_output(&a.target.write.output, &read, a.target.write.force)?;
+    let _claim = check_output(&a.target.write.output, &read, a.target.write.force)?;
     let started = Instant::now();
     let report = convert_mesh(&a.scene, &g, &a.target.write.output, &options, &Reporter::on_stderr())?;
     report.warnings.iter().for_each(warn);
@@ -329,10 +329,9 @@ fn cameras(a: CamerasArgs) -> Outcome {
     let write = &a.target.write;
     let g = layout_geometry(&a.target.layout)?;
     inputs_exist(&[&a.input])?;
-    check_output(&write.output, &[&a.input, Path::new(&a.target.layout)], write.force)?;
-    if let Some(mask) = &a.unseen_mask {
-        check_output(mask, &[&a.input, &write.output], write.force)?;
-    }
+    let _claim = check_output(&write.output, &[&a.input, Path::new(&a.target.layout)], write.force)?;
+    let _mask_claim =
+        a.unseen_mask.as_ref().map(|mask| check_output(mask, &[&a.input, &write.output], write.force)).transpose()?;
     let mut open = OpenOptions::default();
     open.folder.baseline = a.baseline;
     let camera = CameraHints { focal_length_px: a.focal_px, horizontal_fov_deg: a.fov_deg, focus_distance: a.focus };

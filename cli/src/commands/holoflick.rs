@@ -53,7 +53,7 @@ pub fn run(command: HoloflickCommand) -> Outcome {
         HoloflickCommand::Encode(a) => return run_encode(a),
         HoloflickCommand::Unpack { file, frame, output, force } => {
             inputs_exist(&[&file])?;
-            check_output(&output, &[&file], force)?;
+            let _claim = check_output(&output, &[&file], force)?;
             let triangles = unpack(&file, frame, &output, force)?;
             say!("wrote {} ({triangles} triangles of frame {frame})", output.display());
         }
@@ -122,7 +122,7 @@ fn run_pack(a: PackArgs) -> Outcome {
     let m = &a.movie;
     let read: Vec<&Path> = a.meshes.iter().map(PathBuf::as_path).collect();
     inputs_exist(&read)?;
-    check_output(&a.output, &read, m.force)?;
+    let _claim = check_output(&a.output, &read, m.force)?;
     let options = PackOptions {
         encode: m.encode(),
         frames_per_second: m.fps,
@@ -177,7 +177,7 @@ pub struct EncodeArgs {
 fn run_encode(a: EncodeArgs) -> Outcome {
     let g = layout_geometry(&a.layout)?;
     inputs_exist(&[&a.scene])?;
-    check_output(&a.output, &[&a.scene, Path::new(&a.layout)], a.movie.force)?;
+    let _claim = check_output(&a.output, &[&a.scene, Path::new(&a.layout)], a.movie.force)?;
     let m = &a.movie;
     let options = HoloFlickEncodeOptions {
         micropolygon: a.micropolygon,

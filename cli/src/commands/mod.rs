@@ -27,13 +27,19 @@ use crate::out::{say, warn};
 pub struct Failure(pub String);
 
 /// A library error as the one sentence the user reads; a refusal to
-/// replace something says how to ask for it.
+/// replace something says how to ask for it, a set left half replaced how
+/// to repair it, and a value the user typed names its flag.
 impl From<holo::Error> for Failure {
     fn from(e: holo::Error) -> Self {
         match &e {
             holo::Error::Output {
                 problem: holo::OutputProblem::Exists | holo::OutputProblem::SetExists(_), ..
             } => Failure(format!("{e} (use --force to replace it)")),
+            holo::Error::Set { problem: holo::SetProblem::Interrupted { .. }, .. } => {
+                Failure(format!("{e}, replacing them with --force"))
+            }
+            holo::Error::Argument { what: "frame rate", .. } => Failure(format!("{e} (--fps)")),
+            holo::Error::Argument { what: "pupil", .. } => Failure(format!("{e} (--pupil, in millimetres)")),
             _ => Failure(e.to_string()),
         }
     }
@@ -61,9 +67,11 @@ fn inputs_exist(inputs: &[&Path]) -> Result<(), Failure> {
 }
 
 /// Refuse, before any work, an output that exists (without `force`), whose
-/// folder is missing, or that is one of `inputs`, where an input folder
-/// stands for itself and every file in it.
-fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<(), Failure> {
+/// folder is missing, that is one of `inputs` (where an input folder
+/// stands for itself and every file in it), that is not a regular file, or
+/// that another process is writing; the claim keeps other processes from
+/// writing it while it is held (hold it until the output is written).
+fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<holo::output::Claim, Failure> {
     let mut read: Vec<PathBuf> = Vec::new();
     for input in inputs {
         read.push(input.to_path_buf());

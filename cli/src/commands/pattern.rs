@@ -41,7 +41,7 @@ pub struct PatternArgs {
 
 pub fn run(a: PatternArgs) -> Outcome {
     let mut geometry = layout_geometry(&a.layout)?;
-    check_output(&a.write.output, &[Path::new(&a.layout)], a.write.force)?;
+    let _claim = check_output(&a.write.output, &[Path::new(&a.layout)], a.write.force)?;
     if let Some(c) = a.channels {
         geometry.channels = c.channels();
     }

@@ -83,7 +83,7 @@ pub fn run(a: ExportQuiltArgs) -> Outcome {
         }
         (None, None) => a.file.with_file_name(name()),
     };
-    check_output(&out, &[&a.file], a.force)?;
+    let _claim = check_output(&out, &[&a.file], a.force)?;
     let report = export_quilt(&a.file, a.frame, &spec, &out, &QuiltOptions { white: a.white, overwrite: a.force })?;
     report.warnings.iter().for_each(warn);
     say!(

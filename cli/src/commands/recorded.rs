@@ -322,7 +322,7 @@ pub fn like(a: LikeArgs) -> Outcome {
             recorded.input
         )));
     }
-    check_output(&a.output, &[&input, &a.like], a.force)?;
+    let _claim = check_output(&a.output, &[&input, &a.like], a.force)?;
     if let Some(recorded_digest) = &recorded.input_sha256 {
         let now = Conversion::of_input(&input, recorded.options.clone())?;
         if now.input_sha256.as_ref() != Some(recorded_digest) {

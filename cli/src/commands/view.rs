@@ -59,7 +59,7 @@ pub fn run(a: ViewArgs) -> Outcome {
         None if is_fringe_dir(&a.input) => None,
         None => Some(a.blanking.apply(load_layout("mark3")?)),
     };
-    check_output(&a.output, &[&a.input], a.force)?;
+    let _claim = check_output(&a.output, &[&a.input], a.force)?;
     let (x_m, y_m) = a.eye;
     let eye = EyeAt { x_m, y_m, distance_m: a.distance, pupil_m: a.pupil, coherent: a.coherent };
     let picture = view_file(&a.input, layout.as_ref(), a.frame, &[eye], &Reporter::on_stderr())?.remove(0);

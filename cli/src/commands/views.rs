@@ -38,7 +38,7 @@ pub fn run_export(a: ExportViewsArgs) -> Outcome {
     let holo_file = holo::HoloFile::open(&a.file)?;
     let views = holo_file.geometry().views.count;
     let names: Vec<String> = (0..views).map(|v| holo::views::view_file_name(v, views)).collect();
-    holo::output::check_set_output(&a.output, SIDECAR, &names, &[&a.file], a.force)?;
+    let _claim = holo::output::check_set_output(&a.output, SIDECAR, &names, &[&a.file], a.force)?;
     let m = holo_file.read_frame(a.frame)?;
     let white = a.white.level(m.samples().iter().copied());
     let tone = ToneMapping { white, bits: a.bits.bits() };
@@ -64,8 +64,7 @@ pub struct ImportViewsArgs {
 
 pub fn run_import(a: ImportViewsArgs) -> Outcome {
     inputs_exist(&[&a.dir])?;
-    let sidecar_path = a.dir.join(SIDECAR);
-    let sidecar = sidecar_path.exists().then(|| holo::views::read_sidecar(&sidecar_path)).transpose()?;
+    let sidecar = holo::views::folder_sidecar(&a.dir)?;
     let g = match (&a.geometry, &sidecar) {
         (Some(name), _) => layout_geometry(name)?,
         (None, Some(s)) => s.geometry.clone(),
@@ -77,7 +76,7 @@ pub fn run_import(a: ImportViewsArgs) -> Outcome {
         }
     };
     // Every file of the folder counts as an input here, not only the pictures.
-    check_output(&a.write.output, &[a.dir.as_path()], a.write.force)?;
+    let _claim = check_output(&a.write.output, &[a.dir.as_path()], a.write.force)?;
     let mut tone = sidecar.map(|s| s.tone).unwrap_or_default();
     if let Some(w) = a.white {
         tone.white = w;

@@ -273,3 +273,254 @@ fn unseen_rays_are_said_by_cause_with_what_would_fix_them() {
     ));
     assert!(text(&o).contains("--parallax fit spreads them across the viewer's positions"), "{}", text(&o));
 }
+
+/// A glTF triangle (`NAME.gltf`) whose positions and texture coordinates
+/// are in the buffer file `buffer` (declared `bytes` long) and whose
+/// base-colour texture is the image file `image`; the buffer's 60 bytes are
+/// written to `data` when given.
+fn gltf_triangle(d: &std::path::Path, name: &str, buffer: &str, bytes: usize, image: &str, data: Option<&str>) {
+    let json = serde_json::json!({
+        "asset": { "version": "2.0" },
+        "scene": 0,
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0, "TEXCOORD_0": 1 }, "material": 0 }] }],
+        "materials": [{ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } } }],
+        "textures": [{ "source": 0 }],
+        "images": [{ "uri": image }],
+        "buffers": [{ "uri": buffer, "byteLength": bytes }],
+        "bufferViews": [
+            { "buffer": 0, "byteOffset": 0, "byteLength": 36 },
+            { "buffer": 0, "byteOffset": 36, "byteLength": 24 }
+        ],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+              "min": [-1.0, -1.0, 0.0], "max": [1.0, 1.0, 0.0] },
+            { "bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2" }
+        ]
+    });
+    std::fs::write(d.join(format!("{name}.gltf")), serde_json::to_vec(&json).unwrap()).unwrap();
+    if let Some(data) = data {
+        let floats: [f32; 15] = [-1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.5, 1.0];
+        let bytes: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
+        std::fs::write(d.join(data), bytes).unwrap();
+    }
+}
+
+/// Every file of `dir` with its bytes.
+fn files_of(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_file())
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap()))
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn a_conversion_never_replaces_a_file_it_reads_even_with_force() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    let p = profile.to_str().unwrap();
+    // The bundled Spot (OBJ, material library, texture) and a glTF with
+    // its buffer and image beside it; links to them, hard and symbolic.
+    let s = d.join("s");
+    std::fs::create_dir(&s).unwrap();
+    for name in ["spot.obj", "spot.mtl", "spot_texture.png"] {
+        std::fs::copy(super::fixture("mesh/spot").join(name), s.join(name)).unwrap();
+    }
+    gltf_triangle(&s, "tri", "tri.bin", 60, "spot_texture.png", Some("tri.bin"));
+    std::fs::hard_link(s.join("spot.mtl"), s.join("hard.mtl")).unwrap();
+    std::os::unix::fs::symlink("spot_texture.png", s.join("alias.png")).unwrap();
+    let before = files_of(&s);
+    for (scene, outputs) in [
+        ("s/spot.obj", &["s/spot_texture.png", "s/spot.mtl", "s/alias.png", "s/hard.mtl"][..]),
+        ("s/tri.gltf", &["s/tri.bin", "s/spot_texture.png", "s/alias.png"]),
+    ] {
+        for output in outputs {
+            for args in [
+                &["convert", "mesh", scene, "--layout", p, "-o", output, "--force"][..],
+                &["holoflick", "encode", scene, "--layout", p, "-o", output, "--force"],
+                &["holoflick", "pack", scene, "-o", output, "--force"],
+            ] {
+                let o = holo(args, d);
+                assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+                assert!(text(&o).contains("is the input"), "{args:?}: {}", text(&o));
+                assert!(files_of(&s) == before, "{args:?} changed a file it read");
+            }
+        }
+    }
+    // A rig's pictures (and the depth maps it names) are inputs too.
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    ok(holo(&["export-views", "ramp.holo", "-o", "views"], d));
+    let rig = serde_json::json!({
+        "cameras": (0..5).map(|v| serde_json::json!({
+            "image": format!("views/view_{v:03}.png"),
+            "focal_length_px": 300.0,
+            "position": [v as f64 * 0.01, 0.0, 0.0],
+            "direction": [0.0, 0.0, -1.0]
+        })).collect::<Vec<_>>()
+    });
+    std::fs::write(d.join("rig.json"), serde_json::to_vec(&rig).unwrap()).unwrap();
+    let pictures = files_of(&d.join("views"));
+    let o = holo(&["convert", "cameras", "rig.json", "--layout", "mark1", "-o", "views/view_002.png", "--force"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("is the input"), "{}", text(&o));
+    assert!(files_of(&d.join("views")) == pictures, "a picture the rig reads was replaced");
+}
+
+#[test]
+fn referenced_files_are_read_only_as_far_as_they_declare() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    let p = profile.to_str().unwrap();
+    std::fs::copy(super::fixture("mesh/spot/spot_texture.png"), d.join("tex.png")).unwrap();
+    // A file of 6 GB that takes no room (sparse), beginning with a triangle.
+    gltf_triangle(d, "big", "huge.bin", 60, "tex.png", Some("huge.bin"));
+    std::fs::OpenOptions::new().write(true).open(d.join("huge.bin")).unwrap().set_len(6 << 30).unwrap();
+    std::fs::write(d.join("huge.mtl"), "newmtl m\nKd 1 1 1\n").unwrap();
+    std::fs::OpenOptions::new().write(true).open(d.join("huge.mtl")).unwrap().set_len(6 << 30).unwrap();
+    // Read only the 60 bytes it declares: converts within memory and time.
+    let o = super::holo_bounded(&["convert", "mesh", "big.gltf", "--layout", p, "-o", "big.holo"], d, 60, 3072);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    // What is not a regular file, or too large to be what it is said to be,
+    // is refused at once, naming it.
+    gltf_triangle(d, "zero", "/dev/zero", 44, "tex.png", None);
+    gltf_triangle(d, "zeroimage", "big.bin", 60, "/dev/zero", Some("big.bin"));
+    std::fs::write(d.join("hugemtl.obj"), "mtllib huge.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(d.join("zeromtl.obj"), "mtllib /dev/zero\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(d.join("zerotex.mtl"), "newmtl m\nmap_Kd /dev/zero\n").unwrap();
+    std::fs::write(
+        d.join("zerotex.obj"),
+        "mtllib zerotex.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3\n",
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("zerotex.ply"),
+        "ply\nformat ascii 1.0\ncomment TextureFile /dev/zero\nelement vertex 3\nproperty float x\n\
+         property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\
+         -1 -1 0\n1 -1 0\n0 1 0\n3 0 1 2\n",
+    )
+    .unwrap();
+    for (scene, needle) in [
+        ("zerotex.ply", "/dev/zero: not a regular file"),
+        ("zero.gltf", "/dev/zero: not a regular file"),
+        ("zeroimage.gltf", "/dev/zero: not a regular file"),
+        ("hugemtl.obj", "huge.mtl: is 6442450944 bytes"),
+        ("zeromtl.obj", "/dev/zero: not a regular file"),
+        ("zerotex.obj", "/dev/zero: not a regular file"),
+    ] {
+        let o = super::holo_bounded(&["convert", "mesh", scene, "--layout", p, "-o", "x.holo"], d, 20, 3072);
+        assert_eq!(o.status.code(), Some(1), "{scene}: {}", text(&o));
+        assert!(text(&o).contains(needle), "{scene}: {}", text(&o));
+    }
+    // A rig's picture that is a FIFO is refused, not waited on.
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    ok(holo(&["export-views", "ramp.holo", "-o", "views"], d));
+    std::fs::remove_file(d.join("views/view_003.png")).unwrap();
+    assert!(std::process::Command::new("mkfifo").arg(d.join("views/view_003.png")).status().unwrap().success());
+    let rig = serde_json::json!({
+        "cameras": (0..5).map(|v| serde_json::json!({
+            "image": format!("views/view_{v:03}.png"),
+            "focal_length_px": 300.0,
+            "position": [v as f64 * 0.01, 0.0, 0.0],
+            "direction": [0.0, 0.0, -1.0]
+        })).collect::<Vec<_>>()
+    });
+    std::fs::write(d.join("rig.json"), serde_json::to_vec(&rig).unwrap()).unwrap();
+    let o = super::holo_bounded(&["convert", "cameras", "rig.json", "--layout", "mark1", "-o", "c.holo"], d, 20, 3072);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("view_003.png") && text(&o).contains("not a regular file (a FIFO)"), "{}", text(&o));
+}
+
+#[test]
+fn frame_rates_and_counts_are_checked_before_any_work_with_a_message_about_the_rate() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    let p = profile.to_str().unwrap();
+    let glb = super::fixture("mesh/AnimatedMorphCube.glb");
+    let glb = glb.to_str().unwrap();
+    // (The cube's animation lasts 4.2 s.)
+    for (args, needle) in [
+        (&["holoflick", "pack", glb, "--fps", "1e9", "-o", "a.hflk"][..], "frame rate"),
+        (&["holoflick", "pack", glb, "--fps", "1e7", "-o", "a.hflk"], "frame rate"),
+        (&["holoflick", "pack", glb, "--fps", "1e6", "-o", "a.hflk"], "frame rate"),
+        (&["holoflick", "encode", glb, "--layout", p, "--fps", "1e300", "-o", "a.hflk"], "frame rate"),
+        (&["holoflick", "encode", glb, "--layout", p, "--fps", "1e-300", "-o", "a.hflk"], "frame rate"),
+        (&["convert", "mesh", glb, "--layout", p, "--fps", "1e7", "-o", "a.holo"], "frame rate"),
+        (&["convert", "mesh", glb, "--layout", p, "--fps", "1e5", "-o", "a.holo"], "frame rate"),
+        (&["convert", "mesh", glb, "--layout", p, "--fps", "1e300", "-o", "a.holo"], "frame rate"),
+    ] {
+        let o = super::holo_bounded(args, d, 10, 3072);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains(needle) && text(&o).contains("--fps"), "{args:?}: {}", text(&o));
+        assert!(!text(&o).contains("frames 0..0"), "{args:?}: {}", text(&o));
+    }
+    assert!(!d.join("a.hflk").exists() && !d.join("a.holo").exists());
+}
+
+#[test]
+fn triangle_strips_are_read_and_what_is_skipped_or_unreadable_is_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    let p = profile.to_str().unwrap();
+    // A PLY as old exporters wrote one: its geometry a strip, with an
+    // element holo does not read.
+    let ply = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n\
+               element tristrips 1\nproperty list int int vertex_indices\n\
+               element camera 1\nproperty float view_px\nend_header\n\
+               -1 -1 0\n1 -1 0\n-1 1 0\n1 1 0\n0 2 0\n6 0 1 2 3 -1 4\n3\n";
+    std::fs::write(d.join("strip.ply"), ply).unwrap();
+    let o = ok(holo(&["convert", "mesh", "strip.ply", "--layout", p, "-o", "strip.holo"], d));
+    assert!(text(&o).contains("(2 triangles in 1 objects)"), "{}", text(&o));
+    assert!(text(&o).contains("element \"camera\"") && text(&o).contains("skipped"), "{}", text(&o));
+    // Text in another encoding than UTF-8 is an error that says which.
+    let obj = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n";
+    let utf16le: Vec<u8> = [0xFF, 0xFE].into_iter().chain(obj.encode_utf16().flat_map(u16::to_le_bytes)).collect();
+    let utf16be: Vec<u8> = obj.encode_utf16().flat_map(u16::to_be_bytes).collect();
+    std::fs::write(d.join("le.obj"), utf16le).unwrap();
+    std::fs::write(d.join("be.obj"), utf16be).unwrap();
+    let mut latin1 = b"o Caf".to_vec();
+    latin1.push(0xE9);
+    latin1.extend_from_slice(obj.as_bytes());
+    std::fs::write(d.join("latin1.obj"), latin1).unwrap();
+    std::fs::write(d.join("le.mtl"), [0xFF, 0xFE, b'K', 0, b'd', 0]).unwrap();
+    std::fs::write(d.join("mtl16.obj"), format!("mtllib le.mtl\n{obj}")).unwrap();
+    for (scene, needle) in [
+        ("le.obj", "le.obj: is UTF-16 (little-endian) text"),
+        ("be.obj", "be.obj: is UTF-16 (big-endian) text"),
+        ("latin1.obj", "latin1.obj: line 1 is not UTF-8 text"),
+        ("mtl16.obj", "le.mtl: is UTF-16 (little-endian) text"),
+    ] {
+        let o = holo(&["convert", "mesh", scene, "--layout", p, "-o", "x.holo"], d);
+        assert_eq!(o.status.code(), Some(1), "{scene}: {}", text(&o));
+        assert!(text(&o).contains(needle), "{scene}: {}", text(&o));
+    }
+}
+
+/// A pupil wider than any light the display sends can reach is refused at
+/// once, saying the bound, instead of imaging for hours.
+#[test]
+fn a_pupil_wider_than_the_viewing_zone_is_refused_saying_the_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    for coherent in [true, false] {
+        let mut args = vec!["view", "ramp.holo", "--layout", "mark1", "--pupil", "1e6", "-o", "v.png"];
+        if coherent {
+            args.push("--coherent");
+        }
+        let o = super::holo_bounded(&args, d, 20, 4096);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains("--pupil") && text(&o).contains("at most"), "{args:?}: {}", text(&o));
+    }
+    assert!(!d.join("v.png").exists());
+    // A wide pupil within the zone is fine.
+    ok(holo(&["view", "ramp.holo", "--layout", "mark1", "--pupil", "50", "--coherent", "-o", "v.png"], d));
+}

@@ -47,3 +47,28 @@ fn small_profile(d: &Path, hololines: usize) -> PathBuf {
     std::fs::write(&path, profile).unwrap();
     path
 }
+
+/// `holo args` in `cwd` under a cap of `memory_mib` MiB of address space (a
+/// runaway allocation then fails at once instead of exhausting the machine),
+/// stopped if it runs past `seconds`: its output, or a panic saying it ran
+/// on.
+fn holo_bounded(args: &[&str], cwd: &Path, seconds: u64, memory_mib: u64) -> Output {
+    let mut child = Command::new("sh")
+        .args(["-c", &format!("ulimit -v {}; exec \"$@\"", memory_mib * 1024), "sh", HOLO])
+        .args(args)
+        .current_dir(cwd)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run holo");
+    let started = std::time::Instant::now();
+    while child.try_wait().expect("wait for holo").is_none() {
+        if started.elapsed().as_secs() >= seconds {
+            let _ = child.kill();
+            let o = child.wait_with_output().expect("wait for holo");
+            panic!("holo {args:?} still ran after {seconds} s: {}", text(&o));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("wait for holo")
+}

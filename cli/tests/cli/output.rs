@@ -435,3 +435,276 @@ fn refusals_come_before_any_work() {
         }
     }
 }
+
+/// Whether `path` is a FIFO (as `mkfifo` made it), not a regular file.
+fn is_fifo(path: &Path) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_fifo())
+}
+
+fn mkfifo(path: &Path) {
+    assert!(Command::new("mkfifo").arg(path).status().unwrap().success(), "mkfifo {}", path.display());
+}
+
+#[test]
+fn an_output_that_is_not_a_regular_file_is_refused_even_with_force() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    ok(holo(&["export-quilt", "ramp.holo", "-o", "ramp_qs8x4a1.png"], d));
+    ok(holo(&["export-views", "ramp.holo", "-o", "views"], d));
+    mkfifo(&d.join("n"));
+    let spot = super::spot();
+    let spot = spot.as_str();
+    let commands: [&[&str]; 11] = [
+        &["pattern", "--layout", "mark1", "--kind", "checkerboard", "-o", "n", "--force"],
+        &["convert", "holoflick", "n.hflk", "--layout", "mark1", "-o", "n", "--force"],
+        &["convert", "mesh", spot, "--layout", "mark1", "-o", "n", "--force"],
+        &["convert", "cameras", "ramp_qs8x4a1.png", "--layout", "mark1", "-o", "n", "--force"],
+        &[
+            "convert",
+            "cameras",
+            "ramp_qs8x4a1.png",
+            "--layout",
+            "mark1",
+            "-o",
+            "c.holo",
+            "--unseen-mask",
+            "n",
+            "--force",
+        ],
+        &["export-quilt", "ramp.holo", "-o", "n", "--force"],
+        &["view", "ramp.holo", "--layout", "mark1", "-o", "n", "--force"],
+        &["import-views", "views", "-o", "n", "--force"],
+        &["holoflick", "encode", spot, "-o", "n", "--force"],
+        &["holoflick", "pack", spot, "-o", "n", "--force"],
+        &["holoflick", "unpack", "n.hflk", "-o", "n", "--force"],
+    ];
+    ok(holo(&["holoflick", "pack", spot, "-o", "n.hflk"], d));
+    for args in commands {
+        let o = super::holo_bounded(args, d, 120, 4096);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains("n: is a FIFO, not a regular file"), "{args:?}: {}", text(&o));
+        assert!(is_fifo(&d.join("n")), "{args:?} replaced the FIFO");
+    }
+    assert!(!d.join("c.holo").exists(), "the refusal came after the conversion");
+    // A set whose folder holds a FIFO where one of its files goes.
+    std::fs::remove_file(d.join("views/view_002.png")).unwrap();
+    mkfifo(&d.join("views/view_002.png"));
+    std::fs::create_dir(d.join("fringes")).unwrap();
+    mkfifo(&d.join("fringes/frame0000-green.png"));
+    for (args, fifo) in [
+        (&["export-views", "ramp.holo", "-o", "views", "--force"][..], "views/view_002.png"),
+        (&["assemble", "ramp.holo", "--layout", "mark1", "-o", "fringes", "--force"], "fringes/frame0000-green.png"),
+    ] {
+        let o = super::holo_bounded(args, d, 120, 4096);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains("is a FIFO, not a regular file"), "{args:?}: {}", text(&o));
+        assert!(is_fifo(&d.join(fifo)), "{args:?} replaced the FIFO");
+    }
+    // The set's own folder a FIFO.
+    mkfifo(&d.join("m"));
+    let o = super::holo_bounded(&["assemble", "ramp.holo", "--layout", "mark1", "-o", "m", "--force"], d, 120, 4096);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("m: is a FIFO, not a folder"), "{}", text(&o));
+}
+
+#[test]
+fn any_name_the_file_system_takes_is_written_and_a_longer_one_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 245 and 255 characters: legal names, whose hidden temporaries cannot
+    // be the name with a suffix.
+    for length in [245, 255] {
+        let name = format!("{}.holo", "p".repeat(length - 5));
+        ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", &name], d));
+        assert!(d.join(&name).is_file());
+        let picture = format!("{}.png", "v".repeat(length - 4));
+        ok(holo(&["view", &name, "--layout", "mark1", "-o", &picture], d));
+        let views = "w".repeat(length);
+        ok(holo(&["export-views", &name, "-o", &views], d));
+        ok(holo(&["import-views", &views, "-o", "back.holo", "--force"], d));
+        std::fs::remove_file(d.join(&name)).unwrap();
+    }
+    assert_eq!(hidden(d), Vec::<String>::new());
+    // 256: refused before any work, naming the name's length, not the folder.
+    ok(holo(&["pattern", "--layout", "mark3", "--kind", "view-ramp", "-o", "m3.holo"], d));
+    let long = format!("{}.png", "v".repeat(252));
+    let started = Instant::now();
+    let o = holo(&["view", "m3.holo", "-o", &long], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(started.elapsed() < Duration::from_millis(500), "refused after {:?}", started.elapsed());
+    assert!(text(&o).contains("name is 256 bytes long") && text(&o).contains("255"), "{}", text(&o));
+    let o = holo(&["export-views", "m3.holo", "-o", &"w".repeat(256)], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("name is 256 bytes long"), "{}", text(&o));
+}
+
+#[test]
+fn a_second_writer_of_an_output_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 2);
+    let p = profile.to_str().unwrap();
+    ok(holo(&["pattern", "--layout", p, "--kind", "colour-bars", "-o", "a.holo"], d));
+    let g = holo::layout::Layout::load(p).unwrap().geometry;
+    holo::format::write_frames(d.join("b.holo"), &g, 200, &WriteOptions::default(), |i| {
+        let m = Modulation::from_fn(g.clone(), |_, j, e, v| noise((i * 7919 + j * 131 + e * 17 + v) as u64))?;
+        Ok(std::borrow::Cow::Owned(m))
+    })
+    .unwrap();
+    // A set: the second run into the folder, with or without --force, is
+    // refused at once naming the first, which finishes with a whole set.
+    let fringes = d.join("fringes");
+    let mut first = spawn(&["assemble", "b.holo", "--layout", p, "-o", "fringes"], d);
+    let pid = first.id().to_string();
+    wait_for_hidden(&mut first, &fringes, ".partial");
+    for force in [false, true] {
+        let mut args = vec!["assemble", "a.holo", "--layout", p, "-o", "fringes"];
+        if force {
+            args.push("--force");
+        }
+        let started = Instant::now();
+        let o = holo(&args, d);
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+        assert!(started.elapsed() < Duration::from_secs(2), "refused after {:?}", started.elapsed());
+        assert!(text(&o).contains("being written by another process") && text(&o).contains(&pid), "{}", text(&o));
+    }
+    let out = first.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    ok(holo(&["check", "b.holo", "--fringes", "fringes", "--frame", "199"], d));
+    assert_eq!(hidden(&fringes), Vec::<String>::new());
+    assert_eq!(hidden(d), Vec::<String>::new(), "the lock is gone with its writer");
+    // A file: a second conversion into the same name is refused while the
+    // first writes it.
+    let glb = fixture("mesh/AnimatedMorphCube.glb");
+    let glb = glb.to_str().unwrap();
+    let mut first = spawn(&["convert", "mesh", glb, "--frames", "0..8", "--f32", "-o", "out.holo"], d);
+    let pid = first.id().to_string();
+    wait_for_hidden(&mut first, d, ".partial");
+    let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "out.holo", "--force"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("being written by another process") && text(&o).contains(&pid), "{}", text(&o));
+    let out = first.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(holo::HoloFile::open(d.join("out.holo")).unwrap().info().frames.len(), 8);
+    assert_eq!(hidden(d), Vec::<String>::new());
+}
+
+#[test]
+fn temporaries_a_killed_run_left_are_removed_by_the_next_run_and_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let glb = fixture("mesh/AnimatedMorphCube.glb");
+    let glb = glb.to_str().unwrap();
+    ok(holo(&["pattern", "--layout", "mark3", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    ok(holo(&["export-quilt", "ramp.holo", "-o", "ramp_qs8x6a0.75.png"], d));
+    let mesh: &[&str] =
+        &["convert", "mesh", glb, "--frames", "0..4", "--f32", "--compression", "none", "-o", "out.holo", "--force"];
+    let cameras: &[&str] = &["convert", "cameras", "ramp_qs8x6a0.75.png", "-o", "out.holo", "--force"];
+    for (args, mid_write) in [(mesh, ".partial"), (cameras, ".spool")] {
+        let mut child = spawn(args, d);
+        wait_for_hidden(&mut child, d, mid_write);
+        let (status, _) = interrupt(child, "KILL");
+        assert_eq!(status, None, "killed");
+        // (Its lock stays too, but a lock no process holds is no obstacle.)
+        let left: Vec<String> = hidden(d).into_iter().filter(|n| !n.ends_with(".lock")).collect();
+        assert!(!left.is_empty(), "SIGKILL leaves its temporaries");
+        // The next run to the same output removes them, and says which.
+        let o = ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "out.holo", "--force"], d));
+        for name in &left {
+            assert!(text(&o).contains(name.as_str()) && text(&o).contains("removed"), "{name}: {}", text(&o));
+        }
+        assert_eq!(hidden(d), Vec::<String>::new());
+    }
+    // In a set's folder too.
+    ok(holo(&["assemble", "ramp.holo", "-o", "fringes"], d));
+    let mut child = spawn(&["assemble", "ramp.holo", "-o", "fringes", "--force", "--format", "raw"], d);
+    wait_for_hidden(&mut child, &d.join("fringes"), ".partial");
+    interrupt(child, "KILL");
+    let left: Vec<String> = hidden(&d.join("fringes")).into_iter().filter(|n| !n.ends_with(".lock")).collect();
+    assert!(!left.is_empty(), "SIGKILL leaves its temporaries");
+    let o = ok(holo(&["assemble", "ramp.holo", "-o", "fringes", "--force"], d));
+    assert!(text(&o).contains(left[0].as_str()) && text(&o).contains("removed"), "{}", text(&o));
+    assert_eq!(hidden(&d.join("fringes")), Vec::<String>::new());
+}
+
+#[test]
+fn every_reader_of_a_set_says_its_replacement_was_interrupted_and_how_to_repair_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    ok(holo(&["assemble", "ramp.holo", "--layout", "mark1", "-o", "fringes"], d));
+    ok(holo(&["export-views", "ramp.holo", "-o", "views"], d));
+    // As a replacement interrupted between taking the old set apart and
+    // putting the new manifest in place leaves them.
+    for (folder, manifest) in [("fringes", "holo-fringes.json"), ("views", "holo-views.json")] {
+        std::fs::write(d.join(folder).join(format!(".{manifest}.incomplete")), b"interrupted").unwrap();
+        std::fs::remove_file(d.join(folder).join(manifest)).unwrap();
+    }
+    for args in [
+        &["view", "fringes", "-o", "v.png"][..],
+        &["check", "ramp.holo", "--fringes", "fringes"],
+        &["import-views", "views", "-o", "back.holo"],
+        &["import-views", "views", "--geometry", "mark1", "-o", "back.holo"],
+    ] {
+        let o = holo(args, d);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(
+            text(&o).contains("replacement was interrupted") && text(&o).contains("with --force"),
+            "{args:?}: {}",
+            text(&o)
+        );
+    }
+    // Repaired as it says.
+    ok(holo(&["assemble", "ramp.holo", "--layout", "mark1", "-o", "fringes", "--force"], d));
+    ok(holo(&["view", "fringes", "-o", "v.png"], d));
+}
+
+#[test]
+fn an_interrupted_demo_into_an_earlier_demos_folder_leaves_it_as_it_was() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // An earlier demo's folder (its marker, its files), with a file of yours.
+    let folder = d.join("earlier");
+    std::fs::create_dir_all(folder.join("spot")).unwrap();
+    std::fs::create_dir_all(folder.join("movie")).unwrap();
+    std::fs::write(folder.join(".holo-demo"), "Made by `holo demo`.\n").unwrap();
+    for name in ["demo.holo", "demo_qs8x6a0.75.png", "fringe.png", "eyes.png", "eyes-moving.png", "movie/cube.holo"] {
+        std::fs::write(folder.join(name), format!("the earlier demo's {name}")).unwrap();
+    }
+    std::fs::write(folder.join("notes.txt"), "my notes").unwrap();
+    let before = snapshot(&folder);
+    let mut child = spawn(&["demo", "-o", "earlier"], d);
+    // Once the new demo.holo is complete (its temporary gone again), before the rest.
+    let partial = |dir: &Path| -> bool {
+        fn walk(dir: &Path, found: &mut bool) {
+            for e in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                *found |= name.starts_with(".demo.holo.") && name.ends_with(".partial");
+                if e.file_type().is_ok_and(|t| t.is_dir()) {
+                    walk(&e.path(), found);
+                }
+            }
+        }
+        let mut found = false;
+        walk(dir, &mut found);
+        found
+    };
+    let started = Instant::now();
+    while !partial(&folder) {
+        assert!(child.try_wait().unwrap().is_none(), "the demo ended before writing demo.holo");
+        assert!(started.elapsed() < Duration::from_secs(300));
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    while partial(&folder) {
+        assert!(child.try_wait().unwrap().is_none(), "the demo ended while writing demo.holo");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let (status, messages) = interrupt(child, "INT");
+    assert_eq!(status, Some(130), "{messages}");
+    assert!(snapshot(&folder) == before, "the interrupted demo left a mix: {:?}", snapshot(&folder).keys());
+    let mut all_hidden = hidden(&folder);
+    all_hidden.retain(|n| n != ".holo-demo");
+    assert_eq!(all_hidden, Vec::<String>::new());
+}

@@ -19,7 +19,7 @@ use gltf::khr_lights_punctual::Kind as LightKind;
 use gltf::mesh::{Mode, Semantic};
 
 use super::texture::{decode, generate_tangents};
-use super::{file_name, finish_scene, LoadLimits};
+use super::{file_name, finish_scene, Extent, LoadLimits, Referenced};
 use crate::math::{
     cofactor3, det3, linear, mat3_apply, mat_mul, transform_direction, transform_point, translation, transpose, unit,
     Mat3, Mat4, IDENTITY4,
@@ -361,8 +361,9 @@ fn percent_decode(s: &str) -> String {
     String::from_utf8_lossy(&out).into_owned()
 }
 
-/// Read a file a glTF URI names, relative to the glTF's folder.
-fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
+/// Read a file a glTF URI names, relative to the glTF's folder, as far as
+/// `extent` says (a buffer: the bytes it declares).
+fn read_uri(dir: &Path, uri: &str, files: &mut Referenced, extent: Extent) -> Result<Vec<u8>, String> {
     if let Some(r) = data_uri(uri) {
         return r;
     }
@@ -371,7 +372,7 @@ fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
     }
     let rel = percent_decode(uri);
     let p: PathBuf = super::resolve_file(dir, &rel).unwrap_or_else(|| dir.join(&rel));
-    std::fs::read(&p).map_err(|e| format!("cannot be read from \"{}\": {e}", p.display()))
+    files.read(&p, extent).map_err(|e| format!("cannot be read: {e}"))
 }
 
 fn trs(t: [f64; 3], q: [f64; 4], s: [f64; 3]) -> Mat4 {
@@ -429,6 +430,7 @@ struct Reader<'a> {
     dir: PathBuf,
     buffers: Buffers,
     limits: &'a LoadLimits,
+    files: &'a mut Referenced,
     textures: Vec<Texture>,
     /// (image, sRGB, wrap) → index in `textures`.
     texture_cache: HashMap<(usize, bool, [u8; 2]), usize>,
@@ -755,7 +757,8 @@ impl Reader<'_> {
                         percent_decode(uri)
                     }
                 });
-                (name, read_uri(&self.dir, uri))
+                let extent = Extent::AtMost { bytes: super::texture_file_bytes(self.limits), what: "texture" };
+                (name, read_uri(&self.dir, uri, self.files, extent))
             }
         };
         let what = format!("material \"{material}\": {slot} texture {} (\"{name}\")", tex.index());
@@ -799,7 +802,7 @@ fn check_extensions(path: &Path, doc: &gltf::Document, warnings: &mut Vec<String
 
 /// The bytes of every buffer (the GLB binary chunk, a data URI or a file
 /// beside `path`), each at least as long as it declares.
-fn read_buffers(path: &Path, dir: &Path, g: &gltf::Gltf) -> Result<Vec<Vec<u8>>> {
+fn read_buffers(path: &Path, dir: &Path, g: &gltf::Gltf, files: &mut Referenced) -> Result<Vec<Vec<u8>>> {
     let mut data = Vec::new();
     for b in g.document.buffers() {
         let d = match b.source() {
@@ -809,9 +812,8 @@ fn read_buffers(path: &Path, dir: &Path, g: &gltf::Gltf) -> Result<Vec<Vec<u8>>>
                     format!("buffer {} refers to the GLB binary chunk, but the file has none", b.index()),
                 )
             })?,
-            gltf::buffer::Source::Uri(uri) => {
-                read_uri(dir, uri).map_err(|e| Error::scene(path, format!("buffer {} {e}", b.index())))?
-            }
+            gltf::buffer::Source::Uri(uri) => read_uri(dir, uri, files, Extent::Declared(b.length() as u64))
+                .map_err(|e| Error::scene(path, format!("buffer {} {e}", b.index())))?,
         };
         if d.len() < b.length() {
             return Err(Error::scene(
@@ -962,37 +964,37 @@ fn texture_ref(info: &gltf::texture::Info, texture: usize) -> TextureRef {
 }
 
 impl GltfSource {
-    pub(crate) fn open(path: &Path, limits: &LoadLimits) -> Result<GltfSource> {
+    pub(crate) fn open(path: &Path, limits: &LoadLimits, files: &mut Referenced) -> Result<GltfSource> {
         // Everything here checks what it reads; the guard is for the `gltf`
         // crate's accessors, which unwrap what its validation should have
         // checked.
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| Self::open_checked(path, limits))).unwrap_or_else(
-            |_| {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| Self::open_checked(path, limits, files)))
+            .unwrap_or_else(|_| {
                 Err(Error::scene(
                     path,
                     "the glTF reader failed on this file (it is malformed in a way not diagnosed more precisely)",
                 ))
-            },
-        )
+            })
     }
 
     /// Read the file in the order its parts depend on: the JSON and its
     /// required extensions, the buffers, the node tree (and the triangle
     /// budget it implies), materials with their textures, meshes, nodes,
     /// lights and animation curves.
-    fn open_checked(path: &Path, limits: &LoadLimits) -> Result<GltfSource> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    fn open_checked(path: &Path, limits: &LoadLimits, files: &mut Referenced) -> Result<GltfSource> {
+        let bytes = files.scene_file(path)?;
         let g = parse(&bytes).map_err(|e| Error::scene(path, format!("not a valid glTF 2.0 file: {e}")))?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let doc = &g.document;
         let mut warnings = Vec::new();
         check_extensions(path, doc, &mut warnings)?;
-        let data = read_buffers(path, &dir, &g)?;
+        let data = read_buffers(path, &dir, &g, files)?;
         let mut rd = Reader {
             path,
             dir,
             buffers: Buffers { data },
             limits,
+            files,
             textures: Vec::new(),
             texture_cache: HashMap::new(),
         };

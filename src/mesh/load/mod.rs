@@ -38,11 +38,17 @@ impl Default for LoadLimits {
     }
 }
 
+/// The most bytes of a material library (MTL) read: real ones hold a few
+/// kilobytes of text; a file past this is not one.
+pub const MAX_MATERIAL_LIBRARY_BYTES: u64 = 256 << 20;
+
 /// A scene file opened once; scenes at any animation time are made from it.
 #[derive(Debug)]
 pub struct SceneSource {
     path: PathBuf,
     inner: Inner,
+    /// Every file read: the scene file, then those it refers to.
+    files: Vec<PathBuf>,
 }
 
 #[derive(Debug)]
@@ -66,10 +72,11 @@ impl SceneSource {
     /// Open a scene file, refusing scenes beyond `limits`.
     pub fn open_with_limits(path: &Path, limits: LoadLimits) -> Result<SceneSource> {
         let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).unwrap_or_default();
+        let mut files = Referenced::default();
         let inner = match ext.as_str() {
-            "gltf" | "glb" => Inner::Gltf(Box::new(gltf::GltfSource::open(path, &limits)?)),
-            "obj" => Inner::Static(obj::load(path, &limits)?),
-            "ply" => Inner::Static(ply::load(path, &limits)?),
+            "gltf" | "glb" => Inner::Gltf(Box::new(gltf::GltfSource::open(path, &limits, &mut files)?)),
+            "obj" => Inner::Static(obj::load(path, &limits, &mut files)?),
+            "ply" => Inner::Static(ply::load(path, &limits, &mut files)?),
             _ => {
                 return Err(Error::scene(
                     path,
@@ -80,12 +87,19 @@ impl SceneSource {
                 ))
             }
         };
-        Ok(SceneSource { path: path.to_path_buf(), inner })
+        Ok(SceneSource { path: path.to_path_buf(), inner, files: files.files })
     }
 
     /// The file this source was opened from.
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// Every file the scene was read from: the scene file and the files it
+    /// refers to (material libraries, textures, glTF buffers and images).
+    /// An output may be none of them.
+    pub fn files(&self) -> &[PathBuf] {
+        &self.files
     }
 
     /// Length of the animation in seconds: for glTF the largest input time
@@ -112,6 +126,115 @@ impl SceneSource {
             Inner::Static(scene) => Ok(scene.clone()),
             Inner::Gltf(g) => g.scene_at(&self.path, time_s),
         }
+    }
+}
+
+/// How much of a file a scene refers to is read.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Extent {
+    /// The bytes the scene declares it holds (a glTF buffer's
+    /// `byteLength`): what follows is not read.
+    Declared(u64),
+    /// All of it, which may be at most `bytes` long for what it is
+    /// (`what`: "material library", "texture").
+    AtMost {
+        /// The most bytes such a file may hold.
+        bytes: u64,
+        /// What the file is, for the message.
+        what: &'static str,
+    },
+}
+
+/// The files a scene is read from, as the loaders read them: each must be
+/// a regular file (a FIFO or a device would block or never end), read
+/// only as far as the scene says or as far as such a file can be; each is
+/// recorded, so the output is never one of them.
+#[derive(Debug, Default)]
+pub(crate) struct Referenced {
+    files: Vec<PathBuf>,
+}
+
+impl Referenced {
+    /// The bytes of `path` (recorded), read as `extent` says; an error names
+    /// the file and the problem in a phrase (`"/dev/zero: not a regular
+    /// file (a character device)"`) for the caller to put in its sentence.
+    pub(crate) fn read(&mut self, path: &Path, extent: Extent) -> std::result::Result<Vec<u8>, String> {
+        use std::io::Read;
+        if !self.files.iter().any(|f| f == path) {
+            self.files.push(path.to_path_buf());
+        }
+        let at = |e: std::io::Error| format!("{}: {e}", path.display());
+        // Asked before it is opened: opening a FIFO waits for a writer.
+        let regular = |m: &std::fs::Metadata| {
+            if m.is_file() {
+                return Ok(());
+            }
+            let kind = crate::output::special_kind(m).unwrap_or("a folder");
+            Err(format!("{}: not a regular file ({kind})", path.display()))
+        };
+        regular(&std::fs::metadata(path).map_err(at)?)?;
+        let file = std::fs::File::open(path).map_err(at)?;
+        let metadata = file.metadata().map_err(at)?;
+        regular(&metadata)?;
+        let length = metadata.len();
+        let take = match extent {
+            Extent::Declared(bytes) => bytes.min(length),
+            Extent::AtMost { bytes, what } if length > bytes => {
+                return Err(format!("{}: is {length} bytes, more than a {what} can be ({bytes})", path.display()))
+            }
+            Extent::AtMost { .. } => length,
+        };
+        let mut bytes =
+            Vec::with_capacity(usize::try_from(take).map_err(|_| format!("{}: too large", path.display()))?);
+        // Never past what was measured: a file that grows while read is read as it was.
+        file.take(take).read_to_end(&mut bytes).map_err(at)?;
+        Ok(bytes)
+    }
+
+    /// The scene file itself, whole (recorded): a file that is not a
+    /// regular one is a scene error, one the system cannot read an I/O
+    /// error.
+    pub(crate) fn scene_file(&mut self, path: &Path) -> Result<Vec<u8>> {
+        let metadata = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+        if !metadata.is_file() {
+            let kind = crate::output::special_kind(&metadata).unwrap_or("a folder");
+            return Err(Error::scene(path, format!("not a regular file ({kind})")));
+        }
+        self.files.push(path.to_path_buf());
+        std::fs::read(path).map_err(|e| Error::io(path, e))
+    }
+}
+
+/// How many bytes a texture file can hold: every texel the limits allow,
+/// at 16 bits and four components, plus room for the format's own.
+pub(crate) fn texture_file_bytes(limits: &LoadLimits) -> u64 {
+    (limits.max_texture_texels as u64).saturating_mul(8).saturating_add(1 << 20)
+}
+
+/// The encoding of text that is UTF-16 or UTF-32 (as some Windows tools
+/// save text): a byte-order mark, or a NUL in every other byte of its start
+/// and in no other; `None` for anything else.
+pub(crate) fn utf16(bytes: &[u8]) -> Option<&'static str> {
+    for (mark, encoding) in [
+        (&[0xFF, 0xFE, 0, 0][..], "UTF-32 (little-endian)"),
+        (&[0, 0, 0xFE, 0xFF], "UTF-32 (big-endian)"),
+        (&[0xFF, 0xFE], "UTF-16 (little-endian)"),
+        (&[0xFE, 0xFF], "UTF-16 (big-endian)"),
+    ] {
+        if bytes.starts_with(mark) {
+            return Some(encoding);
+        }
+    }
+    let head = &bytes[..bytes.len().min(512) & !1];
+    if head.len() < 4 {
+        return None;
+    }
+    let nuls = |first: usize| head.iter().skip(first).step_by(2).filter(|&&b| b == 0).count();
+    let pairs = head.len() / 2;
+    match (nuls(0), nuls(1)) {
+        (0, odd) if odd == pairs => Some("UTF-16 (little-endian)"),
+        (even, 0) if even == pairs => Some("UTF-16 (big-endian)"),
+        _ => None,
     }
 }
 
@@ -261,13 +384,16 @@ pub(crate) fn resolve_file(dir: &Path, name: &str) -> Option<PathBuf> {
     if name.is_empty() {
         return None;
     }
+    // Anything there but a folder: the reader says what is wrong with a
+    // file that is not a regular one.
+    let found = |p: &Path| p.exists() && !p.is_dir();
     let as_given = dir.join(name);
-    if as_given.is_file() {
+    if found(&as_given) {
         return Some(as_given);
     }
     let slashed = name.replace('\\', "/");
     let p = dir.join(&slashed);
-    if p.is_file() {
+    if found(&p) {
         return Some(p);
     }
     // Case-insensitive walk, component by component.
@@ -292,5 +418,5 @@ pub(crate) fn resolve_file(dir: &Path, name: &str) -> Option<PathBuf> {
         })?;
         cur = found.path();
     }
-    cur.is_file().then_some(cur)
+    found(&cur).then_some(cur)
 }

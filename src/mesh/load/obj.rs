@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use super::texture::{decode, generate_tangents};
-use super::{fan, file_name, finish_scene, resolve_file, LoadLimits};
+use super::{fan, file_name, finish_scene, resolve_file, Extent, LoadLimits, Referenced};
 use crate::math::unit;
 use crate::mesh::{Material, Object, Scene, Texture, TextureRef, UvTransform, Wrap};
 use crate::{Error, Result};
@@ -73,10 +73,10 @@ fn three_numbers(path: &Path, line: usize, what: &str, parts: &str, toks: &[&str
     numbers(path, line, what, toks)
 }
 
-pub(crate) fn load(path: &Path, limits: &LoadLimits) -> Result<Scene> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text = String::from_utf8_lossy(&bytes);
-    let mut parser = Parser::new(path, limits);
+pub(crate) fn load(path: &Path, limits: &LoadLimits, files: &mut Referenced) -> Result<Scene> {
+    let bytes = files.scene_file(path)?;
+    let text = text_of(path, &bytes)?;
+    let mut parser = Parser::new(path, limits, files);
     for (ln, line) in logical_lines(&text) {
         let toks: Vec<&str> = line.split_ascii_whitespace().collect();
         let Some((&kw, args)) = toks.split_first() else { continue };
@@ -85,11 +85,42 @@ pub(crate) fn load(path: &Path, limits: &LoadLimits) -> Result<Scene> {
     parser.finish()
 }
 
+/// The text of an OBJ or MTL file, which must be UTF-8 (ASCII is): a file
+/// in UTF-16 (as some Windows tools save text) or another encoding is
+/// refused, saying which, rather than read as nothing. Bytes that are not
+/// UTF-8 inside comments are let pass; they say nothing to the reader.
+fn text_of<'b>(path: &Path, bytes: &'b [u8]) -> Result<std::borrow::Cow<'b, str>> {
+    if let Some(encoding) = super::utf16(bytes) {
+        return Err(Error::scene(
+            path,
+            format!("is {encoding} text; holo reads OBJ and MTL files in UTF-8 (save it as UTF-8)"),
+        ));
+    }
+    let text = String::from_utf8_lossy(bytes);
+    if let std::borrow::Cow::Owned(_) = text {
+        for (i, line) in bytes.split(|&b| b == b'\n').enumerate() {
+            let statement = line.split(|&b| b == b'#').next().unwrap_or(line);
+            if let Err(e) = std::str::from_utf8(statement) {
+                let byte = statement[e.valid_up_to()];
+                return Err(Error::scene(
+                    path,
+                    format!(
+                        "line {} is not UTF-8 text (byte 0x{byte:02X}); holo reads OBJ and MTL files in UTF-8 (save it as UTF-8)",
+                        i + 1
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(text)
+}
+
 /// The state of reading one OBJ file: the vertex data seen so far, the
 /// objects being collected, the current group and material, the material
 /// libraries read and what was skipped.
 struct Parser<'a> {
     path: &'a Path,
+    files: &'a mut Referenced,
     dir: PathBuf,
     file: String,
     stem: String,
@@ -112,11 +143,12 @@ struct Parser<'a> {
 }
 
 impl<'a> Parser<'a> {
-    fn new(path: &'a Path, limits: &'a LoadLimits) -> Parser<'a> {
+    fn new(path: &'a Path, limits: &'a LoadLimits, files: &'a mut Referenced) -> Parser<'a> {
         let file = file_name(path);
         let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| file.clone());
         Parser {
             path,
+            files,
             dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
             file,
             group: stem.clone(),
@@ -293,7 +325,7 @@ impl<'a> Parser<'a> {
                 ));
                 continue;
             };
-            self.mtl.read(&p, self.limits, &mut self.warnings)?;
+            self.mtl.read(&p, self.limits, self.files, &mut self.warnings)?;
         }
         Ok(())
     }
@@ -477,10 +509,24 @@ fn parse_map(args: &[&str]) -> MapSpec {
     spec
 }
 
+/// The error for a file a scene refers to that cannot be read as one
+/// (`problem` begins with its path, which the error names).
+fn referenced(path: &Path, problem: String) -> Error {
+    let problem = problem.strip_prefix(&format!("{}: ", path.display())).unwrap_or(&problem).to_string();
+    Error::scene(path, problem)
+}
+
 impl MtlLibrary {
-    fn read(&mut self, path: &Path, limits: &LoadLimits, warnings: &mut Vec<String>) -> Result<()> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        let text = String::from_utf8_lossy(&bytes);
+    fn read(
+        &mut self,
+        path: &Path,
+        limits: &LoadLimits,
+        files: &mut Referenced,
+        warnings: &mut Vec<String>,
+    ) -> Result<()> {
+        let extent = Extent::AtMost { bytes: super::MAX_MATERIAL_LIBRARY_BYTES, what: "material library" };
+        let bytes = files.read(path, extent).map_err(|problem| referenced(path, problem))?;
+        let text = text_of(path, &bytes)?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let file = file_name(path);
         let mut cur: Option<Material> = None;
@@ -539,7 +585,8 @@ impl MtlLibrary {
                     let srgb = kw != "norm";
                     // A texture file that is missing is said and left out,
                     // as assimp and trimesh read such files.
-                    let Some(t) = self.texture(path, &dir, &mname, kw_as_written, &spec, srgb, limits, warnings)?
+                    let Some(t) =
+                        self.texture(path, &dir, &mname, kw_as_written, &spec, srgb, limits, files, warnings)?
                     else {
                         continue;
                     };
@@ -580,6 +627,7 @@ impl MtlLibrary {
         spec: &MapSpec,
         srgb: bool,
         limits: &LoadLimits,
+        files: &mut Referenced,
         warnings: &mut Vec<String>,
     ) -> Result<Option<usize>> {
         let file = file_name(mtl);
@@ -607,8 +655,9 @@ impl MtlLibrary {
         if let Some(&i) = self.cache.get(&key) {
             return Ok(Some(i));
         }
-        let bytes = std::fs::read(&p).map_err(|e| {
-            Error::scene(mtl, format!("material \"{material}\": {kw} texture \"{name}\" cannot be read: {e}"))
+        let extent = Extent::AtMost { bytes: super::texture_file_bytes(limits), what: "texture" };
+        let bytes = files.read(&p, extent).map_err(|problem| {
+            Error::scene(mtl, format!("material \"{material}\": {kw} texture \"{name}\" cannot be read: {problem}"))
         })?;
         let t = decode(&bytes, &file_name(&p), srgb, wrap, limits)
             .map_err(|e| Error::scene(mtl, format!("material \"{material}\": {kw} texture \"{name}\" {e}")))?;

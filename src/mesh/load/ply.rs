@@ -5,9 +5,12 @@
 //! optionally normals (`nx ny nz`), colours (`red green blue [alpha]`:
 //! integers are sRGB-encoded, floats linear) and texture coordinates
 //! (`u v`, `s t`, `texture_u texture_v`); the `face` element's
-//! `vertex_indices` (or `vertex_index`) lists are fan-triangulated. Other
-//! elements and properties are read past. `comment TextureFile name` gives
-//! a base-colour texture. The whole file is one object.
+//! `vertex_indices` (or `vertex_index`) lists are fan-triangulated, and a
+//! `tristrips` element's are triangle strips (as the Stanford tools and old
+//! exporters wrote them: `-1` restarts a strip). Other elements are read
+//! past and named in a warning; other properties are read past.
+//! `comment TextureFile name` gives a base-colour texture. The whole file
+//! is one object. A file in UTF-16 is refused, saying so.
 //!
 //! Header lines are read as the well-known readers (rply, trimesh, assimp)
 //! read them: `comment` and `obj_info` lines are skipped, line ends may be
@@ -20,7 +23,7 @@
 use std::path::Path;
 
 use super::texture::decode;
-use super::{fan, file_name, finish_scene, resolve_file, LoadLimits};
+use super::{fan, file_name, finish_scene, resolve_file, Extent, LoadLimits, Referenced};
 use crate::math::unit;
 use crate::mesh::{Material, Object, Scene, TextureRef, UvTransform, Wrap};
 use crate::picture::srgb_decode_f32;
@@ -177,11 +180,14 @@ fn split_header(bytes: &[u8]) -> Option<(String, usize)> {
     Some((String::from_utf8_lossy(&bytes[..at]).into_owned(), end))
 }
 
-pub(crate) fn load(path: &Path, limits: &LoadLimits) -> Result<Scene> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+pub(crate) fn load(path: &Path, limits: &LoadLimits, files: &mut Referenced) -> Result<Scene> {
+    let bytes = files.scene_file(path)?;
     let file = file_name(path);
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| file.clone());
     let bad = |problem: String| Error::scene(path, problem);
+    if let Some(encoding) = super::utf16(&bytes) {
+        return Err(bad(format!("is {encoding} text; a PLY header is ASCII (save the file as ASCII or UTF-8)")));
+    }
     if !bytes.starts_with(b"ply") {
         return Err(bad("not a PLY file (it does not start with \"ply\")".into()));
     }
@@ -203,7 +209,7 @@ pub(crate) fn load(path: &Path, limits: &LoadLimits) -> Result<Scene> {
     if !reader.seen_vertex {
         return Err(bad("the file has no vertex element".into()));
     }
-    reader.into_scene(header.texture_file)
+    reader.into_scene(header.texture_file, files)
 }
 
 /// What the header declares: the body's format, its elements in order,
@@ -345,11 +351,23 @@ impl BodyReader<'_> {
                 self.seen_vertex = true;
                 self.vertices(el)
             }
-            "face" => self.faces(el),
+            "face" => self.faces(el, List::Polygons),
+            "tristrips" => self.faces(el, List::Strips),
             _ => {
                 let mut vals = vec![0.0f64; el.props.len()];
                 for k in 0..el.count as usize {
                     read_entry(&mut self.body, el, &mut vals, None).map_err(|_| self.truncated(el, k))?;
+                }
+                if el.count > 0 {
+                    let what = if el.name == "vertex" {
+                        "a second element \"vertex\"".to_string()
+                    } else {
+                        format!("element \"{}\"", el.name)
+                    };
+                    self.warnings.push(format!(
+                        "{}: {what} ({} entries) is not something holo draws; skipped",
+                        self.file, el.count
+                    ));
                 }
                 Ok(())
             }
@@ -409,23 +427,24 @@ impl BodyReader<'_> {
         Ok(())
     }
 
-    /// The face element: each `vertex_indices` list fan-triangulated,
+    /// The `face` element (each `vertex_indices` list fan-triangulated) or
+    /// the `tristrips` element (each list triangle strips, see [`strips`]),
     /// within the triangle limit.
-    fn faces(&mut self, el: &Element) -> Result<()> {
+    fn faces(&mut self, el: &Element, kind: List) -> Result<()> {
         let stem = &self.stem;
         let Some(li) = el
             .props
             .iter()
             .position(|p| p.list_count.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"))
         else {
-            return Err(self.bad("element \"face\" has no vertex_indices list".into()));
+            return Err(self.bad(format!("element \"{}\" has no vertex_indices list", el.name)));
         };
         if el.props.iter().any(|p| p.list_count.is_some() && p.name == "texcoord") {
             self.warnings
                 .push(format!("{}: object \"{stem}\": per-face texcoord lists are not supported; ignored", self.file));
         }
         let max_triangles = self.limits.max_triangles;
-        if el.count > max_triangles as u64 {
+        if kind == List::Polygons && el.count > max_triangles as u64 {
             return Err(self.bad(format!(
                 "object \"{stem}\": {} faces, more than the limit of {max_triangles} triangles",
                 el.count
@@ -437,15 +456,18 @@ impl BodyReader<'_> {
         let mut poly: Vec<u32> = Vec::new();
         for k in 0..count {
             poly.clear();
-            read_entry(&mut self.body, el, &mut vals, Some((li, &mut poly))).map_err(|e| match e {
-                Some(msg) => self.bad(format!("object \"{stem}\": face {k}: {msg}")),
+            let entry = if kind == List::Polygons { "face" } else { "strip" };
+            read_entry(&mut self.body, el, &mut vals, Some((li, &mut poly, kind))).map_err(|e| match e {
+                Some(msg) => self.bad(format!("object \"{stem}\": {entry} {k}: {msg}")),
                 None => self.truncated(el, k),
             })?;
-            fan(&poly, &mut self.data.triangles);
+            match kind {
+                List::Polygons => fan(&poly, &mut self.data.triangles),
+                List::Strips => strips(&poly, &mut self.data.triangles),
+            }
             if self.data.triangles.len() > max_triangles {
-                return Err(
-                    self.bad(format!("object \"{stem}\": face {k}: more than the limit of {max_triangles} triangles"))
-                );
+                return Err(self
+                    .bad(format!("object \"{stem}\": {entry} {k}: more than the limit of {max_triangles} triangles")));
             }
         }
         Ok(())
@@ -453,7 +475,7 @@ impl BodyReader<'_> {
 
     /// The scene of one object named after the file, with the texture the
     /// header names (if any) as its base colour.
-    fn into_scene(mut self, texture_file: Option<String>) -> Result<Scene> {
+    fn into_scene(mut self, texture_file: Option<String>, files: &mut Referenced) -> Result<Scene> {
         let (path, file, stem) = (self.path, self.file.clone(), self.stem.clone());
         let bad = |problem: String| Error::scene(path, problem);
         let mut scene = Scene { source: file.clone(), ..Scene::default() };
@@ -467,7 +489,9 @@ impl BodyReader<'_> {
                     dir.display()
                 ))
             })?;
-            let tb = std::fs::read(&p)
+            let extent = Extent::AtMost { bytes: super::texture_file_bytes(self.limits), what: "texture" };
+            let tb = files
+                .read(&p, extent)
                 .map_err(|e| bad(format!("object \"{stem}\": texture \"{name}\" cannot be read: {e}")))?;
             let t = decode(&tb, &name, true, [Wrap::Repeat; 2], self.limits)
                 .map_err(|e| bad(format!("object \"{stem}\": texture \"{name}\" {e}")))?;
@@ -505,15 +529,45 @@ impl BodyReader<'_> {
     }
 }
 
+/// What a list of vertex indices is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum List {
+    /// A polygon (`face`), fan-triangulated.
+    Polygons,
+    /// Triangle strips (`tristrips`), `-1` starting a new strip.
+    Strips,
+}
+
+/// A strip's restart (`-1` in the file) among the indices read.
+const RESTART: u32 = u32::MAX;
+
+/// The triangles of triangle strips as old exporters wrote them (the
+/// Stanford tools' `tristrips`): vertex indices, [`RESTART`] starting a
+/// new strip. Triangle `i` of a strip over `v₀ v₁ v₂ …` is
+/// `(vᵢ, vᵢ₊₁, vᵢ₊₂)` for even `i` and `(vᵢ₊₁, vᵢ, vᵢ₊₂)` for odd `i`, so
+/// every triangle keeps the first one's winding (the parity starts again
+/// with each strip). Triangles that repeat a vertex (the joins exporters
+/// write between strips) are dropped.
+fn strips(indices: &[u32], out: &mut Vec<[u32; 3]>) {
+    for strip in indices.split(|&i| i == RESTART) {
+        for (i, w) in strip.windows(3).enumerate() {
+            let t = if i % 2 == 0 { [w[0], w[1], w[2]] } else { [w[1], w[0], w[2]] };
+            if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+                out.push(t);
+            }
+        }
+    }
+}
+
 /// Read one entry of an element: scalars into `vals`; lists are read past,
-/// except the one at `list.0`, whose items (vertex indices) go to `list.1`.
-/// Err(None): the body ended early or held a non-number; Err(Some): a bad
-/// vertex index.
+/// except the one at `list.0`, whose items (vertex indices, with strip
+/// restarts for [`List::Strips`]) go to `list.1`. Err(None): the body
+/// ended early or held a non-number; Err(Some): a bad vertex index.
 fn read_entry(
     body: &mut Body,
     el: &Element,
     vals: &mut [f64],
-    mut list: Option<(usize, &mut Vec<u32>)>,
+    mut list: Option<(usize, &mut Vec<u32>, List)>,
 ) -> std::result::Result<(), Option<String>> {
     for (i, p) in el.props.iter().enumerate() {
         match p.list_count {
@@ -527,15 +581,20 @@ fn read_entry(
                 if n.saturating_mul(body.min_size(p.ty)) > body.remaining() {
                     return Err(None);
                 }
-                let keep = list.as_ref().is_some_and(|(li, _)| *li == i);
+                let keep = list.as_ref().is_some_and(|(li, _, _)| *li == i);
+                let restarts = list.as_ref().is_some_and(|(_, _, kind)| *kind == List::Strips);
                 for _ in 0..n {
                     let v = body.read(p.ty).ok_or(None)?;
                     if keep {
-                        if v.is_nan() || v < 0.0 || v.fract() != 0.0 || v > u32::MAX as f64 - 1.0 {
+                        let index = if restarts && v == -1.0 {
+                            RESTART
+                        } else if v.is_nan() || v < 0.0 || v.fract() != 0.0 || v > u32::MAX as f64 - 1.0 {
                             return Err(Some(format!("vertex index {v} is not a valid index")));
-                        }
-                        if let Some((_, out)) = list.as_mut() {
-                            out.push(v as u32);
+                        } else {
+                            v as u32
+                        };
+                        if let Some((_, out, _)) = list.as_mut() {
+                            out.push(index);
                         }
                     }
                 }
