@@ -106,3 +106,18 @@ pub(crate) fn put_chunk(out: &mut Vec<u8>, tag: [u8; 4], payload: &[u8]) {
     out.extend_from_slice(payload);
     out.resize(out.len() + padding(payload.len() as u64) as usize, 0);
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chunks_are_padded_to_8() {
+        for len in 0..20 {
+            let mut out = Vec::new();
+            put_chunk(&mut out, *b"test", &vec![1; len]);
+            assert_eq!(out.len() % 8, 0);
+            assert_eq!(out.len(), CHUNK_HEADER + len + padding(len as u64) as usize);
+        }
+    }
+}
