@@ -26,7 +26,7 @@ use holo::pattern::PatternKind;
 use holo::picture::White;
 use holo::Geometry;
 
-use crate::commands::Failure;
+use crate::failure::Failure;
 
 /// `command` with every argument that takes a value accepting negative
 /// numbers, in every subcommand.

@@ -11,6 +11,7 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod args;
 mod commands;
+mod failure;
 mod out;
 mod progress;
 
@@ -47,13 +48,6 @@ enum Command {
     /// A movie across a Slurm cluster: submit a frame-making command as a job array, its status, gather.
     #[command(subcommand)]
     Farm(farm::FarmCommand),
-}
-
-/// `words` (a command line after `holo`) as `holo` parses it.
-fn parse_command(words: &[String]) -> Result<Command, clap::Error> {
-    let argv = std::iter::once("holo".to_string()).chain(words.iter().cloned());
-    let matches = args::negative_numbers(Cli::command()).try_get_matches_from(argv)?;
-    Cli::from_arg_matches(&matches).map(|c| c.command)
 }
 
 fn main() -> ExitCode {

@@ -7,7 +7,7 @@
 use std::fmt;
 use std::io::Write;
 
-use crate::commands::Failure;
+use crate::failure::Failure;
 
 /// Print a line to stdout.
 macro_rules! say {

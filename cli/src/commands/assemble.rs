@@ -8,7 +8,7 @@ use std::time::Instant;
 use clap::Args;
 use holo::assemble::output::{assemble_file, AssembleOptions, FRINGE_SIDECAR};
 
-use super::farm::{Decided, FrameJob};
+use super::frame_job::{Decided, FrameJob};
 use super::{Failure, Outcome};
 use crate::args::{self, layout_help, load_layout, FringeFormatChoice};
 use crate::out::{say, warn};

@@ -21,7 +21,7 @@ use holo::mesh::render::{Engine, RenderOptions, Supersample};
 use holo::mesh::shade::{parse_light, read_lights, Lighting};
 use holo::pipeline::decide;
 
-use super::farm::{Decided, FrameJob};
+use super::frame_job::{Decided, FrameJob};
 use super::{check_output, inputs_exist, Failure, Outcome};
 use crate::args::{
     self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, PlacementArgs, SpecularChoice,

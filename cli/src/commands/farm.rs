@@ -4,38 +4,20 @@
 //! submitted; each array task runs `holo farm task` (hidden), which makes
 //! its frames in this same process, one output per frame.
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Args, Subcommand};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use holo::farm::slurm::{self, ArrayJob};
 use holo::farm::{checked_frame_state, FarmOutput, FrameState, Manifest, Submission, MANIFEST_VERSION};
-use holo::math::Mat4;
 use serde::Serialize;
 
+use super::assemble::AssembleArgs;
+use super::convert::{CamerasArgs, ConvertCommand, HoloflickArgs, MeshArgs};
+use super::frame_job::FrameJob;
 use super::{Failure, Outcome};
 use crate::args;
 use crate::out::{say, warn};
-
-/// A command that makes frames, as a farm splits it.
-pub trait FrameJob {
-    /// What it makes, one output per frame.
-    fn output(&self) -> FarmOutput;
-    /// Everything checked and decided once for the whole movie.
-    fn decide(&self) -> Result<Decided, Failure>;
-    /// Make frame `n` alone into `output` (replacing what is there),
-    /// placed by `placement` when the movie was placed.
-    fn for_frame(&mut self, n: usize, output: PathBuf, placement: Option<Mat4>);
-}
-
-/// What a farm decides before the split.
-pub struct Decided {
-    /// The movie's frames.
-    pub frames: Range<usize>,
-    /// The placement every chunk is given.
-    pub placement: Option<Mat4>,
-}
 
 #[derive(Subcommand)]
 pub enum FarmCommand {
@@ -72,38 +54,81 @@ pub struct SubmitArgs {
     command: Vec<String>,
 }
 
-/// The command after `--` as `holo` parses it, or its one-sentence error.
-fn frame_job(words: &[String]) -> Result<(crate::Command, &'static str), Failure> {
-    let command = crate::parse_command(words).map_err(|e| {
+/// The commands a farm splits, parsed as `holo` parses them (its own
+/// parser: the farm is one of `holo`'s commands, and knows only these).
+#[derive(Parser)]
+#[command(name = "holo")]
+struct Split {
+    #[command(subcommand)]
+    command: SplitCommand,
+}
+
+#[allow(clippy::large_enum_variant)]
+#[derive(Subcommand)]
+enum SplitCommand {
+    #[command(subcommand)]
+    Convert(SplitConvert),
+    Assemble(AssembleArgs),
+}
+
+#[derive(Subcommand)]
+enum SplitConvert {
+    Holoflick(HoloflickArgs),
+    Mesh(MeshArgs),
+    Cameras(CamerasArgs),
+}
+
+impl SplitCommand {
+    /// What it is, in the words of its command line.
+    fn kind(&self) -> &'static str {
+        match self {
+            SplitCommand::Convert(SplitConvert::Mesh(_)) => "convert mesh",
+            SplitCommand::Convert(SplitConvert::Cameras(_)) => "convert cameras",
+            SplitCommand::Convert(SplitConvert::Holoflick(_)) => "convert holoflick",
+            SplitCommand::Assemble(_) => "assemble",
+        }
+    }
+
+    /// Its [`FrameJob`].
+    fn job(&mut self) -> &mut dyn FrameJob {
+        match self {
+            SplitCommand::Convert(SplitConvert::Mesh(a)) => a,
+            SplitCommand::Convert(SplitConvert::Cameras(a)) => a,
+            SplitCommand::Convert(SplitConvert::Holoflick(a)) => a,
+            SplitCommand::Assemble(a) => a,
+        }
+    }
+
+    /// Run it, as `holo` would.
+    fn run(self) -> Outcome {
+        match self {
+            SplitCommand::Convert(SplitConvert::Mesh(a)) => super::convert::run(ConvertCommand::Mesh(a)),
+            SplitCommand::Convert(SplitConvert::Cameras(a)) => super::convert::run(ConvertCommand::Cameras(a)),
+            SplitCommand::Convert(SplitConvert::Holoflick(a)) => super::convert::run(ConvertCommand::Holoflick(a)),
+            SplitCommand::Assemble(a) => super::assemble::run(a),
+        }
+    }
+}
+
+/// `words` (a command line after `holo`) as the frame-making command to split.
+fn frame_job(words: &[String]) -> Result<SplitCommand, Failure> {
+    let splits = matches!(
+        words.iter().map(String::as_str).take(2).collect::<Vec<_>>().as_slice(),
+        ["assemble", ..] | ["convert", "mesh" | "cameras" | "holoflick"]
+    );
+    if !splits {
+        return Err(Failure(format!(
+            "holo farm splits convert mesh, convert cameras, convert holoflick and assemble, not `{}`",
+            words.iter().take(2).cloned().collect::<Vec<_>>().join(" ")
+        )));
+    }
+    let argv = std::iter::once("holo".to_string()).chain(words.iter().cloned());
+    let matches = args::negative_numbers(Split::command()).try_get_matches_from(argv);
+    matches.and_then(|m| Split::from_arg_matches(&m)).map(|s| s.command).map_err(|e| {
         let text = e.to_string();
         let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("").trim();
         Failure(format!("the command to split: {}", first.strip_prefix("error: ").unwrap_or(first)))
-    })?;
-    let kind = match &command {
-        crate::Command::Convert(super::convert::ConvertCommand::Mesh(_)) => "convert mesh",
-        crate::Command::Convert(super::convert::ConvertCommand::Cameras(_)) => "convert cameras",
-        crate::Command::Convert(super::convert::ConvertCommand::Holoflick(_)) => "convert holoflick",
-        crate::Command::Assemble(_) => "assemble",
-        _ => {
-            return Err(Failure(format!(
-                "holo farm splits convert mesh, convert cameras, convert holoflick and assemble, not `{}`",
-                words.iter().take(2).cloned().collect::<Vec<_>>().join(" ")
-            )))
-        }
-    };
-    Ok((command, kind))
-}
-
-/// The [`FrameJob`] of a command [`frame_job`] accepted.
-fn as_job(command: &mut crate::Command) -> &mut dyn FrameJob {
-    use super::convert::ConvertCommand as C;
-    match command {
-        crate::Command::Convert(C::Mesh(a)) => a,
-        crate::Command::Convert(C::Cameras(a)) => a,
-        crate::Command::Convert(C::Holoflick(a)) => a,
-        crate::Command::Assemble(a) => a,
-        _ => unreachable!("frame_job accepts only frame-making commands"),
-    }
+    })
 }
 
 fn absolute(path: &Path) -> Result<PathBuf, Failure> {
@@ -111,8 +136,9 @@ fn absolute(path: &Path) -> Result<PathBuf, Failure> {
 }
 
 fn submit(a: SubmitArgs) -> Outcome {
-    let (mut command, kind) = frame_job(&a.command)?;
-    let job = as_job(&mut command);
+    let mut command = frame_job(&a.command)?;
+    let kind = command.kind();
+    let job = command.job();
     slurm::find("sbatch")?;
     let cwd = std::env::current_dir().map_err(|e| Failure(format!("the current folder: {e}")))?;
     let output = match job.output() {
@@ -478,9 +504,9 @@ fn task(a: TaskArgs) -> Outcome {
             FrameState::Damaged { why } => warn(format_args!("frame {n}: made again: {why}")),
             FrameState::Missing => {}
         }
-        let (mut command, _) = frame_job(&manifest.command)?;
-        as_job(&mut command).for_frame(n, output, manifest.placement);
-        match crate::run(command) {
+        let mut command = frame_job(&manifest.command)?;
+        command.job().for_frame(n, output, manifest.placement);
+        match command.run() {
             Ok(_) => {}
             Err(Failure(message)) => {
                 eprintln!("holo: error: frame {n}: {message}");
