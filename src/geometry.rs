@@ -164,6 +164,11 @@ impl ColourChannel {
     }
 }
 
+/// Largest number of samples of one frame (or one region) holo will
+/// allocate: 2³¹ f32 samples, 8 GiB. A geometry's own limit, which the
+/// `.holo` reader and writer apply as well ([`crate::format`] hands it on).
+pub const MAX_SAMPLES_PER_FRAME: u64 = 1 << 31;
+
 /// The allowed channel suffixes, in the order channels are kept in memory.
 pub const CHANNEL_NAMES: [&str; 4] = ["R", "G", "B", "Y"];
 
@@ -352,10 +357,10 @@ impl Geometry {
     pub fn frame_problems(&self) -> Vec<String> {
         let mut problems = self.problems();
         let samples = self.samples_per_frame();
-        if samples > crate::format::MAX_SAMPLES_PER_FRAME {
+        if samples > MAX_SAMPLES_PER_FRAME {
             problems.push(format!(
                 "a frame of {samples} samples is more than the {} a .holo frame may hold",
-                crate::format::MAX_SAMPLES_PER_FRAME
+                MAX_SAMPLES_PER_FRAME
             ));
         }
         problems

@@ -139,6 +139,7 @@ pub mod reconstruct;
 pub mod report;
 pub mod resample;
 mod sampling;
+pub mod signature;
 pub mod simd;
 pub mod views;
 

@@ -358,8 +358,8 @@ pub const MIN_FRAMES_PER_SECOND: f64 = 1e-3;
 pub const MAX_FRAMES_PER_SECOND: f64 = 1e6;
 
 /// The most frames one source may make: as many as the largest output
-/// holds (a HoloFlick).
-pub const MAX_SOURCE_FRAMES: u64 = crate::holoflick::container::MAX_FRAMES;
+/// holds (a HoloFlick, whose container checks that the two agree).
+pub const MAX_SOURCE_FRAMES: u64 = 1 << 20;
 
 /// A frame rate as text: plain, or in scientific notation when far from 1.
 fn rate_text(frames_per_second: f64) -> String {

@@ -15,6 +15,7 @@ use super::digest::is_well_formed;
 use super::header_digest;
 use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SAMPLES_PER_FRAME, MAX_SIDE};
 use crate::geometry::{Geometry, CHANNEL_NAMES};
+use crate::signature::{self, FileKind};
 use crate::Error;
 
 /// A rectangle of pixels: `x` emitters, `y` hololines.
@@ -121,14 +122,15 @@ pub(crate) fn read_meta(path: &Path) -> crate::Result<(MetaData, u64)> {
 fn other_kind(path: &Path) -> Option<&'static str> {
     let mut head = [0u8; 8];
     std::io::Read::read_exact(&mut std::fs::File::open(path).ok()?, &mut head).ok()?;
-    if head == crate::holoflick::container::MAGIC {
-        Some("is a HoloFlick (.hflk), not a .holo file: `holo holoflick info` describes it, `holo convert holoflick` renders it into one")
-    } else if head == *b"\x89PNG\r\n\x1a\n" {
-        Some("is a PNG picture, not a .holo file: `holo convert cameras` (or `holo import-views`) makes one from pictures")
-    } else if head[..4] == *b"glTF" {
-        Some("is a glTF scene (.glb), not a .holo file: `holo convert mesh` renders it into one")
-    } else {
-        None
+    match signature::kind_of(&head)? {
+        FileKind::HoloFlick => Some(
+            "is a HoloFlick (.hflk), not a .holo file: `holo holoflick info` describes it, `holo convert holoflick` renders it into one",
+        ),
+        FileKind::Png => {
+            Some("is a PNG picture, not a .holo file: `holo convert cameras` (or `holo import-views`) makes one from pictures")
+        }
+        FileKind::Glb => Some("is a glTF scene (.glb), not a .holo file: `holo convert mesh` renders it into one"),
+        FileKind::OpenExr => None,
     }
 }
 

@@ -74,7 +74,7 @@ pub(crate) fn scan(head: &[u8]) -> std::result::Result<Vec<StoredHeader>, ScanPr
     if head.len() < PREAMBLE {
         return Err(ScanProblem::Incomplete);
     }
-    if head[..4] != [0x76, 0x2f, 0x31, 0x01] {
+    if head[..4] != crate::signature::OPENEXR {
         return Err(ScanProblem::Malformed("it does not start with OpenEXR's magic number".into()));
     }
     // Version field flags (OpenEXR's file layout): bit 12 multi-part, bit 10 long names.

@@ -29,9 +29,7 @@ pub use write::{write, write_frame_in_bands, write_frames, FormatVersion, WriteO
 
 use serde::Serialize;
 
-/// Largest number of samples of one frame (or one region) a reader will
-/// allocate: 2³¹ f32 samples, 8 GiB.
-pub const MAX_SAMPLES_PER_FRAME: u64 = 1 << 31;
+pub use crate::geometry::MAX_SAMPLES_PER_FRAME;
 /// Largest number of EXR channels (views × colours) accepted.
 pub const MAX_CHANNELS: u64 = 1 << 16;
 /// Largest hololine or emitter count accepted.

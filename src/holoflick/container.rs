@@ -22,7 +22,7 @@ mod model;
 mod read;
 mod write;
 
-pub use error::{At, ContainerError};
+pub use crate::error::holoflick::{At, ContainerError};
 pub use model::{
     Binding, BlockError, Descriptor, Frame, GeometryBlock, GeometryObject, Info, KeyFrameReference, Matrix4,
     ObjectRecord, Primitive, ResolvedFrame, ResolvedObject, SpecularLight, SpecularMaterial, SpecularModel,
@@ -35,7 +35,7 @@ pub use write::{write_cg_file, HoloFlickWriter, WriteOptions, WriteReport};
 pub type Result<T, E = ContainerError> = std::result::Result<T, E>;
 
 /// The first 8 bytes of every HoloFlick (spec §4).
-pub const MAGIC: [u8; 8] = [0x89, b'H', b'F', b'L', b'K', 0x0D, 0x0A, 0x1A];
+pub const MAGIC: [u8; 8] = crate::signature::HOLOFLICK;
 /// Container major version this library reads and writes.
 pub const VERSION_MAJOR: u16 = 1;
 /// Container minor version this library writes.
@@ -45,6 +45,9 @@ pub const GEOMETRY_VERSION: [u32; 3] = [1, 0, 2];
 
 /// Most frames in a file.
 pub const MAX_FRAMES: u64 = 1 << 20;
+// A HoloFlick is the largest output a movie source writes: a source may make
+// as many frames as it holds, and no more.
+const _: () = assert!(MAX_FRAMES == crate::pipeline::MAX_SOURCE_FRAMES);
 /// Most bytes of one frame's chunk.
 pub const MAX_FRAME_BYTES: u64 = 1 << 30;
 /// Most bytes of one compressed-geometry stream.

@@ -63,7 +63,7 @@ impl Layout {
         // is most likely a misspelt built-in; a profile that does not exist
         // is an I/O error naming it.
         if !profile && !path.exists() {
-            return Err(Error::UnknownLayout { name: name_or_path.to_string() });
+            return Err(Error::UnknownLayout { name: name_or_path.to_string(), builtin: &BUILTIN });
         }
         let bad = |why: String| Error::layout(path.display().to_string(), why);
         let text = std::fs::read_to_string(path).map_err(|e| match e.kind() {

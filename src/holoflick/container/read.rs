@@ -13,7 +13,8 @@ use std::path::{Path, PathBuf};
 use super::checksum;
 use super::chunk::{self, check_tag, is_critical, padding};
 use super::codec;
-use super::error::{tag_text, At, ContainerError, Problem};
+use super::error::{tag_text, Problem};
+use super::{At, ContainerError};
 use super::model::{Frame, GeometryBlock, Info, ObjectRecord, ResolvedFrame, ResolvedObject};
 use super::*;
 

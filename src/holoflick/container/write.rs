@@ -12,7 +12,7 @@ use crate::output::AtomicFile;
 use super::checksum;
 use super::chunk::put_chunk;
 use super::codec;
-use super::error::{At, ContainerError};
+use super::{At, ContainerError};
 use super::model::{text_problem, Frame, GeometryBlock, ObjectRecord};
 use super::*;
 

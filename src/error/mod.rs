@@ -3,6 +3,8 @@
 
 use std::path::PathBuf;
 
+pub(crate) mod holoflick;
+
 /// Everything that can go wrong in `holo`.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -99,7 +101,7 @@ pub enum Error {
     /// request it cannot answer (a frame past its end, an option the
     /// format cannot store).
     #[error(transparent)]
-    HoloFlick(crate::holoflick::container::ContainerError),
+    HoloFlick(holoflick::ContainerError),
     /// A scene that cannot be used: a mesh file (glTF, OBJ, PLY), its
     /// materials, textures or lights file, or a scene built in memory
     /// whose parts disagree (no triangles, a normal per vertex missing,
@@ -131,10 +133,12 @@ pub enum Error {
         problem: String,
     },
     /// A layout name that is neither a built-in layout nor a profile file.
-    #[error("unknown layout {name:?}: the built-in layouts are {}, or give a .toml or .json profile", crate::layout::BUILTIN.join(", "))]
+    #[error("unknown layout {name:?}: the built-in layouts are {}, or give a .toml or .json profile", .builtin.join(", "))]
     UnknownLayout {
         /// The name asked for.
         name: String,
+        /// The built-in layouts' names (the layouts know them; errors do not).
+        builtin: &'static [&'static str],
     },
     /// Frames asked of a file (or a set of files) that does not hold them.
     #[error("{path}: {}", no_frame_text(.asked, .frames), path = .path.display())]
