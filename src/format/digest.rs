@@ -102,7 +102,7 @@ pub(crate) struct BlockDigest {
 }
 
 impl BlockDigest {
-    pub(crate) fn new(g: &Geometry, sample_type: SampleType, window: super::header::Window) -> BlockDigest {
+    pub(crate) fn new(g: &Geometry, sample_type: SampleType, window: super::Window) -> BlockDigest {
         let mut rows = OrderedRows {
             digest: RowDigest::default(),
             next: 0,
@@ -152,7 +152,7 @@ struct OrderedRows {
     /// Display rows.
     rows: usize,
     /// The data window.
-    window: super::header::Window,
+    window: super::Window,
     /// Channels, emitters of the display window, bytes per sample.
     channels: usize,
     emitters: usize,

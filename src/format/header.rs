@@ -13,23 +13,10 @@ use super::attributes::{name, Attributes, Radiometry, VERSION};
 use super::channels::{parse_channel_name, view_digits};
 use super::digest::is_well_formed;
 use super::header_digest;
-use super::{Compression, SampleType, MAX_CHANNELS, MAX_FRAMES, MAX_SAMPLES_PER_FRAME, MAX_SIDE};
+use super::{Compression, SampleType, Window, MAX_CHANNELS, MAX_FRAMES, MAX_SAMPLES_PER_FRAME, MAX_SIDE};
 use crate::geometry::{Geometry, CHANNEL_NAMES};
 use crate::signature::{self, FileKind};
 use crate::Error;
-
-/// A rectangle of pixels: `x` emitters, `y` hololines.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub struct Window {
-    /// First emitter.
-    pub x: usize,
-    /// First hololine.
-    pub y: usize,
-    /// Emitters covered.
-    pub width: usize,
-    /// Hololines covered.
-    pub height: usize,
-}
 
 /// One frame (one EXR part) of a file.
 #[derive(Clone, Debug, PartialEq, Serialize)]

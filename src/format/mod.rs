@@ -21,7 +21,7 @@ pub use crate::output::write_bytes_beside;
 pub use attributes::{is_known as is_known_attribute, name as attribute, ConversionRecord, Radiometry, VERSION};
 pub use channels::{channel_name, parse_channel_name, view_digits, ChannelOrder};
 pub use digest::frame_digest;
-pub use header::{FileInfo, FrameInfo, Window};
+pub use header::{FileInfo, FrameInfo};
 pub use read::{read, FrameSample, HoloFile, Region};
 pub use sequence::{Frames, Sequence};
 pub use validate::{validate, Validation};
@@ -36,6 +36,19 @@ pub const MAX_CHANNELS: u64 = 1 << 16;
 pub const MAX_SIDE: u64 = 1 << 20;
 /// Largest number of frames (parts) in one file.
 pub const MAX_FRAMES: u64 = 1 << 16;
+
+/// A rectangle of pixels: `x` emitters, `y` hololines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Window {
+    /// First emitter.
+    pub x: usize,
+    /// First hololine.
+    pub y: usize,
+    /// Emitters covered.
+    pub width: usize,
+    /// Hololines covered.
+    pub height: usize,
+}
 
 /// How samples are stored on disk.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
