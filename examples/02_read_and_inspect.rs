@@ -11,7 +11,8 @@
 use std::error::Error;
 use std::path::Path;
 
-use holo::format::{validate, HoloFile, Region};
+use holo::format::{HoloFile, Region};
+use holo::validate;
 
 /// The file to inspect.
 pub const FILE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/v1.0/frames-rgb-f32-zip.holo");

@@ -18,8 +18,9 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use holo::format::{parse_channel_name, validate, Compression, HoloFile, Region, SampleType};
+use holo::format::{parse_channel_name, Compression, HoloFile, Region, SampleType};
 use holo::geometry::{ColourChannel, Geometry, Parallax, ViewSpacing, Views};
+use holo::validate;
 use serde_json::Value;
 
 #[derive(Default)]

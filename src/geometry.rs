@@ -166,7 +166,7 @@ impl ColourChannel {
 
 /// Largest number of samples of one frame (or one region) holo will
 /// allocate: 2³¹ f32 samples, 8 GiB. A geometry's own limit, which the
-/// `.holo` reader and writer apply as well ([`crate::format`] hands it on).
+/// `.holo` reader and writer apply as well (the format module hands it on).
 pub const MAX_SAMPLES_PER_FRAME: u64 = 1 << 31;
 
 /// The allowed channel suffixes, in the order channels are kept in memory.

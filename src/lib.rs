@@ -35,7 +35,7 @@
 //! | HoloFlick → modulation | [`holoflick::container::HoloFlickReader`] | [`holoflick::convert::convert_holoflick`] |
 //! | test patterns, view pictures | [`pattern::Pattern::render`], [`views::import_views`] | [`pattern::write_pattern`], [`views::import_views_file`], [`views::export_views`] |
 //! | meshes → HoloFlicks | [`holoflick::container::HoloFlickWriter`] | [`holoflick::encode::encode_holoflick`], [`holoflick::tools::pack`] |
-//! | the `.holo` file | [`write()`], [`read()`], [`format::HoloFile::open`] (one frame or region at a time), [`format::write_frames`] (streaming), [`format::validate`] | |
+//! | the `.holo` file | [`write()`], [`read()`], [`format::HoloFile::open`] (one frame or region at a time), [`format::write_frames`] (streaming), [`validate()`] | |
 //! | display profiles | [`layout::builtin`] (`mark3`, `mark1`, `mark1-hogel`, `mark2`, `mark4`), [`layout::Layout::load`] (TOML or JSON) | |
 //! | modulation → fringes | [`assemble::Assembler::new`] → [`assemble`](assemble::Assembler::assemble) | [`assemble::output::assemble_file`] |
 //! | what a viewer sees | [`reconstruct::check::check`], [`reconstruct::check::view`] | [`reconstruct::files::check_file`], [`reconstruct::files::view_file`] |
@@ -141,9 +141,11 @@ pub mod resample;
 mod sampling;
 pub mod signature;
 pub mod simd;
+mod validate;
 pub mod views;
 
 pub use error::{Error, OutputProblem, Result, SetProblem};
 pub use format::{read, write, HoloFile, WriteOptions};
 pub use geometry::Geometry;
 pub use modulation::{Band, Modulation};
+pub use validate::validate;

@@ -2,8 +2,8 @@
 //! channel by channel in the order (hololine, emitter, view), which is the
 //! order the assembler walks it in.
 
+use crate::error::{Error, Result};
 use crate::geometry::Geometry;
-use crate::{Error, Result};
 
 /// One frame of modulation: `samples[((c·H + j)·E + e)·V + v]`.
 #[derive(Clone, Debug, PartialEq)]

@@ -3,10 +3,12 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::error::{Error, Result};
 use crate::format::{WriteOptions, WriteReport};
+use crate::geometry::Geometry;
+use crate::modulation::{Band, Modulation};
 use crate::pipeline::{HoloSink, Run, Source, Warnings};
 use crate::progress::Progress;
-use crate::{Band, Error, Geometry, Modulation, Result};
 
 /// Which pattern.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -24,7 +24,7 @@ use std::str::FromStr;
 
 use rayon::prelude::*;
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The percentile of the samples that [`White::Auto`] shows as full white.
 pub const AUTO_WHITE_PERCENTILE: f64 = 99.9;

@@ -31,12 +31,12 @@ use std::borrow::Cow;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use crate::format::{write_frame_in_bands, write_frames, WriteOptions, WriteReport};
+use crate::error::{Error, Result};
+use crate::format::{write_frame_in_bands, write_frames, ConversionRecord, WriteOptions, WriteReport};
 use crate::geometry::Geometry;
 use crate::math::Mat4;
+use crate::modulation::Band;
 use crate::progress::{Progress, Steps};
-use crate::provenance::Conversion;
-use crate::{Band, Error, Result};
 
 /// Something frames are made from.
 pub trait Source {
@@ -84,7 +84,7 @@ pub trait Source {
     /// Which converter made the frames, from which input, with every
     /// option (written as `holo.convert.*`; called after
     /// [`Source::place`]); `None` when the frames are not a conversion.
-    fn conversion(&self) -> Result<Option<Conversion>> {
+    fn conversion(&self) -> Result<Option<ConversionRecord>> {
         Ok(None)
     }
 
@@ -144,7 +144,7 @@ pub struct Job {
     /// The source's placement ([`Source::placement`]).
     pub placement: Option<crate::math::Mat4>,
     /// The source's conversion ([`Source::conversion`]).
-    pub conversion: Option<Conversion>,
+    pub conversion: Option<ConversionRecord>,
     /// The source's frame rate.
     pub frames_per_second: Option<(u32, u32)>,
     /// Bands of a single frame (see [`Source::band_hololines`]).
@@ -527,7 +527,7 @@ impl Sink<Band> for HoloSink<'_> {
             options.placement = job.placement;
         }
         if options.conversion.is_none() {
-            options.conversion = job.conversion.as_ref().map(Conversion::record);
+            options.conversion = job.conversion.clone();
         }
         if options.frames_per_second.is_none() && job.frames.len() > 1 {
             options.frames_per_second = job.frames_per_second.and_then(|(n, d)| Some((i32::try_from(n).ok()?, d)));

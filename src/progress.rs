@@ -33,7 +33,7 @@ pub trait Progress: Sync {
     /// increment).
     fn advance(&self, done: u64);
     /// Whether the caller wants the work stopped: a long call checks between
-    /// its steps and then returns [`crate::Error::Cancelled`], leaving
+    /// its steps and then returns [`crate::error::Error::Cancelled`], leaving
     /// nothing behind. Never, by default.
     fn cancelled(&self) -> bool {
         false

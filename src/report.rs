@@ -6,8 +6,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::error::Result;
 use crate::format::{FileInfo, HoloFile};
-use crate::Result;
 
 /// `holo info`: the headers plus, when asked, the value range of every frame.
 #[derive(Clone, Debug, Serialize)]

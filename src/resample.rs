@@ -13,8 +13,9 @@
 //! and counted. Colours are matched by name; a grey (`Y`) source feeds every
 //! colour, and a grey target takes Rec. 709 luminance of an RGB source.
 
+use crate::error::{Error, Result};
 use crate::geometry::{Geometry, Views};
-use crate::{Error, Modulation, Result};
+use crate::modulation::Modulation;
 
 /// What a resampling did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -141,7 +142,7 @@ mod tests {
             assert!(inside(j, e));
             assert!((r.get(1, j, e, v) - 0.2 * v as f32).abs() < 1e-5, "{j} {e} {v}: {}", r.get(1, j, e, v));
         }
-        let along_x = |g: &crate::Geometry| {
+        let along_x = |g: &crate::geometry::Geometry| {
             let g2 = g.clone();
             Modulation::from_fn(g.clone(), move |_, _, e, v| {
                 // x where the ray crosses the hologram plane.

@@ -13,12 +13,14 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::{Error, Result};
 use crate::format::{view_digits, WriteOptions, WriteReport};
+use crate::geometry::Geometry;
+use crate::modulation::{Band, Modulation};
 use crate::output::{check_set_complete, check_set_output, verify_set, FileSet, SetFile};
 use crate::picture::{encode_png, Bits, Colour, Tone};
 use crate::pipeline::{HoloSink, Run, Source, Warnings};
 use crate::progress::Progress;
-use crate::{Band, Error, Geometry, Modulation, Result};
 
 /// Name of the sidecar written next to the PNGs.
 pub const SIDECAR: &str = "holo-views.json";
@@ -258,5 +260,5 @@ pub fn import_views_file(
 
 /// A file of a set of views that is not what it should be.
 fn malformed(path: &Path, problem: String) -> Error {
-    Error::Set { path: path.to_path_buf(), problem: crate::SetProblem::Malformed(problem) }
+    Error::Set { path: path.to_path_buf(), problem: crate::error::SetProblem::Malformed(problem) }
 }

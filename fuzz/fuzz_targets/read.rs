@@ -15,7 +15,7 @@ fuzz_target!(|data: &[u8]| {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = dir.path().join("input.holo");
     std::fs::write(&path, data).expect("write input");
-    let _ = holo::format::validate(&path);
+    let _ = holo::validate(&path);
     if let Ok(file) = holo::HoloFile::open(&path) {
         let g = file.geometry().clone();
         let _ = file.read_frame(0);

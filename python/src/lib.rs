@@ -467,7 +467,7 @@ fn write(
 /// valid), `warnings` and the number of `frames`.
 #[pyfunction]
 fn validate<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
-    let v = py.allow_threads(|| holo::format::validate(&path)).map_err(to_py)?;
+    let v = py.allow_threads(|| holo::validate(&path)).map_err(to_py)?;
     let d = PyDict::new(py);
     d.set_item("valid", v.is_valid())?;
     d.set_item("problems", v.violations.clone())?;

@@ -51,7 +51,7 @@ impl HogelGratings {
         carrier: f64,
         signal: SignalKind,
         view_sin_edges: &[(f64, f64)],
-    ) -> crate::Result<Self> {
+    ) -> crate::error::Result<Self> {
         let w = hogel_samples as i64;
         let bins = match signal {
             SignalKind::Real => 1..(w + 1) / 2,
@@ -69,7 +69,7 @@ impl HogelGratings {
                 .collect();
             if in_view.is_empty() {
                 let f = |s: f64| s * pitch_m / wavelength_m + carrier;
-                return Err(crate::Error::argument(
+                return Err(crate::error::Error::argument(
                     "hogel",
                     format!(
                         "view {v} (sin θ {lo:.4} to {hi:.4}, {:.4} to {:.4} cycles per sample at {:.0} nm) holds no \
@@ -134,7 +134,7 @@ mod tests {
         // A hogel too short to resolve the views is refused, naming the view.
         let err = HogelGratings::new(8, 0.6e-6, 633e-9, 0.25, SignalKind::Real, &edges).unwrap_err();
         assert!(
-            matches!(&err, crate::Error::Argument { what: "hogel", .. }) && err.to_string().contains("view"),
+            matches!(&err, crate::error::Error::Argument { what: "hogel", .. }) && err.to_string().contains("view"),
             "{err}"
         );
     }

@@ -19,9 +19,10 @@ mod profile;
 
 use rayon::prelude::*;
 
+use crate::error::{Error, Result};
 use crate::layout::{ColourSignals, FrameBuffer, Layout, Quantization};
+use crate::modulation::Modulation;
 use crate::simd::Simd;
-use crate::{Error, Modulation, Result};
 pub use basis::ColourBasis;
 use blanking::BlankingCompensation;
 pub use chirp::ZonedChirp;
@@ -170,7 +171,8 @@ impl Assembler {
         counts("hololines", got.hololines, want.hololines);
         counts("emitters", got.emitters, want.emitters);
         counts("views", got.views.count, want.views.count);
-        let names = |g: &crate::Geometry| g.channels.iter().map(|c| c.name.clone()).collect::<Vec<_>>().join(",");
+        let names =
+            |g: &crate::geometry::Geometry| g.channels.iter().map(|c| c.name.clone()).collect::<Vec<_>>().join(",");
         if names(got) != names(want) {
             differences.push(format!("channels {} (the layout has {})", names(got), names(want)));
         }

@@ -17,10 +17,10 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::{Assembler, FrameImages, FrameStats};
+use crate::error::{Error, Result};
 use crate::layout::Layout;
 use crate::output::{check_set_output, verify_set, AtomicFile, FileSet, SetFile};
 use crate::progress::{Progress, Steps};
-use crate::{Error, Result};
 
 /// Name of the sidecar in a fringe directory.
 pub const FRINGE_SIDECAR: &str = "holo-fringes.json";
@@ -149,7 +149,7 @@ pub fn assemble_file(
     let all_names: Vec<String> = range.clone().flat_map(names).collect();
     let _claim = check_set_output(out_dir, FRINGE_SIDECAR, &all_names, &[input], options.overwrite)?;
     // Check the geometry before any work, with the file named.
-    let zero = crate::Modulation::zeros(file.geometry().clone())?;
+    let zero = crate::modulation::Modulation::zeros(file.geometry().clone())?;
     let fits = assembler.check_geometry(&zero);
     drop(zero);
     let mut resampled = match (fits, options.resample) {
@@ -349,12 +349,15 @@ fn read_png(path: &Path, w: usize, h: usize, c: usize) -> Result<Vec<u8>> {
 
 const COMPONENT_NAMES: [&str; 4] = ["R", "G", "B", "A"];
 
-fn write_exr(out: &mut AtomicFile, images: &FrameImages<f32>, image: usize) -> crate::Result<()> {
+fn write_exr(out: &mut AtomicFile, images: &FrameImages<f32>, image: usize) -> crate::error::Result<()> {
     use exr::prelude::*;
     let path = out.destination().to_path_buf();
     let (w, h, c) = (images.width, images.height, images.components);
     if c > COMPONENT_NAMES.len() {
-        return Err(crate::Error::unsupported(&path, format!("{c} components per pixel; EXR output takes up to 4")));
+        return Err(crate::error::Error::unsupported(
+            &path,
+            format!("{c} components per pixel; EXR output takes up to 4"),
+        ));
     }
     let data = &images.images[image];
     let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = (0..c)
@@ -376,10 +379,10 @@ fn write_exr(out: &mut AtomicFile, images: &FrameImages<f32>, image: usize) -> c
         },
         AnyChannels::sort(channels),
     );
-    Image::from_layer(layer).write().to_buffered(out).map_err(|e| crate::Error::exr(&path, e))
+    Image::from_layer(layer).write().to_buffered(out).map_err(|e| crate::error::Error::exr(&path, e))
 }
 
-fn read_exr(path: &Path, w: usize, h: usize, c: usize) -> crate::Result<Vec<f32>> {
+fn read_exr(path: &Path, w: usize, h: usize, c: usize) -> crate::error::Result<Vec<f32>> {
     use exr::prelude::*;
     let image = read()
         .no_deep_data()
@@ -388,7 +391,7 @@ fn read_exr(path: &Path, w: usize, h: usize, c: usize) -> crate::Result<Vec<f32>
         .first_valid_layer()
         .all_attributes()
         .from_file(path)
-        .map_err(|e| crate::Error::exr(path, e))?;
+        .map_err(|e| crate::error::Error::exr(path, e))?;
     let size = image.layer_data.size;
     if (size.width(), size.height()) != (w, h) {
         return Err(malformed(path, format!("is {} × {}; the sidecar says {w} × {h}", size.width(), size.height())));
@@ -408,5 +411,5 @@ fn read_exr(path: &Path, w: usize, h: usize, c: usize) -> crate::Result<Vec<f32>
 
 /// A file of a fringe set that is not what its manifest says it is.
 fn malformed(path: &Path, problem: String) -> Error {
-    Error::Set { path: path.to_path_buf(), problem: crate::SetProblem::Malformed(problem) }
+    Error::Set { path: path.to_path_buf(), problem: crate::error::SetProblem::Malformed(problem) }
 }

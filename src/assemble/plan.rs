@@ -168,7 +168,7 @@ pub(crate) struct Scan {
     /// Some sample is not zero.
     pub lit: bool,
     /// Every sample is finite and not negative (as
-    /// [`crate::Modulation::first_bad_sample`] checks).
+    /// [`crate::modulation::Modulation::first_bad_sample`] checks).
     pub valid: bool,
 }
 

@@ -4,8 +4,8 @@
 //! basis ([`ColourBasis::new`]).
 
 use super::ColourBasis;
+use crate::error::Result;
 use crate::layout::{ColourSignals, Layout};
-use crate::Result;
 
 /// A built-in layout's name, or a path to a `.toml` or `.json` profile,
 /// ready to assemble: a profile file is refused, naming the file, with every

@@ -11,13 +11,13 @@ use rayon::prelude::*;
 use super::read::OpenOptions;
 use super::resample::{CameraOptions, CameraReport, CameraView, RigResampler, Unseen};
 use super::{Camera, Rig};
-use crate::format::{WriteOptions, WriteReport};
+use crate::error::{Error, Result};
+use crate::format::{ConversionRecord, RecordHead, WriteOptions, WriteReport};
 use crate::geometry::Geometry;
+use crate::modulation::Band;
 use crate::output::Claim;
 use crate::pipeline::{self, HoloSink, Source, Warnings};
 use crate::progress::{Progress, Steps};
-use crate::provenance::{Conversion, ConverterOptions};
-use crate::{Band, Error, Result};
 
 /// Everything `convert cameras` takes besides the rig, geometry and output.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -188,17 +188,18 @@ impl Source for CameraSource<'_> {
         Some(self.resampler.display_from_capture())
     }
 
-    fn conversion(&self) -> Result<Option<Conversion>> {
-        let mut options = self.options.clone();
-        // The samples do not depend on the outputs asked for beside them.
-        options.unseen_png = None;
-        options.resample.want_mask = false;
-        options.write = WriteOptions::default();
-        let options = ConverterOptions::Cameras(options);
-        match &self.input {
-            Some(input) => Conversion::of_input(input, options).map(Some),
-            None => Ok(Some(Conversion { input: self.rig.source.clone(), input_sha256: None, options })),
-        }
+    fn conversion(&self) -> Result<Option<ConversionRecord>> {
+        let head = match &self.input {
+            Some(input) => RecordHead::of_input(CameraConvertOptions::KIND, input)?,
+            None => RecordHead {
+                kind: CameraConvertOptions::KIND.to_string(),
+                input: self.rig.source.clone(),
+                input_sha256: None,
+            },
+        };
+        // The record holds what makes the samples, not the outputs asked
+        // for beside them (the unseen-ray picture, the mask).
+        Ok(Some(self.options.record(&head)))
     }
 
     fn band_hololines(&self) -> Option<usize> {

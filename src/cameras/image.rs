@@ -8,9 +8,9 @@ use std::path::Path;
 use ::image::{ColorType, ImageReader};
 
 use super::{Camera, ImageSource};
+use crate::error::{Error, Result};
 use crate::picture::srgb_decode;
 use crate::sampling::bilerp;
-use crate::{Error, Result};
 
 /// A picture in linear RGB, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]

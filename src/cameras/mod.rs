@@ -18,9 +18,11 @@ use crate::math::{self, cross, det3, dot, mat3_apply, mat3_transpose_apply, unit
 
 mod array;
 pub mod image;
+pub mod mesh_picture;
 pub mod pfm;
 pub mod quilt;
 pub mod read;
+mod record;
 pub mod rig_file;
 
 pub use read::{open_rig, open_rig_with};
@@ -277,10 +279,10 @@ impl Rig {
     }
 
     /// [`Rig::problem`] as the error a reader or converter refuses the rig
-    /// with: an [`Error::Rig`](crate::Error::Rig) naming its source.
-    pub fn check(&self) -> crate::Result<()> {
+    /// with: an [`Error::Rig`](crate::error::Error::Rig) naming its source.
+    pub fn check(&self) -> crate::error::Result<()> {
         match self.problem_detail() {
-            Some(p) => Err(crate::Error::rig(&self.source, p)),
+            Some(p) => Err(crate::error::Error::rig(&self.source, p)),
             None => Ok(()),
         }
     }

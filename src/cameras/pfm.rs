@@ -10,7 +10,7 @@ use std::io::Read;
 use std::path::Path;
 
 use super::{Camera, DepthKind};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Header bytes read before giving up on finding the samples (comments
 /// included); real headers are a few dozen bytes.

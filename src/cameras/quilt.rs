@@ -61,9 +61,10 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
+use crate::error::{Error, Result};
 use crate::geometry::{Geometry, Views};
+use crate::modulation::Modulation;
 use crate::picture::{encode_png, Bits, Colour, Tone, White};
-use crate::{Error, Modulation, Result};
 
 /// The layout of a quilt and the cameras that fill it.
 #[derive(Clone, Debug, PartialEq)]
@@ -626,7 +627,7 @@ pub fn export_quilt(
         return Err(Error::argument("white level", format!("{}: {problem}", out_path.display())));
     }
     let _claim = crate::output::check_output(out_path, &[holo_path], options.overwrite)?;
-    let file = crate::HoloFile::open(holo_path)?;
+    let file = crate::format::HoloFile::open(holo_path)?;
     let m = file.read_frame(frame)?;
     let quilt = quilt_from_modulation(&m, spec)?;
     let white = quilt.white_level(options.white);
@@ -823,7 +824,7 @@ mod tests {
         let g = geometry(Views::tan_spaced(48, -0.3, 0.3));
         let m = by_view(g.clone());
         let holo = dir.path().join("ramp.holo");
-        crate::write(&holo, &m, &crate::WriteOptions::default()).unwrap();
+        crate::format::write(&holo, &m, &crate::format::WriteOptions::default()).unwrap();
         // The cone that fits the views: the outer cameras look at the display's
         // centre along the outermost views, at its far side beyond them.
         let fitting = QuiltSpec { view_cone_deg: view_cone_deg_for(&g.views), ..spec() };
@@ -872,7 +873,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let holo = dir.path().join("ramp.holo");
         let m = by_view(geometry(Views::tan_spaced(5, -0.1, 0.1)));
-        crate::write(&holo, &m, &crate::WriteOptions::default()).unwrap();
+        crate::format::write(&holo, &m, &crate::format::WriteOptions::default()).unwrap();
         let out = dir.path().join("q.png");
         let options = QuiltOptions::default();
         let err = export_quilt(&dir.path().join("missing.holo"), 0, &spec(), &out, &options).unwrap_err().to_string();

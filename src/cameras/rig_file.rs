@@ -11,8 +11,8 @@ use toml::{Table, Value};
 use super::array::ArrayFrame;
 use super::image::image_size;
 use super::{look_rotation, Camera, DepthKind, DepthSource, ImageSource, Intrinsics, Pose, Rig};
+use crate::error::{Error, Result};
 use crate::math;
-use crate::{Error, Result};
 
 const TOP_KEYS: &[&str] = &["units", "focus_distance", "linear", "image_size", "cameras", "rail", "grid"];
 const LENS_KEYS: &[&str] = &[

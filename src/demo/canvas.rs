@@ -2,9 +2,9 @@
 //! per pixel, square pixels, into which pictures are pasted and labels
 //! drawn; then tone-mapped and encoded by [`crate::picture`].
 
+use crate::error::Result;
 use crate::picture::{encode_apng, encode_png, Animation, Bits, Colour, Tone};
 use crate::reconstruct::picture::Picture;
-use crate::Result;
 
 use super::font;
 
@@ -98,10 +98,10 @@ impl Canvas {
 /// shown `frame_seconds`, played `plays` times (0: forever).
 pub fn apng(frames: &[Canvas], frame_seconds: f64, plays: u32) -> Result<Vec<u8>> {
     let Some(first) = frames.first() else {
-        return Err(crate::Error::argument("picture", "an animated PNG needs at least one frame"));
+        return Err(crate::error::Error::argument("picture", "an animated PNG needs at least one frame"));
     };
     if let Some(odd) = frames.iter().find(|f| (f.width, f.height) != (first.width, first.height)) {
-        return Err(crate::Error::argument(
+        return Err(crate::error::Error::argument(
             "picture",
             format!(
                 "an animated PNG's frames are one size: {}×{} and {}×{}",

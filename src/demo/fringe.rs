@@ -19,7 +19,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use crate::assemble::{Assembler, FrameImages};
-use crate::Result;
+use crate::error::Result;
 
 use super::canvas::{Canvas, WHITE};
 use super::font;
@@ -424,7 +424,7 @@ fn thumbnail(images: &FrameImages<u8>, image: &[u8], offset: f64, gain: f64) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Modulation;
+    use crate::modulation::Modulation;
 
     #[test]
     fn the_legend_says_what_the_colours_zones_and_lobes_are() {

@@ -28,12 +28,12 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::assemble::Assembler;
+use crate::error::Result;
 use crate::layout;
 use crate::progress::{Labelled, Progress};
 use crate::reconstruct::check::{view, FrameRef};
 use crate::reconstruct::picture::Picture;
 use crate::reconstruct::viewer::Eye;
-use crate::Result;
 
 use canvas::{Canvas, WHITE};
 pub use movie::DemoMovie;
@@ -142,9 +142,9 @@ pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {
         return Ok(demo);
     }
     if std::fs::read_dir(dir).is_ok_and(|mut entries| entries.next().is_some()) {
-        return Err(crate::Error::Output {
+        return Err(crate::error::Error::Output {
             path: dir.to_path_buf(),
-            problem: crate::OutputProblem::WrongKind(
+            problem: crate::error::OutputProblem::WrongKind(
                 "holds files that `holo demo` did not make (there is no .holo-demo in it); give -o a new or empty folder",
             ),
         });
@@ -182,7 +182,7 @@ fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
     use crate::mesh::convert::{convert_mesh, ConvertOptions};
     let started_demo = Instant::now();
     let scene_dir = dir.join("spot");
-    std::fs::create_dir_all(&scene_dir).map_err(|e| crate::Error::io(&scene_dir, e))?;
+    std::fs::create_dir_all(&scene_dir).map_err(|e| crate::error::Error::io(&scene_dir, e))?;
     for (name, bytes) in DEMO_SCENE {
         crate::output::write_bytes_beside(&scene_dir.join(name), bytes, true)?;
     }
@@ -200,7 +200,7 @@ fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
 
     let (quilt, quilt_tiles) = quilt(&holo_file)?;
 
-    let m = crate::HoloFile::open(&holo_file)?.read_frame(0)?;
+    let m = crate::format::HoloFile::open(&holo_file)?.read_frame(0)?;
     let started = Instant::now();
     let assembler = Assembler::new(&layout)?;
     let (images, _) = assembler.assemble::<u8>(&m)?;
@@ -268,7 +268,7 @@ fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
 /// seen outside the views, where no light was steered. With nothing lit,
 /// or a scene wider than that stretch allows, the stretch from which the
 /// middle of the emitter plane is seen in the views.
-pub fn viewing_zone_eyes_x_m(m: &crate::Modulation, count: usize) -> Vec<f64> {
+pub fn viewing_zone_eyes_x_m(m: &crate::modulation::Modulation, count: usize) -> Vec<f64> {
     let g = m.geometry();
     let lit = |e: usize| {
         (0..g.channels.len()).any(|c| (0..g.hololines).any(|j| m.views_of(c, j, e).iter().any(|&v| v > 0.0)))
@@ -339,7 +339,7 @@ pub fn contact_sheet(pictures: &[(String, &Picture)], columns: usize, shrink: us
 fn quilt(holo_file: &Path) -> Result<(PathBuf, usize)> {
     use crate::cameras::quilt::{export_quilt, quilt_file_name, view_cone_deg_for, QuiltOptions, QuiltSpec};
     let mut spec = QuiltSpec::portrait();
-    spec.view_cone_deg = view_cone_deg_for(&crate::HoloFile::open(holo_file)?.info().geometry.views);
+    spec.view_cone_deg = view_cone_deg_for(&crate::format::HoloFile::open(holo_file)?.info().geometry.views);
     let path = holo_file.with_file_name(quilt_file_name("demo", &spec));
     let report =
         export_quilt(holo_file, 0, &spec, &path, &QuiltOptions { overwrite: true, ..QuiltOptions::default() })?;
@@ -358,7 +358,9 @@ mod tests {
         let half_tan = g.views.last_theta_rad.tan();
         // Emitters lit from −10 to +10 mm: seen in the views from eyes within
         // ±(d·tan θ_last − 10 mm).
-        let m = crate::Modulation::from_fn(g.clone(), |_, _, e, _| f32::from(g.emitter_x_m(e).abs() <= 0.010)).unwrap();
+        let m =
+            crate::modulation::Modulation::from_fn(g.clone(), |_, _, e, _| f32::from(g.emitter_x_m(e).abs() <= 0.010))
+                .unwrap();
         let eyes = viewing_zone_eyes_x_m(&m, 5);
         let x_lit = (0..g.emitters).map(|e| g.emitter_x_m(e)).filter(|x| x.abs() <= 0.010);
         let (lo, hi) = x_lit.fold((f64::MAX, f64::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)));
@@ -366,7 +368,7 @@ mod tests {
         assert!((eyes[4] - (lo + d * half_tan)).abs() < 1e-9, "{eyes:?}");
         assert!((eyes[2] - 0.5 * (eyes[0] + eyes[4])).abs() < 1e-12);
         // Nothing lit: the zone of the middle of the display.
-        let dark = crate::Modulation::zeros(g.clone()).unwrap();
+        let dark = crate::modulation::Modulation::zeros(g.clone()).unwrap();
         let eyes = viewing_zone_eyes_x_m(&dark, 2);
         let middle = 0.5 * (g.emitter_x_m(0) + g.emitter_x_m(g.emitters - 1));
         assert!((eyes[1] - (middle + d * half_tan)).abs() < 1e-9, "{eyes:?}");

@@ -8,10 +8,10 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use crate::error::Result;
 use crate::layout::Layout;
 use crate::progress::{Labelled, Progress};
 use crate::reconstruct::files::{view_file, EyeAt};
-use crate::Result;
 
 use super::{contact_sheet, PUPIL_M};
 
@@ -50,7 +50,7 @@ pub(super) fn demo_movie(dir: &Path, layout: &Layout, progress: &dyn Progress) -
     use crate::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
     use crate::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
     use crate::mesh::convert::SceneFramesOptions;
-    std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
+    std::fs::create_dir_all(dir).map_err(|e| crate::error::Error::io(dir, e))?;
     let scene = dir.join("AnimatedMorphCube.glb");
     crate::output::write_bytes_beside(&scene, DEMO_MOVIE, true)?;
     let holoflick = dir.join("cube.hflk");
@@ -74,7 +74,7 @@ pub(super) fn demo_movie(dir: &Path, layout: &Layout, progress: &dyn Progress) -
     convert.write.overwrite = true;
     convert_holoflick(&holoflick, &layout.geometry, &holo_file, &convert, progress)?;
     let convert_seconds = started.elapsed().as_secs_f64();
-    let frames_per_second = crate::HoloFile::open(&holo_file)?.info().frames_per_second;
+    let frames_per_second = crate::format::HoloFile::open(&holo_file)?.info().frames_per_second;
 
     // Each frame assembled in memory, as the display would receive it, and seen.
     let started = Instant::now();

@@ -1,6 +1,6 @@
 //! Errors of the HoloFlick container: each names the file, the frame when
 //! there is one, and the rule broken (spec/holoflick.md §11). They live with
-//! the library's other errors (and [`crate::holoflick::container`] hands them
+//! the library's other errors (and the HoloFlick container hands them
 //! on), so the error floor imports nothing above it.
 
 use std::fmt;
@@ -139,17 +139,17 @@ pub enum ContainerError {
         /// The output concerned.
         path: PathBuf,
         /// What is wrong with writing it.
-        problem: crate::OutputProblem,
+        problem: super::OutputProblem,
     },
 }
 
 impl ContainerError {
-    /// An error of the atomic writer ([`crate::output`]) writing `path`, in
+    /// An error of the atomic writer (the output module's) writing `path`, in
     /// the container's terms.
-    pub(crate) fn from_output(path: &std::path::Path, e: crate::Error) -> ContainerError {
+    pub(crate) fn from_output(path: &std::path::Path, e: super::Error) -> ContainerError {
         match e {
-            crate::Error::Io { path, source } => ContainerError::Io { path, source },
-            crate::Error::Output { path, problem } => ContainerError::Output { path, problem },
+            super::Error::Io { path, source } => ContainerError::Io { path, source },
+            super::Error::Output { path, problem } => ContainerError::Output { path, problem },
             // The atomic writer reports nothing else; an error it may one
             // day add keeps its sentence.
             other => ContainerError::Io { path: path.to_path_buf(), source: std::io::Error::other(other.to_string()) },
@@ -158,13 +158,13 @@ impl ContainerError {
 }
 
 /// The container's error as the crate's: an operating-system or output
-/// error as such, every other one as [`crate::Error::HoloFlick`].
-impl From<ContainerError> for crate::Error {
+/// error as such, every other one as [`super::Error::HoloFlick`].
+impl From<ContainerError> for super::Error {
     fn from(e: ContainerError) -> Self {
         match e {
-            ContainerError::Io { path, source } => crate::Error::Io { path, source },
-            ContainerError::Output { path, problem } => crate::Error::Output { path, problem },
-            other => crate::Error::HoloFlick(other),
+            ContainerError::Io { path, source } => super::Error::Io { path, source },
+            ContainerError::Output { path, problem } => super::Error::Output { path, problem },
+            other => super::Error::HoloFlick(other),
         }
     }
 }

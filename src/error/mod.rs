@@ -184,7 +184,7 @@ pub enum Error {
 }
 
 /// How a set of files disagrees with its manifest: the problems of
-/// [`Error::Set`](crate::Error::Set).
+/// [`Error::Set`](Error::Set).
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum SetProblem {
@@ -231,7 +231,7 @@ pub enum SetProblem {
 }
 
 /// Why an output cannot be written: the problems of
-/// [`Error::Output`](crate::Error::Output).
+/// [`Error::Output`](Error::Output).
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum OutputProblem {

@@ -27,10 +27,10 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::{Error, Result};
 use crate::format::sequence::member_path;
 use crate::format::HoloFile;
 use crate::math::Mat4;
-use crate::{Error, Result};
 
 /// The version of [`Manifest`] written.
 pub const MANIFEST_VERSION: u32 = 1;

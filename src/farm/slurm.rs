@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// `tool` on `PATH`, or the sentence saying it is not there.
 pub fn find(tool: &str) -> Result<PathBuf> {

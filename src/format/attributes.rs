@@ -253,11 +253,6 @@ pub fn v3d_attribute(v: [f64; 3]) -> AttributeValue {
     AttributeValue::Custom { kind: Text::new_or_panic("v3d"), bytes: v.iter().flat_map(|x| x.to_le_bytes()).collect() }
 }
 
-/// The `holo.convert.*` attributes of a conversion (spec §4.4), ready to
-/// write: [`crate::provenance::Conversion::record`] makes them.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct ConversionRecord(pub(crate) Vec<(String, AttributeValue)>);
-
 /// The geometry and radiometry attributes shared by every part of a file.
 pub fn geometry_attributes(
     g: &Geometry,
@@ -324,6 +319,14 @@ impl<'a> Attributes<'a> {
             }
         }
         Attributes { map }
+    }
+    /// Look-ups into a list of named values (a conversion record).
+    pub(crate) fn from_pairs(pairs: &'a [(String, AttributeValue)]) -> Self {
+        Attributes { map: pairs.iter().map(|(k, v)| (k.as_str(), v)).collect() }
+    }
+    /// An attribute's value as stored, when present.
+    pub(crate) fn value(&self, k: &str) -> Option<&'a AttributeValue> {
+        self.map.get(k).copied()
     }
     /// All attribute names starting with `holo.`.
     pub fn holo_names(&self) -> Vec<&'a str> {

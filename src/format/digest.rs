@@ -10,7 +10,7 @@ use sha2::{Digest, Sha256};
 use super::channels::ChannelOrder;
 use super::SampleType;
 use crate::geometry::Geometry;
-use crate::Modulation;
+use crate::modulation::Modulation;
 
 /// Prefix of the stored digest text.
 pub const DIGEST_PREFIX: &str = "sha256:";

@@ -13,10 +13,11 @@ use super::attributes::{name, Attributes, Radiometry, VERSION};
 use super::channels::{parse_channel_name, view_digits};
 use super::digest::is_well_formed;
 use super::header_digest;
+use super::record::ConversionRecord;
 use super::{Compression, SampleType, Window, MAX_CHANNELS, MAX_FRAMES, MAX_SAMPLES_PER_FRAME, MAX_SIDE};
+use crate::error::Error;
 use crate::geometry::{Geometry, CHANNEL_NAMES};
 use crate::signature::{self, FileKind};
-use crate::Error;
 
 /// One frame (one EXR part) of a file.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -64,10 +65,10 @@ pub struct FileInfo {
     pub file_bytes: u64,
     /// `holo.*` attributes this version does not define (ignored).
     pub unknown_attributes: Vec<String>,
-    /// `holo.convert.*`: the conversion, or why its record cannot be read
-    /// ([`FileInfo::conversion`]).
-    #[serde(serialize_with = "crate::provenance::serialize")]
-    pub(crate) conversion: Option<std::result::Result<crate::provenance::Conversion, String>>,
+    /// `holo.convert.*`: the conversion record as stored (`conversion()`,
+    /// in the provenance module, reads it as a converter's options).
+    #[serde(rename = "conversion", serialize_with = "super::record::serialize")]
+    pub conversion_record: Option<ConversionRecord>,
 }
 
 impl FileInfo {
@@ -88,7 +89,7 @@ pub(crate) struct Parsed {
 /// headers OpenEXR cannot parse but which carries header digests is said to
 /// be damaged when a digest does not match (a flipped bit in an attribute's
 /// size or type breaks the parse before any rule can be checked).
-pub(crate) fn read_meta(path: &Path) -> crate::Result<(MetaData, u64)> {
+pub(crate) fn read_meta(path: &Path) -> crate::error::Result<(MetaData, u64)> {
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
     let meta = MetaData::read_from_buffered(std::io::BufReader::new(file), false).map_err(|e| {
@@ -124,7 +125,7 @@ fn other_kind(path: &Path) -> Option<&'static str> {
 /// Open: the headers must have no problem at all, and (when `sealed`) each
 /// must match its digest. The writer opens its own file unsealed, before the
 /// digests are filled in.
-pub(crate) fn file_info(path: &Path, sealed: bool) -> crate::Result<(FileInfo, MetaData)> {
+pub(crate) fn file_info(path: &Path, sealed: bool) -> crate::error::Result<(FileInfo, MetaData)> {
     let (meta, file_bytes) = read_meta(path)?;
     let stored = if sealed { Some(header_digest::read_stored(path)?) } else { None };
     let parsed = parse(path, &meta, file_bytes, stored.as_ref())?;
@@ -149,7 +150,7 @@ pub(crate) fn parse(
     meta: &MetaData,
     file_bytes: u64,
     stored: Option<&header_digest::StoredHeaders>,
-) -> crate::Result<Parsed> {
+) -> crate::error::Result<Parsed> {
     let mut problems = Vec::new();
     let mut warnings = Vec::new();
     let headers = &meta.headers;
@@ -263,23 +264,7 @@ pub(crate) fn parse(
         attrs.holo_names().into_iter().filter(|n| !super::attributes::is_known(n)).map(String::from).collect();
     let text =
         |t: &Option<exr::meta::attribute::Text>| t.as_ref().map(|t| String::from_utf8_lossy(t.as_slice()).into_owned());
-    // The options' write part is what the file says of itself.
-    let written = super::WriteOptions {
-        sample_type,
-        compression,
-        radiometry: radiometry.clone(),
-        version: super::FormatVersion::for_number(version),
-        ..super::WriteOptions::default()
-    };
-    // An unreadable record leaves the samples readable: a warning, so that a
-    // newer minor version's values never make the file unreadable here.
-    let conversion = match crate::provenance::Conversion::from_attributes(&attrs, written) {
-        Ok(c) => c.map(Ok),
-        Err(e) => {
-            warnings.push(format!("{e}: the conversion record (holo.convert.*) is ignored"));
-            Some(Err(e))
-        }
-    };
+    let conversion_record = ConversionRecord::from_attributes(&attrs);
     let info = FileInfo {
         path: path.into(),
         version,
@@ -304,7 +289,7 @@ pub(crate) fn parse(
         frames,
         file_bytes,
         unknown_attributes,
-        conversion,
+        conversion_record,
     };
     Ok(Parsed { info: Some(info), problems, warnings })
 }

@@ -20,7 +20,7 @@ use sha2::{Digest, Sha256};
 
 use super::attributes::name;
 use super::digest::DIGEST_PREFIX;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The largest run of header bytes a reader scans: far above any header the
 /// format's limits allow in practice (a 288-channel part is about 7 KiB, so a

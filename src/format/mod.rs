@@ -11,6 +11,7 @@ pub(crate) mod digest;
 mod header;
 mod header_digest;
 mod read;
+mod record;
 pub mod sequence;
 mod validate;
 mod write;
@@ -18,13 +19,14 @@ pub mod zip;
 
 /// Write a small file whole, atomically: [`crate::output::write_bytes_beside`].
 pub use crate::output::write_bytes_beside;
-pub use attributes::{is_known as is_known_attribute, name as attribute, ConversionRecord, Radiometry, VERSION};
+pub use attributes::{is_known as is_known_attribute, name as attribute, Attributes, Radiometry, VERSION};
 pub use channels::{channel_name, parse_channel_name, view_digits, ChannelOrder};
 pub use digest::frame_digest;
 pub use header::{FileInfo, FrameInfo};
 pub use read::{read, FrameSample, HoloFile, Region};
+pub use record::{Checked, ConversionRecord, RecordHead, RecordReader, RecordWriter};
 pub use sequence::{Frames, Sequence};
-pub use validate::{validate, Validation};
+pub use validate::{validate_format, Validation};
 pub use write::{write, write_frame_in_bands, write_frames, FormatVersion, WriteOptions, WriteReport};
 
 use serde::Serialize;

@@ -16,8 +16,9 @@ use half::slice::HalfFloatSliceExt;
 use super::digest::{frame_digest, BlockDigest};
 use super::header::{file_info, FileInfo};
 use super::{SampleType, MAX_SAMPLES_PER_FRAME};
+use crate::error::{Error, Result};
 use crate::geometry::{Geometry, ViewSpacing};
-use crate::{Error, Modulation, Result};
+use crate::modulation::Modulation;
 
 /// Files smaller than this are decompressed on the calling thread.
 const PARALLEL_DECODE_MIN_BYTES: u64 = 1 << 20;

@@ -12,7 +12,9 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::read::HoloFile;
-use crate::{Error, Geometry, Modulation, Result};
+use crate::error::{Error, Result};
+use crate::geometry::Geometry;
+use crate::modulation::Modulation;
 
 /// The file holding frame `number` of the sequence `name` (`shot.holo`,
 /// 7 → `shot.0007.holo`).

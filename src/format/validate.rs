@@ -1,4 +1,6 @@
-//! `holo validate`: every rule of the spec, every problem listed.
+//! `holo validate`'s part in the format: every rule of the spec but what
+//! the conversion record's values mean (the crate's `validate` adds those, from
+//! the converters), every problem listed.
 
 use std::path::Path;
 
@@ -7,7 +9,7 @@ use serde::Serialize;
 use super::header::{parse, read_meta, FileInfo};
 use super::header_digest::read_stored;
 use super::read::HoloFile;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The outcome of validating a file.
 #[derive(Clone, Debug, Serialize)]
@@ -29,8 +31,10 @@ impl Validation {
 
 /// Check every header rule, then decode every frame: samples finite and
 /// non-negative, digests matching. Returns `Err` only when the file cannot be
-/// read as OpenEXR at all (or is of a newer major version).
-pub fn validate(path: impl AsRef<Path>) -> Result<Validation> {
+/// read as OpenEXR at all (or is of a newer major version). The conversion
+/// record is checked only as attributes; the crate's `validate` checks the
+/// values too.
+pub fn validate_format(path: impl AsRef<Path>) -> Result<Validation> {
     let path = path.as_ref();
     let (meta, file_bytes) = read_meta(path)?;
     let stored = read_stored(path)?;

@@ -15,14 +15,16 @@ use exr::meta::header::{Header, LayerAttributes};
 use exr::meta::BlockDescription;
 use smallvec::SmallVec;
 
-use super::attributes::{self, geometry_attributes, name, ConversionRecord, Radiometry};
+use super::attributes::{self, geometry_attributes, name, Radiometry};
 use super::channels::ChannelOrder;
 use super::digest::{frame_digest, row_bytes, stored_row, BlockDigest, RowDigest};
 use super::header_digest;
+use super::record::ConversionRecord;
 use super::{Compression, SampleType, Window, MAX_CHANNELS, MAX_FRAMES, MAX_SIDE};
+use crate::error::{Error, Result};
 use crate::geometry::Geometry;
+use crate::modulation::{Band, Modulation};
 use crate::output::{AtomicFile, Spool};
-use crate::{Band, Error, Modulation, Result};
 
 /// How to write.
 #[derive(Clone, Debug, PartialEq)]
@@ -418,7 +420,7 @@ fn check_writable(path: &Path, g: &Geometry, frame_count: usize, options: &Write
         return Err(Error::unsupported(path, "geometry exceeds the format's limits"));
     }
     if !options.overwrite && path.exists() {
-        return Err(Error::Output { path: path.to_path_buf(), problem: crate::OutputProblem::Exists });
+        return Err(Error::Output { path: path.to_path_buf(), problem: crate::error::OutputProblem::Exists });
     }
     Ok(())
 }

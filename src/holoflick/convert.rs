@@ -27,16 +27,18 @@ use std::path::{Path, PathBuf};
 use super::container::{HoloFlickReader, ResolvedFrame, SpecularModel, ViewerCouch};
 use super::objects::{decode_block_into, mesh_light, to_world_into};
 use super::shader::cull::{cull_back_faces, display_sees_box};
-use crate::format::{WriteOptions, WriteReport};
+use crate::error::{Error, Result};
+use crate::format::{
+    attribute, Checked, ConversionRecord, RecordHead, RecordReader, RecordWriter, WriteOptions, WriteReport,
+};
 use crate::geometry::Geometry;
 use crate::mesh::place::{apply, place, Placed, Placement};
 use crate::mesh::render::{render_into, RenderOptions, RenderStats};
 use crate::mesh::shade::{Lighting, SpecularModel as Lobe};
 use crate::mesh::{Object, Scene};
+use crate::modulation::Band;
 use crate::pipeline::{self, Source, Warnings};
 use crate::progress::Progress;
-use crate::provenance::{Conversion, ConverterOptions};
-use crate::{Band, Error, Result};
 
 /// Everything `convert holoflick` takes besides input, geometry and output.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -54,6 +56,36 @@ pub struct HoloFlickConvertOptions {
     /// farm hands every chunk of a movie so each is placed as the whole
     /// movie was. The content is then drawn through it, as fitted content is.
     pub matrix: Option<crate::math::Mat4>,
+}
+
+impl HoloFlickConvertOptions {
+    /// `holo.convert.kind` of a HoloFlick's conversion.
+    pub const KIND: &'static str = "holoflick";
+
+    /// The record of this conversion of the HoloFlick `head` names (spec
+    /// §4.4): of the render options only the supersampling and the engine,
+    /// the only ones this converter uses (the lights come from the file).
+    pub fn record(&self, head: &RecordHead) -> ConversionRecord {
+        let mut r = RecordWriter::new(head);
+        r.frames(&self.frames);
+        self.render.write_supersample_and_engine(&mut r);
+        r.flag(attribute::convert::FIT, self.fit);
+        if let Some(m) = &self.matrix {
+            r.matrix(attribute::convert::MATRIX, m);
+        }
+        r.finish()
+    }
+
+    /// The options a record holds, with `write` as their write part.
+    pub fn from_record(r: &RecordReader, write: WriteOptions) -> Checked<HoloFlickConvertOptions> {
+        Ok(HoloFlickConvertOptions {
+            frames: r.frames()?,
+            render: RenderOptions::read_supersample_and_engine(r)?,
+            write,
+            fit: r.flag(attribute::convert::FIT)?,
+            matrix: r.matrix()?,
+        })
+    }
 }
 
 /// Work done and skipped, over all frames converted.
@@ -221,7 +253,7 @@ impl Source for HoloFlickSource<'_> {
         format!("holo convert holoflick {} (frames {}..{})", self.input.display(), self.frames.start, self.frames.end)
     }
 
-    fn conversion(&self) -> Result<Option<Conversion>> {
+    fn conversion(&self) -> Result<Option<ConversionRecord>> {
         let options = HoloFlickConvertOptions {
             frames: self.frames_asked.clone(),
             render: self.render.clone(),
@@ -229,7 +261,7 @@ impl Source for HoloFlickSource<'_> {
             fit: self.fit,
             matrix: self.matrix,
         };
-        Conversion::of_input(&self.input, ConverterOptions::HoloFlick(options)).map(Some)
+        Ok(Some(options.record(&RecordHead::of_input(HoloFlickConvertOptions::KIND, &self.input)?)))
     }
 
     /// World metres to display metres: the fit when the file was fitted,

@@ -21,6 +21,7 @@ use super::shader::dice::{display_budget, DiceOptions};
 use super::shader::micro::micropolygons;
 use super::sink::{frame_rate_fraction, HoloFlickSink};
 use super::tools::{specular_light, KeyFrames, PackReport};
+use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 use crate::mesh::convert::{SceneFrames, SceneFramesOptions, SceneStage};
 use crate::mesh::place::Placed;
@@ -28,7 +29,6 @@ use crate::mesh::render::RenderOptions;
 use crate::mesh::{Light, Scene};
 use crate::pipeline;
 use crate::progress::Progress;
-use crate::{Error, Result};
 
 /// The default micropolygon edge, as a multiple of what the display
 /// resolves at its depth: the knee of the measured error against size (the

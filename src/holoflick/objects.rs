@@ -11,9 +11,9 @@
 use super::cg::{self, EncodeOptions, EncodeStats};
 use super::container::{Descriptor, GeometryBlock, GeometryObject, Matrix4, SpecularLight};
 use super::shader::dice::with_flat_normals;
+use crate::error::{Error, Result};
 use crate::math::{det3, inverse_transpose3, linear, mat3_apply, narrow, transform_point, unit, widen};
 use crate::mesh::{Light, Material, Object};
-use crate::{Error, Result};
 
 /// Compress one mesh object as geometry object `id`. Objects without
 /// normals are shaded flat (one vertex per corner, the face normal); colours

@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use super::container::{write_cg_file, Frame, HoloFlickWriter, ObjectRecord, ViewerCouch, WriteOptions};
+use crate::error::{Error, Result};
 use crate::pipeline::{Job, Sink};
-use crate::{Error, Result};
 
 /// How `pack` and `encode` write: the frame rate, `software` and `source` text.
 pub(crate) fn writer_options(frames_per_second: (u32, u32), source: String, overwrite: bool) -> WriteOptions {

@@ -20,13 +20,13 @@ use super::container::{
 };
 use super::objects::{decode_object, encode_object};
 use super::sink::{frame_rate_fraction, HoloFlickSink};
+use crate::error::{Error, Result};
 use crate::math::{unit, widen};
 use crate::mesh::load::SceneSource;
 use crate::mesh::shade::sample;
 use crate::mesh::{Light, Object, Scene};
 use crate::pipeline::{self, Source, Warnings};
 use crate::progress::Progress;
-use crate::{Error, Result};
 
 /// How to pack.
 #[derive(Clone, Debug)]

@@ -17,8 +17,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::{Error, Result};
 use crate::geometry::Geometry;
-use crate::{Error, Result};
 pub use builtin::{builtin, mark1, mark1_hogel, mark2, mark3, mark4, segment_centre_views, BUILTIN};
 pub use fringe::{
     Basis, BlankingGains, ChannelSlot, ColourSignals, EmitterPhases, FlatFieldGains, FrameBuffer, Fringe, Pixel,

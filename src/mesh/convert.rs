@@ -13,12 +13,12 @@ use super::load::SceneSource;
 use super::place::{apply, place, Placed, Placement};
 use super::render::{render_into, RenderOptions, RenderStats};
 use super::{Light, Scene};
-use crate::format::{WriteOptions, WriteReport};
+use crate::error::{Error, Result};
+use crate::format::{ConversionRecord, RecordHead, WriteOptions, WriteReport};
 use crate::geometry::Geometry;
+use crate::modulation::Band;
 use crate::pipeline::{self, Source, Warnings};
 use crate::progress::{Labelled, Progress};
-use crate::provenance::{Conversion, ConverterOptions};
-use crate::{Band, Error, Result};
 
 /// Which moments of a scene file become frames, and where the scene goes:
 /// what every command that makes frames of a scene (`convert mesh`,
@@ -131,7 +131,7 @@ pub trait SceneStage {
     /// The converter and its options, when the frames are a conversion
     /// recorded in its output (`holo.convert.*`); `scene` are the options
     /// the frames were taken with.
-    fn converter(&self, scene: &SceneFramesOptions) -> Option<ConverterOptions> {
+    fn converter(&self, scene: &SceneFramesOptions) -> Option<ConvertOptions> {
         let _ = scene;
         None
     }
@@ -266,9 +266,9 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
         self.placed.as_ref().map(|p| p.matrix)
     }
 
-    fn conversion(&self) -> Result<Option<Conversion>> {
+    fn conversion(&self) -> Result<Option<ConversionRecord>> {
         match self.stage.converter(&self.options) {
-            Some(options) => Conversion::of_input(self.source.path(), options).map(Some),
+            Some(options) => Ok(Some(options.record(&RecordHead::of_input(ConvertOptions::KIND, self.source.path())?))),
             None => Ok(None),
         }
     }
@@ -365,10 +365,8 @@ impl SceneStage for MeshRender {
         )
     }
 
-    fn converter(&self, scene: &SceneFramesOptions) -> Option<ConverterOptions> {
-        let options =
-            ConvertOptions { scene: scene.clone(), render: self.render.clone(), write: WriteOptions::default() };
-        Some(ConverterOptions::Mesh(options))
+    fn converter(&self, scene: &SceneFramesOptions) -> Option<ConvertOptions> {
+        Some(ConvertOptions { scene: scene.clone(), render: self.render.clone(), write: WriteOptions::default() })
     }
 
     fn make(&mut self, number: usize, _: usize, scene: Scene, frame: &mut Band, progress: &dyn Progress) -> Result<()> {

@@ -11,14 +11,14 @@
 //! viewer, hologram at `z = 0`). Colours are linear: loaders decode sRGB.
 
 pub(crate) mod bvh;
-pub mod camera;
 pub mod convert;
 pub(crate) mod epi;
 mod fastshade;
 pub mod load;
 pub mod normals;
 pub mod place;
-mod rays;
+pub(crate) mod rays;
+mod record;
 pub mod render;
 pub mod shade;
 pub mod trace;

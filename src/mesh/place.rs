@@ -11,12 +11,12 @@
 //! kept in front of the viewer line. An explicit 4×4 matrix replaces all this.
 
 use super::{Light, Scene};
+use crate::error::{Error, Result};
 use crate::geometry::{millimetres_text, Geometry};
 use crate::math::{
     cofactor3, det3, linear, mat3_apply, narrow, normalize_or, rotation_xyz, transform_point, transpose, unit, widen,
     Mat3, Mat4,
 };
-use crate::{Error, Result};
 
 /// Fraction of the display volume a fitted scene fills.
 pub const FIT_FILL: f64 = 0.9;

@@ -15,8 +15,8 @@
 
 use super::shade::Lighting;
 use super::Scene;
+use crate::error::{Error, Result};
 use crate::geometry::Geometry;
-use crate::{Error, Result};
 
 /// Sub-rays per sample: across each emitter's aperture and each view's
 /// angular interval.

@@ -17,9 +17,10 @@ use super::rays::{HololineRenderer, Shading};
 pub use super::rays::{Rays, RenderStats, Supersample};
 use super::shade::Lighting;
 use super::Scene;
+use crate::error::{Error, Result};
 use crate::geometry::{channel_weights, Geometry};
+use crate::modulation::Modulation;
 use crate::progress::{Progress, Steps};
-use crate::{Error, Modulation, Result};
 
 /// Which renderer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

@@ -143,10 +143,10 @@ impl Lighting {
 ///   volume (so its intensity is `E·d²`);
 /// - `ambient:R,G,B`: ambient radiance.
 ///
-/// A malformed spec is an [`Error::Argument`](crate::Error::Argument) whose
+/// A malformed spec is an [`Error::Argument`](crate::error::Error::Argument) whose
 /// sentence quotes it.
-pub fn parse_light(spec: &str, centre_m: [f64; 3]) -> crate::Result<Light> {
-    light_from_spec(spec, centre_m).map_err(|problem| crate::Error::argument("light", problem))
+pub fn parse_light(spec: &str, centre_m: [f64; 3]) -> crate::error::Result<Light> {
+    light_from_spec(spec, centre_m).map_err(|problem| crate::error::Error::argument("light", problem))
 }
 
 /// [`parse_light`], its error the phrase that quotes the spec.
@@ -207,8 +207,8 @@ fn light_from_spec(spec: &str, centre_m: [f64; 3]) -> Result<Light, String> {
 }
 
 /// Lights from a file: one [`parse_light`] spec per line; `#` starts a comment.
-pub fn read_lights(path: &std::path::Path, centre_m: [f64; 3]) -> crate::Result<Vec<Light>> {
-    let text = std::fs::read_to_string(path).map_err(|e| crate::Error::io(path, e))?;
+pub fn read_lights(path: &std::path::Path, centre_m: [f64; 3]) -> crate::error::Result<Vec<Light>> {
+    let text = std::fs::read_to_string(path).map_err(|e| crate::error::Error::io(path, e))?;
     let mut out = Vec::new();
     for (n, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("").trim();
@@ -216,7 +216,8 @@ pub fn read_lights(path: &std::path::Path, centre_m: [f64; 3]) -> crate::Result<
             continue;
         }
         out.push(
-            light_from_spec(line, centre_m).map_err(|e| crate::Error::scene(path, format!("line {}: {e}", n + 1)))?,
+            light_from_spec(line, centre_m)
+                .map_err(|e| crate::error::Error::scene(path, format!("line {}: {e}", n + 1)))?,
         );
     }
     Ok(out)

@@ -120,11 +120,11 @@ impl HololineRenderer for TraceRenderer<'_> {
 pub fn eye_picture(
     scene: &super::Scene,
     lighting: &super::shade::Lighting,
-    geometry: &crate::Geometry,
+    geometry: &crate::geometry::Geometry,
     eye_x_m: f64,
     pupil_m: f64,
     pupil_samples: usize,
-) -> crate::Result<Vec<f32>> {
+) -> crate::error::Result<Vec<f32>> {
     use rayon::prelude::*;
     let rays = super::rays::Rays::new(geometry, super::rays::Supersample::new(1, 1))?;
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();

@@ -15,8 +15,8 @@
 use std::path::Path;
 
 use super::Object;
+use crate::error::{Error, Result};
 use crate::picture::{Bits, Tone};
-use crate::{Error, Result};
 
 /// Vertex colours in PLY are bytes, encoded as an 8-bit sRGB picture's.
 const SRGB_8: Tone = Tone::unit(Bits::Eight);

@@ -6,8 +6,9 @@ use std::path::Path;
 
 use super::claim::{Claim, Scope};
 use super::folder_of;
+use super::fs::special_kind;
 use super::naming::name_max;
-use crate::{Error, OutputProblem, Result};
+use crate::error::{Error, OutputProblem, Result};
 
 fn refuse(path: &Path, problem: OutputProblem) -> Error {
     Error::Output { path: path.to_path_buf(), problem }
@@ -37,32 +38,6 @@ fn not_an_input(output: &Path, inputs: &[&Path]) -> Result<()> {
         Some(input) => Err(refuse(output, OutputProblem::IsAnInput(input.to_path_buf()))),
         None => Ok(()),
     }
-}
-
-/// What a file that is neither a regular file nor a folder is, in words
-/// (`None` for those two, and for a path that is not there).
-pub(crate) fn special_kind(metadata: &std::fs::Metadata) -> Option<&'static str> {
-    let t = metadata.file_type();
-    if t.is_file() || t.is_dir() {
-        return None;
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if t.is_fifo() {
-            return Some("a FIFO");
-        }
-        if t.is_char_device() {
-            return Some("a character device");
-        }
-        if t.is_block_device() {
-            return Some("a block device");
-        }
-        if t.is_socket() {
-            return Some("a socket");
-        }
-    }
-    Some("a special file")
 }
 
 /// Whether `path` (followed through links) is a regular file an input can

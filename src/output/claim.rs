@@ -19,7 +19,7 @@ use std::sync::{Mutex, PoisonError};
 
 use super::interrupt;
 use super::naming::{file_lock, folder_lock, may_be_running, parse_temporary, stem_of};
-use crate::{Error, OutputProblem, Result};
+use crate::error::{Error, OutputProblem, Result};
 
 /// An output claimed by this process (see the module docs): the lock is
 /// released, and its file removed, when the last claim of it is dropped.

@@ -13,7 +13,7 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use crate::{Error, OutputProblem, Result};
+use crate::error::{Error, OutputProblem, Result};
 
 struct Registry {
     next_id: u64,
@@ -82,7 +82,7 @@ pub(super) fn rename_registered(id: u64, from: &Path, to: &Path, overwrite: bool
     if overwrite {
         // A FIFO, a device or a socket at `to` is never replaced: whatever
         // checked it before the work, it may have appeared since.
-        if let Some(kind) = std::fs::symlink_metadata(to).ok().as_ref().and_then(super::check::special_kind) {
+        if let Some(kind) = std::fs::symlink_metadata(to).ok().as_ref().and_then(super::fs::special_kind) {
             return Err(Error::Output {
                 path: to.to_path_buf(),
                 problem: OutputProblem::NotRegular { kind, wanted: "a regular file" },
@@ -263,7 +263,7 @@ pub(super) fn restore_aside(folder: &Path, aside: &Path, names: &[String], prese
         let _ = std::fs::rename(entry.path(), &to);
     }
     let _ = std::fs::remove_dir_all(aside);
-    let _ = super::temporary::sync_folder(folder);
+    let _ = super::fs::sync_folder(folder);
 }
 
 /// Remove every registered temporary (and what the unfinished runs wrote

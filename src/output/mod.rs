@@ -35,6 +35,7 @@
 
 mod check;
 mod claim;
+mod fs;
 mod interrupt;
 mod naming;
 mod set;
@@ -42,15 +43,16 @@ mod temporary;
 
 use std::path::Path;
 
+pub(crate) use check::regular_file;
 pub use check::{check_output, check_set_output, same_file};
-pub(crate) use check::{regular_file, special_kind};
 pub use claim::{take_notices, Claim};
+pub(crate) use fs::special_kind;
 pub use interrupt::{install_interrupt_cleanup, remove_temporaries};
 pub use set::{check_set_complete, verify_set, FileSet, SetFile};
 pub(crate) use set::{file_sha256, require_manifest};
 pub use temporary::{AtomicFile, Spool};
 
-use crate::Result;
+use crate::error::Result;
 
 /// A folder a run fills with its files, new or empty when the run began:
 /// if the run fails (the `RunFolder` is dropped without
@@ -72,7 +74,7 @@ impl RunFolder {
     /// existing folder must be empty, anything else is refused. A run that
     /// does not finish removes the parents it created too.
     pub fn claim(path: &Path) -> Result<RunFolder> {
-        use crate::{Error, OutputProblem};
+        use crate::error::{Error, OutputProblem};
         let wrong =
             |what: &'static str| Error::Output { path: path.to_path_buf(), problem: OutputProblem::WrongKind(what) };
         let existed = match std::fs::metadata(path) {
@@ -112,7 +114,7 @@ impl RunFolder {
     /// touched. What a run killed outright (SIGKILL) had moved aside is put
     /// back first.
     pub fn take_over(path: &Path, names: &[&str]) -> Result<RunFolder> {
-        use crate::Error;
+        use crate::error::Error;
         let claim = claim_folder(path)?;
         let aside = path.join(PREVIOUS_RUN);
         if aside.is_dir() {
@@ -134,7 +136,7 @@ impl RunFolder {
         for name in &present {
             std::fs::rename(path.join(name), aside.join(name)).map_err(|e| Error::io(path.join(name), e))?;
         }
-        temporary::sync_folder(path)?;
+        fs::sync_folder(path)?;
         Ok(folder)
     }
 
@@ -199,7 +201,7 @@ fn missing_folders(path: &Path) -> Vec<std::path::PathBuf> {
 pub fn write_bytes_beside(path: &Path, bytes: &[u8], overwrite: bool) -> Result<()> {
     use std::io::Write;
     write_atomically(path, overwrite, |file| {
-        file.write_all(bytes).map_err(|e| crate::Error::io(file.destination(), e))
+        file.write_all(bytes).map_err(|e| crate::error::Error::io(file.destination(), e))
     })?;
     Ok(())
 }
@@ -210,7 +212,10 @@ pub fn write_bytes_beside(path: &Path, bytes: &[u8], overwrite: bool) -> Result<
 /// `overwrite`. Returns the file's size in bytes.
 pub fn write_atomically(path: &Path, overwrite: bool, fill: impl FnOnce(&mut AtomicFile) -> Result<()>) -> Result<u64> {
     if !overwrite && path.exists() {
-        return Err(crate::Error::Output { path: path.to_path_buf(), problem: crate::OutputProblem::Exists });
+        return Err(crate::error::Error::Output {
+            path: path.to_path_buf(),
+            problem: crate::error::OutputProblem::Exists,
+        });
     }
     let mut file = AtomicFile::create(path)?;
     fill(&mut file)?;
@@ -259,7 +264,7 @@ mod tests {
         // A folder with files in it, or a file, is refused and left alone.
         for taken in [new.clone(), new.join("b.txt")] {
             let e = RunFolder::claim(&taken).unwrap_err();
-            assert!(matches!(e, crate::Error::Output { ref path, .. } if *path == taken), "{e}");
+            assert!(matches!(e, crate::error::Error::Output { ref path, .. } if *path == taken), "{e}");
         }
         assert!(new.join("sub/a.txt").is_file() && new.join("b.txt").is_file());
     }

@@ -14,9 +14,10 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use super::claim::{Claim, Scope};
+use super::fs::sync_folder;
 use super::interrupt::{forget_folder, register_folder, remove_folder, remove_in_place, Cleanup};
-use super::temporary::{sync_folder, AtomicFile};
-use crate::{Error, OutputProblem, Result, SetProblem};
+use super::temporary::AtomicFile;
+use crate::error::{Error, OutputProblem, Result, SetProblem};
 
 /// One file of a set, as its manifest lists it.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]

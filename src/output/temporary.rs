@@ -8,9 +8,10 @@ use std::path::{Path, PathBuf};
 
 use super::claim::{Claim, Scope};
 use super::folder_of;
+use super::fs::sync_folder;
 use super::interrupt;
 use super::naming::{stem_of, temporary_prefix};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Bytes gathered before a write reaches the operating system.
 const BUFFER_BYTES: usize = 1 << 20;
@@ -176,25 +177,5 @@ impl Spool {
     /// The open file.
     pub fn file(&self) -> &File {
         &self.file
-    }
-}
-
-/// Make a rename in `folder` durable. File systems that cannot sync a
-/// folder say so with `InvalidInput` or `Unsupported`; there is nothing
-/// more to do on them.
-pub(crate) fn sync_folder(folder: &Path) -> Result<()> {
-    match File::open(folder).and_then(|f| f.sync_all()) {
-        Ok(()) => Ok(()),
-        Err(e)
-            if matches!(
-                e.kind(),
-                std::io::ErrorKind::InvalidInput
-                    | std::io::ErrorKind::Unsupported
-                    | std::io::ErrorKind::PermissionDenied
-            ) =>
-        {
-            Ok(())
-        }
-        Err(e) => Err(Error::io(folder, e)),
     }
 }

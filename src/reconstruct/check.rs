@@ -22,9 +22,10 @@ use super::picture::Picture;
 use super::solve::HololineOperator;
 use super::viewer::{ColourOptics, Eye};
 use crate::assemble::{Assembler, FrameImages, Signals};
+use crate::error::{Error, Result};
 use crate::layout::{builtin, ColourSignals, Layout};
+use crate::modulation::Modulation;
 use crate::progress::{Progress, Steps};
-use crate::{Error, Modulation, Result};
 
 /// How far a recovered modulation is from the stored one.
 #[derive(Clone, Debug, PartialEq, Serialize)]

@@ -21,7 +21,7 @@ use std::f64::consts::PI;
 use rustfft::num_complex::Complex64;
 
 use super::propagate::{fast_len, Field1d, MAX_FFT_SAMPLES};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// An eye focused on the plane of a field, in that plane's coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]

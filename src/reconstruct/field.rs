@@ -137,7 +137,7 @@ mod tests {
         let mut layout = layout;
         layout.geometry.hololines = 1;
         let a = crate::assemble::Assembler::new(&layout).unwrap();
-        let mut m = crate::Modulation::zeros(layout.geometry.clone()).unwrap();
+        let mut m = crate::modulation::Modulation::zeros(layout.geometry.clone()).unwrap();
         m.set(colour, 0, e, v, 1.0);
         let s = a.signals(&m, colour).unwrap();
         let basis = a.plan(colour).basis();

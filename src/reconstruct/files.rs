@@ -12,10 +12,10 @@ use super::picture::Picture;
 use super::viewer::Eye;
 use crate::assemble::output::{read_frame_images, read_sidecar, StoredImages, FRINGE_SIDECAR};
 use crate::assemble::Assembler;
+use crate::error::{Error, Result};
 use crate::format::HoloFile;
 use crate::layout::Layout;
 use crate::progress::Progress;
-use crate::{Error, Result};
 
 /// A frame's fringes: assembled from a `.holo` frame, or read from a
 /// directory `holo assemble` wrote.
@@ -80,7 +80,12 @@ fn read_fringes(dir: &Path, layout: Option<&Layout>, frame: usize) -> Result<Fri
 }
 
 /// Frame `frame` of a `.holo` file assembled in memory for `layout`, 8-bit.
-fn assemble_frame(file: &HoloFile, path: &Path, layout: &Layout, frame: usize) -> Result<(Fringes, crate::Modulation)> {
+fn assemble_frame(
+    file: &HoloFile,
+    path: &Path,
+    layout: &Layout,
+    frame: usize,
+) -> Result<(Fringes, crate::modulation::Modulation)> {
     let frames = file.info().frames.len();
     if frame >= frames {
         return Err(Error::no_frame(path, frame, frames));

@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
+use crate::error::Result;
 use crate::picture::{encode_png, Bits, Colour, Tone};
-use crate::Result;
 
 /// Linear brightness per (hololine, emitter) and colour channel,
 /// `data[(j · emitters + e) · channels + c]`, 1 for a fully lit emitter.

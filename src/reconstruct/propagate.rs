@@ -17,7 +17,7 @@ use std::f64::consts::PI;
 
 use rustfft::num_complex::Complex64;
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Most samples a propagation or a spectrum may need before its FFT length is
 /// rounded up to a fast one (2²⁶ complex samples are 1 GiB); more is refused.

@@ -22,8 +22,10 @@ use super::coherent::{CoherentImage, FocusedEye};
 use super::field::FieldPlan;
 use super::propagate::{Field1d, Propagator};
 use crate::assemble::{Assembler, ColourBasis};
+use crate::error::{Error, Result};
+use crate::geometry::Geometry;
 use crate::layout::ColourSignals;
-use crate::{Error, Geometry, Modulation, Result};
+use crate::modulation::Modulation;
 
 /// A viewer: eye position on the viewer's side of the display and pupil.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -6,10 +6,10 @@
 //! blending, for a rail, a grid, scattered positions and a ring.
 
 use holo::cameras::image::Picture;
+use holo::cameras::mesh_picture::camera_picture;
 use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView, Parallax, PlacementRequest};
 use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
 use holo::geometry::{rgb_channels, Geometry, Views};
-use holo::mesh::camera::camera_picture;
 use holo::mesh::place::{place, Placement};
 use holo::mesh::render::{render, RenderOptions, Supersample};
 use holo::mesh::shade::Lighting;

@@ -9,8 +9,9 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use holo::format::{validate, write, write_frames, Compression, HoloFile, WriteOptions};
+use holo::format::{write, write_frames, Compression, HoloFile, WriteOptions};
 use holo::geometry::{ColourChannel, Geometry, Views};
+use holo::validate;
 use holo::{Error, Modulation};
 
 /// 4 hololines × 3 emitters × 2 views, one channel, f16, uncompressed.
@@ -381,7 +382,7 @@ fn a_b44_block_that_breaks_the_decoder_is_an_error() {
         let e = file.read_frame(0).unwrap_err().to_string();
         assert!(e.contains("b44-overflow.holo"), "{e}");
     }
-    let report = holo::format::validate(&path);
+    let report = holo::validate(&path);
     assert!(report.map(|r| !r.is_valid()).unwrap_or(true));
 }
 
@@ -570,7 +571,7 @@ fn every_flip_is_refused(original: &[u8], flips: impl Iterator<Item = (usize, u8
 fn a_flipped_bit_anywhere_in_the_header_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let original = std::fs::read(sealed_movie(dir.path())).unwrap();
-    assert!(holo::format::validate(dir.path().join("movie.holo")).unwrap().is_valid());
+    assert!(holo::validate(dir.path().join("movie.holo")).unwrap().is_valid());
     let end = headers_end(&original);
     every_flip_is_refused(&original, (0..end).map(|at| (at, (at * 3 % 8) as u8)), dir.path());
 }

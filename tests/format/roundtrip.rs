@@ -82,7 +82,7 @@ fn lossy_compressions_warn_and_stay_close() {
         let report = write(&path, &m, &options(sample_type, compression)).unwrap();
         assert!(report.warnings.iter().any(|w| w.contains("lossy")), "{:?}", report.warnings);
         // The digest describes what was stored, so the file validates.
-        assert!(holo::format::validate(&path).unwrap().is_valid(), "{}", compression.name());
+        assert!(holo::validate(&path).unwrap().is_valid(), "{}", compression.name());
         let file = HoloFile::open(&path).unwrap();
         let region = file.read_frame(0).unwrap();
         assert_eq!(region, file.read_region(0, &Region::all(m.geometry())).unwrap());
@@ -111,7 +111,7 @@ fn every_lossy_compression_converts_the_bundled_spot() {
         };
         let report = convert_mesh(&spot, &g, &path, &options, &holo::progress::Silent)
             .unwrap_or_else(|e| panic!("{}: {e}", compression.name()));
-        assert!(holo::format::validate(&path).unwrap().is_valid(), "{}", compression.name());
+        assert!(holo::validate(&path).unwrap().is_valid(), "{}", compression.name());
         (report, read(&path).unwrap())
     };
     let (_, exact) = convert(Compression::Zip, SampleType::F32);
@@ -225,7 +225,7 @@ fn streamed_frames_round_trip_and_bytes_are_deterministic() {
         assert_eq!(file.info().frames[i].number, 100 + i as i64);
         assert_eq!(&file.read_frame(i).unwrap(), f);
     }
-    assert!(holo::format::validate(&a).unwrap().is_valid());
+    assert!(holo::validate(&a).unwrap().is_valid());
 }
 
 #[test]
@@ -417,7 +417,7 @@ fn the_placement_round_trips_bit_for_bit() {
     write(&path, &m, &WriteOptions { placement: Some(placement), ..WriteOptions::default() }).unwrap();
     let file = HoloFile::open(&path).unwrap();
     assert_eq!(file.info().placement, Some(placement));
-    assert!(holo::format::validate(&path).unwrap().is_valid());
+    assert!(holo::validate(&path).unwrap().is_valid());
     // The bytes after the type name: the transpose, little-endian.
     let bytes = std::fs::read(&path).unwrap();
     let at = bytes.windows(5).position(|w| w == b"m44d\0").unwrap() + 5 + 4;
@@ -458,8 +458,8 @@ fn the_provenance_of_1_1_is_left_out_of_a_1_0_file() {
     write(&new, &m, &with(FormatVersion::default())).unwrap();
     let file = HoloFile::open(&new).unwrap();
     assert_eq!(file.info().placement, Some(placement));
-    assert_eq!(file.info().conversion().unwrap(), Some(&conversion));
-    let v = holo::format::validate(&new).unwrap();
+    assert_eq!(file.info().conversion().unwrap(), Some(conversion.clone()));
+    let v = holo::validate(&new).unwrap();
     assert!(v.is_valid() && v.warnings.is_empty(), "{v:?}");
 }
 

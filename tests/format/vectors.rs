@@ -118,7 +118,7 @@ fn tiny_vector_is_stable() {
         assert_eq!(read(&path).unwrap(), tiny());
         let file = HoloFile::open(&path).unwrap();
         assert_eq!(file.info().version, version.number());
-        assert!(holo::format::validate(&path).unwrap().is_valid());
+        assert!(holo::validate(&path).unwrap().is_valid());
     }
 }
 
@@ -190,6 +190,6 @@ fn lossy_undershoot_vector_reads_as_zero() {
     for (i, (&d, &r)) in decoded.samples().iter().zip(read_back.samples()).enumerate() {
         assert_eq!(r, d.max(0.0), "sample {i}");
     }
-    assert!(holo::format::validate(fixture("undershoot-y-f16-b44.holo")).unwrap().is_valid());
+    assert!(holo::validate(fixture("undershoot-y-f16-b44.holo")).unwrap().is_valid());
     eprintln!("decoded below zero (index, value): {negative:?}");
 }

@@ -4,9 +4,9 @@
 //! renderer made of it; away from edges (where the quilt interpolates
 //! between the display's rays) they must agree.
 
+use holo::cameras::mesh_picture::camera_picture;
 use holo::cameras::quilt::{quilt_from_modulation, quilt_rig, QuiltSpec};
 use holo::geometry::{rgb_channels, Geometry, Views};
-use holo::mesh::camera::camera_picture;
 use holo::mesh::render::{render, Engine, RenderOptions, Supersample};
 use holo::mesh::shade::{Lighting, SpecularModel};
 use holo::mesh::{Material, Object, Scene};

@@ -108,7 +108,7 @@ fn the_placement_is_recorded_exactly_and_remakes_the_conversion() {
     let file = holo::HoloFile::open(&out).unwrap();
     let stored = file.info().placement.expect("holo.placement");
     assert_eq!(stored, report.placed.matrix, "bit for bit");
-    assert!(holo::format::validate(&out).unwrap().is_valid());
+    assert!(holo::validate(&out).unwrap().is_valid());
     // Again, placed by the stored matrix alone.
     let mut again = ConvertOptions::default();
     again.scene.placement.matrix = Some(stored);

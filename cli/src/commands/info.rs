@@ -47,7 +47,7 @@ fn conversion(info: &holo::format::FileInfo) {
     match info.conversion() {
         Ok(None) => {}
         Ok(Some(c)) => {
-            let line = command_line(c, info);
+            let line = command_line(&c, info);
             say!("  conversion    {}", line.line);
             if !line.unsaid.is_empty() {
                 say!("                (not given exactly by these flags: {})", line.unsaid.join("; "));

@@ -24,7 +24,7 @@ pub fn run(a: ValidateArgs) -> Outcome {
     let mut all_valid = true;
     let mut reports = Vec::new();
     for f in &a.files {
-        let (valid, violations, warnings) = match holo::format::validate(f) {
+        let (valid, violations, warnings) = match holo::validate(f) {
             Ok(v) => (v.is_valid(), v.violations, v.warnings),
             Err(e) => {
                 // The line already names the file.

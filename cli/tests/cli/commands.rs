@@ -302,7 +302,7 @@ fn demo_runs_and_says_where_its_files_are() {
     let said = String::from_utf8_lossy(&o.stdout).into_owned();
     assert!(std::fs::read(d.join("demo.holo")).unwrap() != earlier);
     assert!(d.join(".holo-demo").is_file(), "the folder is marked as the demo's");
-    assert!(holo::format::validate(d.join("demo.holo")).unwrap().is_valid());
+    assert!(holo::validate(d.join("demo.holo")).unwrap().is_valid());
     let movie = holo::HoloFile::open(d.join("movie/cube.holo")).unwrap();
     assert_eq!(movie.info().frames.len(), 3);
 

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use super::super::array::ArrayFrame;
 use super::super::{ImageSource, Rig};
 use super::{common_size, finish, focal_px, is_image, list_files, FolderOptions};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Read a folder of PNG/JPEG images as a rail; the options give what the
 /// files cannot (baseline, focal length).

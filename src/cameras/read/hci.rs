@@ -28,8 +28,8 @@ use super::super::array::ArrayFrame;
 use super::super::{DepthKind, DepthSource, ImageSource, Rig};
 use super::{bare, finish, list_files};
 use crate::cameras::image::image_size;
+use crate::error::{Error, Result};
 use crate::math;
-use crate::{Error, Result};
 
 /// Read an HCI benchmark folder: a camera for each `input_CamNNN.png`
 /// present (some copies hold only part of the grid), in index order.

@@ -11,8 +11,8 @@ use std::path::Path;
 use super::super::{Camera, ImageSource, Intrinsics, Pose, Rig};
 use super::{bare, finish};
 use crate::cameras::image::image_size;
+use crate::error::{Error, Result};
 use crate::math;
-use crate::{Error, Result};
 
 /// Read a Middlebury `*_par.txt`; images are found next to it.
 pub fn read_middlebury(par: &Path) -> Result<Rig> {

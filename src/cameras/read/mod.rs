@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use super::image::image_size;
 use super::rig_file::read_rig_file;
 use super::Rig;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 mod folder;
 mod hci;

@@ -15,7 +15,7 @@ use super::super::array::ArrayFrame;
 use super::super::{ImageSource, Rig};
 use super::{bare, finish, QuiltOptions};
 use crate::cameras::image::image_size;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// What a quilt's name says about its tiles.
 #[derive(Clone, Copy, Debug, PartialEq)]

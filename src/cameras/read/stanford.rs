@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use super::super::array::ArrayFrame;
 use super::super::{ImageSource, Rig};
 use super::{common_size, finish, focal_px, list_files, StanfordOptions};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// `(row, column, y, x)` of a Stanford file name `out_RR_CC_Y_X[_].ext`, or
 /// `None` for other names.

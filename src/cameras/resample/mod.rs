@@ -41,10 +41,11 @@ pub use self::rig_geometry::RigGeometry;
 use self::surface::Scratch;
 use super::image::Picture;
 use super::{Camera, Rig};
+use crate::error::{Error, Result};
 use crate::geometry::{channel_weights, Geometry};
 use crate::math::{add, dot, length, scale, sub, Mat3};
+use crate::modulation::{Band, Modulation};
 use crate::progress::Progress;
-use crate::{Band, Error, Modulation, Result};
 
 mod rig_geometry;
 mod surface;

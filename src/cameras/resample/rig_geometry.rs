@@ -7,11 +7,11 @@
 use super::surface::Interpolator;
 use super::{list_names, Framing, Parallax, Placement, PlacementRequest, Ray};
 use crate::cameras::{Camera, Rig};
+use crate::error::{Error, Result};
 use crate::geometry::{millimetres_text, Geometry};
 use crate::math::{
     add, cross, dot, length, mat3_transpose_apply, mean, normalize_or, principal_axes, scale, solve3, sub, Mat3, Plane,
 };
-use crate::{Error, Result};
 
 /// The geometry of the rig that every ray uses: placement, camera surface,
 /// focus plane.

@@ -9,7 +9,7 @@ use spade::{DelaunayTriangulation, Point2, PositionInTriangulation, Triangulatio
 
 use super::Blend;
 use crate::cameras::Rig;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// A worker's reusable state for [`Interpolator::weights`].
 #[derive(Default)]

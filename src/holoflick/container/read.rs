@@ -14,9 +14,9 @@ use super::checksum;
 use super::chunk::{self, check_tag, is_critical, padding};
 use super::codec;
 use super::error::{tag_text, Problem};
-use super::{At, ContainerError};
 use super::model::{Frame, GeometryBlock, Info, ObjectRecord, ResolvedFrame, ResolvedObject};
 use super::*;
+use super::{At, ContainerError};
 
 /// How many key frames a reader keeps decoded: a frame may use a background
 /// stored at frame 0 and a set piece stored at a later key frame.

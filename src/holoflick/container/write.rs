@@ -12,9 +12,9 @@ use crate::output::AtomicFile;
 use super::checksum;
 use super::chunk::put_chunk;
 use super::codec;
-use super::{At, ContainerError};
 use super::model::{text_problem, Frame, GeometryBlock, ObjectRecord};
 use super::*;
+use super::{At, ContainerError};
 
 /// How to write.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -87,7 +87,10 @@ impl HoloFlickWriter {
             }
         }
         if !options.overwrite && path.exists() {
-            return Err(ContainerError::Output { path: path.to_path_buf(), problem: crate::OutputProblem::Exists });
+            return Err(ContainerError::Output {
+                path: path.to_path_buf(),
+                problem: crate::error::OutputProblem::Exists,
+            });
         }
         let out = AtomicFile::create(path).map_err(|e| ContainerError::from_output(path, e))?;
 
@@ -224,7 +227,7 @@ impl HoloFlickWriter {
 pub fn write_cg_file(path: impl AsRef<Path>, blocks: &[GeometryBlock], overwrite: bool) -> Result<u64> {
     let path = path.as_ref();
     if !overwrite && path.exists() {
-        return Err(ContainerError::Output { path: path.to_path_buf(), problem: crate::OutputProblem::Exists });
+        return Err(ContainerError::Output { path: path.to_path_buf(), problem: crate::error::OutputProblem::Exists });
     }
     // The layout is the codec's (`CgFile::to_bytes`, one place); blocks are
     // copied in unchanged.

@@ -28,9 +28,9 @@
 
 use std::collections::HashMap;
 
+use crate::error::{Error, Result};
 use crate::math::{distance, midpoint, narrow, unit};
 use crate::mesh::Object;
-use crate::{Error, Result};
 
 /// How to dice.
 #[derive(Clone, Copy, Debug)]

@@ -14,8 +14,8 @@
 
 use super::bake::{bake_diffuse_reporting, BakeOptions, BakeReport};
 use super::dice::{dice_reporting, with_flat_normals, DiceOptions, DiceReport};
+use crate::error::Result;
 use crate::mesh::{Light, Material, Scene};
-use crate::Result;
 
 /// What making micropolygons did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

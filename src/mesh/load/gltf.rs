@@ -20,6 +20,7 @@ use gltf::mesh::{Mode, Semantic};
 
 use super::texture::{decode, generate_tangents};
 use super::{file_name, finish_scene, Extent, LoadLimits, Referenced};
+use crate::error::{Error, Result};
 use crate::math::{
     cofactor3, det3, linear, mat3_apply, mat_mul, transform_direction, transform_point, translation, transpose, unit,
     Mat3, Mat4, IDENTITY4,
@@ -27,7 +28,6 @@ use crate::math::{
 use crate::mesh::{
     AlphaMode, Light, Material, MetallicRoughness, Object, Scene, Texture, TextureRef, UvTransform, Wrap,
 };
-use crate::{Error, Result};
 
 /// An opened glTF file, ready to be posed.
 #[derive(Debug)]

@@ -18,8 +18,8 @@ mod texture;
 use std::path::{Path, PathBuf};
 
 use super::{Object, Scene};
+use crate::error::{Error, Result};
 use crate::math::{cross, dot, length, sub};
-use crate::{Error, Result};
 
 /// Sizes the loaders refuse before allocating, so that a scene larger than
 /// memory allows (or a damaged file claiming to be one) gives a clear error

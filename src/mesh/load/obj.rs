@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 
 use super::texture::{decode, generate_tangents};
 use super::{fan, file_name, finish_scene, resolve_file, Extent, LoadLimits, Referenced};
+use crate::error::{Error, Result};
 use crate::math::unit;
 use crate::mesh::{Material, Object, Scene, Texture, TextureRef, UvTransform, Wrap};
-use crate::{Error, Result};
 
 const NONE: u32 = u32::MAX;
 

@@ -24,10 +24,10 @@ use std::path::Path;
 
 use super::texture::decode;
 use super::{fan, file_name, finish_scene, resolve_file, Extent, LoadLimits, Referenced};
+use crate::error::{Error, Result};
 use crate::math::unit;
 use crate::mesh::{Material, Object, Scene, TextureRef, UvTransform, Wrap};
 use crate::picture::srgb_decode_f32;
-use crate::{Error, Result};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Ty {

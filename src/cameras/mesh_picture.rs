@@ -7,11 +7,11 @@
 //! Every pixel is ray cast through a bounding-volume hierarchy (`bvh.rs`) in f64 from the camera's
 //! centre, box-filtered over `n × n` sub-pixel positions
 //! `u + (a + ½)/n − ½`, `v + (b + ½)/n − ½`. Visibility and shading are
-//! those of the display's reference renderer ([`super::trace`]): the
+//! those of the display's reference renderer ([`crate::mesh::trace`]): the
 //! surfaces in front of the camera that face it (or are double-sided) are
-//! seen nearest first, each sending [`super::shade::radiance`] with the view vector
+//! seen nearest first, each sending [`crate::mesh::shade::radiance`] with the view vector
 //! pointing from the surface toward the camera, until an opaque one ends
-//! the ray (see [`super::Material::alpha_mode`]). A camera on the display's viewer line
+//! the ray (see [`crate::mesh::Material::alpha_mode`]). A camera on the display's viewer line
 //! therefore sees along each ray exactly what the display stores for it.
 
 use std::io::Write;
@@ -19,14 +19,14 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
-use super::bvh::{Bvh, Triangle};
-use super::shade::Lighting;
-use super::trace::along_ray;
-use super::Scene;
-use crate::cameras::Camera;
+use super::Camera;
+use crate::error::{Error, Result};
 use crate::math::{dot, scale};
+use crate::mesh::bvh::{Bvh, Triangle};
+use crate::mesh::shade::Lighting;
+use crate::mesh::trace::along_ray;
+use crate::mesh::Scene;
 use crate::picture::{encode_png, Bits, Colour, Tone};
-use crate::{Error, Result};
 
 /// A rendered camera picture, row by row from the top (pixel `(u, v)` at
 /// index `v · width + u`).
@@ -50,7 +50,7 @@ const MAX_SAMPLES_PER_AXIS: usize = 64;
 
 /// Render what `camera` sees of `scene` (camera world = scene coordinates,
 /// metres) under exactly `lighting` (the scene's own lights are not added:
-/// [`super::render::RenderOptions::lighting_for`] gives those a render of
+/// [`crate::mesh::render::RenderOptions::lighting_for`] gives those a render of
 /// the scene uses), with `samples_per_pixel_axis²` rays per pixel.
 pub fn camera_picture(
     scene: &Scene,
@@ -74,7 +74,7 @@ pub fn camera_picture(
     if let Some(problem) = scene.problem() {
         return Err(Error::scene(&scene.source, problem));
     }
-    if let Some(bad) = lighting.lights.iter().find(|l| !super::render::light_is_finite(l)) {
+    if let Some(bad) = lighting.lights.iter().find(|l| !crate::mesh::render::light_is_finite(l)) {
         return Err(Error::argument("lights", format!("a light is not finite or has a negative brightness: {bad:?}")));
     }
     if let Some(problem) = lighting.problem_with(scene) {
