@@ -11,8 +11,8 @@
 use std::error::Error;
 use std::path::Path;
 
-use holo::format::{HoloFile, Region};
-use holo::validate;
+// The prelude: what a first program needs (`HoloFile`, `Region`, `validate`, …).
+use holo::prelude::*;
 
 /// The file to inspect.
 pub const FILE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/v1.0/frames-rgb-f32-zip.holo");

@@ -14,6 +14,8 @@
 //! meshes, camera arrays and HoloFlicks, and turns it into the *fringes*: the
 //! frame-buffer images a display's acousto-optic modulator is driven with.
 //!
+//! A first program needs only [`prelude`]: `use holo::prelude::*;`.
+//!
 //! # Data flow
 //!
 //! ```text
@@ -133,6 +135,7 @@ pub mod output;
 pub mod pattern;
 pub mod picture;
 pub mod pipeline;
+pub mod prelude;
 pub mod progress;
 pub mod provenance;
 pub mod reconstruct;

@@ -121,7 +121,7 @@ pub struct AssembleReport {
     pub resampled: Option<crate::resample::ResampleStats>,
     /// Where the time went: `read` (decoding the frames), `resample`,
     /// `assemble`, `encode` (the images written).
-    pub timings: crate::pipeline::Timings,
+    pub timings: crate::progress::Timings,
 }
 
 /// File name of image `image` of frame `index`.
@@ -170,7 +170,7 @@ pub fn assemble_file(
     let mut frames = Vec::new();
     let mut total = FrameStats::default();
     let steps = Steps::begin(progress, "frames", range.len());
-    let mut timings = crate::pipeline::Timings::default();
+    let mut timings = crate::progress::Timings::default();
     for index in range.clone() {
         let mut m = timings.time("read", || file.read_frame(index))?;
         if let Some(total) = resampled.as_mut() {

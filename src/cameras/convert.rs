@@ -47,7 +47,7 @@ pub struct CameraConvertReport {
     pub written: WriteReport,
     /// Where the time went (`decode`: the pictures; `render`: resampling;
     /// `write`).
-    pub timings: crate::pipeline::Timings,
+    pub timings: crate::progress::Timings,
 }
 
 /// Load `rig`'s pictures with `load` (one camera's linear picture and
@@ -128,7 +128,7 @@ fn convert(
         resample: report,
         written: run.written,
         timings: {
-            let mut t = crate::pipeline::Timings::default();
+            let mut t = crate::progress::Timings::default();
             t.add("decode", decoding);
             t.merge(&run.timings);
             t

@@ -121,7 +121,7 @@ pub struct HoloFlickConvertReport {
     /// The writer's report.
     pub written: WriteReport,
     /// Where the time went (`open`, `place`, `decode`, `render`, `write`).
-    pub timings: pipeline::Timings,
+    pub timings: crate::progress::Timings,
 }
 
 /// The box of the display's viewing zone: every point of the viewer line a
@@ -270,8 +270,8 @@ impl Source for HoloFlickSource<'_> {
         Some(self.state.placed.as_ref().map_or(crate::math::IDENTITY4, |p| p.matrix))
     }
 
-    fn stage_times(&self) -> pipeline::Timings {
-        let mut t = pipeline::Timings::default();
+    fn stage_times(&self) -> crate::progress::Timings {
+        let mut t = crate::progress::Timings::default();
         t.add("decode", self.decoding);
         t
     }

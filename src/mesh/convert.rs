@@ -84,7 +84,7 @@ pub struct ConvertReport {
     /// The writer's report.
     pub written: WriteReport,
     /// Where the time went (`open`, `place`, `decode`, `render`, `write`).
-    pub timings: pipeline::Timings,
+    pub timings: crate::progress::Timings,
 }
 
 /// Convert `input` into `output` for `geometry`: a [`MeshSource`] through
@@ -273,8 +273,8 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
         }
     }
 
-    fn stage_times(&self) -> pipeline::Timings {
-        let mut t = pipeline::Timings::default();
+    fn stage_times(&self) -> crate::progress::Timings {
+        let mut t = crate::progress::Timings::default();
         t.add("decode", self.decoding);
         t
     }

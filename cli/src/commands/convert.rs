@@ -61,7 +61,7 @@ pub struct Target {
 
 impl Target {
     /// The timings line, when asked for.
-    fn say_timings(&self, timings: &holo::pipeline::Timings, frames: usize) {
+    fn say_timings(&self, timings: &holo::progress::Timings, frames: usize) {
         if self.timings {
             say!("timings: {}", timings.line(frames));
         }
