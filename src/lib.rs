@@ -120,7 +120,6 @@
 
 pub mod assemble;
 pub mod cameras;
-pub mod demo;
 mod error;
 pub mod farm;
 pub mod format;

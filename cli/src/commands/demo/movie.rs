@@ -8,15 +8,15 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::error::Result;
-use crate::layout::Layout;
-use crate::progress::{Labelled, Progress};
-use crate::reconstruct::files::{view_file, EyeAt};
+use holo::layout::Layout;
+use holo::progress::{Labelled, Progress};
+use holo::reconstruct::files::{view_file, EyeAt};
+use holo::Result;
 
-use super::{contact_sheet, PUPIL_M};
+use super::chain::{contact_sheet, PUPIL_M};
 
 /// The bundled animated scene: Khronos' AnimatedMorphCube (CC0; fixtures/SOURCES.md).
-const DEMO_MOVIE: &[u8] = include_bytes!("../../fixtures/mesh/AnimatedMorphCube.glb");
+const DEMO_MOVIE: &[u8] = include_bytes!("../../../../fixtures/mesh/AnimatedMorphCube.glb");
 
 /// Frames of the animation taken.
 const FRAMES: usize = 3;
@@ -47,18 +47,18 @@ pub struct DemoMovie {
 
 /// The movie path into `dir`, for `layout`.
 pub(super) fn demo_movie(dir: &Path, layout: &Layout, progress: &dyn Progress) -> Result<DemoMovie> {
-    use crate::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
-    use crate::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
-    use crate::mesh::convert::SceneFramesOptions;
-    std::fs::create_dir_all(dir).map_err(|e| crate::error::Error::io(dir, e))?;
+    use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
+    use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
+    use holo::mesh::convert::SceneFramesOptions;
+    std::fs::create_dir_all(dir).map_err(|e| holo::Error::Io { path: dir.to_path_buf(), source: e })?;
     let scene = dir.join("AnimatedMorphCube.glb");
-    crate::output::write_bytes_beside(&scene, DEMO_MOVIE, true)?;
+    holo::output::write_bytes_beside(&scene, DEMO_MOVIE, true)?;
     let holoflick = dir.join("cube.hflk");
     let started = Instant::now();
     let options = HoloFlickEncodeOptions {
         micropolygon: 4.0,
         scene: SceneFramesOptions {
-            placement: crate::mesh::place::Placement { rotate_deg: [20.0, -30.0, 0.0], ..Default::default() },
+            placement: holo::mesh::place::Placement { rotate_deg: [20.0, -30.0, 0.0], ..Default::default() },
             frames: Some(0..FRAMES),
             frames_per_second: 0.5,
             ..SceneFramesOptions::default()
@@ -74,7 +74,7 @@ pub(super) fn demo_movie(dir: &Path, layout: &Layout, progress: &dyn Progress) -
     convert.write.overwrite = true;
     convert_holoflick(&holoflick, &layout.geometry, &holo_file, &convert, progress)?;
     let convert_seconds = started.elapsed().as_secs_f64();
-    let frames_per_second = crate::format::HoloFile::open(&holo_file)?.info().frames_per_second;
+    let frames_per_second = holo::format::HoloFile::open(&holo_file)?.info().frames_per_second;
 
     // Each frame assembled in memory, as the display would receive it, and seen.
     let started = Instant::now();
@@ -85,10 +85,10 @@ pub(super) fn demo_movie(dir: &Path, layout: &Layout, progress: &dyn Progress) -
         let frame_progress = Labelled::new(progress, format!("frame {k}"));
         seen.extend(view_file(&holo_file, Some(layout), k, &[eye], &frame_progress)?);
     }
-    let tiles: Vec<(String, &crate::reconstruct::picture::Picture)> =
+    let tiles: Vec<(String, &holo::reconstruct::picture::Picture)> =
         seen.iter().enumerate().map(|(k, p)| (format!("frame {k}"), p)).collect();
     let frames_picture = dir.join("frames.png");
-    crate::output::write_bytes_beside(&frames_picture, &contact_sheet(&tiles, tiles.len(), 2).png()?, true)?;
+    holo::output::write_bytes_beside(&frames_picture, &contact_sheet(&tiles, tiles.len(), 2).png()?, true)?;
     let view_seconds = started.elapsed().as_secs_f64();
     Ok(DemoMovie {
         scene,

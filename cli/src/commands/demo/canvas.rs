@@ -1,10 +1,10 @@
 //! The demo's pictures before they are PNGs: linear red, green and blue
 //! per pixel, square pixels, into which pictures are pasted and labels
-//! drawn; then tone-mapped and encoded by [`crate::picture`].
+//! drawn; then tone-mapped and encoded by [`holo::picture`].
 
-use crate::error::Result;
-use crate::picture::{encode_apng, encode_png, Animation, Bits, Colour, Tone};
-use crate::reconstruct::picture::Picture;
+use holo::picture::{encode_apng, encode_png, Animation, Bits, Colour, Tone};
+use holo::reconstruct::picture::Picture;
+use holo::Result;
 
 use super::font;
 
@@ -98,16 +98,19 @@ impl Canvas {
 /// shown `frame_seconds`, played `plays` times (0: forever).
 pub fn apng(frames: &[Canvas], frame_seconds: f64, plays: u32) -> Result<Vec<u8>> {
     let Some(first) = frames.first() else {
-        return Err(crate::error::Error::argument("picture", "an animated PNG needs at least one frame"));
+        return Err(holo::Error::Argument {
+            what: "picture",
+            problem: "an animated PNG needs at least one frame".into(),
+        });
     };
     if let Some(odd) = frames.iter().find(|f| (f.width, f.height) != (first.width, first.height)) {
-        return Err(crate::error::Error::argument(
-            "picture",
-            format!(
+        return Err(holo::Error::Argument {
+            what: "picture",
+            problem: format!(
                 "an animated PNG's frames are one size: {}×{} and {}×{}",
                 first.width, first.height, odd.width, odd.height
             ),
-        ));
+        });
     }
     let colour = if frames.iter().all(|f| f.grey) { Colour::Grey } else { Colour::Rgb };
     let (width, height) = (first.width, first.height);

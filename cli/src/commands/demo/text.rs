@@ -2,8 +2,8 @@
 
 use std::fmt;
 
-use super::Demo;
-use crate::report::frame_rate_text;
+use super::chain::Demo;
+use holo::report::frame_rate_text;
 
 impl fmt::Display for Demo {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

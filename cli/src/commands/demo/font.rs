@@ -71,6 +71,7 @@ fn glyph(c: char) -> Option<[u8; 8]> {
 }
 
 /// Whether every character of `text` has a glyph.
+#[cfg(test)]
 pub fn covers(text: &str) -> bool {
     text.chars().all(|c| glyph(c).is_some())
 }

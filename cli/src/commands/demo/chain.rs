@@ -5,7 +5,7 @@
 //! the frame is assembled into the fringes the display is sent (held in
 //! memory, as `holo assemble` would write them, and pictured: `fringe.rs`);
 //! and what eyes across the whole viewing zone see of those fringes is
-//! simulated by scalar diffraction ([`crate::reconstruct`]), as a labelled
+//! simulated by scalar diffraction ([`holo::reconstruct`]), as a labelled
 //! contact sheet and an animated PNG of an eye moving (`canvas.rs`, with
 //! labels in a built-in font, `font.rs`). The movie path (`movie.rs`) takes
 //! the bundled animated glTF through a HoloFlick to `.holo` frames and shows
@@ -16,27 +16,22 @@
 //! frame, mostly the quantization's mid-grey): the text says how to make
 //! them with `holo assemble`.
 
-pub mod canvas;
-pub mod font;
-pub mod fringe;
-mod movie;
-mod text;
-
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::assemble::Assembler;
-use crate::error::Result;
-use crate::layout;
-use crate::progress::{Labelled, Progress};
-use crate::reconstruct::check::{view, FrameRef};
-use crate::reconstruct::picture::Picture;
-use crate::reconstruct::viewer::Eye;
+use holo::assemble::Assembler;
+use holo::layout;
+use holo::progress::{Labelled, Progress};
+use holo::reconstruct::check::{view, FrameRef};
+use holo::reconstruct::picture::Picture;
+use holo::reconstruct::viewer::Eye;
+use holo::Result;
 
-use canvas::{Canvas, WHITE};
-pub use movie::DemoMovie;
+use super::canvas::{self, Canvas, WHITE};
+use super::movie::{self, DemoMovie};
+use super::{font, fringe};
 
 /// What `holo demo` made.
 #[derive(Clone, Debug, Serialize)]
@@ -90,9 +85,9 @@ pub struct Demo {
 /// The bundled scene: Spot the cow (Keenan Crane, public domain), decimated
 /// to 500 triangles, with its texture (fixtures/SOURCES.md).
 const DEMO_SCENE: [(&str, &[u8]); 3] = [
-    ("spot.obj", include_bytes!("../../fixtures/mesh/spot/spot.obj")),
-    ("spot.mtl", include_bytes!("../../fixtures/mesh/spot/spot.mtl")),
-    ("spot_texture.png", include_bytes!("../../fixtures/mesh/spot/spot_texture.png")),
+    ("spot.obj", include_bytes!("../../../../fixtures/mesh/spot/spot.obj")),
+    ("spot.mtl", include_bytes!("../../../../fixtures/mesh/spot/spot.mtl")),
+    ("spot_texture.png", include_bytes!("../../../../fixtures/mesh/spot/spot_texture.png")),
 ];
 
 /// Eyes along the viewing zone simulated: the animation's frames one way.
@@ -108,7 +103,7 @@ const SHEET_SHRINK: usize = 2;
 /// Seconds each frame of the animation is shown.
 const SWEEP_FRAME_SECONDS: f64 = 0.08;
 /// An eye's pupil, metres.
-const PUPIL_M: f64 = 4e-3;
+pub(super) const PUPIL_M: f64 = 4e-3;
 /// Each font pixel of a label is this many pixels.
 const LABEL_SCALE: usize = 2;
 /// Room round tiles and labels, pixels.
@@ -126,31 +121,31 @@ const GAP: usize = 8;
 /// and the bundled scene), whose files are replaced; a folder holding other
 /// files is refused, so no file the demo did not make is ever written over.
 /// A demo that does not finish (an error, or a signal with
-/// [`crate::output::install_interrupt_cleanup`]) leaves the folder as it
+/// [`holo::output::install_interrupt_cleanup`]) leaves the folder as it
 /// was: a new or empty one as such, an earlier demo's with the earlier
 /// demo's files (moved aside while the demo runs,
-/// [`crate::output::RunFolder::take_over`]).
+/// [`holo::output::RunFolder::take_over`]).
 pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {
     let dir = dir.as_ref();
     if dir.join(MARKER).is_file() || made_by_an_earlier_demo(dir) {
-        let folder = crate::output::RunFolder::take_over(dir, &WRITES)?;
+        let folder = holo::output::RunFolder::take_over(dir, &WRITES)?;
         let demo = demo_in(dir, progress)?;
         if !dir.join(MARKER).is_file() {
-            crate::output::write_bytes_beside(&dir.join(MARKER), MARKER_TEXT.as_bytes(), false)?;
+            holo::output::write_bytes_beside(&dir.join(MARKER), MARKER_TEXT.as_bytes(), false)?;
         }
         folder.keep();
         return Ok(demo);
     }
     if std::fs::read_dir(dir).is_ok_and(|mut entries| entries.next().is_some()) {
-        return Err(crate::error::Error::Output {
+        return Err(holo::Error::Output {
             path: dir.to_path_buf(),
-            problem: crate::error::OutputProblem::WrongKind(
+            problem: holo::OutputProblem::WrongKind(
                 "holds files that `holo demo` did not make (there is no .holo-demo in it); give -o a new or empty folder",
             ),
         });
     }
-    let folder = crate::output::RunFolder::claim(dir)?;
-    crate::output::write_bytes_beside(&dir.join(MARKER), MARKER_TEXT.as_bytes(), false)?;
+    let folder = holo::output::RunFolder::claim(dir)?;
+    holo::output::write_bytes_beside(&dir.join(MARKER), MARKER_TEXT.as_bytes(), false)?;
     let demo = demo_in(dir, progress)?;
     folder.keep();
     Ok(demo)
@@ -179,12 +174,12 @@ fn made_by_an_earlier_demo(dir: &Path) -> bool {
 }
 
 fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
-    use crate::mesh::convert::{convert_mesh, ConvertOptions};
+    use holo::mesh::convert::{convert_mesh, ConvertOptions};
     let started_demo = Instant::now();
     let scene_dir = dir.join("spot");
-    std::fs::create_dir_all(&scene_dir).map_err(|e| crate::error::Error::io(&scene_dir, e))?;
+    std::fs::create_dir_all(&scene_dir).map_err(|e| holo::Error::Io { path: scene_dir.clone(), source: e })?;
     for (name, bytes) in DEMO_SCENE {
-        crate::output::write_bytes_beside(&scene_dir.join(name), bytes, true)?;
+        holo::output::write_bytes_beside(&scene_dir.join(name), bytes, true)?;
     }
     let scene = scene_dir.join("spot.obj");
     let layout = layout::mark3();
@@ -200,7 +195,7 @@ fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
 
     let (quilt, quilt_tiles) = quilt(&holo_file)?;
 
-    let m = crate::format::HoloFile::open(&holo_file)?.read_frame(0)?;
+    let m = holo::format::HoloFile::open(&holo_file)?.read_frame(0)?;
     let started = Instant::now();
     let assembler = Assembler::new(&layout)?;
     let (images, _) = assembler.assemble::<u8>(&m)?;
@@ -209,7 +204,7 @@ fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
     drop(m);
     let fringe = fringe::fringe_picture(&assembler, &images)?;
     let fringe_picture = dir.join("fringe.png");
-    crate::output::write_bytes_beside(&fringe_picture, &fringe.canvas.png()?, true)?;
+    holo::output::write_bytes_beside(&fringe_picture, &fringe.canvas.png()?, true)?;
 
     let started = Instant::now();
     let eyes: Vec<Eye> = eyes_x_m
@@ -224,13 +219,13 @@ fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
     let sheet: Vec<(String, &Picture)> =
         eyes_x_m.iter().zip(&pictures).step_by(SHEET_EVERY).map(|(&x, p)| (label(x), p)).collect();
     let eyes_sheet = dir.join("eyes.png");
-    crate::output::write_bytes_beside(&eyes_sheet, &contact_sheet(&sheet, SHEET_COLUMNS, SHEET_SHRINK).png()?, true)?;
+    holo::output::write_bytes_beside(&eyes_sheet, &contact_sheet(&sheet, SHEET_COLUMNS, SHEET_SHRINK).png()?, true)?;
 
     // There and back, the ends shown once.
     let order: Vec<usize> = (0..eyes.len()).chain((1..eyes.len().saturating_sub(1)).rev()).collect();
     let frames: Vec<Canvas> = order.iter().map(|&k| labelled(&pictures[k], 1, &label(eyes_x_m[k]))).collect();
     let eyes_moving = dir.join("eyes-moving.png");
-    crate::output::write_bytes_beside(&eyes_moving, &canvas::apng(&frames, SWEEP_FRAME_SECONDS, 0)?, true)?;
+    holo::output::write_bytes_beside(&eyes_moving, &canvas::apng(&frames, SWEEP_FRAME_SECONDS, 0)?, true)?;
 
     let movie = movie::demo_movie(&dir.join("movie"), &layout, &Labelled::new(progress, "movie"))?;
     let fb = &layout.fringe.as_ref().expect("Mark III has a fringe side").frame_buffer;
@@ -268,7 +263,7 @@ fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
 /// seen outside the views, where no light was steered. With nothing lit,
 /// or a scene wider than that stretch allows, the stretch from which the
 /// middle of the emitter plane is seen in the views.
-pub fn viewing_zone_eyes_x_m(m: &crate::modulation::Modulation, count: usize) -> Vec<f64> {
+pub fn viewing_zone_eyes_x_m(m: &holo::Modulation, count: usize) -> Vec<f64> {
     let g = m.geometry();
     let lit = |e: usize| {
         (0..g.channels.len()).any(|c| (0..g.hololines).any(|j| m.views_of(c, j, e).iter().any(|&v| v > 0.0)))
@@ -337,9 +332,9 @@ pub fn contact_sheet(pictures: &[(String, &Picture)], columns: usize, shrink: us
 /// The demo file's quilt, at `holo export-quilt`'s defaults (Looking Glass
 /// Portrait, spanning the file's own views): its path and tiles.
 fn quilt(holo_file: &Path) -> Result<(PathBuf, usize)> {
-    use crate::cameras::quilt::{export_quilt, quilt_file_name, view_cone_deg_for, QuiltOptions, QuiltSpec};
+    use holo::cameras::quilt::{export_quilt, quilt_file_name, view_cone_deg_for, QuiltOptions, QuiltSpec};
     let mut spec = QuiltSpec::portrait();
-    spec.view_cone_deg = view_cone_deg_for(&crate::format::HoloFile::open(holo_file)?.info().geometry.views);
+    spec.view_cone_deg = view_cone_deg_for(&holo::format::HoloFile::open(holo_file)?.info().geometry.views);
     let path = holo_file.with_file_name(quilt_file_name("demo", &spec));
     let report =
         export_quilt(holo_file, 0, &spec, &path, &QuiltOptions { overwrite: true, ..QuiltOptions::default() })?;
@@ -358,9 +353,7 @@ mod tests {
         let half_tan = g.views.last_theta_rad.tan();
         // Emitters lit from −10 to +10 mm: seen in the views from eyes within
         // ±(d·tan θ_last − 10 mm).
-        let m =
-            crate::modulation::Modulation::from_fn(g.clone(), |_, _, e, _| f32::from(g.emitter_x_m(e).abs() <= 0.010))
-                .unwrap();
+        let m = holo::Modulation::from_fn(g.clone(), |_, _, e, _| f32::from(g.emitter_x_m(e).abs() <= 0.010)).unwrap();
         let eyes = viewing_zone_eyes_x_m(&m, 5);
         let x_lit = (0..g.emitters).map(|e| g.emitter_x_m(e)).filter(|x| x.abs() <= 0.010);
         let (lo, hi) = x_lit.fold((f64::MAX, f64::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)));
@@ -368,7 +361,7 @@ mod tests {
         assert!((eyes[4] - (lo + d * half_tan)).abs() < 1e-9, "{eyes:?}");
         assert!((eyes[2] - 0.5 * (eyes[0] + eyes[4])).abs() < 1e-12);
         // Nothing lit: the zone of the middle of the display.
-        let dark = crate::modulation::Modulation::zeros(g.clone()).unwrap();
+        let dark = holo::Modulation::zeros(g.clone()).unwrap();
         let eyes = viewing_zone_eyes_x_m(&dark, 2);
         let middle = 0.5 * (g.emitter_x_m(0) + g.emitter_x_m(g.emitters - 1));
         assert!((eyes[1] - (middle + d * half_tan)).abs() < 1e-9, "{eyes:?}");

@@ -18,8 +18,8 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use crate::assemble::{Assembler, FrameImages};
-use crate::error::Result;
+use holo::assemble::{Assembler, FrameImages};
+use holo::Result;
 
 use super::canvas::{Canvas, WHITE};
 use super::font;
@@ -44,13 +44,14 @@ pub struct FringePicture {
     pub canvas: Canvas,
     /// The hololine zoomed into.
     pub hololine: usize,
-    /// Its signal (in the layout's signal order) shown.
-    pub signal: usize,
     /// The samples shown.
     pub samples: Range<usize>,
-    /// The legend drawn: what the colours, zones and lobes are.
+    /// The legend drawn: what the colours, zones and lobes are (what the
+    /// tests read of the picture, with the lobes).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub legend: Vec<String>,
     /// The emitters of each lobe of the hololine's signal, in order.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub lobes: Vec<Range<usize>>,
 }
 
@@ -76,12 +77,12 @@ fn wrapped(items: &[String], sep: &str, chars: usize) -> Vec<String> {
 
 /// The name of signal `s` of a hololine (`zone1.cos`, or `R.zone1` with
 /// several colours sent separately).
-fn signal_name(layout: &crate::layout::Layout, s: usize) -> String {
+fn signal_name(layout: &holo::layout::Layout, s: usize) -> String {
     let fringe = layout.fringe.as_ref().expect("an assembler's layout has a fringe side");
     let names = fringe.signal_names();
     let channels = &layout.geometry.channels;
     match fringe.colours {
-        crate::layout::ColourSignals::Separate if channels.len() > 1 => {
+        holo::layout::ColourSignals::Separate if channels.len() > 1 => {
             format!("{}.{}", channels[s / names.len()].name, names[s % names.len()])
         }
         _ => names[s % names.len()].clone(),
@@ -91,7 +92,7 @@ fn signal_name(layout: &crate::layout::Layout, s: usize) -> String {
 /// What each image's false colour shows: its components' signals, grouped
 /// by the zone they carry, each group named by the colour its components
 /// make together.
-fn colour_legend(layout: &crate::layout::Layout) -> Vec<String> {
+fn colour_legend(layout: &holo::layout::Layout) -> Vec<String> {
     let fringe = layout.fringe.as_ref().expect("an assembler's layout has a fringe side");
     let fb = &fringe.frame_buffer;
     let signals = layout.signals_per_hololine();
@@ -361,7 +362,7 @@ pub fn fringe_picture(a: &Assembler, images: &FrameImages<u8>) -> Result<FringeP
         row_peak.max(f32::MIN_POSITIVE),
     );
     let legend = colours.into_iter().chain(about_lobes).collect();
-    Ok(FringePicture { canvas, hololine, signal: 0, samples, legend, lobes })
+    Ok(FringePicture { canvas, hololine, samples, legend, lobes })
 }
 
 /// A `width × height` outline in [`MARK`] with its top left at `(x, y)`.
@@ -424,11 +425,11 @@ fn thumbnail(images: &FrameImages<u8>, image: &[u8], offset: f64, gain: f64) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::modulation::Modulation;
+    use holo::Modulation;
 
     #[test]
     fn the_legend_says_what_the_colours_zones_and_lobes_are() {
-        let layout = crate::layout::mark3();
+        let layout = holo::layout::mark3();
         let a = Assembler::new(&layout).unwrap();
         // Two stretches of lit emitters on every hololine, every view.
         let lit = |e: usize| (40..100).contains(&e) || (150..230).contains(&e);

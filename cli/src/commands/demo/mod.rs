@@ -5,6 +5,13 @@ use std::process::ExitCode;
 
 use clap::Args;
 
+mod canvas;
+mod chain;
+mod font;
+mod fringe;
+mod movie;
+mod text;
+
 use super::Outcome;
 use crate::out::put;
 use crate::progress::Reporter;
@@ -19,7 +26,7 @@ pub struct DemoArgs {
 }
 
 pub fn run(a: DemoArgs) -> Outcome {
-    let demo = holo::demo::demo(&a.output, &Reporter::on_stderr())?;
+    let demo = chain::demo(&a.output, &Reporter::on_stderr())?;
     put!("{demo}");
     Ok(ExitCode::SUCCESS)
 }
