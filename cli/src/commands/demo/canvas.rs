@@ -23,6 +23,8 @@ pub struct Canvas {
 
 /// The colour of labels: full white.
 pub const WHITE: [f32; 3] = [1.0; 3];
+/// Each font pixel of a label is this many pixels.
+pub const LABEL_SCALE: usize = 2;
 
 impl Canvas {
     /// A black canvas.

@@ -29,9 +29,10 @@ use holo::reconstruct::picture::Picture;
 use holo::reconstruct::viewer::Eye;
 use holo::Result;
 
-use super::canvas::{self, Canvas, WHITE};
+use super::canvas::{self, Canvas};
+use super::eyes::{contact_sheet, labelled, PUPIL_M};
+use super::fringe;
 use super::movie::{self, DemoMovie};
-use super::{font, fringe};
 
 /// What `holo demo` made.
 #[derive(Clone, Debug, Serialize)]
@@ -102,12 +103,6 @@ const SHEET_COLUMNS: usize = 3;
 const SHEET_SHRINK: usize = 2;
 /// Seconds each frame of the animation is shown.
 const SWEEP_FRAME_SECONDS: f64 = 0.08;
-/// An eye's pupil, metres.
-pub(super) const PUPIL_M: f64 = 4e-3;
-/// Each font pixel of a label is this many pixels.
-const LABEL_SCALE: usize = 2;
-/// Room round tiles and labels, pixels.
-const GAP: usize = 8;
 
 /// The main job on built-in defaults: the bundled textured mesh rendered for
 /// every Mark III emitter and view into `dir/demo.holo`, its quilt,
@@ -293,40 +288,6 @@ pub fn viewing_zone_eyes_x_m(m: &holo::Modulation, count: usize) -> Vec<f64> {
         1 => vec![0.5 * (left + right)],
         n => (0..n).map(|k| left + (right - left) * k as f64 / (n - 1) as f64).collect(),
     }
-}
-
-/// The outline drawn round each picture of the display: the edge of its
-/// emitter plane, so the scene's size and place on it show (and, the
-/// display's width and height being known, its proportions can be
-/// measured). Blue, a colour no grey scene has.
-pub const DISPLAY_EDGE: [f32; 3] = [0.0, 0.02, 0.3];
-
-/// `picture` shrunk `shrink` times, outlined by [`DISPLAY_EDGE`] one pixel
-/// outside it, with `label` under it.
-fn labelled(picture: &Picture, shrink: usize, label: &str) -> Canvas {
-    let tile = Canvas::from_picture(picture, shrink);
-    let label_height = font::GLYPH_SIZE.1 * LABEL_SCALE + 2 * GAP;
-    let (w, h) = (tile.width + 2, tile.height + 2);
-    let mut c = Canvas::new(w, h + label_height, tile.grey);
-    c.fill(0, 0, w, h, DISPLAY_EDGE);
-    c.paste(1, 1, &tile);
-    let x = w.saturating_sub(font::width(label) * LABEL_SCALE) / 2;
-    c.text(x, h + GAP, LABEL_SCALE, label, WHITE);
-    c
-}
-
-/// Labelled tiles of `pictures`, `columns` a row, each shrunk `shrink`
-/// times, on black with a gap between them.
-pub fn contact_sheet(pictures: &[(String, &Picture)], columns: usize, shrink: usize) -> Canvas {
-    let tiles: Vec<Canvas> = pictures.iter().map(|(label, p)| labelled(p, shrink, label)).collect();
-    let (w, h) = tiles.first().map_or((0, 0), |t| (t.width, t.height));
-    let columns = columns.clamp(1, tiles.len().max(1));
-    let rows = tiles.len().div_ceil(columns);
-    let mut sheet = Canvas::new(columns * (w + GAP) + GAP, rows * (h + GAP) + GAP, tiles.iter().all(|t| t.grey));
-    for (k, t) in tiles.iter().enumerate() {
-        sheet.paste(GAP + (k % columns) * (w + GAP), GAP + (k / columns) * (h + GAP), t);
-    }
-    sheet
 }
 
 /// The demo file's quilt, at `holo export-quilt`'s defaults (Looking Glass

@@ -21,7 +21,7 @@ use rayon::prelude::*;
 use holo::assemble::{Assembler, FrameImages};
 use holo::Result;
 
-use super::canvas::{Canvas, WHITE};
+use super::canvas::{Canvas, LABEL_SCALE, WHITE};
 use super::font;
 
 /// Frame-buffer pixels per thumbnail pixel, each way.
@@ -32,8 +32,6 @@ const ZOOM_SAMPLE_WIDTH: usize = 3;
 const ZOOM_HEIGHT: usize = 160;
 /// Room around the parts and for a label line, pixels.
 const MARGIN: usize = 12;
-/// Each font pixel is this many pixels.
-const LABEL_SCALE: usize = 2;
 /// Marks the zoomed samples in the thumbnail.
 const MARK: [f32; 3] = [1.0, 0.1, 0.1];
 

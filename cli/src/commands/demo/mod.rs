@@ -7,6 +7,7 @@ use clap::Args;
 
 mod canvas;
 mod chain;
+mod eyes;
 mod font;
 mod fringe;
 mod movie;

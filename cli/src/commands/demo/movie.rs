@@ -13,7 +13,7 @@ use holo::progress::{Labelled, Progress};
 use holo::reconstruct::files::{view_file, EyeAt};
 use holo::Result;
 
-use super::chain::{contact_sheet, PUPIL_M};
+use super::eyes::{contact_sheet, PUPIL_M};
 
 /// The bundled animated scene: Khronos' AnimatedMorphCube (CC0; fixtures/SOURCES.md).
 const DEMO_MOVIE: &[u8] = include_bytes!("../../../../fixtures/mesh/AnimatedMorphCube.glb");
