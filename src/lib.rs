@@ -123,6 +123,7 @@ pub mod cameras;
 mod error;
 pub mod farm;
 pub mod format;
+pub mod frame_rate;
 pub mod geometry;
 pub mod holoflick;
 pub mod layout;

@@ -20,6 +20,7 @@ use clap::{Arg, Args, Command, ValueEnum};
 use holo::cameras::quilt::{QuiltSpec, PRESETS};
 use holo::cameras::resample::{Blend, Framing, Parallax};
 use holo::format::{Compression, SampleType, WriteOptions};
+use holo::frame_rate::FrameRate;
 use holo::layout::{Layout, BUILTIN};
 use holo::mesh::shade::SpecularModel;
 use holo::pattern::PatternKind;
@@ -71,6 +72,19 @@ fn number(ok: fn(f64) -> bool, rule: &'static str, to_library: f64) -> Checked<f
     Checked::new(move |s| match s.trim().parse::<f64>() {
         Ok(x) if x.is_finite() && ok(x) => Ok(x * to_library),
         _ => Err(rule.to_string()),
+    })
+}
+
+/// A frame rate, frames a second: a positive number (`30`, `12.5`), or an
+/// exact fraction (`24000/1001`, which files then store as such).
+pub fn frame_rate() -> Checked<f64> {
+    let number = positive().0;
+    Checked::new(move |s| match s.contains('/') {
+        true => s
+            .parse::<FrameRate>()
+            .map(FrameRate::frames_per_second)
+            .map_err(|_| "must be a positive number or a fraction of whole numbers such as 24000/1001".to_string()),
+        false => number(s),
     })
 }
 
@@ -568,6 +582,10 @@ mod tests {
         assert_eq!(parse(positive(), "30").unwrap(), 30.0);
         let e = parse(positive(), "-30").unwrap_err();
         assert!(e.contains("--fps must be positive, not -30"), "{e}");
+        assert_eq!(parse(frame_rate(), "24000/1001").unwrap(), 24000.0 / 1001.0);
+        assert_eq!(parse(frame_rate(), "12.5").unwrap(), 12.5);
+        let e = parse(frame_rate(), "30/0").unwrap_err();
+        assert!(e.contains("--fps must be a positive number or a fraction"), "{e}");
         assert_eq!(parse(positive_millimetres(), "4").unwrap(), 4e-3);
         assert_eq!(parse(millimetre_triple(), "-1,0,2").unwrap(), [-1e-3, 0.0, 2e-3]);
         assert!(parse(millimetre_triple(), "1,2").is_err());

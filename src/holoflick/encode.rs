@@ -19,9 +19,10 @@ use super::container::{Frame, ViewerCouch};
 use super::shader::bake::BakeOptions;
 use super::shader::dice::{display_budget, DiceOptions};
 use super::shader::micro::micropolygons;
-use super::sink::{frame_rate_fraction, HoloFlickSink};
+use super::sink::HoloFlickSink;
 use super::tools::{specular_light, KeyFrames, PackReport};
 use crate::error::{Error, Result};
+use crate::frame_rate::stored_fraction;
 use crate::geometry::Geometry;
 use crate::mesh::convert::{SceneFrames, SceneFramesOptions, SceneStage};
 use crate::mesh::place::Placed;
@@ -160,7 +161,7 @@ impl SceneStage for Encode<'_> {
     type Frame = Frame;
 
     fn frame_rate(&self, frames_per_second: f64) -> (u32, u32) {
-        frame_rate_fraction(frames_per_second)
+        stored_fraction(frames_per_second)
     }
 
     fn placed(&mut self, _: &Scene, placed: &Placed) {

@@ -16,17 +16,6 @@ pub(crate) fn writer_options(frames_per_second: (u32, u32), source: String, over
     }
 }
 
-/// `n / d` for a frame rate (exact for integers and for 24000/1001-style rates).
-pub(crate) fn frame_rate_fraction(fps: f64) -> (u32, u32) {
-    for d in [1u32, 1001, 1000, 100] {
-        let n = fps * d as f64;
-        if (n - n.round()).abs() < 1e-6 && n.round() >= 1.0 && n.round() <= u32::MAX as f64 {
-            return (n.round() as u32, d);
-        }
-    }
-    ((fps * 1000.0).round().max(1.0) as u32, 1000)
-}
-
 /// An empty frame for a source to fill.
 fn empty_frame() -> Frame {
     Frame {

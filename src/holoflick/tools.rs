@@ -19,8 +19,9 @@ use super::container::{
     SpecularModel, ViewerCouch, IDENTITY,
 };
 use super::objects::{decode_object, encode_object};
-use super::sink::{frame_rate_fraction, HoloFlickSink};
+use super::sink::HoloFlickSink;
 use crate::error::{Error, Result};
+use crate::frame_rate::stored_fraction;
 use crate::math::{unit, widen};
 use crate::mesh::load::SceneSource;
 use crate::mesh::shade::sample;
@@ -209,7 +210,7 @@ impl Source for PackSource<'_> {
     }
 
     fn frames_per_second(&self) -> Option<(u32, u32)> {
-        Some(frame_rate_fraction(self.options.frames_per_second))
+        Some(stored_fraction(self.options.frames_per_second))
     }
 
     fn place(&mut self, frames: &std::ops::Range<usize>, _: &mut Warnings) -> Result<()> {

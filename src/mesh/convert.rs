@@ -338,7 +338,7 @@ impl SceneStage for MeshRender {
     type Frame = Band;
 
     fn frame_rate(&self, frames_per_second: f64) -> (u32, u32) {
-        ((frames_per_second * 1000.0).round() as u32, 1000)
+        crate::frame_rate::stored_fraction(frames_per_second)
     }
 
     fn placed(&mut self, scene: &Scene, placed: &Placed) {

@@ -151,8 +151,8 @@ pub struct MeshArgs {
     /// Frames to convert (animated glTF): N, A..B or A..=B; default all.
     #[arg(long, value_parser = args::range())]
     frames: Option<Range<usize>>,
-    /// Frames per second at which animations are sampled.
-    #[arg(long, default_value = "30", value_parser = args::positive())]
+    /// Frames per second at which animations are sampled: a number, or an exact fraction such as 24000/1001.
+    #[arg(long, default_value = "30", value_parser = args::frame_rate())]
     fps: f64,
     /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN.
     #[arg(long, default_value = "2x2", value_parser = args::by(64, true))]

@@ -73,8 +73,8 @@ pub struct MovieArgs {
     /// Bits of the normal grid.
     #[arg(long, default_value = "6", value_parser = args::whole(0, 6))]
     normal_bits: usize,
-    /// Frame rate, and the rate animations are sampled at.
-    #[arg(long, default_value = "30", value_parser = args::positive())]
+    /// Frame rate, and the rate animations are sampled at: a number, or an exact fraction such as 24000/1001.
+    #[arg(long, default_value = "30", value_parser = args::frame_rate())]
     fps: f64,
     /// Frames of an animation to keep: N, A..B or A..=B; default all.
     #[arg(long, value_parser = args::range())]

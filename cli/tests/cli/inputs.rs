@@ -465,6 +465,29 @@ fn frame_rates_and_counts_are_checked_before_any_work_with_a_message_about_the_r
 }
 
 #[test]
+fn an_ntsc_frame_rate_is_stored_exactly_in_a_holo_file_and_a_holoflick_alike() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let profile = small_profile(d, 8);
+    let p = profile.to_str().unwrap();
+    let glb = super::fixture("mesh/AnimatedMorphCube.glb");
+    let glb = glb.to_str().unwrap();
+    // The fraction as typed, and the number a script computes from it.
+    for (fps, name) in [("24000/1001", "typed"), ("23.976023976023978", "computed")] {
+        let holo_file = format!("{name}.holo");
+        let hflk = format!("{name}.hflk");
+        let args = ["convert", "mesh", glb, "--layout", p, "--fps", fps, "--frames", "0..2", "-o", &holo_file];
+        assert_eq!(super::holo_bounded(&args, d, 60, 3072).status.code(), Some(0), "{args:?}");
+        let args = ["holoflick", "encode", glb, "--layout", p, "--fps", fps, "--frames", "0..2", "-o", &hflk];
+        assert_eq!(super::holo_bounded(&args, d, 60, 3072).status.code(), Some(0), "{args:?}");
+        let stored = holo::HoloFile::open(d.join(&holo_file)).unwrap().info().frames_per_second;
+        assert_eq!(stored, Some((24000, 1001)), "{fps} in a .holo file");
+        let reader = holo::holoflick::container::HoloFlickReader::open(d.join(&hflk)).unwrap();
+        assert_eq!(reader.info().frames_per_second, (24000, 1001), "{fps} in a HoloFlick");
+    }
+}
+
+#[test]
 fn triangle_strips_are_read_and_what_is_skipped_or_unreadable_is_said() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
