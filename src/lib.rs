@@ -140,7 +140,6 @@ pub mod progress;
 pub mod provenance;
 pub mod reconstruct;
 pub mod report;
-pub mod resample;
 mod sampling;
 pub mod signature;
 pub mod simd;

@@ -16,6 +16,7 @@ pub mod output;
 mod pack;
 pub(crate) mod plan;
 mod profile;
+pub mod retarget;
 
 use rayon::prelude::*;
 

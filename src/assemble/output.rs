@@ -104,7 +104,7 @@ pub struct AssembleOptions {
     /// Replace existing files.
     pub overwrite: bool,
     /// When the file's geometry is not the layout's, resample every frame
-    /// onto the layout by rays ([`crate::resample`]) instead of refusing.
+    /// onto the layout by rays ([`super::retarget`]) instead of refusing.
     pub resample: bool,
 }
 
@@ -118,7 +118,7 @@ pub struct AssembleReport {
     /// Totals over the frames.
     pub stats: FrameStats,
     /// When the frames were resampled onto the layout: totals over the frames.
-    pub resampled: Option<crate::resample::ResampleStats>,
+    pub resampled: Option<super::retarget::RetargetStats>,
     /// Where the time went: `read` (decoding the frames), `resample`,
     /// `assemble`, `encode` (the images written).
     pub timings: crate::progress::Timings,
@@ -154,7 +154,7 @@ pub fn assemble_file(
     drop(zero);
     let mut resampled = match (fits, options.resample) {
         (Ok(()), _) => None,
-        (Err(_), true) => Some(crate::resample::ResampleStats::default()),
+        (Err(_), true) => Some(super::retarget::RetargetStats::default()),
         (Err(e), false) => {
             return Err(Error::argument(
                 "modulation",
@@ -174,7 +174,7 @@ pub fn assemble_file(
     for index in range.clone() {
         let mut m = timings.time("read", || file.read_frame(index))?;
         if let Some(total) = resampled.as_mut() {
-            let (r, stats) = timings.time("resample", || crate::resample::resample(&m, &layout.geometry))?;
+            let (r, stats) = timings.time("resample", || super::retarget::retarget(&m, &layout.geometry))?;
             total.outside += stats.outside;
             total.total += stats.total;
             m = r;

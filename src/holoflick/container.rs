@@ -29,7 +29,7 @@ pub use model::{
     ViewerCouch, IDENTITY,
 };
 pub use read::HoloFlickReader;
-pub use write::{write_cg_file, HoloFlickWriter, WriteOptions, WriteReport};
+pub use write::{write_cg_file, HoloFlickWriteOptions, HoloFlickWriter, WriteReport};
 
 /// Result with the container's error.
 pub type Result<T, E = ContainerError> = std::result::Result<T, E>;

@@ -3,13 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
-use super::container::{write_cg_file, Frame, HoloFlickWriter, ObjectRecord, ViewerCouch, WriteOptions};
+use super::container::{write_cg_file, Frame, HoloFlickWriteOptions, HoloFlickWriter, ObjectRecord, ViewerCouch};
 use crate::error::{Error, Result};
 use crate::pipeline::{Job, Sink};
 
 /// How `pack` and `encode` write: the frame rate, `software` and `source` text.
-pub(crate) fn writer_options(frames_per_second: (u32, u32), source: String, overwrite: bool) -> WriteOptions {
-    WriteOptions {
+pub(crate) fn writer_options(frames_per_second: (u32, u32), source: String, overwrite: bool) -> HoloFlickWriteOptions {
+    HoloFlickWriteOptions {
         frames_per_second,
         text: vec![("software".into(), format!("holo {}", env!("CARGO_PKG_VERSION"))), ("source".into(), source)],
         overwrite,

@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 
 use holo::holoflick::container::{
     write_cg_file, Binding, ContainerError, Descriptor, Frame, GeometryBlock, GeometryObject, HoloFlickReader,
-    HoloFlickWriter, KeyFrameReference, Matrix4, ObjectRecord, Primitive, SpecularLight, SpecularMaterial,
-    SpecularModel, ViewerCouch, WriteOptions, IDENTITY,
+    HoloFlickWriteOptions, HoloFlickWriter, KeyFrameReference, Matrix4, ObjectRecord, Primitive, SpecularLight,
+    SpecularMaterial, SpecularModel, ViewerCouch, IDENTITY,
 };
 use rand::{Rng, SeedableRng};
 
@@ -171,8 +171,8 @@ fn movie() -> Vec<Frame> {
     ]
 }
 
-fn options() -> WriteOptions {
-    WriteOptions {
+fn options() -> HoloFlickWriteOptions {
+    HoloFlickWriteOptions {
         frames_per_second: (24000, 1001),
         text: vec![
             ("title".into(), "container test vector".into()),

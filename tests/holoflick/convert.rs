@@ -8,8 +8,8 @@ use std::path::Path;
 use holo::geometry::{rgb_channels, Geometry, Views};
 use holo::holoflick::cg::EncodeOptions;
 use holo::holoflick::container::{
-    Binding, Frame, HoloFlickWriter, KeyFrameReference, ObjectRecord, SpecularLight, SpecularMaterial, SpecularModel,
-    ViewerCouch, WriteOptions as HflkWrite,
+    Binding, Frame, HoloFlickWriteOptions as HflkWrite, HoloFlickWriter, KeyFrameReference, ObjectRecord,
+    SpecularLight, SpecularMaterial, SpecularModel, ViewerCouch,
 };
 use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
 use holo::holoflick::objects::encode_object;

@@ -32,7 +32,7 @@ pub struct OpenOptions {
     /// For a Stanford light field archive folder.
     pub stanford: StanfordOptions,
     /// For a Looking Glass quilt.
-    pub quilt: QuiltOptions,
+    pub quilt: QuiltCaptureOptions,
 }
 
 /// What a capture's files do not say about its cameras, as the user gives
@@ -96,7 +96,7 @@ impl Default for StanfordOptions {
 /// A quilt holds no geometry; these are the HoloPlay defaults the views are
 /// rendered with.
 #[derive(Clone, Debug, PartialEq)]
-pub struct QuiltOptions {
+pub struct QuiltCaptureOptions {
     /// Angle between the first and last camera as seen from the centre of
     /// the focal plane, degrees (HoloPlay: 35).
     pub view_cone_deg: f64,
@@ -104,9 +104,9 @@ pub struct QuiltOptions {
     pub vertical_fov_deg: f64,
 }
 
-impl Default for QuiltOptions {
+impl Default for QuiltCaptureOptions {
     fn default() -> Self {
-        QuiltOptions {
+        QuiltCaptureOptions {
             view_cone_deg: crate::cameras::quilt::DEFAULT_VIEW_CONE_DEG,
             vertical_fov_deg: crate::cameras::quilt::DEFAULT_VERTICAL_FOV_DEG,
         }

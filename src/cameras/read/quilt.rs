@@ -13,7 +13,7 @@ use std::path::Path;
 
 use super::super::array::ArrayFrame;
 use super::super::{ImageSource, Rig};
-use super::{bare, finish, QuiltOptions};
+use super::{bare, finish, QuiltCaptureOptions};
 use crate::cameras::image::image_size;
 use crate::error::{Error, Result};
 
@@ -64,7 +64,7 @@ fn layout_from_name(file_name: &str) -> Option<std::result::Result<QuiltLayout, 
 }
 
 /// Read a quilt: one camera per tile, in view order.
-pub fn read_quilt(path: &Path, options: &QuiltOptions) -> Result<Rig> {
+pub fn read_quilt(path: &Path, options: &QuiltCaptureOptions) -> Result<Rig> {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let QuiltLayout { columns, rows, aspect } = layout_from_name(&name)
         .unwrap_or_else(|| {

@@ -18,7 +18,7 @@ use super::{At, ContainerError};
 
 /// How to write.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct WriteOptions {
+pub struct HoloFlickWriteOptions {
     /// Frame rate, numerator / denominator (frames per second); both non-zero.
     pub frames_per_second: (u32, u32),
     /// Text entries (`title`, `source`, `software`, ..., spec §5.2), keys unique.
@@ -27,10 +27,10 @@ pub struct WriteOptions {
     pub overwrite: bool,
 }
 
-impl Default for WriteOptions {
+impl Default for HoloFlickWriteOptions {
     /// 24 frames per second, `software` = this library, never overwrite.
     fn default() -> Self {
-        WriteOptions {
+        HoloFlickWriteOptions {
             frames_per_second: (24, 1),
             text: vec![("software".into(), format!("holo {}", env!("CARGO_PKG_VERSION")))],
             overwrite: false,
@@ -65,7 +65,7 @@ pub struct HoloFlickWriter {
 impl HoloFlickWriter {
     /// Start a HoloFlick at `path`: refuses an existing file unless
     /// `options.overwrite`, and bad options.
-    pub fn create(path: impl AsRef<Path>, options: &WriteOptions) -> Result<HoloFlickWriter> {
+    pub fn create(path: impl AsRef<Path>, options: &HoloFlickWriteOptions) -> Result<HoloFlickWriter> {
         let path = path.as_ref();
         let usage = |problem: String| ContainerError::Unstorable { path: path.to_path_buf(), problem };
         let (num, den) = options.frames_per_second;

@@ -1,4 +1,6 @@
-//! Resampling a modulation onto another geometry, by rays: every target
+//! Retargeting: a modulation resampled onto another display's geometry, by
+//! rays (camera captures are resampled in `cameras::resample`; this is the
+//! stored light field carried to a layout it was not made for): every target
 //! sample (hololine, emitter, view) is the radiance along a ray (docs/optics.md
 //! §1.3), and it takes the source's radiance along the same ray, interpolated
 //! linearly between the source's hololines, emitters and views. Only on
@@ -17,9 +19,9 @@ use crate::error::{Error, Result};
 use crate::geometry::{Geometry, Views};
 use crate::modulation::Modulation;
 
-/// What a resampling did.
+/// What a retargeting did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ResampleStats {
+pub struct RetargetStats {
     /// Target samples whose ray the source does not hold (set to zero).
     pub outside: u64,
     /// Target samples.
@@ -49,7 +51,7 @@ fn lerp(f: f64, n: usize) -> Option<[(usize, f64); 2]> {
 }
 
 /// `source` resampled onto `target` (which must be valid), and what it did.
-pub fn resample(source: &Modulation, target: &Geometry) -> Result<(Modulation, ResampleStats)> {
+pub fn retarget(source: &Modulation, target: &Geometry) -> Result<(Modulation, RetargetStats)> {
     let s = source.geometry();
     // How each target colour is made from the source's colours.
     let mix: Vec<Vec<(usize, f32)>> = target
@@ -71,7 +73,7 @@ pub fn resample(source: &Modulation, target: &Geometry) -> Result<(Modulation, R
             )),
         })
         .collect::<Result<_>>()?;
-    let mut stats = ResampleStats::default();
+    let mut stats = RetargetStats::default();
     let mut out = Modulation::zeros(target.clone())?;
     let dz = s.emitter_z_m - target.emitter_z_m;
     for j in 0..target.hololines {
@@ -118,7 +120,7 @@ mod tests {
     fn resampling_onto_its_own_geometry_is_the_identity() {
         let g = mark1().geometry;
         let m = Modulation::from_fn(g.clone(), |c, j, e, v| ((c * 7 + j * 3 + e * 5 + v) % 11) as f32 / 10.0).unwrap();
-        let (r, stats) = resample(&m, &g).unwrap();
+        let (r, stats) = retarget(&m, &g).unwrap();
         assert_eq!(stats.outside, 0);
         let worst = m.samples().iter().zip(r.samples()).map(|(a, b)| (a - b).abs()).fold(0f32, f32::max);
         assert!(worst < 1e-6, "{worst}");
@@ -132,7 +134,7 @@ mod tests {
         let source = mark1().geometry;
         let target = mark1_hogel().geometry;
         let by_direction = Modulation::from_fn(source.clone(), |_, _, _, v| 0.2 * v as f32).unwrap();
-        let (r, stats) = resample(&by_direction, &target).unwrap();
+        let (r, stats) = retarget(&by_direction, &target).unwrap();
         assert!(stats.outside < stats.total / 10, "{stats:?}");
         let inside = |j: usize, e: usize| {
             let x = target.emitter_x_m(e);
@@ -151,7 +153,7 @@ mod tests {
             })
             .unwrap()
         };
-        let (r, _) = resample(&along_x(&source), &target).unwrap();
+        let (r, _) = retarget(&along_x(&source), &target).unwrap();
         let want = along_x(&target);
         for (j, e, v) in [(10, 128, 0), (30, 60, 2), (50, 200, 4)] {
             assert!((r.get(0, j, e, v) - want.get(0, j, e, v)).abs() < 2e-3, "{j} {e} {v}");
@@ -164,9 +166,9 @@ mod tests {
         let mut grey = mark1().geometry;
         grey.channels = crate::geometry::mono_channel();
         let m = Modulation::from_fn(rgb.clone(), |c, _, _, _| [1.0, 0.5, 0.25][c]).unwrap();
-        let (y, _) = resample(&m, &grey).unwrap();
+        let (y, _) = retarget(&m, &grey).unwrap();
         assert!((y.get(0, 5, 5, 2) - (0.2126 + 0.7152 * 0.5 + 0.0722 * 0.25)).abs() < 1e-6);
-        let (back, _) = resample(&y, &rgb).unwrap();
+        let (back, _) = retarget(&y, &rgb).unwrap();
         assert_eq!(back.get(2, 5, 5, 2), y.get(0, 5, 5, 2));
         let m3 = Modulation::zeros(mark3().geometry).unwrap();
         let mut odd = mark1().geometry;
@@ -174,8 +176,8 @@ mod tests {
         let mut g_only = mark3().geometry;
         g_only.channels = vec![crate::geometry::ColourChannel::new("G", 532e-9)];
         let m_g = Modulation::zeros(g_only).unwrap();
-        let err = resample(&m_g, &odd).unwrap_err().to_string();
+        let err = retarget(&m_g, &odd).unwrap_err().to_string();
         assert!(err.contains("no colour R"), "{err}");
-        assert!(resample(&m3, &odd).is_ok());
+        assert!(retarget(&m3, &odd).is_ok());
     }
 }
