@@ -1,4 +1,4 @@
-//! Meshes to modulation: loaders, renderers, baking, dicing, culling, camera pictures, writers.
+//! Meshes to modulation: loaders, renderers, camera pictures, writers.
 //!
 //! One test binary for this stage of the data flow (each file a module), so a
 //! clean build links a few binaries rather than one per file.
@@ -6,14 +6,10 @@
 #[path = "../common/mod.rs"]
 mod common;
 
-mod bake;
 mod camera;
-mod cull;
-mod dice;
 mod end_to_end;
 mod load;
 mod materials;
-mod micro;
 mod normals;
 mod pipeline;
 mod provenance;
