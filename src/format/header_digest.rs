@@ -271,8 +271,8 @@ mod tests {
             b.extend_from_slice(&(v.len() as i32).to_le_bytes());
             b.extend_from_slice(v);
         };
-        for part in 0..2 {
-            attribute(&mut b, "holo.frame", "int", &(part as i32).to_le_bytes());
+        for part in 0..2i32 {
+            attribute(&mut b, "holo.frame", "int", &part.to_le_bytes());
             attribute(&mut b, name::HEADER_DIGEST, "string", placeholder().as_bytes());
             b.push(0);
         }

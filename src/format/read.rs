@@ -325,7 +325,7 @@ impl FrameSample for f32 {
         if lossy {
             self.is_finite()
         } else {
-            self >= 0.0 && self <= f32::MAX
+            (0.0..=f32::MAX).contains(&self)
         }
     }
     fn to_f32(self) -> f32 {

@@ -164,7 +164,7 @@ fn the_frozen_profiles_load_as_made() {
         let m = frame(&layout.geometry);
         let options = WriteOptions { source: "spec/layouts.md §5.6 test vector".into(), ..WriteOptions::default() };
         write_frames(
-            &folder().join("input.holo"),
+            folder().join("input.holo"),
             &layout.geometry,
             1,
             &WriteOptions { overwrite: true, ..options },
