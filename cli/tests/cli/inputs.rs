@@ -437,14 +437,19 @@ fn referenced_files_are_read_only_as_far_as_they_declare() {
     assert!(text(&o).contains("view_003.png") && text(&o).contains("not a regular file (a FIFO)"), "{}", text(&o));
 }
 
+/// A folder with a small layout's profile in it, and the bundled animated
+/// cube (its animation lasts 4.2 s).
+fn animated_cube() -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let profile = small_profile(dir.path(), 8);
+    (dir, profile, super::fixture("mesh/AnimatedMorphCube.glb"))
+}
+
 #[test]
 fn frame_rates_and_counts_are_checked_before_any_work_with_a_message_about_the_rate() {
-    let dir = tempfile::tempdir().unwrap();
+    let (dir, profile, glb) = animated_cube();
     let d = dir.path();
-    let profile = small_profile(d, 8);
-    let p = profile.to_str().unwrap();
-    let glb = super::fixture("mesh/AnimatedMorphCube.glb");
-    let glb = glb.to_str().unwrap();
+    let (p, glb) = (profile.to_str().unwrap(), glb.to_str().unwrap());
     // (The cube's animation lasts 4.2 s.)
     for (args, needle) in [
         (&["holoflick", "pack", glb, "--fps", "1e9", "-o", "a.hflk"][..], "frame rate"),
@@ -466,12 +471,9 @@ fn frame_rates_and_counts_are_checked_before_any_work_with_a_message_about_the_r
 
 #[test]
 fn an_ntsc_frame_rate_is_stored_exactly_in_a_holo_file_and_a_holoflick_alike() {
-    let dir = tempfile::tempdir().unwrap();
+    let (dir, profile, glb) = animated_cube();
     let d = dir.path();
-    let profile = small_profile(d, 8);
-    let p = profile.to_str().unwrap();
-    let glb = super::fixture("mesh/AnimatedMorphCube.glb");
-    let glb = glb.to_str().unwrap();
+    let (p, glb) = (profile.to_str().unwrap(), glb.to_str().unwrap());
     // The fraction as typed, and the number a script computes from it.
     for (fps, name) in [("24000/1001", "typed"), ("23.976023976023978", "computed")] {
         let holo_file = format!("{name}.holo");
