@@ -221,17 +221,6 @@ pub fn ascii_only(s: &str) -> String {
     out
 }
 
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn attribute_text_spells_holos_typography_in_ascii() {
-        assert_eq!(
-            super::ascii_only("0.24 × 0.18 units, span 329°, x −76 … +76 mm – 5 µm “a” é\0"),
-            "0.24 x 0.18 units, span 329 deg, x -76 ... +76 mm - 5 um \"a\" ??"
-        );
-    }
-}
-
 /// A transform such as `holo.placement` (spec §4.4): `display_from_input`
 /// (row-major, points as columns: translation in the last column) as
 /// OpenEXR's `m44d`, whose layout follows Imath's row-vector convention
@@ -509,5 +498,16 @@ impl<'a> Attributes<'a> {
             return Err(format!("attribute {SCALE} is {}; it must be finite and positive", r.scale));
         }
         Ok(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn attribute_text_spells_holos_typography_in_ascii() {
+        assert_eq!(
+            super::ascii_only("0.24 × 0.18 units, span 329°, x −76 … +76 mm – 5 µm “a” é\0"),
+            "0.24 x 0.18 units, span 329 deg, x -76 ... +76 mm - 5 um \"a\" ??"
+        );
     }
 }

@@ -2,8 +2,9 @@
 //! lights, loaded from glTF, OBJ and PLY ([`load`]), placed in the display's
 //! volume ([`place`]), shaded per view ([`shade`]) and rendered for every ray
 //! (hololine, emitter, view) by a reference ray caster ([`trace`]) and by the
-//! fast epipolar-plane rasteriser (`epi.rs`); [`camera`] renders what a
-//! calibrated camera would photograph of the same scene.
+//! fast epipolar-plane rasteriser (`epi.rs`);
+//! `cameras::mesh_picture` renders what a calibrated camera would
+//! photograph of the same scene.
 //!
 //! A [`Scene`] is plain data in one space: the loaders give it in the file's
 //! own units with every node transform applied ("world"); [`place`] maps

@@ -1,7 +1,8 @@
 //! Rendering a placed scene into modulation: the options, and the driver
-//! that runs one engine (the fast EPI rasteriser, [`super::epi`], or the
+//! that runs one engine (the fast EPI rasteriser, `epi.rs`, or the
 //! reference ray caster, [`super::trace`]) over every hololine of a frame.
-//! The rays both engines sample, and what they share, are [`super::rays`].
+//! The rays both engines sample, and what they share, are in `rays.rs`
+//! ([`Supersample`], [`Rays`], [`RenderStats`] are handed on here).
 //!
 //! A ray's visible point is the first surface met walking back from the
 //! viewer line along it (nearest the viewer, in front of or behind the
