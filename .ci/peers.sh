@@ -135,13 +135,13 @@ exrheader_check() {
     fi
     local parts
     parts=$("$py" -c 'import json,sys; d=json.load(open(sys.argv[1])); print(len(d.get("parts") or d.get("frames")))' "$json")
-    # The format version the JSON expects (1.1, or 1.0 for files written for 1.0 readers).
+    # The format version the JSON expects (1.2, or 1.1 or 1.0 for files written for older readers).
     local version
     version=$("$py" -c '
 import json, sys
 d = json.load(open(sys.argv[1]))
 v = [a["value"] for a in d.get("shared_attributes", []) if a["name"] == "holo.version"]
-print(" ".join(map(str, v[0])) if v else "1 [01]")' "$json")
+print(" ".join(map(str, v[0])) if v else "1 [012]")' "$json")
     local pattern
     for pattern in \
         "holo\\.version \\(type v2i\\): \\($version\\)\$" \
