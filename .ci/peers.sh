@@ -143,15 +143,19 @@ d = json.load(open(sys.argv[1]))
 v = [a["value"] for a in d.get("shared_attributes", []) if a["name"] == "holo.version"]
 print(" ".join(map(str, v[0])) if v else "1 [012]")' "$json")
     local pattern
-    for pattern in \
-        "holo\\.version \\(type v2i\\): \\($version\\)\$" \
-        'holo\.hololines \(type int\): [0-9]+$' \
-        'holo\.emitters \(type int\): [0-9]+$' \
-        'holo\.views \(type int\): [0-9]+$' \
-        'holo\.digest \(type string\): "sha256:[0-9a-f]{64}"$' \
-        'holo\.wavelength\.[RGBY] \(type double\): [0-9.e+-]+$' \
-        'holo\.emitterPitch \(type double\): [0-9.e+-]+$' \
-        'holo\.viewSpacing \(type string\): "(tan|sin|angle|explicit)"$'; do
+    local patterns=(
+        "holo\\.version \\(type v2i\\): \\($version\\)\$"
+        'holo\.hololines \(type int\): [0-9]+$'
+        'holo\.emitters \(type int\): [0-9]+$'
+        'holo\.views \(type int\): [0-9]+$'
+        'holo\.digest \(type string\): "sha256:[0-9a-f]{64}"$'
+        'holo\.wavelength\.[RGBY] \(type double\): [0-9.e+-]+$'
+        'holo\.emitterPitch \(type double\): [0-9.e+-]+$'
+        'holo\.viewSpacing \(type string\): "(tan|sin|angle|explicit)"$'
+    )
+    # A file of format 1.2 seals each part's header (spec §7.2): OpenEXR's tool lists the seal like any attribute.
+    if [ "$version" = "1 2" ]; then patterns+=('holo\.headerDigest \(type string\): "sha256:[0-9a-f]{64}"$'); fi
+    for pattern in "${patterns[@]}"; do
         local n
         n=$(grep -cE "^$pattern" "$out" || true)
         if [ "$n" -ge "$parts" ]; then pass "exrheader $name: lists '$pattern' ($n×)"; else
