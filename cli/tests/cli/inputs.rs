@@ -354,17 +354,7 @@ fn a_conversion_never_replaces_a_file_it_reads_even_with_force() {
         }
     }
     // A rig's pictures (and the depth maps it names) are inputs too.
-    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d));
-    ok(holo(&["export-views", "ramp.holo", "-o", "views"], d));
-    let rig = serde_json::json!({
-        "cameras": (0..5).map(|v| serde_json::json!({
-            "image": format!("views/view_{v:03}.png"),
-            "focal_length_px": 300.0,
-            "position": [v as f64 * 0.01, 0.0, 0.0],
-            "direction": [0.0, 0.0, -1.0]
-        })).collect::<Vec<_>>()
-    });
-    std::fs::write(d.join("rig.json"), serde_json::to_vec(&rig).unwrap()).unwrap();
+    five_view_rig(d);
     let pictures = files_of(&d.join("views"));
     let o = holo(&["convert", "cameras", "rig.json", "--layout", "mark1", "-o", "views/view_002.png", "--force"], d);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
@@ -419,19 +409,9 @@ fn referenced_files_are_read_only_as_far_as_they_declare() {
         assert!(text(&o).contains(needle), "{scene}: {}", text(&o));
     }
     // A rig's picture that is a FIFO is refused, not waited on.
-    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d));
-    ok(holo(&["export-views", "ramp.holo", "-o", "views"], d));
+    five_view_rig(d);
     std::fs::remove_file(d.join("views/view_003.png")).unwrap();
     assert!(std::process::Command::new("mkfifo").arg(d.join("views/view_003.png")).status().unwrap().success());
-    let rig = serde_json::json!({
-        "cameras": (0..5).map(|v| serde_json::json!({
-            "image": format!("views/view_{v:03}.png"),
-            "focal_length_px": 300.0,
-            "position": [v as f64 * 0.01, 0.0, 0.0],
-            "direction": [0.0, 0.0, -1.0]
-        })).collect::<Vec<_>>()
-    });
-    std::fs::write(d.join("rig.json"), serde_json::to_vec(&rig).unwrap()).unwrap();
     let o = super::holo_bounded(&["convert", "cameras", "rig.json", "--layout", "mark1", "-o", "c.holo"], d, 20, 3072);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(text(&o).contains("view_003.png") && text(&o).contains("not a regular file (a FIFO)"), "{}", text(&o));
@@ -548,4 +528,20 @@ fn a_pupil_wider_than_the_viewing_zone_is_refused_saying_the_bound() {
     assert!(!d.join("v.png").exists());
     // A wide pupil within the zone is fine.
     ok(holo(&["view", "ramp.holo", "--layout", "mark1", "--pupil", "50", "--coherent", "-o", "v.png"], d));
+}
+
+/// In `d`: five views of a Mark I ramp pattern (`views/view_000.png` …) and
+/// `rig.json`, a rail of five cameras 10 mm apart that reads them.
+fn five_view_rig(d: &std::path::Path) {
+    ok(holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "ramp.holo"], d));
+    ok(holo(&["export-views", "ramp.holo", "-o", "views"], d));
+    let rig = serde_json::json!({
+        "cameras": (0..5).map(|v| serde_json::json!({
+            "image": format!("views/view_{v:03}.png"),
+            "focal_length_px": 300.0,
+            "position": [v as f64 * 0.01, 0.0, 0.0],
+            "direction": [0.0, 0.0, -1.0]
+        })).collect::<Vec<_>>()
+    });
+    std::fs::write(d.join("rig.json"), serde_json::to_vec(&rig).unwrap()).unwrap();
 }
