@@ -13,7 +13,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use rustfft::num_complex::Complex64;
+use holo_fft::Complex64;
 
 use super::chirp::ZonedChirp;
 use super::hogel::{pseudo_random_phase_rad, HogelGratings};

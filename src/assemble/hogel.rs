@@ -14,7 +14,7 @@
 
 use std::f64::consts::PI;
 
-use rustfft::num_complex::Complex64;
+use holo_fft::Complex64;
 
 use crate::layout::SignalKind;
 

@@ -26,7 +26,7 @@ use std::arch::x86_64::{
     _mm256_storeu_ps,
 };
 
-use rustfft::num_complex::Complex64;
+use holo_fft::Complex64;
 
 use super::basis::ColourBasis;
 use crate::layout::SignalKind;

@@ -18,7 +18,7 @@
 
 use std::f64::consts::PI;
 
-use rustfft::num_complex::Complex64;
+use holo_fft::Complex64;
 
 use super::propagate::{fast_len, Field1d, MAX_FFT_SAMPLES};
 use crate::error::{Error, Result};

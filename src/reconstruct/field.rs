@@ -15,7 +15,7 @@
 
 use std::f64::consts::PI;
 
-use rustfft::num_complex::Complex64;
+use holo_fft::Complex64;
 
 use super::propagate::Field1d;
 use crate::assemble::ColourBasis;

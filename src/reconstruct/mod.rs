@@ -14,23 +14,16 @@ pub mod propagate;
 pub(crate) mod solve;
 pub mod viewer;
 
-use std::cell::RefCell;
 use std::sync::Arc;
 
-use rustfft::{Fft, FftPlanner};
-
-thread_local! {
-    /// One planner per thread: planning a long FFT costs more than running
-    /// it, and every hololine needs the same few lengths.
-    static PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
-}
+use holo_fft::Fft;
 
 /// A forward FFT of `len` points, planned once per thread.
 pub(crate) fn fft_forward(len: usize) -> Arc<dyn Fft<f64>> {
-    PLANNER.with(|p| p.borrow_mut().plan_fft_forward(len))
+    holo_fft::forward(len)
 }
 
 /// An inverse (unnormalised) FFT of `len` points, planned once per thread.
 pub(crate) fn fft_inverse(len: usize) -> Arc<dyn Fft<f64>> {
-    PLANNER.with(|p| p.borrow_mut().plan_fft_inverse(len))
+    holo_fft::inverse(len)
 }

@@ -15,7 +15,7 @@
 
 use std::f64::consts::PI;
 
-use rustfft::num_complex::Complex64;
+use holo_fft::Complex64;
 
 use crate::error::{Error, Result};
 
@@ -372,7 +372,7 @@ pub fn intensity_peak(field: &Field1d) -> Result<(f64, f64)> {
     Ok((field.x_m(k) + offset * field.pitch_m, (x_right - x_left) * field.pitch_m))
 }
 
-/// The smallest `2^a · 3^b ≥ n`, a length rustfft transforms fast.
+/// The smallest `2^a · 3^b ≥ n`, a length the FFT (rustfft, through holo-fft) transforms fast.
 pub(crate) fn fast_len(n: usize) -> usize {
     let mut best = n.next_power_of_two();
     let mut p3 = 3;

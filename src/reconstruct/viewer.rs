@@ -15,8 +15,8 @@
 
 use std::sync::Arc;
 
-use rustfft::num_complex::Complex64;
-use rustfft::{Fft, FftPlanner};
+use holo_fft::Complex64;
+use holo_fft::Fft;
 
 use super::coherent::{CoherentImage, FocusedEye};
 use super::field::FieldPlan;
@@ -107,7 +107,7 @@ impl ColourOptics {
         let mut geometry = assembler.layout().geometry.clone();
         let fine_pitch = basis.pitch_m / super::field::oversampling(&basis) as f64;
         let window = ((geometry.emitter_pitch_m / fine_pitch).round() as usize).max(1);
-        let fft = FftPlanner::new().plan_fft_forward((8 * window).next_power_of_two());
+        let fft = super::fft_forward((8 * window).next_power_of_two());
         let summed = assembler.layout().fringe.as_ref().map(|f| f.colours) == Some(ColourSignals::Summed);
         let pass: Option<Vec<(f64, f64)>> = summed.then(|| {
             let colours = geometry.channels.len();

@@ -20,7 +20,7 @@ use holo::reconstruct::coherent::{CoherentImage, FocusedEye};
 use holo::reconstruct::propagate::Field1d;
 use holo::reconstruct::viewer::{ColourOptics, Eye};
 use holo::Modulation;
-use rustfft::num_complex::Complex64;
+use holo_fft::Complex64;
 
 const WAVELENGTH_M: f64 = 633e-9;
 

@@ -95,7 +95,7 @@ fn one_chirp_focuses_to_a_diffraction_limited_spot_at_its_emitter() {
 #[test]
 fn hogel_gratings_send_light_at_asin_lambda_f_for_every_view() {
     use holo::reconstruct::propagate::{angular_spectrum, Taper, Window};
-    use rustfft::num_complex::Complex64;
+    use holo_fft::Complex64;
     for name in ["mark1-hogel", "mark4"] {
         let layout = one_hololine(name);
         let a = Assembler::new(&layout).unwrap();
