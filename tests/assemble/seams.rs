@@ -157,9 +157,21 @@ fn the_demo_picture_keeps_no_seams() {
     let layout = mark3_all_hololines(Blanking::Gains);
     convert_mesh(&scene, &layout.geometry, &holo_path, &options, &holo::progress::Silent).unwrap();
     let m = holo::HoloFile::open(&holo_path).unwrap().read_frame(0).unwrap();
-    let unblanked = pictures(&mark3_all_hololines(Blanking::None), &m, 4e-3);
+    // Every third hololine (both parities, so lines sent either way): each
+    // hololine's light is its own (horizontal parallax), so these are the
+    // pictures of the whole display at those hololines, for a third of the
+    // work.
+    const EVERY: usize = 3;
+    let band = |blanking: Blanking| {
+        let mut layout = mark3_all_hololines(blanking);
+        layout.geometry.hololines = layout.geometry.hololines.div_ceil(EVERY);
+        layout
+    };
+    let g = band(Blanking::Gains).geometry;
+    let m = Modulation::from_fn(g, |c, j, e, v| m.get(c, EVERY * j, e, v)).unwrap();
+    let unblanked = pictures(&band(Blanking::None), &m, 4e-3);
     let deviations = |blanking: Blanking| {
-        let seen = pictures(&mark3_all_hololines(blanking), &m, 4e-3);
+        let seen = pictures(&band(blanking), &m, 4e-3);
         let mut d = Vec::new();
         for (p, u) in seen.iter().zip(&unblanked) {
             for j in 0..p.hololines {
