@@ -71,10 +71,26 @@ fn spawn(args: &[&str], cwd: &Path) -> Child {
 
 /// Send `signal` (a name as `kill` takes it) to the child and wait for it.
 fn interrupt(child: Child, signal: &str) -> (Option<i32>, String) {
-    let pid = child.id().to_string();
-    assert!(Command::new("kill").args([&format!("-{signal}"), &pid]).status().unwrap().success());
+    signal_child(&child, signal);
     let out = child.wait_with_output().unwrap();
     (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// Sends `child` the signal named `signal` (`INT`, `STOP`, `CONT`, ...).
+fn signal_child(child: &Child, signal: &str) {
+    let pid = child.id().to_string();
+    assert!(Command::new("kill").args([&format!("-{signal}"), &pid]).status().unwrap().success());
+}
+
+/// A movie of `frames` frames of noise for the layout profile at `profile`
+/// (assembled, long enough that a test can act while it runs).
+fn noise_movie(profile: &Path, path: &Path, frames: usize) {
+    let g = holo::layout::Layout::load(profile.to_str().unwrap()).unwrap().geometry;
+    holo::format::write_frames(path, &g, frames, &WriteOptions::default(), |i| {
+        let m = Modulation::from_fn(g.clone(), |_, j, e, v| noise((i * 7919 + j * 131 + e * 17 + v) as u64))?;
+        Ok(std::borrow::Cow::Owned(m))
+    })
+    .unwrap();
 }
 
 /// A noise value in [0, 1) from a position, the same every run.
@@ -99,10 +115,16 @@ fn interrupts_remove_temporaries_keep_the_previous_file_and_say_which_signal() {
         &["convert", "mesh", glb, "--frames", "0..4", "--f32", "--compression", "none", "-o", "out.holo", "--force"];
     let cameras: &[&str] = &["convert", "cameras", "ramp_qs8x6a0.75.png", "-o", "out.holo", "--force"];
     let encode: &[&str] = &["holoflick", "encode", spot, "-o", "out.hflk", "--force"];
-    for (args, output, mid_write) in
-        [(mesh, "out.holo", ".partial"), (cameras, "out.holo", ".spool"), (encode, "out.hflk", ".partial")]
-    {
-        for (signal, code) in [("INT", 130), ("TERM", 143), ("HUP", 129)] {
+    // Every signal on one command, and SIGINT on the others: the signals
+    // reach one handler, the temporaries differ by command.
+    let every_signal: &[(&str, i32)] = &[("INT", 130), ("TERM", 143), ("HUP", 129)];
+    let interrupt_only: &[(&str, i32)] = &[("INT", 130)];
+    for (args, output, mid_write, signals) in [
+        (mesh, "out.holo", ".partial", every_signal),
+        (cameras, "out.holo", ".spool", interrupt_only),
+        (encode, "out.hflk", ".partial", interrupt_only),
+    ] {
+        for &(signal, code) in signals {
             let previous = format!("the previous {output}, kept through SIG{signal}").into_bytes();
             std::fs::write(d.join(output), &previous).unwrap();
             let mut child = spawn(args, d);
@@ -547,18 +569,18 @@ fn a_second_writer_of_an_output_is_refused_before_any_work() {
     let profile = small_profile(d, 2);
     let p = profile.to_str().unwrap();
     ok(holo(&["pattern", "--layout", p, "--kind", "colour-bars", "-o", "a.holo"], d));
-    let g = holo::layout::Layout::load(p).unwrap().geometry;
-    holo::format::write_frames(d.join("b.holo"), &g, 200, &WriteOptions::default(), |i| {
-        let m = Modulation::from_fn(g.clone(), |_, j, e, v| noise((i * 7919 + j * 131 + e * 17 + v) as u64))?;
-        Ok(std::borrow::Cow::Owned(m))
-    })
-    .unwrap();
+    let frames = 12;
+    noise_movie(&profile, &d.join("b.holo"), frames);
     // A set: the second run into the folder, with or without --force, is
     // refused at once naming the first, which finishes with a whole set.
+    // The first is held still (SIGSTOP) from the moment its temporary is
+    // there until the second has been refused, so it is mid-write however
+    // fast it runs, and the test waits for no more work than it needs.
     let fringes = d.join("fringes");
     let mut first = spawn(&["assemble", "b.holo", "--layout", p, "-o", "fringes"], d);
     let pid = first.id().to_string();
     wait_for_hidden(&mut first, &fringes, ".partial");
+    signal_child(&first, "STOP");
     for force in [false, true] {
         let mut args = vec!["assemble", "a.holo", "--layout", p, "-o", "fringes"];
         if force {
@@ -570,24 +592,28 @@ fn a_second_writer_of_an_output_is_refused_before_any_work() {
         assert!(started.elapsed() < Duration::from_secs(2), "refused after {:?}", started.elapsed());
         assert!(text(&o).contains("being written by another process") && text(&o).contains(&pid), "{}", text(&o));
     }
+    signal_child(&first, "CONT");
     let out = first.wait_with_output().unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
-    ok(holo(&["check", "b.holo", "--fringes", "fringes", "--frame", "199"], d));
+    let last = (frames - 1).to_string();
+    ok(holo(&["check", "b.holo", "--fringes", "fringes", "--frame", &last], d));
     assert_eq!(hidden(&fringes), Vec::<String>::new());
     assert_eq!(hidden(d), Vec::<String>::new(), "the lock is gone with its writer");
     // A file: a second conversion into the same name is refused while the
     // first writes it.
     let glb = fixture("mesh/AnimatedMorphCube.glb");
     let glb = glb.to_str().unwrap();
-    let mut first = spawn(&["convert", "mesh", glb, "--frames", "0..8", "--f32", "-o", "out.holo"], d);
+    let mut first = spawn(&["convert", "mesh", glb, "--frames", "0..1", "-o", "out.holo"], d);
     let pid = first.id().to_string();
     wait_for_hidden(&mut first, d, ".partial");
+    signal_child(&first, "STOP");
     let o = holo(&["pattern", "--layout", "mark1", "--kind", "view-ramp", "-o", "out.holo", "--force"], d);
+    signal_child(&first, "CONT");
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(text(&o).contains("being written by another process") && text(&o).contains(&pid), "{}", text(&o));
     let out = first.wait_with_output().unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
-    assert_eq!(holo::HoloFile::open(d.join("out.holo")).unwrap().info().frames.len(), 8);
+    assert_eq!(holo::HoloFile::open(d.join("out.holo")).unwrap().info().frames.len(), 1);
     assert_eq!(hidden(d), Vec::<String>::new());
 }
 
@@ -618,13 +644,16 @@ fn temporaries_a_killed_run_left_are_removed_by_the_next_run_and_said() {
         assert_eq!(hidden(d), Vec::<String>::new());
     }
     // In a set's folder too.
-    ok(holo(&["assemble", "ramp.holo", "-o", "fringes"], d));
-    let mut child = spawn(&["assemble", "ramp.holo", "-o", "fringes", "--force", "--format", "raw"], d);
+    let profile = small_profile(d, 2);
+    let p = profile.to_str().unwrap();
+    noise_movie(&profile, &d.join("noise.holo"), 12);
+    ok(holo(&["assemble", "noise.holo", "--layout", p, "-o", "fringes"], d));
+    let mut child = spawn(&["assemble", "noise.holo", "--layout", p, "-o", "fringes", "--force", "--format", "raw"], d);
     wait_for_hidden(&mut child, &d.join("fringes"), ".partial");
     interrupt(child, "KILL");
     let left: Vec<String> = hidden(&d.join("fringes")).into_iter().filter(|n| !n.ends_with(".lock")).collect();
     assert!(!left.is_empty(), "SIGKILL leaves its temporaries");
-    let o = ok(holo(&["assemble", "ramp.holo", "-o", "fringes", "--force"], d));
+    let o = ok(holo(&["assemble", "noise.holo", "--layout", p, "-o", "fringes", "--force"], d));
     assert!(text(&o).contains(left[0].as_str()) && text(&o).contains("removed"), "{}", text(&o));
     assert_eq!(hidden(&d.join("fringes")), Vec::<String>::new());
 }
