@@ -68,11 +68,20 @@ fn one_chirp_focuses_to_a_diffraction_limited_spot_at_its_emitter() {
             let peak = f.samples.iter().map(|s| s.norm_sqr()).fold(0.0, f64::max);
             (peak, f)
         };
-        let steps: Vec<f64> = (-30..=30).map(|k| z_e + k as f64 * depth_of_focus / 10.0).collect();
-        // Each depth is an independent propagation: on every core.
-        let peaks: Vec<f64> = steps.par_iter().map(|&z| at(z).0).collect();
-        let k = peaks.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap().0;
-        assert!(k > 0 && k < steps.len() - 1, "{name}: the focus is outside the scan");
+        // The brightest of `steps` (each depth an independent propagation:
+        // on every core), and the peaks there.
+        let scan = |steps: &[f64]| {
+            let peaks: Vec<f64> = steps.par_iter().map(|&z| at(z).0).collect();
+            let k = peaks.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap().0;
+            assert!(k > 0 && k < steps.len() - 1, "{name}: the focus is outside the scan {steps:?}");
+            (k, peaks)
+        };
+        // ±3 depths of focus in half depths, then ±½ around the brightest
+        // in tenths (the focus's peak is about a depth of focus wide).
+        let coarse: Vec<f64> = (-6..=6).map(|k| z_e + k as f64 * depth_of_focus / 2.0).collect();
+        let (k, _) = scan(&coarse);
+        let steps: Vec<f64> = (-5..=5).map(|j| coarse[k] + j as f64 * depth_of_focus / 10.0).collect();
+        let (k, peaks) = scan(&steps);
         // Parabola through the three samples around the maximum.
         let (p0, p1, p2) = (peaks[k - 1], peaks[k], peaks[k + 1]);
         let z_focus = steps[k] + 0.5 * (p0 - p2) / (p0 - 2.0 * p1 + p2) * depth_of_focus / 10.0;
