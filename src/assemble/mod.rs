@@ -597,7 +597,11 @@ mod tests {
         // One layout per core: the test is the longest of the library's.
         use rayon::prelude::*;
         [mark3(), mark1(), mark1_hogel(), mark2(), mark4()].into_par_iter().for_each(|layout| {
-            let layout = with_hololines(layout, 2);
+            // Two hololines check that the second lands in its own rows;
+            // Mark IV takes one: its f64 reference over 355 200-sample
+            // hololines was 13 of the test's 14 s with two.
+            let hololines = if layout.name == "mark4" { 1 } else { 2 };
+            let layout = with_hololines(layout, hololines);
             let a = Assembler::new(&layout).unwrap();
             // The portable kernel is what processors without AVX2 run: held
             // to the same bound here, where the vector kernel is the default.
@@ -608,7 +612,7 @@ mod tests {
                     let plan = a.plan(colour);
                     let fast = a.signals(&m, colour).unwrap();
                     let fast_portable = portable.signals(&m, colour).unwrap();
-                    let reference = a.signals_reference(&m, colour, 0..2).unwrap();
+                    let reference = a.signals_reference(&m, colour, 0..hololines).unwrap();
                     let samples = plan.basis().samples;
                     let mut straight = [vec![0f32; samples], vec![0f32; samples]];
                     let mut worst = [0f64; 3];
@@ -669,14 +673,16 @@ mod tests {
             (mark4(), EmitterPhases::Quadrature),
         ];
         cases.into_par_iter().for_each(|(layout, phases)| {
-            let mut layout = with_hololines(layout, 2);
+            // Mark IV's f64 reference is the slow one: one hololine for it.
+            let hololines = if layout.name == "mark4" { 1 } else { 2 };
+            let mut layout = with_hololines(layout, hololines);
             let unphased = Assembler::new(&layout).unwrap();
             layout.fringe.as_mut().unwrap().emitter_phases = phases;
             let a = Assembler::new(&layout).unwrap();
             let portable = a.clone().with_simd(Simd::Portable);
             let m = random(&layout, 5, true);
             for colour in 0..layout.geometry.channels.len() {
-                let reference = a.signals_reference(&m, colour, 0..2).unwrap();
+                let reference = a.signals_reference(&m, colour, 0..hololines).unwrap();
                 let (fast, fast_portable) = (a.signals(&m, colour).unwrap(), portable.signals(&m, colour).unwrap());
                 let without = unphased.signals(&m, colour).unwrap();
                 let (worst, largest) = worst_against(&reference, &[&fast, &fast_portable]);
@@ -687,7 +693,7 @@ mod tests {
             }
             // The frame path writes what the signals say.
             let (images, _) = a.assemble::<f32>(&m).unwrap();
-            let unpacked = a.unpack(&images, 2).unwrap();
+            let unpacked = a.unpack(&images, hololines).unwrap();
             // With summed colours the frame buffer holds every colour's sum.
             let mut colour_signals = a.signals(&m, 0).unwrap();
             if a.colours_summed() {
