@@ -597,10 +597,7 @@ mod tests {
         // One layout per core: the test is the longest of the library's.
         use rayon::prelude::*;
         [mark3(), mark1(), mark1_hogel(), mark2(), mark4()].into_par_iter().for_each(|layout| {
-            // Two hololines check that the second lands in its own rows;
-            // Mark IV takes one: its f64 reference over 355 200-sample
-            // hololines was 13 of the test's 14 s with two.
-            let hololines = if layout.name == "mark4" { 1 } else { 2 };
+            let hololines = reference_hololines(&layout);
             let layout = with_hololines(layout, hololines);
             let a = Assembler::new(&layout).unwrap();
             // The portable kernel is what processors without AVX2 run: held
@@ -641,6 +638,18 @@ mod tests {
         });
     }
 
+    /// How many hololines a test against the f64 reference takes of
+    /// `layout`: two check that the second lands in its own rows; Mark IV
+    /// takes one, its reference over 355 200-sample hololines being most of
+    /// such a test's time (13 of 14 s with two).
+    fn reference_hololines(layout: &Layout) -> usize {
+        if layout.name == "mark4" {
+            1
+        } else {
+            2
+        }
+    }
+
     /// The largest difference of any of `fast` from the f64 `reference`
     /// (hololine, signal, sample), and the largest reference sample.
     fn worst_against(reference: &[Vec<Vec<f64>>], fast: &[&Signals]) -> (f64, f64) {
@@ -673,8 +682,7 @@ mod tests {
             (mark4(), EmitterPhases::Quadrature),
         ];
         cases.into_par_iter().for_each(|(layout, phases)| {
-            // Mark IV's f64 reference is the slow one: one hololine for it.
-            let hololines = if layout.name == "mark4" { 1 } else { 2 };
+            let hololines = reference_hololines(&layout);
             let mut layout = with_hololines(layout, hololines);
             let unphased = Assembler::new(&layout).unwrap();
             layout.fringe.as_mut().unwrap().emitter_phases = phases;

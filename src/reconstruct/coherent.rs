@@ -94,7 +94,7 @@ impl CoherentImage {
             let path = u * u / ((u * u + d * d).sqrt() + d);
             *b = e * Complex64::from_polar(1.0, k * path);
         }
-        super::fft_forward(len).process(&mut buf);
+        holo_fft::forward(len).process(&mut buf);
         let scale = 1.0 / len as f64;
         buf.iter_mut().for_each(|b| *b *= scale);
         let bin_step = 1.0 / (len as f64 * field.pitch_m);
@@ -103,7 +103,7 @@ impl CoherentImage {
             let at = j.rem_euclid(len as i64) as usize;
             image[at] = buf[at] * w;
         }
-        super::fft_inverse(len).process(&mut image);
+        holo_fft::inverse(len).process(&mut image);
         image.truncate(count);
         Ok(CoherentImage { spectrum: buf, bin_step, union, image })
     }
@@ -153,7 +153,7 @@ impl CoherentImage {
             let at = j.rem_euclid(len as i64) as usize;
             image[at] = self.spectrum[at] * w;
         }
-        super::fft_inverse(len).process(&mut image);
+        holo_fft::inverse(len).process(&mut image);
         image.iter().take(self.image.len()).map(|a| a.norm_sqr()).collect()
     }
 }

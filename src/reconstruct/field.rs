@@ -84,8 +84,8 @@ impl FieldPlan {
     /// The field of one hololine from its signals.
     pub fn field(&self, signals: &[&[f32]]) -> Field1d {
         let (n, m) = (self.samples, self.oversampling);
-        let forward = super::fft_forward(n);
-        let inverse = super::fft_inverse(n * m);
+        let forward = holo_fft::forward(n);
+        let inverse = holo_fft::inverse(n * m);
         let mut total = vec![Complex64::new(0.0, 0.0); n * m];
         let mut fine = vec![Complex64::new(0.0, 0.0); n * m];
         for (zone, carrier) in self.carriers.iter().enumerate() {

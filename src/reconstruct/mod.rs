@@ -13,17 +13,3 @@ pub mod picture;
 pub mod propagate;
 pub(crate) mod solve;
 pub mod viewer;
-
-use std::sync::Arc;
-
-use holo_fft::Fft;
-
-/// A forward FFT of `len` points, planned once per thread.
-pub(crate) fn fft_forward(len: usize) -> Arc<dyn Fft<f64>> {
-    holo_fft::forward(len)
-}
-
-/// An inverse (unnormalised) FFT of `len` points, planned once per thread.
-pub(crate) fn fft_inverse(len: usize) -> Arc<dyn Fft<f64>> {
-    holo_fft::inverse(len)
-}

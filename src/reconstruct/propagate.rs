@@ -124,7 +124,7 @@ pub fn propagate_to(
 
     let mut spectrum = vec![Complex64::new(0.0, 0.0); len];
     spectrum[before..before + field.samples.len()].copy_from_slice(&field.samples);
-    super::fft_forward(len).process(&mut spectrum);
+    holo_fft::forward(len).process(&mut spectrum);
 
     // Output sample 0 lies `frac` fine samples past fine sample `first`; the
     // remainder is a phase ramp on the spectrum (a sub-sample shift).
@@ -146,7 +146,7 @@ pub fn propagate_to(
         let phase = 2.0 * PI * (distance_m * kz + signed as f64 * frac / fine_len as f64);
         fine[signed.rem_euclid(fine_len as isize) as usize] = s * Complex64::from_polar(1.0, phase) / len as f64;
     }
-    super::fft_inverse(fine_len).process(&mut fine);
+    holo_fft::inverse(fine_len).process(&mut fine);
     let samples: Vec<Complex64> = fine.into_iter().skip(first).step_by(down).take(count).collect();
     debug_assert_eq!(samples.len(), count, "the padded grid covers the output window");
     Ok(Field1d { samples, pitch_m, x0_m })
@@ -206,9 +206,9 @@ impl Propagator {
         let len = self.transfer.len();
         let mut buf = vec![Complex64::new(0.0, 0.0); len];
         buf[..self.count].copy_from_slice(&field.samples);
-        super::fft_forward(len).process(&mut buf);
+        holo_fft::forward(len).process(&mut buf);
         buf.iter_mut().zip(&self.transfer).for_each(|(b, t)| *b *= t);
-        super::fft_inverse(len).process(&mut buf);
+        holo_fft::inverse(len).process(&mut buf);
         buf.truncate(self.count);
         Ok(Field1d { samples: buf, pitch_m: self.pitch_m, x0_m: self.x0_m })
     }
@@ -327,7 +327,7 @@ pub fn angular_spectrum(field: &Field1d, window: Window, wavelength_m: f64) -> R
         };
         *b = field.samples[k] * weight;
     }
-    super::fft_forward(len).process(&mut buf);
+    holo_fft::forward(len).process(&mut buf);
     // Reorder to increasing frequency: s from −⌊len/2⌋ to ⌈len/2⌉ − 1.
     let sin_theta_step = wavelength_m / (len as f64 * field.pitch_m);
     let (sin_theta, power) = (0..len)

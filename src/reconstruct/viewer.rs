@@ -15,8 +15,7 @@
 
 use std::sync::Arc;
 
-use holo_fft::Complex64;
-use holo_fft::Fft;
+use holo_fft::{Complex64, Fft};
 
 use super::coherent::{CoherentImage, FocusedEye};
 use super::field::FieldPlan;
@@ -107,7 +106,7 @@ impl ColourOptics {
         let mut geometry = assembler.layout().geometry.clone();
         let fine_pitch = basis.pitch_m / super::field::oversampling(&basis) as f64;
         let window = ((geometry.emitter_pitch_m / fine_pitch).round() as usize).max(1);
-        let fft = super::fft_forward((8 * window).next_power_of_two());
+        let fft = holo_fft::forward((8 * window).next_power_of_two());
         let summed = assembler.layout().fringe.as_ref().map(|f| f.colours) == Some(ColourSignals::Summed);
         let pass: Option<Vec<(f64, f64)>> = summed.then(|| {
             let colours = geometry.channels.len();
