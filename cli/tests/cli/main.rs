@@ -1,5 +1,6 @@
 //! The `holo` binary as a user runs it, one test binary: each command
-//! ([`commands`]) and the output discipline every command keeps ([`output`]).
+//! ([`commands`]), the output discipline every command keeps ([`output`]) and the
+//! command line's parts one by one ([`parts`]).
 //! One binary, so its slow tests (the demo, the interrupts) run side by side.
 
 use std::path::{Path, PathBuf};
@@ -10,6 +11,7 @@ mod farm;
 mod first_use;
 mod inputs;
 mod output;
+mod parts;
 mod pictures;
 mod reference;
 

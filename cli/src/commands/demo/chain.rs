@@ -301,30 +301,3 @@ fn quilt(holo_file: &Path) -> Result<(PathBuf, usize)> {
         export_quilt(holo_file, 0, &spec, &path, &QuiltOptions { overwrite: true, ..QuiltOptions::default() })?;
     Ok((report.path, report.views))
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_eyes_span_where_the_whole_scene_is_seen() {
-        let layout = layout::mark3();
-        let g = &layout.geometry;
-        let d = g.viewer_distance_m - g.emitter_z_m;
-        let half_tan = g.views.last_theta_rad.tan();
-        // Emitters lit from −10 to +10 mm: seen in the views from eyes within
-        // ±(d·tan θ_last − 10 mm).
-        let m = holo::Modulation::from_fn(g.clone(), |_, _, e, _| f32::from(g.emitter_x_m(e).abs() <= 0.010)).unwrap();
-        let eyes = viewing_zone_eyes_x_m(&m, 5);
-        let x_lit = (0..g.emitters).map(|e| g.emitter_x_m(e)).filter(|x| x.abs() <= 0.010);
-        let (lo, hi) = x_lit.fold((f64::MAX, f64::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)));
-        assert!((eyes[0] - (hi - d * half_tan)).abs() < 1e-9, "{eyes:?}");
-        assert!((eyes[4] - (lo + d * half_tan)).abs() < 1e-9, "{eyes:?}");
-        assert!((eyes[2] - 0.5 * (eyes[0] + eyes[4])).abs() < 1e-12);
-        // Nothing lit: the zone of the middle of the display.
-        let dark = holo::Modulation::zeros(g.clone()).unwrap();
-        let eyes = viewing_zone_eyes_x_m(&dark, 2);
-        let middle = 0.5 * (g.emitter_x_m(0) + g.emitter_x_m(g.emitters - 1));
-        assert!((eyes[1] - (middle + d * half_tan)).abs() < 1e-9, "{eyes:?}");
-    }
-}

@@ -11,7 +11,7 @@ pub const ADVANCE: usize = 6;
 
 /// Each glyph is 8 rows from the top, the last for descenders; bit 4 of a
 /// row is its leftmost pixel.
-const GLYPHS: &[(char, [u8; 8])] = &[
+pub const GLYPHS: &[(char, [u8; 8])] = &[
     (' ', [0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00]),
     ('0', [0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E, 0x00]),
     ('1', [0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E, 0x00]),
@@ -71,7 +71,6 @@ fn glyph(c: char) -> Option<[u8; 8]> {
 }
 
 /// Whether every character of `text` has a glyph.
-#[cfg(test)]
 pub fn covers(text: &str) -> bool {
     text.chars().all(|c| glyph(c).is_some())
 }
@@ -91,53 +90,4 @@ pub fn lit(text: &str) -> impl Iterator<Item = (usize, usize)> + '_ {
                 .map(move |x| (k * ADVANCE + x, y))
         })
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A text drawn as rows of `#` and `.`.
-    fn drawn(text: &str) -> Vec<String> {
-        let mut rows = vec![vec!['.'; width(text)]; GLYPH_SIZE.1];
-        for (x, y) in lit(text) {
-            rows[y][x] = '#';
-        }
-        rows.into_iter().map(|r| r.into_iter().collect()).collect()
-    }
-
-    #[test]
-    fn digits_and_signs_are_drawn_as_their_shapes() {
-        assert_eq!(
-            drawn("-1x"),
-            [
-                "........#........",
-                ".......##........",
-                "........#...#...#",
-                "#####...#....#.#.",
-                "........#.....#..",
-                "........#....#.#.",
-                ".......###..#...#",
-                ".................",
-            ]
-        );
-        assert_eq!(width("x = -120 mm"), 11 * 6 - 1);
-    }
-
-    #[test]
-    fn every_glyph_is_distinct_and_within_five_columns() {
-        for (k, (c, rows)) in GLYPHS.iter().enumerate() {
-            assert!(rows.iter().all(|r| r >> GLYPH_SIZE.0 == 0), "{c:?} is wider than 5");
-            for (d, other) in &GLYPHS[k + 1..] {
-                assert!(rows != other, "{c:?} and {d:?} look the same");
-            }
-        }
-    }
-
-    #[test]
-    fn a_missing_character_is_a_box_and_is_told() {
-        assert!(covers("eye x = +12 mm, frame 2 (head1): 0.5"));
-        assert!(!covers("θ"));
-        assert_eq!(lit("θ").count(), 40);
-    }
 }

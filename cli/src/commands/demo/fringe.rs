@@ -25,13 +25,13 @@ use super::canvas::{Canvas, LABEL_SCALE, WHITE};
 use super::font;
 
 /// Frame-buffer pixels per thumbnail pixel, each way.
-const THUMBNAIL_SHRINK: usize = 8;
+pub const THUMBNAIL_SHRINK: usize = 8;
 /// Pixels a signal sample takes across in the zoom.
 const ZOOM_SAMPLE_WIDTH: usize = 3;
 /// Pixels of a plot from its lowest signal (−1) to its highest (+1).
 const ZOOM_HEIGHT: usize = 160;
 /// Room around the parts and for a label line, pixels.
-const MARGIN: usize = 12;
+pub const MARGIN: usize = 12;
 /// Marks the zoomed samples in the thumbnail.
 const MARK: [f32; 3] = [1.0, 0.1, 0.1];
 
@@ -46,15 +46,13 @@ pub struct FringePicture {
     pub samples: Range<usize>,
     /// The legend drawn: what the colours, zones and lobes are (what the
     /// tests read of the picture, with the lobes).
-    #[cfg_attr(not(test), allow(dead_code))]
     pub legend: Vec<String>,
     /// The emitters of each lobe of the hololine's signal, in order.
-    #[cfg_attr(not(test), allow(dead_code))]
     pub lobes: Vec<Range<usize>>,
 }
 
 /// Characters a legend line holds at [`LABEL_SCALE`] in the picture's width.
-fn line_chars(width: usize) -> usize {
+pub fn line_chars(width: usize) -> usize {
     (width - 2 * MARGIN) / (font::ADVANCE * LABEL_SCALE)
 }
 
@@ -227,7 +225,7 @@ fn lobes(a: &Assembler, row: &[f32], zone: usize) -> Vec<Range<usize>> {
         .collect()
 }
 
-fn label_height() -> usize {
+pub fn label_height() -> usize {
     font::GLYPH_SIZE.1 * LABEL_SCALE + MARGIN / 2
 }
 
@@ -418,49 +416,4 @@ fn thumbnail(images: &FrameImages<u8>, image: &[u8], offset: f64, gain: f64) -> 
         }
     });
     t
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use holo::Modulation;
-
-    #[test]
-    fn the_legend_says_what_the_colours_zones_and_lobes_are() {
-        let layout = holo::layout::mark3();
-        let a = Assembler::new(&layout).unwrap();
-        // Two stretches of lit emitters on every hololine, every view.
-        let lit = |e: usize| (40..100).contains(&e) || (150..230).contains(&e);
-        let m = Modulation::from_fn(
-            layout.geometry.clone(),
-            |_, _, e, v| if lit(e) { 0.2 + 0.005 * v as f32 } else { 0.0 },
-        )
-        .unwrap();
-        let (images, _) = a.assemble::<u8>(&m).unwrap();
-        let picture = fringe_picture(&a, &images).unwrap();
-        let legend = picture.legend.join("\n");
-        // Spec/layouts.md §7.1: head 1 R, G = zone 1 sine, cosine; B = zone 2 sine.
-        assert!(legend.contains("head1: yellow = zone1 (red sin, green cos), blue = zone2 (blue sin)"), "{legend}");
-        assert!(legend.contains("head2: yellow = zone3 (red sin, green cos), blue = zone2 (blue cos)"), "{legend}");
-        // Zone 1 carries the views toward +θ, zone 3 those toward −θ.
-        assert!(legend.contains("zone1: views +4.") && legend.contains("to +11.9 deg"), "{legend}");
-        assert!(legend.contains("zone3: views -11.9 to -4."), "{legend}");
-        assert_eq!(picture.lobes.len(), 2, "{legend}");
-        for (lobe, want) in picture.lobes.iter().zip([40..100, 150..230]) {
-            assert!(lobe.start.abs_diff(want.start) <= 3 && lobe.end.abs_diff(want.end) <= 3, "{lobe:?}: {legend}");
-        }
-        assert!(legend.contains("lobes: the bright stretches") && legend.contains("emitters 4"), "{legend}");
-        let chars = line_chars(picture.canvas.width);
-        for line in &picture.legend {
-            assert!(font::covers(line) && line.chars().count() <= chars, "{line:?}");
-        }
-        // Drawn: the rows under the thumbnails are no longer black.
-        let th = images.height / THUMBNAIL_SHRINK;
-        let below = (MARGIN + label_height() + th + MARGIN) * picture.canvas.width;
-        let lit_pixels = picture.canvas.rgb[below..below + label_height() * picture.canvas.width]
-            .iter()
-            .filter(|p| p[0] > 0.5)
-            .count();
-        assert!(lit_pixels > 100, "{lit_pixels}");
-    }
 }

@@ -8,10 +8,18 @@ use clap::Args;
 mod canvas;
 mod chain;
 mod eyes;
-mod font;
+pub mod font;
 mod fringe;
 mod movie;
 mod text;
+
+/// What the command line's tests check of the demo's drawing.
+pub mod parts {
+    pub use super::canvas::{apng, Canvas, WHITE};
+    pub use super::chain::viewing_zone_eyes_x_m;
+    pub use super::font;
+    pub use super::fringe::{fringe_picture, label_height, line_chars, MARGIN, THUMBNAIL_SHRINK};
+}
 
 use super::Outcome;
 use crate::out::put;
