@@ -77,7 +77,8 @@ pub fn run(path: &Path) -> Result<(), Box<dyn Error>> {
     }
 
     // Only part of a frame: the first hololine, all emitters, view 0.
-    let part = file.read_region(0, &Region { hololines: 0..1, emitters: 0..g.emitters, views: 0..1 })?;
+    let part =
+        file.read_region(0, &Region { hololines: 0..1, emitters: 0..g.emitters, views: 0..1, vertical_views: 0..1 })?;
     println!("region: {} samples", part.samples().len());
     Ok(())
 }

@@ -271,6 +271,7 @@ fn check_file(c: &mut Checks, holo: &Path, json: &Path) -> Result<(), String> {
                 hololines: g.hololines / 2..g.hololines,
                 emitters: 1..g.emitters,
                 views: g.views.count.saturating_sub(2).min(1)..g.views.count,
+                vertical_views: 0..1,
             };
             match file.read_region(i, &region) {
                 Ok(sub) => {

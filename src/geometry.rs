@@ -34,12 +34,15 @@ impl ViewSpacing {
     }
 }
 
-/// The horizontal directions of the views of every emitter.
+/// The directions of the views of every emitter along one axis: the
+/// horizontal views (`θ`, positive toward `+x`), or a full-parallax
+/// geometry's vertical views (`φ`, positive toward `+y`; spec §8).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Views {
-    /// Number of views per emitter.
+    /// Number of views per emitter along the axis.
     pub count: usize,
-    /// Direction of view 0, radians from the `z` axis, positive toward `+x`.
+    /// Direction of view 0, radians from the `z` axis, positive toward `+x`
+    /// (vertical views: toward `+y`).
     pub first_theta_rad: f64,
     /// Direction of the last view, radians.
     pub last_theta_rad: f64,
@@ -215,14 +218,15 @@ pub fn channel_weights(names: &[&str]) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// Horizontal parallax only (the only kind version 1 readers must handle), or
-/// full parallax (reserved: layout specified, not yet produced).
+/// Horizontal parallax only, or full parallax (spec §8, format 1.3): a 2-D
+/// emitter grid whose every emitter has a 2-D grid of views.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Parallax {
     /// One row of emitters per hololine; views vary in `θ` only.
     Horizontal,
-    /// A 2-D emitter grid and 2-D views (reserved, see spec §8).
+    /// A 2-D emitter grid and 2-D views (spec §8): the geometry's
+    /// [`Geometry::vertical_views`] are its vertical directions.
     Full,
 }
 
@@ -235,8 +239,13 @@ pub struct Geometry {
     pub hololines: usize,
     /// Number of emitters per hololine (columns).
     pub emitters: usize,
-    /// View directions.
+    /// View directions (horizontal).
     pub views: Views,
+    /// Full parallax only: the vertical view directions (`φ`, from `+z`
+    /// toward `+y`). `None` for horizontal parallax, whose one vertical
+    /// direction is toward the viewer line.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertical_views: Option<Views>,
     /// Vertical distance between adjacent hololines, metres.
     pub hololine_pitch_m: f64,
     /// `y` of hololine 0 (the top one); hololine `j` is at `y0 − j·pitch`.
@@ -264,8 +273,27 @@ impl Geometry {
     pub fn hololine_y_m(&self, j: usize) -> f64 {
         self.hololine_top_y_m - j as f64 * self.hololine_pitch_m
     }
-    /// `dy/dz` of every ray that leaves the emitter plane at height `y_m`:
-    /// horizontal-parallax rays all pass through the viewer line, so
+    /// Vertical views per emitter, `W`: 1 for horizontal parallax.
+    pub fn vertical_view_count(&self) -> usize {
+        self.vertical_views.as_ref().map_or(1, |v| v.count)
+    }
+    /// Views per emitter, `V × W` (`V` for horizontal parallax): the length
+    /// of an emitter's run of samples in a [`crate::Modulation`].
+    pub fn views_per_emitter(&self) -> usize {
+        self.views.count.saturating_mul(self.vertical_view_count())
+    }
+    /// The index among an emitter's views of horizontal view `h`, vertical
+    /// view `k`: `k · V + h` (spec §8, "In memory").
+    pub fn view_index(&self, h: usize, k: usize) -> usize {
+        k * self.views.count + h
+    }
+    /// Horizontal and vertical view of an index among an emitter's views
+    /// (the inverse of [`Geometry::view_index`]).
+    pub fn view_of_index(&self, view: usize) -> (usize, usize) {
+        (view % self.views.count, view / self.views.count)
+    }
+    /// `dy/dz` of every horizontal-parallax ray that leaves the emitter plane
+    /// at height `y_m`: they all pass through the viewer line, so
     /// `(y_v − y)/(D − z_e)`.
     pub fn ray_slope_y(&self, y_m: f64) -> f64 {
         (self.viewer_height_m - y_m) / (self.viewer_distance_m - self.emitter_z_m)
@@ -281,13 +309,31 @@ impl Geometry {
         (eye_x_m - x_m) / (self.viewer_distance_m - self.emitter_z_m)
     }
     /// The ray of sample `(hololine, emitter, view)`: from the emitter, in
-    /// the view's direction, toward the viewer line.
+    /// the view's direction; toward the viewer line for horizontal parallax,
+    /// at its vertical view's `φ` for full parallax (`view` then is
+    /// [`Geometry::view_index`] of both).
     pub fn ray(&self, hololine: usize, emitter: usize, view: usize) -> Ray {
-        self.ray_at(self.emitter_x_m(emitter), self.hololine_y_m(hololine), view as f64)
+        let (h, k) = self.view_of_index(view);
+        self.ray_at_views(self.emitter_x_m(emitter), self.hololine_y_m(hololine), h as f64, k as f64)
     }
     /// The ray leaving the emitter plane at `(x_m, y_m)` in the direction of
-    /// the fractional view index `view_index`: a sub-ray across an emitter's
-    /// aperture and a view's interval.
+    /// the fractional horizontal view index `h` and vertical view index `k`
+    /// (spec §8: slopes `tan θ_h`, `tan φ_k`); for horizontal parallax `k` is
+    /// ignored and the ray goes toward the viewer line ([`Geometry::ray_at`]).
+    pub fn ray_at_views(&self, x_m: f64, y_m: f64, h: f64, k: f64) -> Ray {
+        match &self.vertical_views {
+            None => self.ray_at(x_m, y_m, h),
+            Some(vertical) => Ray {
+                origin_m: [x_m, y_m, self.emitter_z_m],
+                slope_x: self.ray_slope_x(h),
+                slope_y: vertical.theta_at(k).tan(),
+            },
+        }
+    }
+    /// The horizontal-parallax ray leaving the emitter plane at `(x_m, y_m)`
+    /// in the direction of the fractional view index `view_index`: a sub-ray
+    /// across an emitter's aperture and a view's interval, toward the viewer
+    /// line (full parallax: [`Geometry::ray_at_views`]).
     pub fn ray_at(&self, x_m: f64, y_m: f64, view_index: f64) -> Ray {
         Ray {
             origin_m: [x_m, y_m, self.emitter_z_m],
@@ -316,6 +362,7 @@ impl Geometry {
             .saturating_mul(self.hololines as u64)
             .saturating_mul(self.emitters as u64)
             .saturating_mul(self.views.count as u64)
+            .saturating_mul(self.vertical_view_count() as u64)
     }
     /// Index of the channel with this suffix.
     pub fn channel_index(&self, name: &str) -> Option<usize> {
@@ -340,6 +387,7 @@ impl Geometry {
             hololines,
             emitters,
             views,
+            vertical_views: None,
             hololine_pitch_m,
             hololine_top_y_m: hololines.saturating_sub(1) as f64 * hololine_pitch_m / 2.0,
             emitter_pitch_m,
@@ -349,6 +397,15 @@ impl Geometry {
             viewer_height_m: 0.0,
             channels,
         }
+    }
+
+    /// This geometry made full parallax (spec §8), `vertical` its vertical
+    /// view directions (`φ`, positive toward `+y`); its rays then leave each
+    /// emitter in both directions of a view, no longer toward the viewer line.
+    pub fn with_vertical_views(mut self, vertical: Views) -> Geometry {
+        self.parallax = Parallax::Full;
+        self.vertical_views = Some(vertical);
+        self
     }
 
     /// [`Geometry::problems`], and a frame larger than a `.holo` frame may
@@ -370,8 +427,18 @@ impl Geometry {
     /// means the geometry is valid.
     pub fn problems(&self) -> Vec<String> {
         let mut out = Vec::new();
-        if self.parallax != Parallax::Horizontal {
-            out.push("full parallax is reserved in format version 1 and not yet supported".into());
+        match (self.parallax, &self.vertical_views) {
+            (Parallax::Full, None) => out.push("full parallax needs vertical view directions".into()),
+            (Parallax::Horizontal, Some(_)) => {
+                out.push("horizontal parallax has no vertical view directions, but some are given".into())
+            }
+            (Parallax::Full, Some(vertical)) => {
+                if vertical.count == 0 {
+                    out.push("vertical view count is zero".into());
+                }
+                out.extend(view_problems(vertical).into_iter().map(|p| format!("vertical {p}")));
+            }
+            (Parallax::Horizontal, None) => {}
         }
         for (what, n) in
             [("hololine count", self.hololines), ("emitter count", self.emitters), ("view count", self.views.count)]
@@ -403,7 +470,7 @@ impl Geometry {
                 self.viewer_distance_m, self.emitter_z_m
             ));
         }
-        out.extend(self.view_problems());
+        out.extend(view_problems(&self.views));
         if self.channels.is_empty() {
             out.push("there are no colour channels".into());
         }
@@ -425,41 +492,41 @@ impl Geometry {
         }
         out
     }
+}
 
-    fn view_problems(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        let v = &self.views;
-        let half_pi = std::f64::consts::FRAC_PI_2;
-        let in_range = |t: f64| t.is_finite() && t.abs() < half_pi;
-        if let ViewSpacing::Explicit(list) = &v.spacing {
-            if list.len() != v.count {
-                out.push(format!("{} explicit view angles for {} views", list.len(), v.count));
-            }
-            if list.iter().any(|t| !in_range(*t)) {
-                out.push("an explicit view angle is not finite or not inside (−90°, 90°)".into());
-            }
-            if list.windows(2).any(|w| w[1] <= w[0]) {
-                out.push("explicit view angles are not strictly increasing".into());
-            }
-            if let (Some(first), Some(last)) = (list.first(), list.last()) {
-                if *first != v.first_theta_rad || *last != v.last_theta_rad {
-                    out.push("first/last view angle disagree with the explicit list".into());
-                }
-            }
-            return out;
+/// The rules of spec §4.1 for one axis of view directions.
+fn view_problems(v: &Views) -> Vec<String> {
+    let mut out = Vec::new();
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let in_range = |t: f64| t.is_finite() && t.abs() < half_pi;
+    if let ViewSpacing::Explicit(list) = &v.spacing {
+        if list.len() != v.count {
+            out.push(format!("{} explicit view angles for {} views", list.len(), v.count));
         }
-        if !in_range(v.first_theta_rad) || !in_range(v.last_theta_rad) {
-            out.push(format!(
-                "view angles {} … {} rad are not finite or not inside (−π/2, π/2)",
-                v.first_theta_rad, v.last_theta_rad
-            ));
-        } else if v.count > 1 && v.last_theta_rad <= v.first_theta_rad {
-            out.push("the last view angle is not greater than the first".into());
-        } else if v.count == 1 && v.last_theta_rad != v.first_theta_rad {
-            out.push("a single view must have equal first and last angles".into());
+        if list.iter().any(|t| !in_range(*t)) {
+            out.push("an explicit view angle is not finite or not inside (−90°, 90°)".into());
         }
-        out
+        if list.windows(2).any(|w| w[1] <= w[0]) {
+            out.push("explicit view angles are not strictly increasing".into());
+        }
+        if let (Some(first), Some(last)) = (list.first(), list.last()) {
+            if *first != v.first_theta_rad || *last != v.last_theta_rad {
+                out.push("first/last view angle disagree with the explicit list".into());
+            }
+        }
+        return out;
     }
+    if !in_range(v.first_theta_rad) || !in_range(v.last_theta_rad) {
+        out.push(format!(
+            "view angles {} … {} rad are not finite or not inside (−π/2, π/2)",
+            v.first_theta_rad, v.last_theta_rad
+        ));
+    } else if v.count > 1 && v.last_theta_rad <= v.first_theta_rad {
+        out.push("the last view angle is not greater than the first".into());
+    } else if v.count == 1 && v.last_theta_rad != v.first_theta_rad {
+        out.push("a single view must have equal first and last angles".into());
+    }
+    out
 }
 
 #[cfg(test)]

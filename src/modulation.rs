@@ -1,11 +1,15 @@
 //! The modulation texture of one frame in memory: f32 linear radiance, kept
 //! channel by channel in the order (hololine, emitter, view), which is the
-//! order the assembler walks it in.
+//! order the assembler walks it in. A full-parallax frame (spec §8) keeps
+//! each emitter's `V × W` views together the same way, vertical view major
+//! ([`Geometry::view_index`]): "hololine" is then an emitter row, and "view"
+//! an index among an emitter's views.
 
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 
-/// One frame of modulation: `samples[((c·H + j)·E + e)·V + v]`.
+/// One frame of modulation: `samples[((c·H + j)·E + e)·V + v]`, where `V`
+/// is [`Geometry::views_per_emitter`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Modulation {
     geometry: Geometry,
@@ -35,7 +39,7 @@ impl Modulation {
     /// Fill every sample from a function of (channel, hololine, emitter, view).
     pub fn from_fn(geometry: Geometry, mut f: impl FnMut(usize, usize, usize, usize) -> f32) -> Result<Self> {
         let mut m = Self::zeros(geometry)?;
-        let (h, e, v) = (m.geometry.hololines, m.geometry.emitters, m.geometry.views.count);
+        let (h, e, v) = (m.geometry.hololines, m.geometry.emitters, m.geometry.views_per_emitter());
         let mut i = 0;
         for c in 0..m.geometry.channels.len() {
             for j in 0..h {
@@ -71,7 +75,7 @@ impl Modulation {
     #[inline]
     pub fn index(&self, channel: usize, hololine: usize, emitter: usize, view: usize) -> usize {
         let g = &self.geometry;
-        ((channel * g.hololines + hololine) * g.emitters + emitter) * g.views.count + view
+        ((channel * g.hololines + hololine) * g.emitters + emitter) * g.views_per_emitter() + view
     }
     /// One sample.
     #[inline]
@@ -87,12 +91,12 @@ impl Modulation {
     /// The views of one emitter on one hololine.
     pub fn views_of(&self, channel: usize, hololine: usize, emitter: usize) -> &[f32] {
         let i = self.index(channel, hololine, emitter, 0);
-        &self.samples[i..i + self.geometry.views.count]
+        &self.samples[i..i + self.geometry.views_per_emitter()]
     }
     /// All (emitter, view) samples of one hololine: its epipolar-plane image.
     pub fn hololine(&self, channel: usize, hololine: usize) -> &[f32] {
         let i = self.index(channel, hololine, 0, 0);
-        &self.samples[i..i + self.geometry.emitters * self.geometry.views.count]
+        &self.samples[i..i + self.geometry.emitters * self.geometry.views_per_emitter()]
     }
 
     /// Smallest and largest sample (0, 0 for an empty texture).
@@ -134,7 +138,7 @@ impl Band {
                 ),
             ));
         }
-        let per_line = geometry.emitters as u64 * geometry.views.count as u64 * geometry.channels.len() as u64;
+        let per_line = geometry.emitters as u64 * geometry.views_per_emitter() as u64 * geometry.channels.len() as u64;
         let n = usize::try_from(per_line * hololines.len() as u64).map_err(|_| too_big(&geometry))?;
         Ok(Band { samples: vec![0.0; n], geometry, hololines })
     }
@@ -157,9 +161,19 @@ impl Band {
     }
     /// All (emitter, view) samples of one hololine (counted from the frame's first).
     pub fn hololine(&self, channel: usize, hololine: usize) -> &[f32] {
-        let n = self.geometry.emitters * self.geometry.views.count;
+        let n = self.geometry.emitters * self.geometry.views_per_emitter();
         let i = (channel * self.hololines.len() + hololine - self.hololines.start) * n;
         &self.samples[i..i + n]
+    }
+    /// Its hololines copied from the same hololines of a whole frame of the
+    /// same geometry.
+    pub fn copy_rows_from(&mut self, frame: &Modulation) {
+        let lines = self.hololines.len();
+        let n = self.geometry.emitters * self.geometry.views_per_emitter();
+        for c in 0..self.geometry.channels.len() {
+            let from = frame.index(c, self.hololines.start, 0, 0);
+            self.samples[c * lines * n..(c + 1) * lines * n].copy_from_slice(&frame.samples()[from..from + lines * n]);
+        }
     }
     /// The first sample that is NaN, infinite or negative, as
     /// (channel, hololine, emitter, view, value, why); the hololine counted
@@ -218,10 +232,11 @@ fn first_bad(
     let i = samples.iter().position(|x| !good(x))?;
     let x = samples[i];
     let lines = hololines.len();
-    let v = i % g.views.count;
-    let e = (i / g.views.count) % g.emitters;
-    let j = hololines.start + (i / (g.views.count * g.emitters)) % lines;
-    let c = i / (g.views.count * g.emitters * lines);
+    let views = g.views_per_emitter();
+    let v = i % views;
+    let e = (i / views) % g.emitters;
+    let j = hololines.start + (i / (views * g.emitters)) % lines;
+    let c = i / (views * g.emitters * lines);
     let why = if x.is_nan() {
         "not a number"
     } else if x.is_infinite() {

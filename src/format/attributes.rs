@@ -9,8 +9,10 @@ use exr::meta::attribute::{AttributeValue, Text};
 
 use crate::geometry::{ColourChannel, Geometry, Parallax, ViewSpacing, Views};
 
-/// Format version written by this library (and the newest it reads).
-pub const VERSION: (i32, i32) = (1, 2);
+/// The newest format version this library reads and writes (full
+/// parallax, spec §8; horizontal parallax is written as 1.2, which 1.3 did
+/// not change).
+pub const VERSION: (i32, i32) = (1, 3);
 
 /// Attribute names (spec §4, table 1).
 pub mod name {
@@ -31,6 +33,16 @@ pub mod name {
     pub const VIEW_FIRST: &str = "holo.viewFirst";
     pub const VIEW_LAST: &str = "holo.viewLast";
     pub const VIEW_ANGLES: &str = "holo.viewAngles";
+    pub const VIEWS_VERTICAL: &str = "holo.viewsVertical";
+    pub const VIEW_SPACING_VERTICAL: &str = "holo.viewSpacingVertical";
+    pub const VIEW_FIRST_VERTICAL: &str = "holo.viewFirstVertical";
+    pub const VIEW_LAST_VERTICAL: &str = "holo.viewLastVertical";
+    pub const VIEW_ANGLES_VERTICAL: &str = "holo.viewAnglesVertical";
+    /// The vertical views' attributes (spec §8), which only full parallax has.
+    pub const VERTICAL: [&str; 5] =
+        [VIEWS_VERTICAL, VIEW_SPACING_VERTICAL, VIEW_FIRST_VERTICAL, VIEW_LAST_VERTICAL, VIEW_ANGLES_VERTICAL];
+    /// Per part, full parallax: the view `(h, k)` the part holds.
+    pub const VIEW: &str = "holo.view";
     pub const WAVELENGTH_PREFIX: &str = "holo.wavelength.";
     pub const RADIOMETRY: &str = "holo.radiometry";
     pub const SCALE: &str = "holo.scale";
@@ -162,6 +174,12 @@ pub fn is_known(attribute: &str) -> bool {
         VIEW_FIRST,
         VIEW_LAST,
         VIEW_ANGLES,
+        VIEWS_VERTICAL,
+        VIEW_SPACING_VERTICAL,
+        VIEW_FIRST_VERTICAL,
+        VIEW_LAST_VERTICAL,
+        VIEW_ANGLES_VERTICAL,
+        VIEW,
         RADIOMETRY,
         SCALE,
         UNIT,
@@ -271,12 +289,19 @@ pub fn geometry_attributes(
     put(EMITTER_Z, AttributeValue::F64(g.emitter_z_m));
     put(VIEWER_DISTANCE, AttributeValue::F64(g.viewer_distance_m));
     put(VIEWER_HEIGHT, AttributeValue::F64(g.viewer_height_m));
-    put(VIEW_SPACING, text(g.views.spacing.name()));
-    put(VIEW_FIRST, AttributeValue::F64(g.views.first_theta_rad));
-    put(VIEW_LAST, AttributeValue::F64(g.views.last_theta_rad));
-    if let ViewSpacing::Explicit(list) = &g.views.spacing {
-        let joined: Vec<String> = list.iter().map(|t| format!("{t:e}")).collect();
-        put(VIEW_ANGLES, text(&joined.join(" ")));
+    let mut axis = |views: &Views, [spacing, first, last, angles]: [&str; 4]| {
+        put(spacing, text(views.spacing.name()));
+        put(first, AttributeValue::F64(views.first_theta_rad));
+        put(last, AttributeValue::F64(views.last_theta_rad));
+        if let ViewSpacing::Explicit(list) = &views.spacing {
+            let joined: Vec<String> = list.iter().map(|t| format!("{t:e}")).collect();
+            put(angles, text(&joined.join(" ")));
+        }
+    };
+    axis(&g.views, [VIEW_SPACING, VIEW_FIRST, VIEW_LAST, VIEW_ANGLES]);
+    if let Some(vertical) = &g.vertical_views {
+        axis(vertical, [VIEW_SPACING_VERTICAL, VIEW_FIRST_VERTICAL, VIEW_LAST_VERTICAL, VIEW_ANGLES_VERTICAL]);
+        put(VIEWS_VERTICAL, AttributeValue::I32(vertical.count as i32));
     }
     for c in &g.channels {
         put(&format!("{WAVELENGTH_PREFIX}{}", c.name), AttributeValue::F64(c.wavelength_m));
@@ -436,22 +461,47 @@ impl<'a> Attributes<'a> {
             "full" => Parallax::Full,
             other => return Err(format!("attribute {PARALLAX} is {other:?}; it must be \"horizontal\" or \"full\"")),
         };
-        let view_count = count(VIEWS)?;
-        let spacing = match self.string(VIEW_SPACING)?.as_str() {
-            "tan" => ViewSpacing::Tan,
-            "sin" => ViewSpacing::Sin,
-            "angle" => ViewSpacing::Angle,
-            "explicit" => {
-                let list = self.string(VIEW_ANGLES)?;
-                let parsed: Result<Vec<f64>, _> = list.split_ascii_whitespace().map(str::parse::<f64>).collect();
-                ViewSpacing::Explicit(
-                    parsed.map_err(|_| format!("attribute {VIEW_ANGLES} is not a list of decimal numbers"))?,
-                )
-            }
-            other => {
-                return Err(format!(
-                    "attribute {VIEW_SPACING} is {other:?}; it must be \"tan\", \"sin\", \"angle\" or \"explicit\""
-                ))
+        let axis = |[views, spacing, first, last, angles]: [&str; 5]| -> Result<Views, String> {
+            let spacing = match self.string(spacing)?.as_str() {
+                "tan" => ViewSpacing::Tan,
+                "sin" => ViewSpacing::Sin,
+                "angle" => ViewSpacing::Angle,
+                "explicit" => {
+                    let list = self.string(angles)?;
+                    let parsed: Result<Vec<f64>, _> = list.split_ascii_whitespace().map(str::parse::<f64>).collect();
+                    ViewSpacing::Explicit(
+                        parsed.map_err(|_| format!("attribute {angles} is not a list of decimal numbers"))?,
+                    )
+                }
+                other => {
+                    return Err(format!(
+                        "attribute {spacing} is {other:?}; it must be \"tan\", \"sin\", \"angle\" or \"explicit\""
+                    ))
+                }
+            };
+            Ok(Views {
+                count: count(views)?,
+                first_theta_rad: self.double(first)?,
+                last_theta_rad: self.double(last)?,
+                spacing,
+            })
+        };
+        let views = axis([VIEWS, VIEW_SPACING, VIEW_FIRST, VIEW_LAST, VIEW_ANGLES])?;
+        let vertical_views = match parallax {
+            Parallax::Full => Some(axis([
+                VIEWS_VERTICAL,
+                VIEW_SPACING_VERTICAL,
+                VIEW_FIRST_VERTICAL,
+                VIEW_LAST_VERTICAL,
+                VIEW_ANGLES_VERTICAL,
+            ])?),
+            Parallax::Horizontal => {
+                if let Some(k) = VERTICAL.iter().find(|k| self.has(k)) {
+                    return Err(format!(
+                        "attribute {k} is for full parallax; this file's {PARALLAX} is \"horizontal\""
+                    ));
+                }
+                None
             }
         };
         let mut channels = Vec::new();
@@ -465,12 +515,8 @@ impl<'a> Attributes<'a> {
             parallax,
             hololines: count(HOLOLINES)?,
             emitters: count(EMITTERS)?,
-            views: Views {
-                count: view_count,
-                first_theta_rad: self.double(VIEW_FIRST)?,
-                last_theta_rad: self.double(VIEW_LAST)?,
-                spacing,
-            },
+            views,
+            vertical_views,
             hololine_pitch_m: self.double(HOLOLINE_PITCH)?,
             hololine_top_y_m: self.double(HOLOLINE_TOP_Y)?,
             emitter_pitch_m: self.double(EMITTER_PITCH)?,

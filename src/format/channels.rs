@@ -20,6 +20,14 @@ pub fn channel_name(v: usize, colour: &str, digits: usize) -> String {
     format!("v{v:0digits$}.{colour}")
 }
 
+/// The channels of each part of a full-parallax file (spec §8): the colour
+/// suffixes alone, in EXR's (ASCII) order.
+pub fn colour_names(g: &Geometry) -> Vec<String> {
+    let mut names: Vec<String> = g.channels.iter().map(|c| c.name.clone()).collect();
+    names.sort();
+    names
+}
+
 /// Parse `v<digits>.<colour>` into (view, colour, digit count).
 pub fn parse_channel_name(name: &str) -> Option<(usize, &str, usize)> {
     let rest = name.strip_prefix('v')?;

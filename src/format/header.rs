@@ -19,17 +19,35 @@ use crate::error::Error;
 use crate::geometry::{Geometry, CHANNEL_NAMES};
 use crate::signature::{self, FileKind};
 
-/// One frame (one EXR part) of a file.
+/// One frame of a file: one EXR part, or for full parallax one part per
+/// view (spec §8).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct FrameInfo {
     /// Frame number (`holo.frame`).
     pub number: i64,
-    /// `sha256:…` digest of the samples, when the file has one.
+    /// `sha256:…` digest of the samples, when the file has one (full
+    /// parallax: none for the frame, one for each of its [`FrameInfo::views`]).
     pub digest: Option<String>,
-    /// The region that holds samples; outside it every sample is zero.
+    /// The region that holds samples; outside it every sample is zero (full
+    /// parallax: the union of its views').
     pub data_window: Window,
+    /// EXR part index (full parallax: of its first view).
+    pub part: usize,
+    /// Full parallax: each view's part, in the order of
+    /// [`Geometry::view_index`]; empty for horizontal parallax.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub views: Vec<ViewPart>,
+}
+
+/// The part of one view of a full-parallax frame (spec §8).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ViewPart {
     /// EXR part index.
     pub part: usize,
+    /// `sha256:…` digest of the view's samples.
+    pub digest: Option<String>,
+    /// The region of the view that holds samples.
+    pub data_window: Window,
 }
 
 /// Everything the headers of a `.holo` file say.
@@ -197,8 +215,19 @@ pub(crate) fn parse(
         return Ok(Parsed { info: None, problems, warnings });
     }
 
+    // Full parallax (spec §8) names each part's channels by colour alone.
+    let full = attrs.string(name::PARALLAX).is_ok_and(|p| p == "full");
+    if full && version < (1, 3) {
+        problems.push(format!(
+            "{} is \"full\" but {} is {}.{}: full parallax needs format version 1.3",
+            name::PARALLAX,
+            name::VERSION,
+            version.0,
+            version.1
+        ));
+    }
     // Channel list of the first part: colours, views, sample type.
-    let (colours, sample_type) = match channel_list(first) {
+    let (colours, sample_type) = match channel_list(first, full) {
         Ok(x) => x,
         Err(e) => {
             problems.push(e);
@@ -216,15 +245,19 @@ pub(crate) fn parse(
     for (what, n, limit) in [
         ("hololine count", geometry.hololines as u64, MAX_SIDE),
         ("emitter count", geometry.emitters as u64, MAX_SIDE),
-        ("channel count (views × colours)", (geometry.views.count * geometry.channels.len()) as u64, MAX_CHANNELS),
-        ("samples per frame", geometry.samples_per_frame(), MAX_SAMPLES_PER_FRAME),
+        ("channel count (views × colours)", channels_per_part(&geometry), MAX_CHANNELS),
+        ("views per frame", geometry.views_per_emitter() as u64, MAX_FRAMES),
+        // A full-parallax frame is read band by band (spec §10).
+        ("samples per frame", if full { 0 } else { geometry.samples_per_frame() }, MAX_SAMPLES_PER_FRAME),
     ] {
         if n > limit {
             return Err(Error::TooLarge { path: path.into(), what, value: n, limit });
         }
     }
     problems.extend(geometry.problems());
-    check_channels(first, &geometry, &mut problems);
+    if !full {
+        check_channels(first, &geometry, &mut problems);
+    }
     check_pixel_aspect(first.shared_attributes.pixel_aspect, version, &geometry, &mut problems, &mut warnings);
 
     let radiometry = attrs.radiometry().unwrap_or_else(|e| {
@@ -239,15 +272,25 @@ pub(crate) fn parse(
         warnings.push(format!("compression {} is lossy for {:?} samples", compression.name(), sample_type));
     }
 
-    let mut frames = Vec::new();
+    let mut parts = Vec::new();
     let mut chunk_total: u64 = 0;
     let part_zero = PartZero { colours: &colours, sample_type, geometry: &geometry, compression };
+    let views = if full { geometry.views_per_emitter().max(1) } else { 1 };
+    let frame_count = headers.len() / views;
+    if headers.len() % views != 0 {
+        problems.push(format!(
+            "the file has {} parts, not a whole number of frames of {views} views (one part per view)",
+            headers.len()
+        ));
+    }
     for (part, header) in headers.iter().enumerate() {
         chunk_total += header.chunk_count as u64;
-        frames.push(check_part(part, header, headers.len(), &part_zero, &mut problems));
+        let view = full.then(|| geometry.view_of_index(part % views));
+        parts.push(check_part(part, header, frame_count, view, &part_zero, &mut problems));
     }
+    let frames = if full { frames_of_views(parts, views, &geometry, &mut problems) } else { parts };
     if frames.windows(2).any(|w| w[1].number <= w[0].number) {
-        problems.push("frame numbers (holo.frame) are not strictly increasing from part to part".into());
+        problems.push("frame numbers (holo.frame) are not strictly increasing from frame to frame".into());
     }
     // The offset tables hold one u64 per chunk; a file smaller than that is
     // damaged, and its tables must not be allocated.
@@ -308,14 +351,16 @@ struct PartZero<'a> {
 fn check_part(
     part: usize,
     header: &Header,
-    part_count: usize,
+    frame_count: usize,
+    view: Option<(usize, usize)>,
     zero: &PartZero,
     problems: &mut Vec<String>,
 ) -> FrameInfo {
+    let part_count = frame_count * view.map_or(1, |_| zero.geometry.views_per_emitter());
     let here = Attributes::new(&[&header.shared_attributes.other, &header.own_attributes.other]);
     let prefix = if part_count > 1 { format!("part {part}: ") } else { String::new() };
     if part > 0 {
-        let same = channel_list(header).ok() == Some((zero.colours.to_vec(), zero.sample_type))
+        let same = channel_list(header, view.is_some()).ok() == Some((zero.colours.to_vec(), zero.sample_type))
             && here.geometry(zero.colours).ok().as_ref() == Some(zero.geometry);
         if !same {
             problems.push(format!("{prefix}geometry or channels differ from part 0; every frame must share them"));
@@ -363,9 +408,13 @@ fn check_part(
         }
     };
     match here.optional(name::FRAME_COUNT, Attributes::int) {
-        Ok(Some(n)) if n as usize != part_count => {
-            problems.push(format!("{prefix}{} is {n} but the file has {} part(s)", name::FRAME_COUNT, part_count))
-        }
+        Ok(Some(n)) if n as usize != frame_count => problems.push(match view {
+            None => format!("{prefix}{} is {n} but the file has {} part(s)", name::FRAME_COUNT, part_count),
+            Some(_) => format!(
+                "{prefix}{} is {n} but the file's {part_count} parts are {frame_count} frame(s)",
+                name::FRAME_COUNT
+            ),
+        }),
         Ok(_) => {}
         Err(e) => problems.push(format!("{prefix}{e}")),
     }
@@ -384,11 +433,73 @@ fn check_part(
             None
         }
     };
+    if let Some((h, k)) = view {
+        match here.v2i(name::VIEW) {
+            Ok(stored) if stored == (h as i32, k as i32) => {}
+            Ok((sh, sk)) => problems.push(format!(
+                "{prefix}{} is ({sh} {sk}) but part {part} holds view ({h} {k}) (parts go frame by frame, vertical view by vertical view, then horizontal)",
+                name::VIEW
+            )),
+            Err(e) => problems.push(format!("{prefix}{e}")),
+        }
+    } else if here.has(name::VIEW) {
+        problems.push(format!("{prefix}attribute {} is for full parallax; this file's is horizontal", name::VIEW));
+    }
     FrameInfo {
         number,
         digest,
         data_window: Window { x: dx.max(0) as usize, y: dy.max(0) as usize, width: dw, height: dh },
         part,
+        views: Vec::new(),
+    }
+}
+
+/// A full-parallax file's parts (one per view, spec §8) as its frames: the
+/// `views` parts of a frame must share `holo.frame`.
+fn frames_of_views(parts: Vec<FrameInfo>, views: usize, g: &Geometry, problems: &mut Vec<String>) -> Vec<FrameInfo> {
+    parts
+        .chunks_exact(views)
+        .map(|frame| {
+            let first = &frame[0];
+            if let Some(other) = frame.iter().find(|p| p.number != first.number) {
+                let (h, k) = g.view_of_index(other.part - first.part);
+                problems.push(format!(
+                    "part {} (view ({h} {k})): {} is {} but the frame's first view says {}: a frame's views share it",
+                    other.part,
+                    name::FRAME,
+                    other.number,
+                    first.number
+                ));
+            }
+            let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+            for p in frame.iter().filter(|p| p.data_window.width > 0 && p.data_window.height > 0) {
+                let w = p.data_window;
+                (x0, y0, x1, y1) = (x0.min(w.x), y0.min(w.y), x1.max(w.x + w.width), y1.max(w.y + w.height));
+            }
+            let data_window = if x0 == usize::MAX {
+                Window { x: 0, y: 0, width: 1, height: 1 }
+            } else {
+                Window { x: x0, y: y0, width: x1 - x0, height: y1 - y0 }
+            };
+            FrameInfo {
+                number: first.number,
+                digest: None,
+                data_window,
+                part: first.part,
+                views: frame
+                    .iter()
+                    .map(|p| ViewPart { part: p.part, digest: p.digest.clone(), data_window: p.data_window })
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+/// EXR channels in each part: views × colours, or for full parallax the colours.
+fn channels_per_part(g: &Geometry) -> u64 {
+    match g.vertical_views {
+        None => (g.views.count as u64).saturating_mul(g.channels.len() as u64),
+        Some(_) => g.channels.len() as u64,
     }
 }
 
@@ -417,7 +528,8 @@ fn check_pixel_aspect(
     }
 }
 
-fn channel_list(header: &Header) -> Result<(Vec<String>, SampleType), String> {
+/// (For full parallax, `full`, each channel is named by its colour alone.)
+fn channel_list(header: &Header, full: bool) -> Result<(Vec<String>, SampleType), String> {
     let list = &header.channels.list;
     if list.is_empty() {
         return Err("the part has no channels".into());
@@ -433,8 +545,13 @@ fn channel_list(header: &Header) -> Result<(Vec<String>, SampleType), String> {
     let mut colours = Vec::new();
     for ch in list {
         let n = String::from_utf8_lossy(ch.name.as_slice());
-        let Some((_, colour, _)) = parse_channel_name(&n) else {
-            return Err(format!("channel {n:?} is not named v<view>.<colour> (such as v000.R)"));
+        let colour = if full {
+            n.as_ref()
+        } else {
+            let Some((_, colour, _)) = parse_channel_name(&n) else {
+                return Err(format!("channel {n:?} is not named v<view>.<colour> (such as v000.R)"));
+            };
+            colour
         };
         if !CHANNEL_NAMES.contains(&colour) {
             return Err(format!("channel {n:?} has colour {colour:?}; allowed are R, G, B and Y"));

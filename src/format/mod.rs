@@ -8,6 +8,7 @@
 pub(crate) mod attributes;
 mod channels;
 pub(crate) mod digest;
+pub mod full;
 mod header;
 mod header_digest;
 mod read;
@@ -22,7 +23,7 @@ pub use crate::output::write_bytes_beside;
 pub use attributes::{is_known as is_known_attribute, name as attribute, Attributes, Radiometry, VERSION};
 pub use channels::{channel_name, parse_channel_name, view_digits, ChannelOrder};
 pub use digest::frame_digest;
-pub use header::{FileInfo, FrameInfo};
+pub use header::{FileInfo, FrameInfo, ViewPart};
 pub use read::{read, FrameSample, HoloFile, Region};
 pub use record::{Checked, ConversionRecord, RecordHead, RecordReader, RecordWriter};
 pub use sequence::{Frames, Sequence};

@@ -13,7 +13,7 @@ use exr::meta::MetaData;
 use super::channels::ChannelOrder;
 use half::slice::HalfFloatSliceExt;
 
-use super::digest::{frame_digest, BlockDigest};
+use super::digest::{frame_digest, BlockDigest, RowDigest};
 use super::header::{file_info, FileInfo};
 use super::{SampleType, MAX_SAMPLES_PER_FRAME};
 use crate::error::{Error, Result};
@@ -23,21 +23,30 @@ use crate::modulation::Modulation;
 /// Files smaller than this are decompressed on the calling thread.
 const PARALLEL_DECODE_MIN_BYTES: u64 = 1 << 20;
 
-/// A part of a frame: hololines × emitters × views (all colours).
+/// A part of a frame: hololines (emitter rows) × emitters × a window of
+/// views (all colours).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Region {
     /// Hololines (rows) to read.
     pub hololines: Range<usize>,
     /// Emitters (columns) to read.
     pub emitters: Range<usize>,
-    /// Views to read.
+    /// (Horizontal) views to read.
     pub views: Range<usize>,
+    /// Vertical views to read (full parallax, spec §8); `0..1` for
+    /// horizontal parallax.
+    pub vertical_views: Range<usize>,
 }
 
 impl Region {
     /// The whole of a geometry.
     pub fn all(g: &Geometry) -> Self {
-        Region { hololines: 0..g.hololines, emitters: 0..g.emitters, views: 0..g.views.count }
+        Region {
+            hololines: 0..g.hololines,
+            emitters: 0..g.emitters,
+            views: 0..g.views.count,
+            vertical_views: 0..g.vertical_view_count(),
+        }
     }
 }
 
@@ -98,12 +107,15 @@ impl HoloFile {
         // The digest is taken from the decoded blocks' own bytes as they come
         // (they are the stored rows), not from the samples afterwards.
         // (Blocks hold native-endian samples, the digest little-endian ones.)
-        let from_blocks = cfg!(target_endian = "little");
+        let from_blocks = cfg!(target_endian = "little") && frame.is_some_and(|f| f.views.is_empty());
         let mut digest = frame
             .filter(|f| f.digest.is_some() && from_blocks)
             .map(|f| BlockDigest::new(&self.info.geometry, self.info.sample_type, f.data_window));
         let mut samples: Vec<T> = self.read_blocks(index, &Region::all(&self.info.geometry), digest.as_mut())?;
         let frame = &self.info.frames[index];
+        if !frame.views.is_empty() {
+            self.check_view_digests(index, &samples)?;
+        }
         if let Some(stored) = &frame.digest {
             let computed = match digest.and_then(BlockDigest::finish) {
                 Some(computed) => computed,
@@ -164,6 +176,52 @@ impl HoloFile {
         Modulation::from_samples(sub_geometry(&self.info.geometry, region), samples)
     }
 
+    /// Each view's digest (spec §8, §7.1) against the samples of a whole
+    /// full-parallax frame as read: the stored rows of every view built in
+    /// one pass over each emitter row, then hashed view by view in parallel.
+    fn check_view_digests<T: FrameSample>(&self, index: usize, samples: &[T]) -> Result<()> {
+        use rayon::prelude::*;
+        let g = &self.info.geometry;
+        let frame = &self.info.frames[index];
+        let (views, colours) = (g.views_per_emitter(), colour_slots(g));
+        let st = self.info.sample_type;
+        let row_len = colours.len() * g.emitters * st.bytes();
+        let mut digests: Vec<RowDigest> = (0..views).map(|_| RowDigest::default()).collect();
+        let mut rows = vec![0u8; views * row_len];
+        for j in 0..g.hololines {
+            for (slot, &c) in colours.iter().enumerate() {
+                let line = &samples[(c * g.hololines + j) * g.emitters * views..][..g.emitters * views];
+                for e in 0..g.emitters {
+                    for (v, x) in line[e * views..(e + 1) * views].iter().enumerate() {
+                        let at = v * row_len + (slot * g.emitters + e) * st.bytes();
+                        match st {
+                            SampleType::F16 => {
+                                rows[at..at + 2].copy_from_slice(&half::f16::from_f32(x.to_f32()).to_le_bytes())
+                            }
+                            SampleType::F32 => rows[at..at + 4].copy_from_slice(&x.to_f32().to_le_bytes()),
+                        }
+                    }
+                }
+            }
+            digests.par_iter_mut().zip(rows.par_chunks(row_len)).for_each(|(d, row)| d.update(row));
+        }
+        for ((v, digest), view) in digests.into_iter().enumerate().zip(&frame.views) {
+            let computed = digest.finish();
+            if let Some(stored) = &view.digest {
+                if &computed != stored {
+                    let (h, k) = g.view_of_index(v);
+                    return Err(Error::invalid(
+                        &self.info.path,
+                        format!(
+                            "frame {index}, view ({h} {k}): the samples do not match their digest (stored {stored}, computed {computed}): the file is damaged"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The samples of a region as decoded (see [`HoloFile::read_decoded`]),
     /// handing every decoded block's bytes to `digest` too (whole frames
     /// only).
@@ -177,12 +235,23 @@ impl HoloFile {
         let g = &self.info.geometry;
         let frame = self.info.frames.get(index).ok_or_else(|| Error::no_frame(path, index, self.info.frames.len()))?;
         let ok = |r: &Range<usize>, n: usize| r.start < r.end && r.end <= n;
-        if !ok(&region.hololines, g.hololines) || !ok(&region.emitters, g.emitters) || !ok(&region.views, g.views.count)
+        if !ok(&region.hololines, g.hololines)
+            || !ok(&region.emitters, g.emitters)
+            || !ok(&region.views, g.views.count)
+            || !ok(&region.vertical_views, g.vertical_view_count())
         {
+            let vertical = match g.vertical_views {
+                Some(_) => format!(", vertical views {:?}", region.vertical_views),
+                None => String::new(),
+            };
+            let vertical_count = match &g.vertical_views {
+                Some(v) => format!("×{}", v.count),
+                None => String::new(),
+            };
             return Err(Error::argument(
                 "region",
                 format!(
-                    "{}: region hololines {:?}, emitters {:?}, views {:?} is empty or outside {}×{}×{}",
+                    "{}: region hololines {:?}, emitters {:?}, views {:?}{vertical} is empty or outside {}×{}×{}{vertical_count}",
                     path.display(),
                     region.hololines,
                     region.emitters,
@@ -207,24 +276,31 @@ impl HoloFile {
         })?;
         let mut out = T::zeroed(len);
         let order = ChannelOrder::new(g);
-        let part = frame.part;
-        let dw = frame.data_window;
+        let wanted = Wanted::new(g, frame, region);
         let wanted_rows = region.hololines.clone();
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
         let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
         let reader = exr::block::read(std::io::BufReader::new(file), false).map_err(|e| Error::exr(path, e))?;
         let chunks = reader
             .filter_chunks(false, |_meta: &MetaData, _tile: TileCoordinates, block: BlockIndex| {
-                let top = dw.y + block.pixel_position.1;
-                block.layer == part
-                    && block.level == exr::math::Vec2(0, 0)
+                let Some(part) = wanted.part(block.layer) else { return false };
+                let top = part.window.y + block.pixel_position.1;
+                block.level == exr::math::Vec2(0, 0)
                     && top < wanted_rows.end
                     && top + block.pixel_size.1 > wanted_rows.start
             })
             .map_err(|e| Error::exr(path, e))?;
+        let colours = colour_slots(g);
         let mut place = |block: exr::block::UncompressedBlock| -> Result<()> {
-            place_block(&mut out, &sub, &block, &order, self.info.sample_type, dw.x, dw.y, region)
-                .map_err(|problem| Error::invalid(path, problem))?;
+            let Some(part) = wanted.part(block.index.layer) else { return Ok(()) };
+            let dw = part.window;
+            match part.sub_view {
+                None => place_block(&mut out, &sub, &block, &order, self.info.sample_type, dw.x, dw.y, region),
+                Some(v) => {
+                    place_view_block(&mut out, &sub, &block, &colours, v, self.info.sample_type, dw.x, dw.y, region)
+                }
+            }
+            .map_err(|problem| Error::invalid(path, problem))?;
             if let Some(digest) = digest.as_deref_mut() {
                 digest.push(dw.y + block.index.pixel_position.1, block.index.pixel_size.1, block.data);
             }
@@ -258,12 +334,13 @@ impl HoloFile {
         })?;
         let bad = first_bad(&sub, &out, self.is_lossy(), self.info.sample_type);
         if let Some((c, j, e, v, value, why)) = bad {
+            let (h, k) = sub.view_of_index(v);
             return Err(Error::BadSample {
                 path: path.clone(),
                 frame: index,
                 hololine: region.hololines.start + j,
                 emitter: region.emitters.start + e,
-                view: region.views.start + v,
+                view: g.view_index(region.views.start + h, region.vertical_views.start + k),
                 channel: g.channels[c].name.clone(),
                 value,
                 why,
@@ -408,9 +485,10 @@ fn first_bad<T: FrameSample>(
     }
     let i = samples.iter().position(|x| !x.is_good(lossy))?;
     let x = samples[i].to_f32();
-    let (v, e) = (i % g.views.count, (i / g.views.count) % g.emitters);
-    let j = (i / (g.views.count * g.emitters)) % g.hololines;
-    let c = i / (g.views.count * g.emitters * g.hololines);
+    let views = g.views_per_emitter();
+    let (v, e) = (i % views, (i / views) % g.emitters);
+    let j = (i / (views * g.emitters)) % g.hololines;
+    let c = i / (views * g.emitters * g.hololines);
     let narrowed = std::any::TypeId::of::<T>() == std::any::TypeId::of::<half::f16>() && stored == SampleType::F32;
     let why = if x.is_nan() {
         "not a number"
@@ -437,7 +515,103 @@ fn sub_geometry(g: &Geometry, r: &Region) -> Geometry {
     if let ViewSpacing::Explicit(list) = &g.views.spacing {
         s.views.spacing = ViewSpacing::Explicit(list[r.views.clone()].to_vec());
     }
+    if let (Some(all), Some(sub)) = (&g.vertical_views, &mut s.vertical_views) {
+        let k = &r.vertical_views;
+        sub.count = k.len();
+        sub.first_theta_rad = all.theta_rad(k.start);
+        sub.last_theta_rad = all.theta_rad(k.end - 1);
+        if let ViewSpacing::Explicit(list) = &all.spacing {
+            sub.spacing = ViewSpacing::Explicit(list[k.clone()].to_vec());
+        }
+    }
     s
+}
+
+/// The parts a region read decodes, with where each one's samples go.
+struct Wanted {
+    /// The frame's first part.
+    first: usize,
+    /// By part from `first`: its data window, and for full parallax the
+    /// index among the region's views of the view it holds.
+    parts: Vec<Option<WantedPart>>,
+}
+
+#[derive(Clone, Copy)]
+struct WantedPart {
+    window: super::Window,
+    sub_view: Option<usize>,
+}
+
+impl Wanted {
+    fn new(g: &Geometry, frame: &super::FrameInfo, region: &Region) -> Wanted {
+        if frame.views.is_empty() {
+            let part = WantedPart { window: frame.data_window, sub_view: None };
+            return Wanted { first: frame.part, parts: vec![Some(part)] };
+        }
+        let mut parts = vec![None; frame.views.len()];
+        for (kk, k) in region.vertical_views.clone().enumerate() {
+            for (hh, h) in region.views.clone().enumerate() {
+                let view = &frame.views[g.view_index(h, k)];
+                let sub_view = kk * region.views.len() + hh;
+                parts[view.part - frame.part] = Some(WantedPart { window: view.data_window, sub_view: Some(sub_view) });
+            }
+        }
+        Wanted { first: frame.part, parts }
+    }
+
+    fn part(&self, layer: usize) -> Option<&WantedPart> {
+        self.parts.get(layer.checked_sub(self.first)?)?.as_ref()
+    }
+}
+
+/// For each channel of a full-parallax part, in list order, the geometry's
+/// colour index (spec §8: the channels are the colours, in ASCII order).
+fn colour_slots(g: &Geometry) -> Vec<usize> {
+    super::channels::colour_names(g).iter().filter_map(|n| g.channel_index(n)).collect()
+}
+
+/// [`place_block`] for a block of a full-parallax part (spec §8), which
+/// holds one view, `sub_view` among the region's: its channels are the
+/// colours (`colours[slot]`).
+#[allow(clippy::too_many_arguments)]
+fn place_view_block<T: FrameSample>(
+    out: &mut [T],
+    sub: &Geometry,
+    block: &exr::block::UncompressedBlock,
+    colours: &[usize],
+    sub_view: usize,
+    sample_type: SampleType,
+    data_x: usize,
+    data_y: usize,
+    region: &Region,
+) -> std::result::Result<(), String> {
+    let (bx, by) = (block.index.pixel_position.0 + data_x, block.index.pixel_position.1 + data_y);
+    let (w, h) = (block.index.pixel_size.0, block.index.pixel_size.1);
+    let bytes = sample_type.bytes();
+    let expected = w * h * colours.len() * bytes;
+    if block.data.len() != expected {
+        return Err(format!("a block holds {} bytes where {expected} were expected", block.data.len()));
+    }
+    let (views, emitters_out, hololines_out) = (sub.views_per_emitter(), sub.emitters, sub.hololines);
+    let (e_lo, e_hi) = (region.emitters.start.max(bx), region.emitters.end.min(bx + w));
+    let mut scratch = Vec::with_capacity(w);
+    let mut at = 0;
+    for line in 0..h {
+        let j = by + line;
+        for &c in colours {
+            let row = &block.data[at..at + w * bytes];
+            at += w * bytes;
+            if !region.hololines.contains(&j) || e_lo >= e_hi {
+                continue;
+            }
+            let start = (c * hololines_out + j - region.hololines.start) * emitters_out * views;
+            let dest = &mut out[start..start + emitters_out * views];
+            let first = e_lo - region.emitters.start;
+            let run = &row[(e_lo - bx) * bytes..(e_hi - bx) * bytes];
+            T::scatter(run, sample_type, &mut dest[first * views + sub_view..], views, &mut scratch);
+        }
+    }
+    Ok(())
 }
 
 /// Copy the samples of one decoded block that fall inside the region into

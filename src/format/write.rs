@@ -16,7 +16,7 @@ use exr::meta::BlockDescription;
 use smallvec::SmallVec;
 
 use super::attributes::{self, geometry_attributes, name, Radiometry};
-use super::channels::ChannelOrder;
+use super::channels::{view_digits, ChannelOrder};
 use super::digest::{frame_digest, row_bytes, stored_row, BlockDigest, RowDigest};
 use super::header_digest;
 use super::record::ConversionRecord;
@@ -43,7 +43,8 @@ pub struct WriteOptions {
     pub first_frame_number: i32,
     /// Replace an existing file at the destination (default: refuse).
     pub overwrite: bool,
-    /// The format version to write (spec §9): 1.2, or 1.1 or 1.0 for readers of those.
+    /// The format version to write (spec §9): the newest (1.2 for horizontal
+    /// parallax, 1.3 for full), or 1.1 or 1.0 for readers of those.
     pub version: FormatVersion,
     /// `holo.placement` (spec §4.4): the transform from the converter's input
     /// coordinates to display metres (row-major, points as columns), when
@@ -58,6 +59,9 @@ pub struct WriteOptions {
 /// Which version of the format a writer writes (spec §9).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FormatVersion {
+    /// 1.3: full parallax (spec §8); a horizontal-parallax file asked for as
+    /// 1.3 is written as 1.2, which 1.3 did not change.
+    V1_3,
     /// 1.2: every part's header sealed by its digest (`holo.headerDigest`,
     /// spec §7.2), so a damaged header is found before a sample is read.
     #[default]
@@ -77,13 +81,32 @@ impl FormatVersion {
         match number {
             (1, 0) => FormatVersion::V1_0,
             (1, 1) => FormatVersion::V1_1,
-            _ => FormatVersion::V1_2,
+            (1, 2) => FormatVersion::V1_2,
+            _ => FormatVersion::V1_3,
+        }
+    }
+
+    /// The version a file of geometry `g` is written as when this one is
+    /// asked for: full parallax needs 1.3 (and is refused by the older ones,
+    /// which cannot hold it); horizontal parallax is written as 1.2 when 1.2
+    /// or 1.3 is asked for, since 1.3 changed nothing for it (spec §8).
+    pub fn written_for(self, g: &Geometry) -> std::result::Result<FormatVersion, String> {
+        match (g.parallax, self) {
+            (crate::geometry::Parallax::Full, FormatVersion::V1_3 | FormatVersion::V1_2) => Ok(FormatVersion::V1_3),
+            (crate::geometry::Parallax::Full, old) => Err(format!(
+                "full parallax needs format version 1.3; version {}.{} cannot hold it",
+                old.number().0,
+                old.number().1
+            )),
+            (crate::geometry::Parallax::Horizontal, FormatVersion::V1_3) => Ok(FormatVersion::V1_2),
+            (crate::geometry::Parallax::Horizontal, v) => Ok(v),
         }
     }
 
     /// `(major, minor)`, as `holo.version` stores it.
     pub fn number(self) -> (i32, i32) {
         match self {
+            FormatVersion::V1_3 => (1, 3),
             FormatVersion::V1_2 => (1, 2),
             FormatVersion::V1_1 => (1, 1),
             FormatVersion::V1_0 => (1, 0),
@@ -94,14 +117,16 @@ impl FormatVersion {
     /// as the display shows it (emitter pitch over hololine pitch; 1 in 1.0).
     pub fn pixel_aspect(self, g: &Geometry) -> f32 {
         match self {
-            FormatVersion::V1_2 | FormatVersion::V1_1 => (g.emitter_pitch_m / g.hololine_pitch_m) as f32,
+            FormatVersion::V1_3 | FormatVersion::V1_2 | FormatVersion::V1_1 => {
+                (g.emitter_pitch_m / g.hololine_pitch_m) as f32
+            }
             FormatVersion::V1_0 => 1.0,
         }
     }
 
     /// Whether each header carries its digest, `holo.headerDigest` (from 1.2).
     pub fn is_sealed(self) -> bool {
-        self == FormatVersion::V1_2
+        matches!(self, FormatVersion::V1_3 | FormatVersion::V1_2)
     }
 }
 
@@ -154,6 +179,33 @@ pub fn write_frames<'a>(
     mut frame: impl FnMut(usize) -> Result<Cow<'a, Modulation>>,
 ) -> Result<WriteReport> {
     let path = path.as_ref();
+    if geometry.vertical_views.is_some() {
+        // Full parallax (spec §8): written band by band, each band cut from the frame.
+        let mut current: Option<(usize, Cow<'a, Modulation>)> = None;
+        return super::full::write_frames_in_bands(
+            path,
+            geometry,
+            frame_count,
+            super::full::DEFAULT_BAND_ROWS,
+            options,
+            |f, band| {
+                if current.as_ref().map(|(i, _)| *i) != Some(f) {
+                    let m = frame(f)?;
+                    if m.geometry() != geometry {
+                        return Err(Error::argument(
+                            "geometry",
+                            format!("{}: frame {f} has a different geometry from the file", path.display()),
+                        ));
+                    }
+                    current = Some((f, m));
+                }
+                let (_, m) = current.as_ref().expect("set above");
+                band.copy_rows_from(m);
+                Ok(())
+            },
+        );
+    }
+    let options = &written_options(path, geometry, options)?;
     check_writable(path, geometry, frame_count, options)?;
     // One frame: look at it first, so the header can carry its data window and digest.
     let mut first = None;
@@ -186,6 +238,10 @@ pub fn write_frame_in_bands(
     mut fill: impl FnMut(&mut Band) -> Result<()>,
 ) -> Result<WriteReport> {
     let path = path.as_ref();
+    if geometry.vertical_views.is_some() {
+        return super::full::write_frames_in_bands(path, geometry, 1, band_hololines, options, |_, band| fill(band));
+    }
+    let options = &written_options(path, geometry, options)?;
     check_writable(path, geometry, 1, options)?;
     if band_hololines == 0 {
         return Err(Error::argument(
@@ -298,8 +354,9 @@ fn write_parts<'a>(
             options.sample_type
         ));
     }
-    let headers: Vec<Header> =
-        (0..frame_count).map(|i| part_header(geometry, options, i, frame_count, &windows[i], &digests[i])).collect();
+    let headers: Vec<Header> = (0..frame_count)
+        .map(|i| part_header(geometry, options, i, frame_count, None, &windows[i], &digests[i]))
+        .collect();
 
     let mut temp = AtomicFile::create(path)?;
 
@@ -402,7 +459,14 @@ fn write_parts<'a>(
     Ok(WriteReport { path: path.to_path_buf(), file_bytes, digests, warnings })
 }
 
-fn check_writable(path: &Path, g: &Geometry, frame_count: usize, options: &WriteOptions) -> Result<()> {
+/// `options` with the version a file of `g` is written as
+/// ([`FormatVersion::written_for`]).
+pub(super) fn written_options(path: &Path, g: &Geometry, options: &WriteOptions) -> Result<WriteOptions> {
+    let version = options.version.written_for(g).map_err(|e| Error::unsupported(path, e))?;
+    Ok(WriteOptions { version, ..options.clone() })
+}
+
+pub(super) fn check_writable(path: &Path, g: &Geometry, frame_count: usize, options: &WriteOptions) -> Result<()> {
     let problems = g.problems();
     if !problems.is_empty() {
         return Err(Error::argument(
@@ -439,7 +503,7 @@ type BadSample = (usize, usize, usize, usize, f32, &'static str);
 
 /// An error for the first bad sample, or for the first too large for f16
 /// when f16 is what is stored.
-fn check_samples(
+pub(super) fn check_samples(
     path: &Path,
     g: &Geometry,
     options: &WriteOptions,
@@ -465,9 +529,13 @@ fn check_samples(
 
 /// The first sample of (channel, hololine, emitter, view)-ordered `samples`
 /// over `hololines` that f16 cannot hold.
-fn first_f16_overflow(g: &Geometry, samples: &[f32], hololines: std::ops::Range<usize>) -> Option<BadSample> {
+pub(super) fn first_f16_overflow(
+    g: &Geometry,
+    samples: &[f32],
+    hololines: std::ops::Range<usize>,
+) -> Option<BadSample> {
     let i = samples.iter().position(|&x| overflows_f16(x))?;
-    let (vc, lines) = (g.views.count, hololines.len());
+    let (vc, lines) = (g.views_per_emitter(), hololines.len());
     let (v, e, j, c) =
         (i % vc, (i / vc) % g.emitters, hololines.start + (i / vc / g.emitters) % lines, i / vc / g.emitters / lines);
     Some((c, j, e, v, samples[i], "too large for f16 (max 65504); write f32"))
@@ -484,11 +552,11 @@ fn overflows_f16(x: f32) -> bool {
 /// The smallest magnitude that rounds to infinity as an f16.
 const F16_OVERFLOW: f32 = 65520.0;
 
-fn placeholder() -> String {
+pub(super) fn placeholder() -> String {
     header_digest::placeholder()
 }
 
-fn full_window(g: &Geometry) -> IntegerBounds {
+pub(super) fn full_window(g: &Geometry) -> IntegerBounds {
     IntegerBounds::new(Vec2(0, 0), Vec2(g.emitters, g.hololines))
 }
 
@@ -529,29 +597,45 @@ fn window_from(x0: usize, y0: usize, x1: usize, y1: usize) -> IntegerBounds {
     IntegerBounds::new(Vec2(x0 as i32, y0 as i32), Vec2(x1 - x0 + 1, y1 - y0 + 1))
 }
 
-fn part_header(
+/// The header of one part: frame `frame` of `frame_count`, and for full
+/// parallax (spec §8) the view `(h, k)` it holds, whose channels are the
+/// colours alone.
+pub(super) fn part_header(
     g: &Geometry,
     options: &WriteOptions,
-    part: usize,
+    frame: usize,
     frame_count: usize,
+    view: Option<(usize, usize)>,
     window: &IntegerBounds,
     digest: &str,
 ) -> Header {
-    let order = ChannelOrder::new(g);
-    let channels: SmallVec<[ChannelDescription; 5]> = order
-        .names(g)
+    let names = match view {
+        None => ChannelOrder::new(g).names(g),
+        Some(_) => super::channels::colour_names(g),
+    };
+    let channels: SmallVec<[ChannelDescription; 5]> = names
         .into_iter()
         .map(|n| ChannelDescription::new(Text::new_or_panic(n), options.sample_type.to_exr(), false))
         .collect();
-    let mut own = LayerAttributes::named(Text::new_or_panic(format!("frame{:05}", part)));
+    let part_name = match view {
+        None => format!("frame{frame:05}"),
+        Some((h, k)) => {
+            let (dh, dk) = (view_digits(g.views.count), view_digits(g.vertical_view_count()));
+            format!("frame{frame:05}.v{h:0dh$}_{k:0dk$}")
+        }
+    };
+    let mut own = LayerAttributes::named(Text::new_or_panic(part_name));
     own.layer_position = window.position;
     own.software_name = Some(Text::new_or_panic(format!("holo {}", env!("CARGO_PKG_VERSION"))));
     own.frames_per_second = options.frames_per_second;
     let mut put = |k: &str, v| {
         own.other.insert(Text::new_or_panic(k), v);
     };
-    put(name::FRAME, exr::meta::attribute::AttributeValue::I32(options.first_frame_number + part as i32));
+    put(name::FRAME, exr::meta::attribute::AttributeValue::I32(options.first_frame_number + frame as i32));
     put(name::FRAME_COUNT, exr::meta::attribute::AttributeValue::I32(frame_count as i32));
+    if let Some((h, k)) = view {
+        put(name::VIEW, exr::meta::attribute::AttributeValue::IntVec2(Vec2(h as i32, k as i32)));
+    }
     put(name::DIGEST, attributes::text(digest));
     if options.version.is_sealed() {
         put(name::HEADER_DIGEST, attributes::text(&placeholder()));
@@ -582,7 +666,7 @@ fn part_header(
 /// One block compressed as its part's header says: ZIP and ZIPS by
 /// [`super::zip`] (libdeflate), every other compression by the `exr` crate;
 /// with the block's bytes when `keep` (for the digest).
-fn compress_block(
+pub(super) fn compress_block(
     block: UncompressedBlock,
     headers: &[Header],
     keep: bool,
@@ -645,13 +729,12 @@ fn block(
 /// differ from run to run), fill in the frame digests, then seal each header
 /// with its digest (spec §7.2) when the version has one. Attribute lengths do
 /// not change, so no offset moves.
-fn canonicalize_headers(path: &Path, digests: &[String], sealed: bool) -> Result<()> {
+pub(super) fn canonicalize_headers(path: &Path, digests: &[String], sealed: bool) -> Result<()> {
+    // Only the headers are read (not, as a read to a fixed limit would, a
+    // whole file of many parts).
+    let header_digest::StoredHeaders { bytes: head, parts } = header_digest::read_stored(path)?;
     let mut file = std::fs::OpenOptions::new().read(true).write(true).open(path).map_err(|e| Error::io(path, e))?;
-    let limit = 64 * 1024 + digests.len() as u64 * (64 * 1024 + 32 * MAX_CHANNELS);
-    let mut head = Vec::new();
-    Read::by_ref(&mut file).take(limit).read_to_end(&mut head).map_err(|e| Error::io(path, e))?;
     let internal = |what: String| Error::invalid(path, format!("internal: {what} while finishing the headers"));
-    let parts = header_digest::scan(&head).map_err(|e| internal(format!("{e:?}")))?;
     if parts.len() != digests.len() {
         return Err(internal(format!("{} headers for {} frames", parts.len(), digests.len())));
     }

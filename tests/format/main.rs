@@ -5,6 +5,7 @@
 //! clean build links a few binaries rather than one per file.
 
 mod bad_input;
+mod full_parallax;
 mod output;
 mod picture;
 mod roundtrip;

@@ -159,7 +159,7 @@ fn regions_read_only_what_they_ask_and_match_the_whole() {
     let path = dir.path().join("r.holo");
     write(&path, &m, &options(SampleType::F32, Compression::Zip)).unwrap();
     let file = HoloFile::open(&path).unwrap();
-    let region = Region { hololines: 17..53, emitters: 3..20, views: 2..9 };
+    let region = Region { hololines: 17..53, emitters: 3..20, views: 2..9, vertical_views: 0..1 };
     let part = file.read_region(0, &region).unwrap();
     for c in 0..3 {
         for j in region.hololines.clone() {
@@ -175,7 +175,9 @@ fn regions_read_only_what_they_ask_and_match_the_whole() {
     assert_eq!(g.hololine_top_y_m, m.geometry().hololine_y_m(17));
     assert!((g.views.theta_rad(0) - m.geometry().views.theta_rad(2)).abs() < 1e-15);
     assert!((g.views.theta_rad(6) - m.geometry().views.theta_rad(8)).abs() < 1e-12);
-    assert!(file.read_region(0, &Region { hololines: 0..71, emitters: 0..1, views: 0..1 }).is_err());
+    assert!(file
+        .read_region(0, &Region { hololines: 0..71, emitters: 0..1, views: 0..1, vertical_views: 0..1 })
+        .is_err());
     assert!(file.read_frame(1).is_err());
 }
 
@@ -525,7 +527,7 @@ fn frames_read_as_f16_are_the_stored_halves() {
         let halves = f.read_frame_samples::<f16>(0).unwrap();
         let want: Vec<f16> = m.samples().iter().map(|&x| f16::from_f32(x)).collect();
         assert!(halves.iter().map(|h| h.to_bits()).eq(want.iter().map(|h| h.to_bits())), "{compression:?}");
-        let region = Region { hololines: 5..19, emitters: 3..20, views: 2..6 };
+        let region = Region { hololines: 5..19, emitters: 3..20, views: 2..6, vertical_views: 0..1 };
         let part = f.read_region_samples::<f16>(0, &region).unwrap();
         let widened = f.read_region(0, &region).unwrap();
         assert!(part.iter().map(|h| h.to_f32()).eq(widened.samples().iter().copied()), "{compression:?} region");

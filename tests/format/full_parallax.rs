@@ -1,0 +1,188 @@
+//! Full parallax in the file (spec §8): one part per (frame, view), the
+//! colours its channels; round trips of whole frames and of regions (one view,
+//! a window of views, a band of rows) on random content; headers as the spec
+//! lays them out; older versions refused.
+
+use std::borrow::Cow;
+
+use holo::format::{read, write, write_frames, Compression, FormatVersion, HoloFile, Region, SampleType, WriteOptions};
+use holo::geometry::{mono_channel, rgb_channels, Geometry, ViewSpacing, Views};
+use holo::Modulation;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// `rows × columns` emitters, `v × w` views.
+fn geometry(rows: usize, columns: usize, v: usize, w: usize, rgb: bool) -> Geometry {
+    let spread = |n: usize, a: f64| if n > 1 { (-a, a) } else { (0.0, 0.0) };
+    let (h0, h1) = spread(v, 0.25);
+    let (k0, k1) = spread(w, 0.15);
+    Geometry::centred(
+        rows,
+        columns,
+        Views::tan_spaced(v, h0, h1),
+        3.0e-4,
+        2.0e-4,
+        0.01,
+        0.6,
+        if rgb { rgb_channels() } else { mono_channel() },
+    )
+    .with_vertical_views(Views { count: w, first_theta_rad: k0, last_theta_rad: k1, spacing: ViewSpacing::Sin })
+}
+
+/// Random radiance over several decades, a few exact zeros.
+fn random(g: Geometry, seed: u64) -> Modulation {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    Modulation::from_fn(g, |_, _, _, _| {
+        if rng.gen_bool(0.05) {
+            0.0
+        } else {
+            10f32.powf(rng.gen_range(-3.0..2.0)) * rng.gen_range(0.5..1.0)
+        }
+    })
+    .unwrap()
+}
+
+fn options(sample_type: SampleType, compression: Compression) -> WriteOptions {
+    WriteOptions { sample_type, compression, source: "full parallax test".into(), ..WriteOptions::default() }
+}
+
+/// Sample (c, j, e, h, k) of `m`.
+fn at(m: &Modulation, c: usize, j: usize, e: usize, h: usize, k: usize) -> f32 {
+    m.get(c, j, e, m.geometry().view_index(h, k))
+}
+
+#[test]
+fn whole_frames_round_trip_in_every_lossless_compression() {
+    let dir = tempfile::tempdir().unwrap();
+    for (n, (rows, columns, v, w, rgb)) in
+        [(5, 7, 3, 2, true), (40, 9, 4, 5, false), (1, 1, 1, 3, true)].into_iter().enumerate()
+    {
+        let m = random(geometry(rows, columns, v, w, rgb), n as u64 + 7);
+        for compression in [Compression::None, Compression::Rle, Compression::Zips, Compression::Zip, Compression::Piz]
+        {
+            let path = dir.path().join(format!("{n}-{}.holo", compression.name()));
+            let report = write(&path, &m, &options(SampleType::F32, compression)).unwrap();
+            assert_eq!(report.digests.len(), v * w, "one digest per view");
+            assert_eq!(read(&path).unwrap(), m, "{n} {}", compression.name());
+        }
+        let path = dir.path().join(format!("{n}-f16.holo"));
+        write(&path, &m, &options(SampleType::F16, Compression::Zip)).unwrap();
+        let back = read(&path).unwrap();
+        for (a, b) in back.samples().iter().zip(m.samples()) {
+            assert_eq!(*a, half::f16::from_f32(*b).to_f32());
+        }
+    }
+}
+
+#[test]
+fn a_region_decodes_its_views_and_rows_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = geometry(70, 11, 5, 4, true);
+    let m = random(g.clone(), 3);
+    let path = dir.path().join("region.holo");
+    write(&path, &m, &options(SampleType::F32, Compression::Zip)).unwrap();
+    let file = HoloFile::open(&path).unwrap();
+    for region in [
+        Region { hololines: 0..70, emitters: 0..11, views: 2..3, vertical_views: 1..2 },
+        Region { hololines: 17..53, emitters: 3..10, views: 1..4, vertical_views: 2..4 },
+        Region { hololines: 33..34, emitters: 0..11, views: 0..5, vertical_views: 0..4 },
+    ] {
+        let part = file.read_region(0, &region).unwrap();
+        let sub = part.geometry();
+        assert_eq!((sub.views.count, sub.vertical_view_count()), (region.views.len(), region.vertical_views.len()));
+        // The region's views point where the file's do.
+        let (h0, k0) = (region.views.start, region.vertical_views.start);
+        let ray = sub.ray(0, 0, 0);
+        let whole = g.ray(region.hololines.start, region.emitters.start, g.view_index(h0, k0));
+        assert!((ray.slope_x - whole.slope_x).abs() < 1e-15 && (ray.slope_y - whole.slope_y).abs() < 1e-15);
+        for c in 0..3 {
+            for (jj, j) in region.hololines.clone().enumerate() {
+                for (ee, e) in region.emitters.clone().enumerate() {
+                    for (kk, k) in region.vertical_views.clone().enumerate() {
+                        for (hh, h) in region.views.clone().enumerate() {
+                            assert_eq!(at(&part, c, jj, ee, hh, kk), at(&m, c, j, e, h, k), "{region:?}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let bad = Region { hololines: 0..1, emitters: 0..1, views: 0..1, vertical_views: 3..5 };
+    let err = file.read_region(0, &bad).unwrap_err().to_string();
+    assert!(err.contains("vertical views 3..5") && err.contains("70×11×5×4"), "{err}");
+}
+
+#[test]
+fn each_view_is_a_part_of_colour_channels_and_the_headers_say_which() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = geometry(4, 6, 3, 2, true);
+    let frames: Vec<Modulation> = (0..2).map(|f| random(g.clone(), 20 + f)).collect();
+    let path = dir.path().join("two.holo");
+    write_frames(&path, &g, 2, &options(SampleType::F16, Compression::Zip), |f| Ok(Cow::Borrowed(&frames[f]))).unwrap();
+    let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
+    assert_eq!(meta.headers.len(), 2 * 3 * 2);
+    for (p, header) in meta.headers.iter().enumerate() {
+        let (f, k, h) = (p / 6, (p / 3) % 2, p % 3);
+        let names: Vec<String> = header.channels.list.iter().map(|c| c.name.to_string()).collect();
+        assert_eq!(names, ["B", "G", "R"]);
+        assert_eq!(
+            header.own_attributes.layer_name.as_ref().unwrap().to_string(),
+            format!("frame{f:05}.v{h:03}_{k:03}")
+        );
+        let attr = |n: &str| header.own_attributes.other.get(&exr::meta::attribute::Text::from(n)).cloned();
+        assert_eq!(
+            attr("holo.view"),
+            Some(exr::meta::attribute::AttributeValue::IntVec2(exr::math::Vec2(h as i32, k as i32)))
+        );
+        assert_eq!(attr("holo.frame"), Some(exr::meta::attribute::AttributeValue::I32(f as i32)));
+        assert_eq!(attr("holo.frameCount"), Some(exr::meta::attribute::AttributeValue::I32(2)));
+    }
+    let file = HoloFile::open(&path).unwrap();
+    assert_eq!(file.info().version, (1, 3));
+    assert_eq!(file.info().frames.len(), 2);
+    assert_eq!(file.info().frames[1].views.len(), 6);
+    for f in 0..2 {
+        let back = file.read_frame(f).unwrap();
+        for (a, b) in back.samples().iter().zip(frames[f].samples()) {
+            assert_eq!(*a, half::f16::from_f32(*b).to_f32());
+        }
+    }
+    let v = holo::format::validate_format(&path).unwrap();
+    assert!(v.violations.is_empty(), "{:?}", v.violations);
+}
+
+#[test]
+fn full_parallax_needs_version_1_3_and_horizontal_parallax_stays_1_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = random(geometry(3, 4, 2, 2, false), 5);
+    for version in [FormatVersion::V1_1, FormatVersion::V1_0] {
+        let err = write(dir.path().join("old.holo"), &m, &WriteOptions { version, ..WriteOptions::default() })
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("full parallax needs format version 1.3"), "{err}");
+    }
+    assert!(!dir.path().join("old.holo").exists());
+    // Horizontal parallax asked for as 1.3 is written as 1.2 (spec §8).
+    let mut hpo = m.geometry().clone();
+    hpo.parallax = holo::geometry::Parallax::Horizontal;
+    hpo.vertical_views = None;
+    let flat = Modulation::from_fn(hpo, |_, j, e, v| (j + e + v) as f32).unwrap();
+    let path = dir.path().join("hpo.holo");
+    write(&path, &flat, &WriteOptions { version: FormatVersion::V1_3, ..WriteOptions::default() }).unwrap();
+    assert_eq!(HoloFile::open(&path).unwrap().info().version, (1, 2));
+}
+
+#[test]
+fn a_damaged_view_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = random(geometry(6, 5, 2, 3, false), 9);
+    let path = dir.path().join("damaged.holo");
+    write(&path, &m, &options(SampleType::F32, Compression::None)).unwrap();
+    // The last part's last sample: the file's last four bytes.
+    let mut bytes = std::fs::read(&path).unwrap();
+    let n = bytes.len();
+    bytes[n - 2] ^= 0x01;
+    std::fs::write(&path, &bytes).unwrap();
+    let err = read(&path).unwrap_err().to_string();
+    assert!(err.contains("view (1 2)") && err.contains("digest"), "{err}");
+}
