@@ -8,6 +8,11 @@
 #                    attributes and channels; tests/peer/openexr_peer.py (PyPI
 #                    OpenEXR) must find every attribute, type, probe sample and
 #                    digest exactly.
+#   frozen vectors   fixtures/v1.*/ (spec §12) read by Python OpenEXR and by
+#                    OpenImageIO's oiiotool: seals, digests, the full-parallax
+#                    part layout (spec §8), the worked examples' samples, and
+#                    every part's statistics as both libraries decode it; and
+#                    exrheader lists each full-parallax part's holo.view.
 #   OpenEXR -> holo  openexr_peer.py writes .holo files with OpenEXR alone, and
 #                    re-encodes holo's files through OpenEXR; examples/peer_read.rs
 #                    (HoloFile::open, validate, read_frame) must read them back
@@ -61,6 +66,19 @@ if command -v exrheader >/dev/null; then
     pass "exrheader available ($(dpkg-query -W -f='openexr ${Version}' openexr 2>/dev/null || echo 'version unknown'))"
 else
     fail "exrheader available after installing openexr"
+    finish
+fi
+
+if ! command -v oiiotool >/dev/null; then
+    info "oiiotool missing: installing Debian's openimageio-tools package"
+    as_root apt-get update -qq || info "apt-get update failed; trying the install anyway"
+    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq openimageio-tools >/dev/null ||
+        info "apt-get install openimageio-tools failed"
+fi
+if command -v oiiotool >/dev/null; then
+    pass "oiiotool available ($(oiiotool --version 2>/dev/null | head -n 1))"
+else
+    fail "oiiotool available after installing openimageio-tools"
     finish
 fi
 
@@ -194,6 +212,24 @@ info "how exrheader shows rgb_f16_none_cropped.holo (channels v001-v009 left out
 sed 's/^/info   | /' "$work/exrheader.rgb_f16_none_cropped.holo.txt" | grep -vE '^info   \|     v00[1-9]' || true
 
 run_counted "openexr_peer.py check" "$py" tests/peer/openexr_peer.py check "$work/holo"
+
+# --- the frozen vectors, full parallax among them -----------------------------
+
+run_counted "openexr_peer.py vectors" "$py" tests/peer/openexr_peer.py vectors fixtures/v1.0 fixtures/v1.1 fixtures/v1.2 fixtures/v1.3
+for f in fixtures/v1.3/*.holo; do
+    out="$work/exrheader.v1.3.$(basename "$f").txt"
+    if ! exrheader "$f" >"$out" 2>&1; then
+        fail "exrheader $f: exit status non-zero: $(head -n 3 "$out")"
+        continue
+    fi
+    parts=$(grep -c '^holo.view (type v2i)' "$out" || true)
+    listed=$(grep -c '^holo.parallax (type string): "full"' "$out" || true)
+    if [ "$parts" -gt 0 ] && [ "$parts" -eq "$listed" ]; then
+        pass "exrheader $f: $parts parts, each with holo.view (type v2i) and holo.parallax \"full\""
+    else
+        fail "exrheader $f: holo.view in $parts part(s), holo.parallax \"full\" in $listed"
+    fi
+done
 
 # --- OpenEXR -> holo ----------------------------------------------------------
 

@@ -101,6 +101,7 @@ fn expected_geometry(doc: &Value) -> Result<Geometry, String> {
             last_theta_rad: bits(g, "doubles_bits.view_last_rad")?,
             spacing,
         },
+        vertical_views: None,
         hololine_pitch_m: bits(g, "doubles_bits.hololine_pitch_m")?,
         hololine_top_y_m: bits(g, "doubles_bits.hololine_top_y_m")?,
         emitter_pitch_m: bits(g, "doubles_bits.emitter_pitch_m")?,

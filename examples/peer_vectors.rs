@@ -59,6 +59,7 @@ fn geometry(
         hololines,
         emitters,
         views,
+        vertical_views: None,
         hololine_pitch_m,
         // Values that are not exactly representable in f32, so that a reader
         // that narrows a double attribute shows up.

@@ -290,6 +290,8 @@ pub fn write_frame_in_bands(
 }
 
 /// Where one frame's stored rows come from while its blocks are written.
+// One per part being written: its size does not matter.
+#[allow(clippy::large_enum_variant)]
 enum Rows<'a> {
     /// A whole frame in memory: rows are made as blocks ask for them.
     Whole(Cow<'a, Modulation>),

@@ -141,9 +141,9 @@ fn each_view_is_a_part_of_colour_channels_and_the_headers_say_which() {
     assert_eq!(file.info().version, (1, 3));
     assert_eq!(file.info().frames.len(), 2);
     assert_eq!(file.info().frames[1].views.len(), 6);
-    for f in 0..2 {
+    for (f, frame) in frames.iter().enumerate() {
         let back = file.read_frame(f).unwrap();
-        for (a, b) in back.samples().iter().zip(frames[f].samples()) {
+        for (a, b) in back.samples().iter().zip(frame.samples()) {
             assert_eq!(*a, half::f16::from_f32(*b).to_f32());
         }
     }
@@ -185,4 +185,39 @@ fn a_damaged_view_is_named() {
     std::fs::write(&path, &bytes).unwrap();
     let err = read(&path).unwrap_err().to_string();
     assert!(err.contains("view (1 2)") && err.contains("digest"), "{err}");
+}
+
+#[test]
+fn lossy_files_are_sealed_with_what_a_reader_decodes() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = geometry(24, 20, 3, 2, true);
+    // Smooth content, as lossy codecs expect.
+    let m = Modulation::from_fn(g, |c, j, e, v| 0.2 + 0.01 * (c + j + e) as f32 + 0.03 * v as f32).unwrap();
+    for compression in [Compression::B44, Compression::Dwaa] {
+        let path = dir.path().join(format!("{}.holo", compression.name()));
+        let report = write(&path, &m, &options(SampleType::F16, compression)).unwrap();
+        assert!(report.warnings.iter().any(|w| w.contains("lossy")), "{:?}", report.warnings);
+        // Read whole, each view's digest checked against what decodes.
+        let back = read(&path).unwrap();
+        let worst = back.samples().iter().zip(m.samples()).map(|(a, b)| (a - b).abs() / b).fold(0f32, f32::max);
+        assert!(worst < 0.02, "{} {worst}", compression.name());
+        let v = holo::format::validate_format(&path).unwrap();
+        assert!(v.violations.is_empty(), "{:?}", v.violations);
+    }
+}
+
+#[test]
+fn a_bad_sample_is_refused_before_the_file_is_made() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = geometry(5, 4, 2, 2, false);
+    let path = dir.path().join("bad.holo");
+    let mut m = random(g.clone(), 1);
+    m.set(0, 3, 2, g.view_index(1, 1), f32::NAN);
+    let err = write(&path, &m, &options(SampleType::F32, Compression::Zip)).unwrap_err().to_string();
+    assert!(err.contains("not a number"), "{err}");
+    let mut m = random(g.clone(), 2);
+    m.set(0, 1, 0, g.view_index(0, 1), 1e6);
+    let err = write(&path, &m, &options(SampleType::F16, Compression::Zip)).unwrap_err().to_string();
+    assert!(err.contains("too large for f16"), "{err}");
+    assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none(), "nothing left behind");
 }

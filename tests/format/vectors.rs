@@ -1,26 +1,34 @@
-//! Frozen test vectors (spec §12): files written by format versions 1.0, 1.1
-//! and 1.2 must always read back to the same samples, and today's writer must
+//! Frozen test vectors (spec §12): files written by format versions 1.0 to
+//! 1.3 must always read back to the same samples, and today's writer must
 //! produce the same bytes for each (the older ones when asked for them).
 //! Regenerate the newest version's vectors only on a deliberate format change:
 //! `HOLO_BLESS=1 cargo test --test format vectors` (then update spec §12);
-//! the vectors of older versions are never rewritten.
+//! the vectors of older versions are never rewritten. The newest is 1.2 for
+//! horizontal parallax (1.3 changed nothing for it) and 1.3 for full
+//! parallax (spec §8), whose vectors are in `fixtures/v1.3/`.
 
 use std::borrow::Cow;
 use std::path::PathBuf;
 
 use holo::format::{read, write, write_frames, Compression, FormatVersion, HoloFile, SampleType, WriteOptions};
-use holo::geometry::{rgb_channels, ColourChannel, Geometry, Views};
+use holo::geometry::{mono_channel, rgb_channels, ColourChannel, Geometry, ViewSpacing, Views};
 use holo::Modulation;
 
 /// Every version written, with its folder of vectors.
 const VERSIONS: [(FormatVersion, &str); 3] =
     [(FormatVersion::V1_0, "v1.0"), (FormatVersion::V1_1, "v1.1"), (FormatVersion::V1_2, "v1.2")];
 
-/// The version whose vectors `HOLO_BLESS=1` may write.
+/// The version whose horizontal-parallax vectors `HOLO_BLESS=1` may write.
 const NEWEST: FormatVersion = FormatVersion::V1_2;
 
+/// The version whose full-parallax vectors `HOLO_BLESS=1` may write.
+const NEWEST_FULL: FormatVersion = FormatVersion::V1_3;
+
 fn fixture_of(version: FormatVersion, name: &str) -> PathBuf {
-    let folder = VERSIONS.iter().find(|v| v.0 == version).map(|v| v.1).unwrap();
+    let folder = match version {
+        FormatVersion::V1_3 => "v1.3",
+        _ => VERSIONS.iter().find(|v| v.0 == version).map(|v| v.1).unwrap(),
+    };
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(folder).join(name)
 }
 
@@ -57,7 +65,7 @@ fn small_frames() -> Vec<Modulation> {
 fn check(version: FormatVersion, name: &str, written: &std::path::Path) {
     let path = fixture_of(version, name);
     let bytes = std::fs::read(written).unwrap();
-    if std::env::var_os("HOLO_BLESS").is_some() && version == NEWEST {
+    if std::env::var_os("HOLO_BLESS").is_some() && (version == NEWEST || version == NEWEST_FULL) {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(&path, &bytes).unwrap();
     }
@@ -192,4 +200,84 @@ fn lossy_undershoot_vector_reads_as_zero() {
     }
     assert!(holo::validate(fixture("undershoot-y-f16-b44.holo")).unwrap().is_valid());
     eprintln!("decoded below zero (index, value): {negative:?}");
+}
+
+/// `rows × columns` emitters, 2 × 2 views (horizontal `tan`, vertical `sin`
+/// spaced), 1 mm × 2 mm pitches: the full-parallax vectors' geometry.
+fn full_geometry(rows: usize, columns: usize, channels: Vec<ColourChannel>) -> Geometry {
+    Geometry::centred(rows, columns, Views::tan_spaced(2, -0.1, 0.1), 1e-3, 2e-3, 0.01, 0.5, channels)
+        .with_vertical_views(Views {
+            count: 2,
+            first_theta_rad: -0.05,
+            last_theta_rad: 0.05,
+            spacing: ViewSpacing::Sin,
+        })
+}
+
+/// The full-parallax worked example (spec §12): 2 rows × 3 columns × 2 × 2
+/// views of one 633 nm channel, sample `(j, e, h, k) = 1 + j + e/4 + h/8 +
+/// k/16`, every one distinct and exact in f16.
+fn full_tiny() -> Modulation {
+    let g = full_geometry(2, 3, mono_channel());
+    Modulation::from_fn(g.clone(), |_, j, e, v| {
+        let (h, k) = g.view_of_index(v);
+        1.0 + j as f32 + e as f32 / 4.0 + h as f32 / 8.0 + k as f32 / 16.0
+    })
+    .unwrap()
+}
+
+/// Two frames of 3 rows × 4 columns × 2 × 2 views, RGB.
+fn full_frames() -> Vec<Modulation> {
+    let g = full_geometry(3, 4, rgb_channels());
+    (0..2)
+        .map(|f| {
+            Modulation::from_fn(g.clone(), |c, j, e, v| (f * 1000 + c * 100 + j * 20 + e * 3 + v) as f32 / 7.0).unwrap()
+        })
+        .collect()
+}
+
+/// A ramp rising from black over 8 × 8 emitters, each view brighter, for B44.
+fn full_ramp() -> Modulation {
+    let g = full_geometry(8, 8, mono_channel());
+    Modulation::from_fn(g, |_, j, e, v| 0.37 * ((j + e + v) as f32 - 6.0).max(0.0)).unwrap()
+}
+
+#[test]
+fn full_parallax_vectors_are_stable() {
+    let dir = tempfile::tempdir().unwrap();
+    let f16 = |compression| WriteOptions { compression, ..WriteOptions::default() };
+    let cases: [(&str, Vec<Modulation>, WriteOptions); 3] = [
+        (
+            "full-tiny-y-f16-none.holo",
+            vec![full_tiny()],
+            WriteOptions { source: "spec full-parallax example".into(), ..f16(Compression::None) },
+        ),
+        (
+            "full-frames-rgb-f32-zip.holo",
+            full_frames(),
+            WriteOptions { sample_type: SampleType::F32, frames_per_second: Some((30, 1)), ..WriteOptions::default() },
+        ),
+        ("full-ramp-y-f16-b44.holo", vec![full_ramp()], f16(Compression::B44)),
+    ];
+    for (name, frames, options) in cases {
+        let out = dir.path().join(name);
+        write_frames(&out, frames[0].geometry(), frames.len(), &options, |i| Ok(Cow::Borrowed(&frames[i]))).unwrap();
+        check(NEWEST_FULL, name, &out);
+        let path = fixture_of(NEWEST_FULL, name);
+        let file = HoloFile::open(&path).unwrap();
+        assert_eq!(file.info().version, (1, 3));
+        for (i, f) in frames.iter().enumerate() {
+            let back = file.read_frame(i).unwrap();
+            if options.compression == Compression::B44 {
+                // B44 keeps a 4 × 4 block's steps from its largest in 6 bits:
+                // errors are a few per cent of the block's range.
+                let worst = back.samples().iter().zip(f.samples()).map(|(a, b)| (a - b).abs()).fold(0f32, f32::max);
+                let peak = f.samples().iter().copied().fold(0f32, f32::max);
+                assert!(worst > 0.0 && worst < 0.1 * peak, "{name}: {worst} of {peak}");
+            } else {
+                assert_eq!(&back, f, "{name} frame {i}");
+            }
+        }
+        assert!(holo::validate(&path).unwrap().is_valid(), "{name}");
+    }
 }

@@ -24,6 +24,16 @@ whose `OpenEXR.File` gives parts, headers and channels as numpy arrays).
         NAME.openexr.peer.json, and report how the header OpenEXR writes
         differs from the one holo wrote.
 
+    openexr_peer.py vectors DIR [DIR ...]
+        The frozen test vectors (fixtures/v1.*/*.holo, spec §12) read with
+        OpenEXR: every part decodes; every header seal and every part's
+        digest recomputed by the spec's definitions; a full-parallax file's
+        parts (spec §8) one per view in the order p = (f*W + k)*V + h, each
+        holding holo.view (h k) and the colours alone as channels; the worked
+        examples' samples equal to their formulas. With OpenImageIO's
+        `oiiotool` on the PATH, it must see every part as a subimage with the
+        same per-channel minimum, maximum and mean.
+
 Each check prints one line (`PASS ...` or `FAIL ...`); `info` lines report
 without judging. The last line is `N passed, M failed`; the exit status is 1
 when anything failed, 2 when the installed OpenEXR offers no usable API.
@@ -812,6 +822,126 @@ def cmd_rewrite(src, out):
     return c.finish()
 
 
+# --------------------------------------------------------------------------
+# vectors: the frozen test vectors read by OpenEXR (and OpenImageIO)
+
+
+def oiio_stats(path):
+    """Per subimage, (min, max, avg) lists as `oiiotool --stats` prints them;
+    None when oiiotool is not installed."""
+    import shutil
+    import subprocess
+
+    if shutil.which("oiiotool") is None:
+        return None
+    out = subprocess.run(["oiiotool", "--stats", "-a", "--info", path], capture_output=True, text=True).stdout
+    stats, current = [], None
+    for line in out.splitlines():
+        line = line.strip()
+        if line.startswith("subimage"):
+            current = {}
+            stats.append(current)
+        elif current is not None and line.startswith("Stats ") and line.endswith("(float)"):
+            key, values = line[len("Stats "):].split(":", 1)
+            current[key.strip()] = [float(x) for x in values.replace("(float)", "").split()]
+    if not stats:  # a single image has no "subimage" lines
+        current = {}
+        for line in out.splitlines():
+            line = line.strip()
+            if line.startswith("Stats ") and line.endswith("(float)"):
+                key, values = line[len("Stats "):].split(":", 1)
+                current[key.strip()] = [float(x) for x in values.replace("(float)", "").split()]
+        stats.append(current)
+    return stats
+
+
+def close(a, b):
+    """OIIO prints six decimals."""
+    return len(a) == len(b) and all(abs(x - y) <= 1e-6 + 1e-6 * abs(y) for x, y in zip(sorted(a), sorted(b)))
+
+
+def check_vector(c, path, oiio):
+    label = os.path.relpath(path)
+    f, printed = read_exr(path)
+    c.check(printed == "", f"{label}: OpenEXR decodes every part", printed.strip())
+    parts = f.parts
+    h0 = parts[0].header
+    version = tuple(int(x) for x in h0["holo.version"])
+    check_seals(c, label, path, required=version >= (1, 2))
+    full = h0["holo.parallax"] == "full"
+    bad_digest = []
+    for i, part in enumerate(parts):
+        display = window(part.header["displayWindow"])
+        dtype = next(iter(part.channels.values())).pixels.dtype.newbyteorder("<")
+        if frame_digest(full_channels(part, display, dtype), dtype) != part.header["holo.digest"]:
+            bad_digest.append(i)
+    c.check(not bad_digest, f"{label}: each of its {len(parts)} part(s)' holo.digest recomputed (spec §7.1) matches",
+            f"parts {bad_digest}")
+    if full:
+        views, vertical = int(h0["holo.views"]), int(h0["holo.viewsVertical"])
+        frames = int(h0["holo.frameCount"])
+        c.check(version >= (1, 3), f"{label}: full parallax is version 1.3 or later", f"version {version}")
+        c.check(len(parts) == frames * views * vertical,
+                f"{label}: {frames} frame(s) of {views} x {vertical} views are {len(parts)} parts (spec §8)")
+        wrong = []
+        for p, part in enumerate(parts):
+            fr, k, h = p // (views * vertical), (p // views) % vertical, p % views
+            names = sorted(part.channels)
+            ok = (tuple(int(x) for x in part.header["holo.view"]) == (h, k)
+                  and names in (["B", "G", "R"], ["Y"], ["G", "R"], ["B", "R"], ["B", "G"], ["R"], ["G"], ["B"])
+                  and part.header["holo.frame"] == parts[fr * views * vertical].header["holo.frame"]
+                  and part.header["name"] == f"frame{fr:05d}.v{h:03d}_{k:03d}")
+            if not ok:
+                wrong.append(p)
+        c.check(not wrong, f"{label}: part p holds view (p mod V, p div V mod W) of frame p div VW, "
+                f"its channels the colours, named frameFFFFF.vHHH_KKK", f"parts {wrong}")
+    name = os.path.basename(path)
+    if name == "tiny-y-f16-none.holo":
+        y = np.arange(2)[:, None]
+        x = np.arange(3)[None, :]
+        ok = all(np.array_equal(parts[0].channels[f"v{v:03d}.Y"].pixels.astype(np.float64), 1 + y + x / 4 + v / 8)
+                 for v in range(2))
+        c.check(ok, f"{label}: the worked example's samples are 1 + j + e/4 + v/8 (spec §12)")
+    if name == "full-tiny-y-f16-none.holo":
+        y = np.arange(2)[:, None]
+        x = np.arange(3)[None, :]
+        ok = all(np.array_equal(parts[k * 2 + h].channels["Y"].pixels.astype(np.float64),
+                                1 + y + x / 4 + h / 8 + k / 16) for k in range(2) for h in range(2))
+        c.check(ok, f"{label}: the full-parallax example's samples are 1 + j + e/4 + h/8 + k/16 (spec §12)")
+    if oiio is None:
+        return
+    stats = oiio_stats(path)
+    c.check(len(stats) == len(parts), f"{label}: oiiotool sees its {len(parts)} part(s) as subimages",
+            f"{len(stats)} subimages")
+    differ = []
+    for i, (part, st) in enumerate(zip(parts, stats)):
+        display = window(part.header["displayWindow"])
+        chans = full_channels(part, display, np.float64)
+        mins = [float(v.min()) for v in chans.values()]
+        maxs = [float(v.max()) for v in chans.values()]
+        avgs = [float(v.mean()) for v in chans.values()]
+        if not (close(st.get("Min", []), mins) and close(st.get("Max", []), maxs) and close(st.get("Avg", []), avgs)):
+            differ.append(i)
+    c.check(not differ, f"{label}: oiiotool's minimum, maximum and mean of every channel of every part are OpenEXR's",
+            f"parts {differ}")
+
+
+def cmd_vectors(directories):
+    import shutil
+
+    c = Checks()
+    oiio = shutil.which("oiiotool")
+    c.info(f"OpenImageIO: {oiio or 'oiiotool not installed: OpenEXR alone'}")
+    files = sorted(p for d in directories for p in glob.glob(os.path.join(d, "*.holo")))
+    c.check(bool(files), f"frozen vectors found in {' '.join(directories)}", "none")
+    for path in files:
+        try:
+            check_vector(c, path, oiio)
+        except Exception as err:  # noqa: BLE001
+            c.check(False, f"{path}: checked to the end", f"{type(err).__name__}: {err}")
+    return c.finish()
+
+
 def main(argv):
     if len(argv) == 3 and argv[1] == "check":
         return cmd_check(argv[2])
@@ -819,8 +949,10 @@ def main(argv):
         return cmd_write(argv[2])
     if len(argv) == 4 and argv[1] == "rewrite":
         return cmd_rewrite(argv[2], argv[3])
+    if len(argv) >= 3 and argv[1] == "vectors":
+        return cmd_vectors(argv[2:])
     print(__doc__.split("\n\n")[1] if __doc__ else "", file=sys.stderr)
-    print("usage: openexr_peer.py check DIR | write DIR | rewrite SRC OUT", file=sys.stderr)
+    print("usage: openexr_peer.py check DIR | write DIR | rewrite SRC OUT | vectors DIR...", file=sys.stderr)
     return 2
 
 
