@@ -39,7 +39,20 @@ pub fn info(path: impl AsRef<Path>, values: bool) -> Result<Info> {
 /// Whether two files hold the same content: same geometry, sample type and
 /// frame digests (compression and data window may differ).
 pub fn same_content(a: &Info, b: &Info) -> bool {
-    let digests = |i: &Info| i.file.frames.iter().map(|f| f.digest.clone()).collect::<Vec<_>>();
+    // A full-parallax frame has a digest per view (spec §8).
+    let digests = |i: &Info| {
+        i.file
+            .frames
+            .iter()
+            .flat_map(|f| {
+                if f.views.is_empty() {
+                    vec![f.digest.clone()]
+                } else {
+                    f.views.iter().map(|v| v.digest.clone()).collect()
+                }
+            })
+            .collect::<Vec<_>>()
+    };
     a.file.geometry == b.file.geometry
         && a.file.sample_type == b.file.sample_type
         && digests(a).iter().all(Option::is_some)
@@ -60,20 +73,39 @@ impl fmt::Display for Info {
             i.frames.len(),
             i.pixel_aspect
         )?;
-        writeln!(
-            f,
-            "  size          {} hololines × {} emitters × {} views, {:?} parallax",
-            g.hololines, g.emitters, g.views.count, g.parallax
-        )?;
         let colours: Vec<String> =
             g.channels.iter().map(|c| format!("{} {:.1} nm", c.name, c.wavelength_m * 1e9)).collect();
-        writeln!(
-            f,
-            "  channels      {} ({} EXR channels, {:?})",
-            colours.join(", "),
-            g.views.count * g.channels.len(),
-            i.sample_type
-        )?;
+        match &g.vertical_views {
+            None => {
+                writeln!(
+                    f,
+                    "  size          {} hololines × {} emitters × {} views, {:?} parallax",
+                    g.hololines, g.emitters, g.views.count, g.parallax
+                )?;
+                writeln!(
+                    f,
+                    "  channels      {} ({} EXR channels, {:?})",
+                    colours.join(", "),
+                    g.views.count * g.channels.len(),
+                    i.sample_type
+                )?;
+            }
+            Some(vertical) => {
+                writeln!(
+                    f,
+                    "  size          {} emitter rows × {} emitters × {} × {} views (horizontal × vertical), full parallax",
+                    g.hololines, g.emitters, g.views.count, vertical.count
+                )?;
+                writeln!(
+                    f,
+                    "  channels      {} ({} EXR channels in each of the {} parts of a frame, one per view, {:?})",
+                    colours.join(", "),
+                    g.channels.len(),
+                    g.views_per_emitter(),
+                    i.sample_type
+                )?;
+            }
+        }
         writeln!(
             f,
             "  emitters      pitch {:.4} mm, x from {:.4} to {:.4} mm, plane z = {:.4} mm",
@@ -96,6 +128,15 @@ impl fmt::Display for Info {
             g.views.last_theta_rad.to_degrees(),
             g.views.spacing.name()
         )?;
+        if let Some(vertical) = &g.vertical_views {
+            writeln!(
+                f,
+                "  vertical      {:.3}° … {:.3}°, uniform in {} (positive up)",
+                vertical.first_theta_rad.to_degrees(),
+                vertical.last_theta_rad.to_degrees(),
+                vertical.spacing.name()
+            )?;
+        }
         writeln!(
             f,
             "  viewer        line at z = {:.1} mm, y = {:.1} mm",
@@ -131,16 +172,12 @@ impl fmt::Display for Info {
         }
         for (k, frame) in i.frames.iter().enumerate() {
             let w = frame.data_window;
-            write!(
-                f,
-                "  frame {:<7} data {}×{} at ({}, {}), {}",
-                frame.number,
-                w.width,
-                w.height,
-                w.x,
-                w.y,
-                frame.digest.as_deref().unwrap_or("no digest")
-            )?;
+            let digest = match (&frame.digest, frame.views.len()) {
+                (Some(d), _) => d.clone(),
+                (None, 0) => "no digest".into(),
+                (None, n) => format!("a digest for each of {n} views (`holo info --json` lists them)"),
+            };
+            write!(f, "  frame {:<7} data {}×{} at ({}, {}), {digest}", frame.number, w.width, w.height, w.x, w.y)?;
             if let Some(r) = self.value_ranges.as_ref().and_then(|v| v.get(k)) {
                 write!(f, ", values {} … {}", r.0, r.1)?;
             }

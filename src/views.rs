@@ -1,4 +1,5 @@
-//! Views as pictures: one PNG per view (`view_000.png`, …), `emitters` wide
+//! Views as pictures: one PNG per view (`view_000.png`, …; full parallax
+//! `view_000_000.png`, … by horizontal then vertical view), `emitters` wide
 //! and `hololines` tall, and back. The tone mapping is [`crate::picture`]'s
 //! (docs/commands.md, "Pictures: tone mapping and shape"): `linear = clamp(sample / white, 0, 1)`, encoded
 //! with the sRGB transfer function and quantised to 8 or 16 bits; import
@@ -68,6 +69,21 @@ pub fn view_file_name(v: usize, view_count: usize) -> String {
     format!("view_{v:0digits$}.png")
 }
 
+/// File name of the view with index `view` among an emitter's views of `g`
+/// ([`Geometry::view_index`]): `view_HHH.png`, or for full parallax
+/// `view_HHH_KKK.png` (horizontal view, vertical view; each padded as channel
+/// names are, spec §3.2).
+pub fn view_file_name_of(g: &Geometry, view: usize) -> String {
+    match g.vertical_views {
+        None => view_file_name(view, g.views.count),
+        Some(_) => {
+            let (h, k) = g.view_of_index(view);
+            let (dh, dk) = (view_digits(g.views.count), view_digits(g.vertical_view_count()));
+            format!("view_{h:0dh$}_{k:0dk$}.png")
+        }
+    }
+}
+
 /// Write every view of `m` as a PNG into `dir` (created if needed), plus the
 /// sidecar, as one set: nothing is in place until every PNG is complete.
 /// Refuses to replace an existing set or file unless `overwrite`; returns
@@ -75,7 +91,7 @@ pub fn view_file_name(v: usize, view_count: usize) -> String {
 pub fn export_views(m: &Modulation, dir: &Path, tone: &ToneMapping, overwrite: bool) -> Result<Vec<PathBuf>> {
     let png_tone = tone.tone().map_err(|e| e.naming(dir))?;
     let g = m.geometry();
-    let names: Vec<String> = (0..g.views.count).map(|v| view_file_name(v, g.views.count)).collect();
+    let names: Vec<String> = (0..g.views_per_emitter()).map(|v| view_file_name_of(g, v)).collect();
     let _claim = check_set_output(dir, SIDECAR, &names, &[], overwrite)?;
     let mut set = FileSet::create(dir, SIDECAR)?;
     // Which RGB component each channel fills; a mono file is grey.
@@ -161,8 +177,8 @@ pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Resu
     }
     let g = geometry;
     let mut m = Modulation::zeros(g.clone())?;
-    for v in 0..g.views.count {
-        let path = dir.join(view_file_name(v, g.views.count));
+    for v in 0..g.views_per_emitter() {
+        let path = dir.join(view_file_name_of(g, v));
         let img = image::open(&path).map_err(|e| match e {
             image::ImageError::IoError(io) => Error::io(&path, io),
             other => malformed(&path, format!("not a readable PNG: {other}")),
@@ -211,9 +227,8 @@ pub struct ViewsSource<'a> {
 impl<'a> ViewsSource<'a> {
     /// The pictures in `dir` for `geometry`, decoded with `tone`.
     pub fn new(dir: &'a Path, geometry: &Geometry, tone: &'a ToneMapping) -> Self {
-        let n = geometry.views.count;
         let mut inputs = vec![dir.to_path_buf(), dir.join(SIDECAR)];
-        inputs.extend((0..n).map(|v| dir.join(view_file_name(v, n))));
+        inputs.extend((0..geometry.views_per_emitter()).map(|v| dir.join(view_file_name_of(geometry, v))));
         ViewsSource { dir, tone, inputs }
     }
 }

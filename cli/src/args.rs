@@ -358,8 +358,9 @@ pub struct WriteArgs {
     /// Replace an existing output file.
     #[arg(long)]
     pub force: bool,
-    /// Format version to write: 1.2 (each header sealed by its digest), 1.1 (for readers of 1.1: the same
-    /// without the seal) or 1.0 (square pixels, for readers of version 1.0).
+    /// Format version to write: 1.2 (each header sealed by its digest; a full-parallax file is written as
+    /// 1.3, which it needs), 1.3 (the same), 1.1 (for readers of 1.1: the same without the seal) or 1.0
+    /// (square pixels, for readers of version 1.0).
     #[arg(long = "format-version", value_enum, default_value = "1.2")]
     pub format_version: FormatVersionChoice,
 }
@@ -367,6 +368,9 @@ pub struct WriteArgs {
 /// `--format-version`: which version of the .holo format to write.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum FormatVersionChoice {
+    /// Version 1.3 (full parallax; horizontal parallax is written as 1.2).
+    #[value(name = "1.3")]
+    V1_3,
     /// Version 1.2.
     #[value(name = "1.2")]
     V1_2,
@@ -388,6 +392,7 @@ impl WriteArgs {
             source,
             overwrite: self.force,
             version: match self.format_version {
+                FormatVersionChoice::V1_3 => holo::format::FormatVersion::V1_3,
                 FormatVersionChoice::V1_2 => holo::format::FormatVersion::V1_2,
                 FormatVersionChoice::V1_1 => holo::format::FormatVersion::V1_1,
                 FormatVersionChoice::V1_0 => holo::format::FormatVersion::V1_0,

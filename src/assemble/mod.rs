@@ -162,7 +162,13 @@ impl Assembler {
     /// `Ok` when `m` has the geometry this layout expects; otherwise an error
     /// that says plainly which numbers differ.
     pub fn check_geometry(&self, m: &Modulation) -> Result<()> {
-        let (got, want) = (m.geometry(), &self.layout.geometry);
+        self.check_fits(m.geometry())
+    }
+
+    /// [`Assembler::check_geometry`] of a geometry alone (a file's, before
+    /// any frame of it is read).
+    pub fn check_fits(&self, got: &crate::geometry::Geometry) -> Result<()> {
+        let want = &self.layout.geometry;
         let mut differences = Vec::new();
         let mut counts = |what: &str, a: usize, b: usize| {
             if a != b {
@@ -176,6 +182,17 @@ impl Assembler {
             |g: &crate::geometry::Geometry| g.channels.iter().map(|c| c.name.clone()).collect::<Vec<_>>().join(",");
         if names(got) != names(want) {
             differences.push(format!("channels {} (the layout has {})", names(got), names(want)));
+        }
+        if got.vertical_views.is_some() {
+            return Err(Error::argument(
+                "modulation",
+                format!(
+                    "the modulation is full parallax ({} × {} views) and layout {} is horizontal parallax; holo does not yet assemble full-parallax fringes",
+                    got.views.count,
+                    got.vertical_view_count(),
+                    self.layout.name
+                ),
+            ));
         }
         let near = |a: f64, b: f64| (a - b).abs() <= 1e-6 * b.abs().max(1e-9);
         for (what, a, b) in [

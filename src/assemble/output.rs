@@ -149,9 +149,11 @@ pub fn assemble_file(
     let all_names: Vec<String> = range.clone().flat_map(names).collect();
     let _claim = check_set_output(out_dir, FRINGE_SIDECAR, &all_names, &[input], options.overwrite)?;
     // Check the geometry before any work, with the file named.
-    let zero = crate::modulation::Modulation::zeros(file.geometry().clone())?;
-    let fits = assembler.check_geometry(&zero);
-    drop(zero);
+    let fits = assembler.check_fits(file.geometry());
+    if file.geometry().vertical_views.is_some() {
+        // No resampling takes full parallax to a layout yet.
+        fits.as_ref().map_err(|e| Error::argument("modulation", format!("{}: {e}", input.display())))?;
+    }
     let mut resampled = match (fits, options.resample) {
         (Ok(()), _) => None,
         (Err(_), true) => Some(super::retarget::RetargetStats::default()),

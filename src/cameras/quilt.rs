@@ -628,6 +628,16 @@ pub fn export_quilt(
     }
     let _claim = crate::output::check_output(out_path, &[holo_path], options.overwrite)?;
     let file = crate::format::HoloFile::open(holo_path)?;
+    if let Some(vertical) = &file.geometry().vertical_views {
+        return Err(Error::unsupported(
+            holo_path,
+            format!(
+                "is full parallax ({} × {} views); holo does not yet make a quilt of it (a quilt is one row of views)",
+                file.geometry().views.count,
+                vertical.count
+            ),
+        ));
+    }
     let m = file.read_frame(frame)?;
     let quilt = quilt_from_modulation(&m, spec)?;
     let white = quilt.white_level(options.white);

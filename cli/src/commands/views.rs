@@ -36,8 +36,8 @@ pub struct ExportViewsArgs {
 
 pub fn run_export(a: ExportViewsArgs) -> Outcome {
     let holo_file = holo::HoloFile::open(&a.file)?;
-    let views = holo_file.geometry().views.count;
-    let names: Vec<String> = (0..views).map(|v| holo::views::view_file_name(v, views)).collect();
+    let g = holo_file.geometry();
+    let names: Vec<String> = (0..g.views_per_emitter()).map(|v| holo::views::view_file_name_of(g, v)).collect();
     let _claim = holo::output::check_set_output(&a.output, SIDECAR, &names, &[&a.file], a.force)?;
     let m = holo_file.read_frame(a.frame)?;
     let white = a.white.level(m.samples().iter().copied());

@@ -946,3 +946,36 @@ fn raw_blanking_drops_the_layouts_blanking_gains() {
         );
     }
 }
+
+#[test]
+fn a_full_parallax_file_is_described_validated_and_its_views_exported_by_both_indices() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let file = crate::fixture("v1.3/full-frames-rgb-f32-zip.holo");
+    let file = file.to_str().unwrap();
+    let info = text(&ok(holo(&["info", file], d)));
+    assert!(info.contains("3 emitter rows × 4 emitters × 2 × 2 views (horizontal × vertical), full parallax"), "{info}");
+    assert!(info.contains("vertical      -2.865° … 2.865°, uniform in sin (positive up)"), "{info}");
+    assert!(info.contains("a digest for each of 4 views"), "{info}");
+    assert!(text(&ok(holo(&["validate", file], d))).contains("valid"));
+    // Every view a picture named by both indices, and back, sample for sample at 16 bits.
+    let o = ok(holo(&["export-views", file, "--frame", "1", "--white", "200", "-o", "views"], d));
+    assert!(text(&o).contains("wrote 4 view PNGs"), "{}", text(&o));
+    for name in ["view_000_000.png", "view_001_000.png", "view_000_001.png", "view_001_001.png"] {
+        assert!(d.join("views").join(name).exists(), "{name}");
+    }
+    ok(holo(&["import-views", "views", "-o", "back.holo", "--f32"], d));
+    let back = holo::format::read(d.join("back.holo")).unwrap();
+    let original = holo::HoloFile::open(file).unwrap().read_frame(1).unwrap();
+    assert_eq!(back.geometry(), original.geometry());
+    for (a, b) in back.samples().iter().zip(original.samples()) {
+        assert!((a - b).abs() <= 200.0 / 65535.0 * 2.0, "{a} {b}");
+    }
+    // What holo cannot do with it yet is refused, saying why.
+    let o = holo(&["assemble", file, "-o", "fringes"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("is full parallax (2 × 2 views)") && !d.join("fringes").exists(), "{}", text(&o));
+    let o = holo(&["export-quilt", file, "-o", "q.png"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("does not yet make a quilt"), "{}", text(&o));
+}
