@@ -177,49 +177,11 @@ impl HoloFile {
     }
 
     /// Each view's digest (spec §8, §7.1) against the samples of a whole
-    /// full-parallax frame as read: the stored rows of every view built in
-    /// one pass over each emitter row, then hashed view by view in parallel.
+    /// full-parallax frame as read.
     fn check_view_digests<T: FrameSample>(&self, index: usize, samples: &[T]) -> Result<()> {
-        use rayon::prelude::*;
-        let g = &self.info.geometry;
-        let frame = &self.info.frames[index];
-        let (views, colours) = (g.views_per_emitter(), colour_slots(g));
-        let st = self.info.sample_type;
-        let row_len = colours.len() * g.emitters * st.bytes();
-        let mut digests: Vec<RowDigest> = (0..views).map(|_| RowDigest::default()).collect();
-        let mut rows = vec![0u8; views * row_len];
-        for j in 0..g.hololines {
-            for (slot, &c) in colours.iter().enumerate() {
-                let line = &samples[(c * g.hololines + j) * g.emitters * views..][..g.emitters * views];
-                for e in 0..g.emitters {
-                    for (v, x) in line[e * views..(e + 1) * views].iter().enumerate() {
-                        let at = v * row_len + (slot * g.emitters + e) * st.bytes();
-                        match st {
-                            SampleType::F16 => {
-                                rows[at..at + 2].copy_from_slice(&half::f16::from_f32(x.to_f32()).to_le_bytes())
-                            }
-                            SampleType::F32 => rows[at..at + 4].copy_from_slice(&x.to_f32().to_le_bytes()),
-                        }
-                    }
-                }
-            }
-            digests.par_iter_mut().zip(rows.par_chunks(row_len)).for_each(|(d, row)| d.update(row));
-        }
-        for ((v, digest), view) in digests.into_iter().enumerate().zip(&frame.views) {
-            let computed = digest.finish();
-            if let Some(stored) = &view.digest {
-                if &computed != stored {
-                    let (h, k) = g.view_of_index(v);
-                    return Err(Error::invalid(
-                        &self.info.path,
-                        format!(
-                            "frame {index}, view ({h} {k}): the samples do not match their digest (stored {stored}, computed {computed}): the file is damaged"
-                        ),
-                    ));
-                }
-            }
-        }
-        Ok(())
+        let mut digests = ViewDigests::new(&self.info.geometry, self.info.sample_type);
+        digests.push(samples, self.info.geometry.hololines);
+        digests.check(&self.info, index)
     }
 
     /// The samples of a region as decoded (see [`HoloFile::read_decoded`]),
@@ -659,4 +621,77 @@ fn place_block<T: FrameSample>(
         }
     }
     Ok(())
+}
+
+/// The digests of a full-parallax frame's views (spec §8, §7.1), fed emitter
+/// row after emitter row (a whole frame, or band by band): each row's stored
+/// bytes for every view built in one pass over the row, then hashed view by
+/// view in parallel.
+pub(crate) struct ViewDigests {
+    g: Geometry,
+    sample_type: SampleType,
+    colours: Vec<usize>,
+    digests: Vec<RowDigest>,
+    rows: Vec<u8>,
+}
+
+impl ViewDigests {
+    pub(crate) fn new(g: &Geometry, sample_type: SampleType) -> ViewDigests {
+        let colours = colour_slots(g);
+        let row_len = colours.len() * g.emitters * sample_type.bytes();
+        ViewDigests {
+            digests: (0..g.views_per_emitter()).map(|_| RowDigest::default()).collect(),
+            rows: vec![0u8; g.views_per_emitter() * row_len],
+            g: g.clone(),
+            sample_type,
+            colours,
+        }
+    }
+
+    /// The next `lines` emitter rows: `samples` laid out as a [`Modulation`]
+    /// of that many rows of the frame's geometry.
+    pub(crate) fn push<T: FrameSample>(&mut self, samples: &[T], lines: usize) {
+        use rayon::prelude::*;
+        let (g, st) = (&self.g, self.sample_type);
+        let views = g.views_per_emitter();
+        let row_len = self.colours.len() * g.emitters * st.bytes();
+        for j in 0..lines {
+            for (slot, &c) in self.colours.iter().enumerate() {
+                let line = &samples[(c * lines + j) * g.emitters * views..][..g.emitters * views];
+                for e in 0..g.emitters {
+                    for (v, x) in line[e * views..(e + 1) * views].iter().enumerate() {
+                        let at = v * row_len + (slot * g.emitters + e) * st.bytes();
+                        match st {
+                            SampleType::F16 => {
+                                self.rows[at..at + 2].copy_from_slice(&half::f16::from_f32(x.to_f32()).to_le_bytes())
+                            }
+                            SampleType::F32 => self.rows[at..at + 4].copy_from_slice(&x.to_f32().to_le_bytes()),
+                        }
+                    }
+                }
+            }
+            self.digests.par_iter_mut().zip(self.rows.par_chunks(row_len)).for_each(|(d, row)| d.update(row));
+        }
+    }
+
+    /// Every view's digest against the one its part stores, the first that
+    /// differs an error naming the frame and view.
+    pub(crate) fn check(self, info: &super::FileInfo, index: usize) -> Result<()> {
+        let frame = &info.frames[index];
+        for ((v, digest), view) in self.digests.into_iter().enumerate().zip(&frame.views) {
+            let computed = digest.finish();
+            if let Some(stored) = &view.digest {
+                if &computed != stored {
+                    let (h, k) = self.g.view_of_index(v);
+                    return Err(Error::invalid(
+                        &info.path,
+                        format!(
+                            "frame {index}, view ({h} {k}): the samples do not match their digest (stored {stored}, computed {computed}): the file is damaged"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
 }

@@ -45,7 +45,12 @@ pub fn validate_format(path: impl AsRef<Path>) -> Result<Validation> {
         if let Some(info) = &parsed.info {
             let file = HoloFile::open(path)?;
             for (i, _) in info.frames.iter().enumerate() {
-                match file.read_frame(i) {
+                // A full-parallax frame may be larger than memory: band by band (spec §10).
+                let read = match info.geometry.vertical_views {
+                    None => file.read_frame(i).map(drop),
+                    Some(_) => read_in_bands(&file, i),
+                };
+                match read {
                     Ok(_) => {}
                     Err(Error::Invalid { problem, .. }) => violations.push(format!("frame {i}: {problem}")),
                     Err(Error::Exr { message, .. }) => violations.push(format!("frame {i}: pixel data: {message}")),
@@ -60,4 +65,23 @@ pub fn validate_format(path: impl AsRef<Path>) -> Result<Validation> {
         }
     }
     Ok(Validation { info: parsed.info, violations, warnings })
+}
+
+/// Emitter rows a full-parallax frame is validated in at a time.
+const BAND_ROWS: usize = 32;
+
+/// Read frame `index` of a full-parallax file band by band, each band's
+/// samples checked as it is read and every view's digest over the whole.
+fn read_in_bands(file: &HoloFile, index: usize) -> Result<()> {
+    let info = file.info();
+    let g = &info.geometry;
+    let mut digests = super::read::ViewDigests::new(g, info.sample_type);
+    for top in (0..g.hololines).step_by(BAND_ROWS) {
+        let lines = top..(top + BAND_ROWS).min(g.hololines);
+        let region = super::Region { hololines: lines.clone(), ..super::Region::all(g) };
+        // As decoded (a lossy file's undershoot included), as the digests are.
+        let band = file.read_decoded(index, &region)?;
+        digests.push(band.samples(), lines.len());
+    }
+    digests.check(info, index)
 }

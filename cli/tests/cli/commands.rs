@@ -954,7 +954,10 @@ fn a_full_parallax_file_is_described_validated_and_its_views_exported_by_both_in
     let file = crate::fixture("v1.3/full-frames-rgb-f32-zip.holo");
     let file = file.to_str().unwrap();
     let info = text(&ok(holo(&["info", file], d)));
-    assert!(info.contains("3 emitter rows × 4 emitters × 2 × 2 views (horizontal × vertical), full parallax"), "{info}");
+    assert!(
+        info.contains("3 emitter rows × 4 emitters × 2 × 2 views (horizontal × vertical), full parallax"),
+        "{info}"
+    );
     assert!(info.contains("vertical      -2.865° … 2.865°, uniform in sin (positive up)"), "{info}");
     assert!(info.contains("a digest for each of 4 views"), "{info}");
     assert!(text(&ok(holo(&["validate", file], d))).contains("valid"));

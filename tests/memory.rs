@@ -1,11 +1,14 @@
-//! `convert cameras` holds the pictures and a band of hololines, not the
-//! frame: peak heap measured by a counting allocator stays far below one
-//! frame and does not grow with the display's hololines, while resampling a
-//! whole frame in memory needs at least the frame. The banded conversion
-//! writes exactly the frame the whole-frame resampler makes.
+//! What streams holds a band, not the frame, by peak heap measured with a
+//! counting allocator: far below one frame, and not growing with the frame.
 //!
-//! One test in this binary: the allocator counts every thread, so nothing
-//! else may run beside it.
+//! - `convert cameras` holds the pictures and a band of hololines, while
+//!   resampling a whole frame in memory needs at least the frame; the banded
+//!   conversion writes exactly the frame the whole-frame resampler makes.
+//! - A full-parallax file (spec §8) is written, validated and read by the
+//!   view band by band of emitter rows.
+//!
+//! One test in this binary, each part in turn: the allocator counts every
+//! thread, so nothing else may run beside it.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -14,8 +17,8 @@ use holo::cameras::convert::{convert_cameras, CameraConvertOptions};
 use holo::cameras::image::Picture;
 use holo::cameras::resample::{resample_rig, Blend, CameraOptions, CameraView};
 use holo::cameras::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
-use holo::format::{SampleType, WriteOptions};
-use holo::geometry::{rgb_channels, Geometry, Views};
+use holo::format::{Compression, HoloFile, Region, SampleType, WriteOptions};
+use holo::geometry::{mono_channel, rgb_channels, Geometry, ViewSpacing, Views};
 
 struct Counting;
 
@@ -96,7 +99,12 @@ fn rig_and_views() -> (Rig, Vec<CameraView>) {
 }
 
 #[test]
-fn converting_holds_a_band_not_the_frame() {
+fn streamed_work_holds_a_band_not_the_frame() {
+    converting_cameras_holds_a_band();
+    full_parallax_files_stream_by_bands();
+}
+
+fn converting_cameras_holds_a_band() {
     let (rig, views) = rig_and_views();
     let dir = tempfile::tempdir().unwrap();
     let resample = CameraOptions { blend: Blend::Nearest, emitter_taps: Some(1), ..CameraOptions::default() };
@@ -143,4 +151,69 @@ fn converting_holds_a_band_not_the_frame() {
     let growth = peaks[1] as f64 - peaks[0] as f64;
     let frame_growth = (display(768).samples_per_frame() - display(384).samples_per_frame()) as f64 * 4.0;
     assert!(growth < 0.05 * frame_growth, "peak grew by {growth} bytes for {frame_growth} more bytes of frame");
+}
+
+/// `rows` emitter rows of 128 emitters, 16 × 16 views, one colour.
+fn full_parallax(rows: usize) -> Geometry {
+    Geometry::centred(rows, 128, Views::tan_spaced(16, -0.2, 0.2), 5e-4, 5e-4, 0.0, 0.5, mono_channel())
+        .with_vertical_views(Views { count: 16, first_theta_rad: -0.2, last_theta_rad: 0.2, spacing: ViewSpacing::Tan })
+}
+
+/// Smooth content (ZIP compresses it), every sample different from its neighbours.
+fn full_parallax_sample(j: usize, e: usize, v: usize) -> f32 {
+    0.25 + 0.001 * (j % 97) as f32 + 0.002 * (e % 61) as f32 + 0.0005 * v as f32
+}
+
+fn full_parallax_files_stream_by_bands() {
+    let dir = tempfile::tempdir().unwrap();
+    let options = WriteOptions { compression: Compression::Zip, ..WriteOptions::default() };
+    let mut peaks = Vec::new();
+    for rows in [256, 512] {
+        let g = full_parallax(rows);
+        let frame_bytes = g.samples_per_frame() as usize * 4;
+        let out = dir.path().join(format!("{rows}.holo"));
+        let (_, write_peak) = peak_during(|| {
+            holo::format::write_frame_in_bands(&out, &g, 32, &options, |band| {
+                let (lines, views) = (band.hololines(), g.views_per_emitter());
+                let n = g.emitters * views;
+                for (jj, j) in lines.enumerate() {
+                    for (i, x) in band.samples_mut()[jj * n..(jj + 1) * n].iter_mut().enumerate() {
+                        *x = full_parallax_sample(j, i / views, i % views);
+                    }
+                }
+                Ok(())
+            })
+            .unwrap()
+        });
+        let (validation, validate_peak) = peak_during(|| holo::format::validate_format(&out).unwrap());
+        assert!(validation.violations.is_empty(), "{:?}", validation.violations);
+        let file = HoloFile::open(&out).unwrap();
+        let one_view = Region { views: 7..8, vertical_views: 11..12, ..Region::all(&g) };
+        let (view, view_peak) = peak_during(|| file.read_region(0, &one_view).unwrap());
+        let v = g.view_index(7, 11);
+        for (i, x) in view.samples().iter().enumerate() {
+            let want = half::f16::from_f32(full_parallax_sample(i / g.emitters, i % g.emitters, v)).to_f32();
+            assert_eq!(*x, want, "sample {i} of view (7 11)");
+        }
+        println!(
+            "{rows} rows × 128 × 16 × 16 views: frame {:.1} MB; peak heap: write {:.1} MB, validate {:.1} MB, one view {:.1} MB",
+            frame_bytes as f64 / 1e6,
+            write_peak as f64 / 1e6,
+            validate_peak as f64 / 1e6,
+            view_peak as f64 / 1e6
+        );
+        // Beside the band: every part's header, offset table and state (256 here).
+        for (what, peak) in [("writing", write_peak), ("validating", validate_peak), ("one view", view_peak)] {
+            assert!(rows < 512 || peak < frame_bytes / 2, "{what}: peak {peak} bytes for a frame of {frame_bytes}");
+        }
+        peaks.push((write_peak, validate_peak, view_peak));
+    }
+    // Twice the rows (and twice the frame): the peaks hardly move (a band,
+    // one view's picture, and what does not depend on the frame).
+    let frame_growth = (full_parallax(512).samples_per_frame() - full_parallax(256).samples_per_frame()) as f64 * 4.0;
+    let [a, b] = [peaks[0], peaks[1]];
+    for (what, a, b) in [("writing", a.0, b.0), ("validating", a.1, b.1), ("one view", a.2, b.2)] {
+        let growth = b as f64 - a as f64;
+        assert!(growth < 0.05 * frame_growth, "{what}: peak grew by {growth} bytes for {frame_growth} more of frame");
+    }
 }
