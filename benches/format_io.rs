@@ -13,6 +13,12 @@
 //! Then a third: the deflates a ZIP writer could use, each on the same
 //! predicted 16-line blocks of both contents, one thread: size and MiB/s of
 //! raw samples. holo's ZIP writer uses libdeflate at [`holo::format::zip::LEVEL`].
+//!
+//! The group `full_parallax_frame` (spec §8): 96 rows × 96 emitters × 32 × 32
+//! views, RGB, f16 (57 MB of raw f16): whole-frame write and read without
+//! compression and with ZIP, and from the ZIP file one view, a window of 4 × 4
+//! views and a band of 16 rows, each in MiB/s of the raw f16 it reads; the
+//! reads' times against the whole frame's are the ratios BENCHMARKS.md keeps.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use holo::format::{read, write, Compression, SampleType, WriteOptions};
@@ -187,6 +193,69 @@ fn deflate_table(contents: &[(&str, &Modulation)]) {
     println!();
 }
 
+/// A full-parallax frame: smooth content with a little noise.
+fn full_parallax_frame() -> Modulation {
+    use holo::geometry::{Geometry, ViewSpacing, Views};
+    let views = Views { count: 32, first_theta_rad: -0.25, last_theta_rad: 0.25, spacing: ViewSpacing::Tan };
+    let g = Geometry::centred(96, 96, views.clone(), 5e-4, 5e-4, 0.0, 0.5, rgb_channels()).with_vertical_views(views);
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    Modulation::from_fn(g, |c, j, e, v| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let noise = (state >> 40) as f32 / (1u64 << 24) as f32;
+        0.5 + 0.4 * ((e as f32 * 0.05 + j as f32 * 0.03 + c as f32).sin() * (v as f32 * 0.002).cos()) + 0.01 * noise
+    })
+    .unwrap()
+}
+
+fn bench_full_parallax(c: &mut Criterion) {
+    use holo::format::Region;
+    let m = full_parallax_frame();
+    let g = m.geometry().clone();
+    let raw = |samples: u64| samples * 2;
+    let dir = tempfile::tempdir().unwrap();
+    let mut group = c.benchmark_group("full_parallax_frame");
+    group
+        .sample_size(10)
+        .measurement_time(std::time::Duration::from_secs(4))
+        .warm_up_time(std::time::Duration::from_secs(1));
+    for compression in [Compression::None, Compression::Zip] {
+        let path = dir.path().join(format!("{}.holo", compression.name()));
+        let options = WriteOptions { compression, overwrite: true, ..WriteOptions::default() };
+        let report = write(&path, &m, &options).unwrap();
+        eprintln!(
+            "full parallax {}: {} bytes = {:.1}% of raw f16",
+            compression.name(),
+            report.file_bytes,
+            100.0 * report.file_bytes as f64 / raw(g.samples_per_frame()) as f64
+        );
+        group.throughput(Throughput::Bytes(raw(g.samples_per_frame())));
+        group.bench_function(format!("write_{}", compression.name()), |b| {
+            b.iter(|| write(&path, &m, &options).unwrap())
+        });
+        group.bench_function(format!("read_{}", compression.name()), |b| b.iter(|| read(&path).unwrap()));
+        if compression == Compression::Zip {
+            let file = holo::HoloFile::open(&path).unwrap();
+            let all = Region::all(&g);
+            for (name, region) in [
+                ("read_zip_one_view", Region { views: 16..17, vertical_views: 16..17, ..all.clone() }),
+                ("read_zip_4x4_views", Region { views: 14..18, vertical_views: 14..18, ..all.clone() }),
+                ("read_zip_16_rows", Region { hololines: 40..56, ..all.clone() }),
+            ] {
+                let samples = (region.hololines.len()
+                    * region.emitters.len()
+                    * region.views.len()
+                    * region.vertical_views.len()
+                    * g.channels.len()) as u64;
+                group.throughput(Throughput::Bytes(raw(samples)));
+                group.bench_function(name, |b| b.iter(|| file.read_region(0, &region).unwrap()));
+            }
+        }
+    }
+    group.finish();
+}
+
 fn bench(c: &mut Criterion) {
     let quick = std::env::args().any(|a| a == "--test");
     let spot = compression_table(if quick { 1 } else { 3 });
@@ -231,5 +300,5 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, bench_full_parallax);
 criterion_main!(benches);

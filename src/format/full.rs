@@ -14,9 +14,9 @@ use exr::meta::header::Header;
 
 use super::channels::colour_names;
 use super::digest::RowDigest;
-use super::write::{
-    canonicalize_headers, check_samples, compress_block, first_f16_overflow, full_window, part_header, placeholder,
-    WriteOptions, WriteReport,
+use super::parts::{
+    canonicalize_headers, check_samples, check_writable, compress_block, first_f16_overflow, full_window, part_header,
+    placeholder, written_options, WriteOptions, WriteReport,
 };
 use super::{SampleType, MAX_FRAMES};
 use crate::error::{Error, Result};
@@ -47,7 +47,7 @@ pub fn write_frames_in_bands(
     mut fill: impl FnMut(usize, &mut Band) -> Result<()>,
 ) -> Result<WriteReport> {
     let g = geometry;
-    super::write::check_writable(path, g, 1, options)?;
+    check_writable(path, g, 1, options)?;
     let views = g.views_per_emitter();
     let parts = (frame_count as u64).saturating_mul(views as u64);
     if frame_count == 0 || parts > MAX_FRAMES {
@@ -58,7 +58,7 @@ pub fn write_frames_in_bands(
             ),
         ));
     }
-    let options = &super::write::written_options(path, g, options)?;
+    let options = &written_options(path, g, options)?;
     let version = options.version;
     let mut warnings = Vec::new();
     let lossy = !options.compression.is_lossless_for(options.sample_type);

@@ -11,6 +11,7 @@ pub(crate) mod digest;
 pub mod full;
 mod header;
 mod header_digest;
+mod parts;
 mod read;
 mod record;
 pub mod sequence;
@@ -24,11 +25,12 @@ pub use attributes::{is_known as is_known_attribute, name as attribute, Attribut
 pub use channels::{channel_name, parse_channel_name, view_digits, ChannelOrder};
 pub use digest::frame_digest;
 pub use header::{FileInfo, FrameInfo, ViewPart};
+pub use parts::{FormatVersion, WriteOptions, WriteReport};
 pub use read::{read, FrameSample, HoloFile, Region};
 pub use record::{Checked, ConversionRecord, RecordHead, RecordReader, RecordWriter};
 pub use sequence::{Frames, Sequence};
 pub use validate::{validate_format, Validation};
-pub use write::{write, write_frame_in_bands, write_frames, FormatVersion, WriteOptions, WriteReport};
+pub use write::{write, write_frame_in_bands, write_frames};
 
 use serde::Serialize;
 

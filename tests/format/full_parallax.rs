@@ -221,3 +221,54 @@ fn a_bad_sample_is_refused_before_the_file_is_made() {
     assert!(err.contains("too large for f16"), "{err}");
     assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none(), "nothing left behind");
 }
+
+#[test]
+fn full_parallax_rays_leave_each_emitter_in_both_directions_of_their_view() {
+    let g = geometry(9, 13, 7, 5, true);
+    let vertical = g.vertical_views.clone().unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(33);
+    for _ in 0..2000 {
+        let (j, e, h, k) = (rng.gen_range(0..9), rng.gen_range(0..13), rng.gen_range(0..7), rng.gen_range(0..5));
+        let v = g.view_index(h, k);
+        assert_eq!(g.view_of_index(v), (h, k));
+        let ray = g.ray(j, e, v);
+        // From the emitter itself (both centres of projection, spec §8) ...
+        let origin =
+            [g.emitter_left_x_m + e as f64 * g.emitter_pitch_m, g.hololine_top_y_m - j as f64 * g.hololine_pitch_m];
+        assert!((ray.origin_m[0] - origin[0]).abs() < 1e-15 && (ray.origin_m[1] - origin[1]).abs() < 1e-15);
+        // ... with slopes tan θ_h and tan φ_k, φ by its own spacing rule
+        // (sin here: equal steps of sin φ).
+        let theta = (((7 - 1 - h) as f64 * (-0.25f64).tan() + h as f64 * 0.25f64.tan()) / 6.0).atan();
+        let phi = (((4 - k) as f64 * (-0.15f64).sin() + k as f64 * 0.15f64.sin()) / 4.0).asin();
+        assert!((ray.slope_x - theta.tan()).abs() < 1e-14, "({h} {k})");
+        assert!((ray.slope_y - phi.tan()).abs() < 1e-14, "({h} {k})");
+        // Not toward the viewer line: the slope does not depend on the row.
+        assert_eq!(g.ray(0, e, v).slope_y, ray.slope_y);
+        assert!((vertical.theta_rad(k) - phi).abs() < 1e-14);
+    }
+}
+
+#[test]
+fn parallax_and_vertical_views_must_agree() {
+    let mut g = geometry(2, 2, 2, 2, false);
+    g.vertical_views = None;
+    assert!(
+        g.problems().iter().any(|p| p.contains("full parallax needs vertical view directions")),
+        "{:?}",
+        g.problems()
+    );
+    let mut g = geometry(2, 2, 2, 2, false);
+    g.parallax = holo::geometry::Parallax::Horizontal;
+    assert!(g.problems().iter().any(|p| p.contains("horizontal parallax has no vertical view")), "{:?}", g.problems());
+    let mut g = geometry(2, 2, 2, 3, false);
+    if let Some(v) = g.vertical_views.as_mut() {
+        v.last_theta_rad = -0.3;
+    }
+    assert!(g.problems().iter().any(|p| p.starts_with("vertical ")), "{:?}", g.problems());
+    assert!(write(
+        tempfile::tempdir().unwrap().path().join("x.holo"),
+        &Modulation::zeros(geometry(2, 2, 2, 2, false)).unwrap(),
+        &WriteOptions::default()
+    )
+    .is_ok());
+}
