@@ -256,11 +256,26 @@ impl HoloFile {
         let mut place = |block: exr::block::UncompressedBlock| -> Result<()> {
             let Some(part) = wanted.part(block.index.layer) else { return Ok(()) };
             let dw = part.window;
+            let st = self.info.sample_type;
             match part.sub_view {
-                None => place_block(&mut out, &sub, &block, &order, self.info.sample_type, dw.x, dw.y, region),
-                Some(v) => {
-                    place_view_block(&mut out, &sub, &block, &colours, v, self.info.sample_type, dw.x, dw.y, region)
+                None => {
+                    let target = |slot| {
+                        let (v, c) = order.pair_at(slot);
+                        region.views.contains(&v).then(|| (c, v - region.views.start))
+                    };
+                    place_block(&mut out, &sub, &block, order.len(), target, st, dw.x, dw.y, region)
                 }
+                Some(v) => place_block(
+                    &mut out,
+                    &sub,
+                    &block,
+                    colours.len(),
+                    |slot| Some((colours[slot], v)),
+                    st,
+                    dw.x,
+                    dw.y,
+                    region,
+                ),
             }
             .map_err(|problem| Error::invalid(path, problem))?;
             if let Some(digest) = digest.as_deref_mut() {
@@ -532,16 +547,20 @@ fn colour_slots(g: &Geometry) -> Vec<usize> {
     super::channels::colour_names(g).iter().filter_map(|n| g.channel_index(n)).collect()
 }
 
-/// [`place_block`] for a block of a full-parallax part (spec §8), which
-/// holds one view, `sub_view` among the region's: its channels are the
-/// colours (`colours[slot]`).
+/// Copy the samples of one decoded block that fall inside the region into
+/// `out`, the region's samples laid out as a [`Modulation`] of `sub`. The
+/// block holds `channels` channels; `target(slot)` says where the channel at
+/// list position `slot` goes: its colour and its index among the region's
+/// views (`None`: a view outside the region). A horizontal-parallax part
+/// holds every view ([`ChannelOrder`]); a full-parallax part one (spec §8),
+/// its channels the colours.
 #[allow(clippy::too_many_arguments)]
-fn place_view_block<T: FrameSample>(
+fn place_block<T: FrameSample>(
     out: &mut [T],
     sub: &Geometry,
     block: &exr::block::UncompressedBlock,
-    colours: &[usize],
-    sub_view: usize,
+    channels: usize,
+    target: impl Fn(usize) -> Option<(usize, usize)>,
     sample_type: SampleType,
     data_x: usize,
     data_y: usize,
@@ -550,7 +569,7 @@ fn place_view_block<T: FrameSample>(
     let (bx, by) = (block.index.pixel_position.0 + data_x, block.index.pixel_position.1 + data_y);
     let (w, h) = (block.index.pixel_size.0, block.index.pixel_size.1);
     let bytes = sample_type.bytes();
-    let expected = w * h * colours.len() * bytes;
+    let expected = w * h * channels * bytes;
     if block.data.len() != expected {
         return Err(format!("a block holds {} bytes where {expected} were expected", block.data.len()));
     }
@@ -560,59 +579,12 @@ fn place_view_block<T: FrameSample>(
     let mut at = 0;
     for line in 0..h {
         let j = by + line;
-        for &c in colours {
-            let row = &block.data[at..at + w * bytes];
-            at += w * bytes;
-            if !region.hololines.contains(&j) || e_lo >= e_hi {
-                continue;
-            }
-            let start = (c * hololines_out + j - region.hololines.start) * emitters_out * views;
-            let dest = &mut out[start..start + emitters_out * views];
-            let first = e_lo - region.emitters.start;
-            let run = &row[(e_lo - bx) * bytes..(e_hi - bx) * bytes];
-            T::scatter(run, sample_type, &mut dest[first * views + sub_view..], views, &mut scratch);
-        }
-    }
-    Ok(())
-}
-
-/// Copy the samples of one decoded block that fall inside the region into
-/// `out`, the region's samples laid out as a [`Modulation`] of `sub`.
-#[allow(clippy::too_many_arguments)]
-fn place_block<T: FrameSample>(
-    out: &mut [T],
-    sub: &Geometry,
-    block: &exr::block::UncompressedBlock,
-    order: &ChannelOrder,
-    sample_type: SampleType,
-    data_x: usize,
-    data_y: usize,
-    region: &Region,
-) -> std::result::Result<(), String> {
-    let (bx, by) = (block.index.pixel_position.0 + data_x, block.index.pixel_position.1 + data_y);
-    let (w, h) = (block.index.pixel_size.0, block.index.pixel_size.1);
-    let bytes = sample_type.bytes();
-    let expected = w * h * order.len() * bytes;
-    if block.data.len() != expected {
-        return Err(format!("a block holds {} bytes where {expected} were expected", block.data.len()));
-    }
-    let (views, emitters_out, hololines_out) = (sub.views.count, sub.emitters, sub.hololines);
-    let (e_lo, e_hi) = (region.emitters.start.max(bx), region.emitters.end.min(bx + w));
-    let mut scratch = Vec::with_capacity(w);
-    let mut at = 0;
-    for line in 0..h {
-        let j = by + line;
         let row_wanted = region.hololines.contains(&j);
-        for slot in 0..order.len() {
+        for slot in 0..channels {
             let row = &block.data[at..at + w * bytes];
             at += w * bytes;
-            let (v, c) = order.pair_at(slot);
-            if !row_wanted || !region.views.contains(&v) || e_lo >= e_hi {
-                continue;
-            }
-            let jj = j - region.hololines.start;
-            let vv = v - region.views.start;
-            let start = (c * hololines_out + jj) * emitters_out * views;
+            let Some((c, vv)) = target(slot).filter(|_| row_wanted && e_lo < e_hi) else { continue };
+            let start = (c * hololines_out + j - region.hololines.start) * emitters_out * views;
             let dest = &mut out[start..start + emitters_out * views];
             // The wanted run of this channel's row, spread with the view stride.
             let first = e_lo - region.emitters.start;
