@@ -12,6 +12,8 @@ command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz --locked
 corpus=fuzz/corpus/read
 mkdir -p "$corpus"
 cp fixtures/v1.0/*.holo "$corpus/"
+# Full parallax (one part per view) and sealed headers.
+for f in fixtures/v1.2/*.holo fixtures/v1.3/*.holo; do cp "$f" "$corpus/$(basename "$(dirname "$f")")-$(basename "$f")"; done
 # A few more seeds: patterns of both layouts, small enough to mutate.
 cargo run --quiet --release -p holo-cli -- pattern --layout mark1 --kind checkerboard --compression piz -o "$corpus/mark1-piz.holo" --force >/dev/null
 cargo run --quiet --release -p holo-cli -- pattern --layout mark1 --kind view-ramp --compression rle --f32 -o "$corpus/mark1-rle.holo" --force >/dev/null

@@ -19,7 +19,12 @@ fuzz_target!(|data: &[u8]| {
     if let Ok(file) = holo::HoloFile::open(&path) {
         let g = file.geometry().clone();
         let _ = file.read_frame(0);
-        let region = holo::format::Region { hololines: 0..1, emitters: 0..g.emitters.min(2), views: 0..1 };
+        let region = holo::format::Region {
+            hololines: 0..1,
+            emitters: 0..g.emitters.min(2),
+            views: 0..1,
+            vertical_views: 0..g.vertical_view_count().min(2),
+        };
         let _ = file.read_region(0, &region);
     }
 });
