@@ -9,6 +9,8 @@ use holo::format::{read, write, write_frames, Compression, FormatVersion, HoloFi
 use holo::geometry::{mono_channel, rgb_channels, Geometry, ViewSpacing, Views};
 use holo::Modulation;
 use rand::{Rng, SeedableRng};
+
+use crate::roundtrip::random;
 use rand_chacha::ChaCha8Rng;
 
 /// `rows × columns` emitters, `v × w` views.
@@ -27,19 +29,6 @@ fn geometry(rows: usize, columns: usize, v: usize, w: usize, rgb: bool) -> Geome
         if rgb { rgb_channels() } else { mono_channel() },
     )
     .with_vertical_views(Views { count: w, first_theta_rad: k0, last_theta_rad: k1, spacing: ViewSpacing::Sin })
-}
-
-/// Random radiance over several decades, a few exact zeros.
-fn random(g: Geometry, seed: u64) -> Modulation {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    Modulation::from_fn(g, |_, _, _, _| {
-        if rng.gen_bool(0.05) {
-            0.0
-        } else {
-            10f32.powf(rng.gen_range(-3.0..2.0)) * rng.gen_range(0.5..1.0)
-        }
-    })
-    .unwrap()
 }
 
 fn options(sample_type: SampleType, compression: Compression) -> WriteOptions {

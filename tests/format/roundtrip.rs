@@ -24,7 +24,7 @@ fn geometry(hololines: usize, emitters: usize, views: usize, rgb: bool) -> Geome
 }
 
 /// Random radiance over several decades, a few exact zeros, never all zero.
-fn random(g: Geometry, seed: u64) -> Modulation {
+pub(crate) fn random(g: Geometry, seed: u64) -> Modulation {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     Modulation::from_fn(g, |_, _, _, _| {
         if rng.gen_bool(0.05) {
