@@ -28,6 +28,12 @@ pub fn colour_names(g: &Geometry) -> Vec<String> {
     names
 }
 
+/// For each channel of a full-parallax part, in list order, the geometry's
+/// colour index (spec §8: the channels are the colours, in ASCII order).
+pub(crate) fn colour_slots(g: &Geometry) -> Vec<usize> {
+    colour_names(g).iter().filter_map(|n| g.channel_index(n)).collect()
+}
+
 /// Parse `v<digits>.<colour>` into (view, colour, digit count).
 pub fn parse_channel_name(name: &str) -> Option<(usize, &str, usize)> {
     let rest = name.strip_prefix('v')?;

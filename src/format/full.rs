@@ -12,7 +12,7 @@ use exr::block::{BlockIndex, UncompressedBlock};
 use exr::math::Vec2;
 use exr::meta::header::Header;
 
-use super::channels::colour_names;
+use super::channels::colour_slots;
 use super::digest::RowDigest;
 use super::parts::{
     canonicalize_headers, check_samples, check_writable, compress_block, first_f16_overflow, full_window, part_header,
@@ -174,11 +174,6 @@ fn filled_band(
         first_f16_overflow(g, band.samples(), lines.clone())
     })?;
     Ok(band)
-}
-
-/// For each EXR channel of a part, in list order, the geometry's colour index.
-fn colour_slots(g: &Geometry) -> Vec<usize> {
-    colour_names(g).iter().filter_map(|n| g.channel_index(n)).collect()
 }
 
 /// Rows `rows` of view `view` as stored (spec §7.1, §8): row by row, channel

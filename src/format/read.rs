@@ -10,7 +10,7 @@ use exr::block::reader::ChunksReader;
 use exr::block::BlockIndex;
 use exr::meta::MetaData;
 
-use super::channels::ChannelOrder;
+use super::channels::{colour_slots, ChannelOrder};
 use half::slice::HalfFloatSliceExt;
 
 use super::digest::{frame_digest, BlockDigest, RowDigest};
@@ -539,12 +539,6 @@ impl Wanted {
     fn part(&self, layer: usize) -> Option<&WantedPart> {
         self.parts.get(layer.checked_sub(self.first)?)?.as_ref()
     }
-}
-
-/// For each channel of a full-parallax part, in list order, the geometry's
-/// colour index (spec §8: the channels are the colours, in ASCII order).
-fn colour_slots(g: &Geometry) -> Vec<usize> {
-    super::channels::colour_names(g).iter().filter_map(|n| g.channel_index(n)).collect()
 }
 
 /// Copy the samples of one decoded block that fall inside the region into
