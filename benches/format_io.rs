@@ -46,7 +46,7 @@ fn compression_table(repeats: usize) -> Modulation {
     use holo::mesh::convert::{convert_mesh, ConvertOptions};
     use std::time::Instant;
     let dir = tempfile::tempdir().unwrap();
-    let spot = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/spot/spot.obj");
+    let spot = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("fixtures/mesh/spot/spot.obj");
     let exact_path = dir.path().join("exact.holo");
     let options = ConvertOptions {
         write: WriteOptions { sample_type: SampleType::F32, ..WriteOptions::default() },

@@ -40,7 +40,7 @@ impl Model {
 }
 
 fn load(label: &'static str, relative: &str) -> Option<Model> {
-    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let shared =
         std::env::var("HOLO_SHARED_DATA").map(std::path::PathBuf::from).unwrap_or_else(|_| root.join("../shared/data"));
     let path = shared.join(relative);
@@ -189,7 +189,7 @@ fn peers(quick: bool) {
         }
         _ => {}
     }
-    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let jar = std::path::Path::new("/usr/share/java/j3dcore.jar");
     let java = std::process::Command::new("java").arg("-version").output().is_ok_and(|o| o.status.success());
     if !jar.exists() || !java {

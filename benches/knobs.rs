@@ -316,7 +316,7 @@ fn report(started: SystemTime) {
     let path = if quick {
         std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| "target".into(), PathBuf::from).join("knobs.svg")
     } else {
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs").join("knobs.svg")
+        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("docs").join("knobs.svg")
     };
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();
     std::fs::write(&path, svg(&rows, &note)).unwrap();

@@ -57,7 +57,7 @@ fn model(which: Model, g: &Geometry) -> Option<Scene> {
         place(&mut scene, g, &Placement::default()).expect("placement");
         Some(scene)
     };
-    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let object = match which {
         Model::Spot => return file(root.join("fixtures/mesh/spot/spot.obj")),
         Model::ClearCoat => {

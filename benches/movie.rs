@@ -44,7 +44,7 @@ fn bench(c: &mut Criterion) {
     let layout = holo::layout::Layout::load("mark3").expect("mark3");
     let g = &layout.geometry;
     let dir = tempfile::tempdir().expect("temp dir");
-    let spot = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/spot/spot.obj");
+    let spot = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("fixtures/mesh/spot/spot.obj");
     let hflk = dir.path().join("spot.hflk");
     // 2.2× what Mark III resolves gives about 400 000 micropolygons.
     let options = HoloFlickEncodeOptions { micropolygon: 2.2, ..HoloFlickEncodeOptions::default() };
@@ -98,7 +98,7 @@ fn micropolygon_table(quick: bool) {
     use holo::mesh::convert::{convert_mesh, ConvertOptions, SceneFramesOptions};
     let g = holo::layout::Layout::load("mark3").expect("mark3").geometry;
     let dir = tempfile::tempdir().expect("temp dir");
-    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh");
+    let fixtures = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("fixtures/mesh");
     let frames = SceneFramesOptions { frames: Some(0..1), ..SceneFramesOptions::default() };
     println!(
         "scene | micropolygon size | micropolygons | .hflk bytes | encode s | draw s | error against convert mesh"
@@ -143,7 +143,7 @@ fn whole_movie_table(quick: bool) {
     let frames = if quick { 3 } else { 30 };
     let layout = holo::layout::Layout::load("mark3").expect("mark3");
     let dir = tempfile::tempdir().expect("temp dir");
-    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/AnimatedMorphCube.glb");
+    let cube = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("fixtures/mesh/AnimatedMorphCube.glb");
     let movie = dir.path().join("cube.holo");
     let options = ConvertOptions {
         scene: SceneFramesOptions { frames: Some(0..frames), frames_per_second: 30.0, ..SceneFramesOptions::default() },
