@@ -19,6 +19,7 @@ use crate::format::{view_digits, WriteOptions, WriteReport};
 use crate::geometry::Geometry;
 use crate::modulation::{Band, Modulation};
 use crate::output::{check_set_complete, check_set_output, verify_set, FileSet, SetFile};
+use crate::picture::decode::{decode_png, DecodeError};
 use crate::picture::{encode_png, Bits, Colour, Tone};
 use crate::pipeline::{HoloSink, Run, Source, Warnings};
 use crate::progress::Progress;
@@ -179,32 +180,31 @@ pub fn import_views(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Resu
     let mut m = Modulation::zeros(g.clone())?;
     for v in 0..g.views_per_emitter() {
         let path = dir.join(view_file_name_of(g, v));
-        let img = image::open(&path).map_err(|e| match e {
-            image::ImageError::IoError(io) => Error::io(&path, io),
+        let file = std::fs::File::open(&path).map_err(|e| Error::io(&path, e))?;
+        let img = decode_png(std::io::BufReader::new(file)).map_err(|e| match e {
+            DecodeError::Io(io) => Error::io(&path, io),
             other => malformed(&path, format!("not a readable PNG: {other}")),
         })?;
-        if (img.width() as usize, img.height() as usize) != (g.emitters, g.hololines) {
+        if (img.width, img.height) != (g.emitters, g.hololines) {
             return Err(malformed(
                 &path,
                 format!(
                     "is {}×{} pixels; the geometry needs emitters × hololines = {}×{}",
-                    img.width(),
-                    img.height(),
-                    g.emitters,
-                    g.hololines
+                    img.width, img.height, g.emitters, g.hololines
                 ),
             ));
         }
-        let rgb = img.to_rgb16();
-        let luma = img.to_luma16();
+        // A channel other than red, green or blue reads the picture as grey.
+        let (rgb, grey) = (img.rgb16(), img.grey16());
         for (c, ch) in g.channels.iter().enumerate() {
             for j in 0..g.hololines {
                 for e in 0..g.emitters {
+                    let at = j * g.emitters + e;
                     let q = match ch.name.as_str() {
-                        "R" => rgb.get_pixel(e as u32, j as u32)[0],
-                        "G" => rgb.get_pixel(e as u32, j as u32)[1],
-                        "B" => rgb.get_pixel(e as u32, j as u32)[2],
-                        _ => luma.get_pixel(e as u32, j as u32)[0],
+                        "R" => rgb[3 * at],
+                        "G" => rgb[3 * at + 1],
+                        "B" => rgb[3 * at + 2],
+                        _ => grey[at],
                     };
                     m.set(c, j, e, v, png_tone.sample(q));
                 }

@@ -20,6 +20,7 @@ use super::{Assembler, FrameImages, FrameStats};
 use crate::error::{Error, Result};
 use crate::layout::Layout;
 use crate::output::{check_set_output, verify_set, AtomicFile, FileSet, SetFile};
+use crate::picture::decode::decode_png;
 use crate::progress::{Progress, Steps};
 
 /// Name of the sidecar in a fringe directory.
@@ -311,41 +312,44 @@ impl StoredImages {
     }
 }
 
-fn colour_type(path: &Path, components: usize) -> Result<image::ExtendedColorType> {
+fn colour_type(path: &Path, components: usize) -> Result<png::ColorType> {
     match components {
-        1 => Ok(image::ExtendedColorType::L8),
-        3 => Ok(image::ExtendedColorType::Rgb8),
-        4 => Ok(image::ExtendedColorType::Rgba8),
+        1 => Ok(png::ColorType::Grayscale),
+        3 => Ok(png::ColorType::Rgb),
+        4 => Ok(png::ColorType::Rgba),
         c => Err(Error::unsupported(path, format!("PNG cannot hold {c} components per pixel; use raw or exr"))),
     }
 }
 
 fn write_png(out: &mut AtomicFile, images: &FrameImages<u8>, image: usize) -> Result<()> {
-    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-    use image::ImageEncoder;
     let path = out.destination().to_path_buf();
     let colour = colour_type(&path, images.components)?;
+    let failed = |e: png::EncodingError| Error::encode(&path, "PNG", e);
+    let mut encoder = png::Encoder::new(out, images.width as u32, images.height as u32);
+    encoder.set_color(colour);
+    encoder.set_depth(png::BitDepth::Eight);
     // Fast deflate after the Sub filter: blank and dark areas become zero
-    // runs, which it packs well; fringes themselves are noise-like.
-    PngEncoder::new_with_quality(out, CompressionType::Fast, FilterType::Sub)
-        .write_image(&images.images[image], images.width as u32, images.height as u32, colour)
-        .map_err(|e| Error::encode(&path, "PNG", e))
+    // runs, which it packs well; fringes themselves are noise-like. (Fast
+    // alone would choose the filter; Sub is set after it.) No other chunk
+    // than IHDR, IDAT and IEND: the bytes depend on the samples only.
+    encoder.set_compression(png::Compression::Fast);
+    encoder.set_filter(png::Filter::Sub);
+    let mut writer = encoder.write_header().map_err(failed)?;
+    writer.write_image_data(&images.images[image]).map_err(failed)?;
+    writer.finish().map_err(failed)
 }
 
 fn read_png(path: &Path, w: usize, h: usize, c: usize) -> Result<Vec<u8>> {
-    let img = image::ImageReader::open(path)
-        .map_err(|e| Error::io(path, e))?
-        .with_guessed_format()
-        .map_err(|e| Error::io(path, e))?
-        .decode()
-        .map_err(|e| malformed(path, format!("not a readable PNG: {e}")))?;
-    if (img.width() as usize, img.height() as usize) != (w, h) {
-        return Err(malformed(path, format!("is {} × {}; the sidecar says {w} × {h}", img.width(), img.height())));
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let img =
+        decode_png(std::io::BufReader::new(file)).map_err(|e| malformed(path, format!("not a readable PNG: {e}")))?;
+    if (img.width, img.height) != (w, h) {
+        return Err(malformed(path, format!("is {} × {}; the sidecar says {w} × {h}", img.width, img.height)));
     }
     Ok(match c {
-        1 => img.into_luma8().into_raw(),
-        3 => img.into_rgb8().into_raw(),
-        _ => img.into_rgba8().into_raw(),
+        1 => img.grey8(),
+        3 => img.rgb8(),
+        _ => img.rgba8(),
     })
 }
 

@@ -3,13 +3,13 @@
 //! taken from sRGB to linear with the exact sRGB EOTF (IEC 61966-2-1) unless
 //! the rig says its pictures are linear already.
 
+use std::io::BufReader;
 use std::path::Path;
-
-use ::image::{ColorType, ImageReader};
 
 use super::{Camera, ImageSource};
 use crate::error::{Error, Result};
-use crate::picture::srgb_decode;
+use crate::picture::decode::{self, DecodeError};
+use crate::picture::{srgb_decode, Bits};
 use crate::sampling::bilerp;
 
 /// A picture in linear RGB, row-major, top row first.
@@ -60,20 +60,13 @@ impl Picture {
 /// not the extension.
 pub fn image_size(path: &Path) -> Result<(usize, usize)> {
     let reader = open(path).map_err(|problem| Error::rig(path, problem))?;
-    let (w, h) = reader.into_dimensions().map_err(|e| Error::rig(path, format!("unreadable image header: {e}")))?;
-    Ok((w as usize, h as usize))
+    decode::dimensions(reader).map_err(|e| Error::rig(path, format!("unreadable image header: {e}")))
 }
 
-fn open(path: &Path) -> Result<ImageReader<std::io::BufReader<std::fs::File>>, String> {
+fn open(path: &Path) -> Result<BufReader<std::fs::File>, String> {
     crate::output::regular_file(path)?;
-    let reader = ImageReader::open(path)
-        .map_err(|e| format!("cannot open the image: {e}"))?
-        .with_guessed_format()
-        .map_err(|e| format!("cannot read the image: {e}"))?;
-    if reader.format().is_none() {
-        return Err("is not a PNG or JPEG image".into());
-    }
-    Ok(reader)
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot open the image: {e}"))?;
+    Ok(BufReader::new(file))
 }
 
 /// The camera's picture in linear RGB: the whole file, or its tile of it.
@@ -85,8 +78,11 @@ pub fn load_picture(camera: &Camera, linear: bool) -> Result<Picture> {
         ImageSource::Tile { file, x, y, width, height } => (file, Some((*x, *y, *width, *height))),
     };
     let fail = |problem: String| Error::rig(file, format!("camera {}: {problem}", camera.name));
-    let image = open(file).map_err(fail)?.decode().map_err(|e| fail(format!("cannot decode the image: {e}")))?;
-    let (iw, ih) = (image.width() as usize, image.height() as usize);
+    let image = decode::decode(open(file).map_err(fail)?).map_err(|e| match e {
+        DecodeError::NotPngOrJpeg => fail("is not a PNG or JPEG image".into()),
+        e => fail(format!("cannot decode the image: {e}")),
+    })?;
+    let (iw, ih) = (image.width, image.height);
     let (x0, y0, w, h) = match tile {
         None => (0, 0, iw, ih),
         Some((x, y, w, h)) => {
@@ -100,43 +96,39 @@ pub fn load_picture(camera: &Camera, linear: bool) -> Result<Picture> {
         let what = if tile.is_some() { "the tile" } else { "the image" };
         return Err(fail(format!("{what} is {w}×{h}, the rig says {}×{}", camera.width, camera.height)));
     }
-    let decode = |x: f64| if linear { x } else { srgb_decode(x) } as f32;
-    let mut rgb = Vec::with_capacity(w * h);
-    match image.color() {
-        ColorType::L16 | ColorType::La16 | ColorType::Rgb16 | ColorType::Rgba16 => {
-            let lut: Vec<f32> = (0..=u16::MAX).map(|q| decode(f64::from(q) / 65535.0)).collect();
-            let buffer = image.to_rgb16();
-            for y in y0..y0 + h {
-                for x in x0..x0 + w {
-                    rgb.push(buffer.get_pixel(x as u32, y as u32).0.map(|q| lut[q as usize]));
-                }
-            }
+    let transfer = |x: f64| if linear { x } else { srgb_decode(x) } as f32;
+    // Grey becomes RGB and alpha is dropped; 16-bit samples keep their 16 bits.
+    let region = (x0, y0, w, h);
+    let rgb = match image.bits() {
+        Bits::Sixteen => {
+            let lut: Vec<f32> = (0..=u16::MAX).map(|q| transfer(f64::from(q) / 65535.0)).collect();
+            crop(&image.rgb16(), iw, region, &lut)
         }
-        ColorType::Rgb32F | ColorType::Rgba32F => {
-            let buffer = image.to_rgb32f();
-            for y in y0..y0 + h {
-                for x in x0..x0 + w {
-                    rgb.push(buffer.get_pixel(x as u32, y as u32).0.map(|v| decode(f64::from(v))));
-                }
-            }
+        Bits::Eight => {
+            let lut: Vec<f32> = (0..=u8::MAX).map(|q| transfer(f64::from(q) / 255.0)).collect();
+            crop(&image.rgb8(), iw, region, &lut)
         }
-        _ => {
-            let lut: Vec<f32> = (0..=u8::MAX).map(|q| decode(f64::from(q) / 255.0)).collect();
-            let buffer = image.to_rgb8();
-            for y in y0..y0 + h {
-                for x in x0..x0 + w {
-                    rgb.push(buffer.get_pixel(x as u32, y as u32).0.map(|q| lut[q as usize]));
-                }
-            }
-        }
-    }
+    };
     Ok(Picture { width: w, height: h, rgb })
+}
+
+/// The `w × h` tile at `(x0, y0)` of RGB `samples` `width` pixels wide,
+/// each code looked up in `lut`.
+fn crop<T: Copy + Into<usize>>(
+    samples: &[T],
+    width: usize,
+    (x0, y0, w, h): (usize, usize, usize, usize),
+    lut: &[f32],
+) -> Vec<[f32; 3]> {
+    let pixel = |x: usize, y: usize| [0, 1, 2].map(|c| lut[samples[3 * (y * width + x) + c].into()]);
+    (y0..y0 + h).flat_map(|y| (x0..x0 + w).map(move |x| pixel(x, y))).collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::{Intrinsics, Pose};
     use super::*;
+    use crate::picture::{encode_png_samples, Colour, PngTags, Samples};
 
     fn camera(image: ImageSource, width: usize, height: usize) -> Camera {
         Camera {
@@ -165,7 +157,9 @@ mod tests {
     fn tiles_crop_and_grey_becomes_rgb() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("g.png");
-        ::image::GrayImage::from_fn(4, 3, |x, y| ::image::Luma([(x * 10 + y * 100) as u8])).save(&path).unwrap();
+        let codes: Vec<u8> = (0..12).map(|i| (i % 4 * 10 + i / 4 * 100) as u8).collect();
+        let png = encode_png_samples(4, 3, Colour::Grey, Samples::Eight(&codes), PngTags::default()).unwrap();
+        std::fs::write(&path, png).unwrap();
         assert_eq!(image_size(&path).unwrap(), (4, 3));
         let tile = ImageSource::Tile { file: path.clone(), x: 1, y: 1, width: 2, height: 2 };
         let p = load_picture(&camera(tile, 2, 2), true).unwrap();

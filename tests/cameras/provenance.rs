@@ -12,13 +12,15 @@ use holo::geometry::{rgb_channels, Geometry, Views};
 use holo::progress::Silent;
 use holo::provenance::ConverterOptions;
 
+use crate::common;
+
 /// A plain folder of three pictures on a rail: a pattern that shifts from
 /// picture to picture, as a scene behind the focus would.
 fn capture(folder: &Path) {
     std::fs::create_dir_all(folder).unwrap();
     for i in 0..3u32 {
-        let picture = image::RgbImage::from_fn(32, 24, |x, y| image::Rgb([(x * 7 + i * 5) as u8, (y * 9) as u8, 40]));
-        picture.save(folder.join(format!("view{i}.png"))).unwrap();
+        let picture = common::pixels(32, 24, |x, y| [(x * 7 + i * 5) as u8, (y * 9) as u8, 40]);
+        std::fs::write(folder.join(format!("view{i}.png")), common::png8(32, 24, 3, &picture)).unwrap();
     }
 }
 

@@ -47,7 +47,8 @@ fn camera<'a>(rig: &'a Rig, name: &str) -> &'a Camera {
 /// An 8-bit RGB PNG of `w`×`h` with a gradient.
 fn png(path: &Path, w: u32, h: u32) {
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-    image::RgbImage::from_fn(w, h, |x, y| image::Rgb([(x * 20) as u8, (y * 30) as u8, 7])).save(path).unwrap();
+    let samples = common::pixels(w, h, |x, y| [(x * 20) as u8, (y * 30) as u8, 7]);
+    std::fs::write(path, common::png8(w, h, 3, &samples)).unwrap();
 }
 
 fn error_of(r: holo::Result<Rig>) -> String {
@@ -285,10 +286,12 @@ fn quilt_views_run_from_bottom_left() {
         assert!((px[0] - 255.5).abs() < 1e-9 && (px[1] - 127.5).abs() < 1e-9 && (z - 1.0).abs() < 1e-12, "{px:?}");
     }
     let picture = load_picture(&rig.cameras[0], true).unwrap();
-    let full = image::open(&path).unwrap().to_rgb8();
+    let full = holo::picture::decode::open(&path).unwrap();
+    let rgb = full.rgb8();
     for (x, y) in [(0, 0), (511, 255), (100, 50)] {
-        let want = full.get_pixel(x, 1792 + y).0.map(|q| f32::from(q) / 255.0);
-        assert_eq!(picture.get(x as usize, y as usize), want);
+        let at = 3 * ((1792 + y) * full.width + x);
+        let want = [rgb[at], rgb[at + 1], rgb[at + 2]].map(|q| f32::from(q) / 255.0);
+        assert_eq!(picture.get(x, y), want);
     }
 }
 
@@ -582,7 +585,7 @@ fn pictures_decode_srgb_exactly() {
     let d = dir.path();
     let p8 = d.join("eight.png");
     let values8 = [[0u8, 10, 128], [200, 255, 1]];
-    image::RgbImage::from_fn(2, 1, |x, _| image::Rgb(values8[x as usize])).save(&p8).unwrap();
+    std::fs::write(&p8, common::png8(2, 1, 3, values8.as_flattened())).unwrap();
     let picture = load_picture(&picture_camera(&p8, 2, 1), false).unwrap();
     for (got, want) in picture.rgb.iter().zip(values8) {
         for c in 0..3 {
@@ -594,9 +597,7 @@ fn pictures_decode_srgb_exactly() {
 
     let p16 = d.join("sixteen.png");
     let values16 = [[0u16, 1000, 32768], [50000, 65535, 1]];
-    image::ImageBuffer::<image::Rgb<u16>, Vec<u16>>::from_fn(2, 1, |x, _| image::Rgb(values16[x as usize]))
-        .save(&p16)
-        .unwrap();
+    std::fs::write(&p16, common::png16(2, 1, 3, values16.as_flattened())).unwrap();
     let picture = load_picture(&picture_camera(&p16, 2, 1), false).unwrap();
     for (got, want) in picture.rgb.iter().zip(values16) {
         for c in 0..3 {
@@ -606,17 +607,16 @@ fn pictures_decode_srgb_exactly() {
 
     // Grey with alpha: grey in every channel, alpha ignored; RGBA 16-bit too.
     let pla = d.join("grey_alpha.png");
-    image::GrayAlphaImage::from_fn(1, 1, |_, _| image::LumaA([100, 3])).save(&pla).unwrap();
+    std::fs::write(&pla, common::png8(1, 1, 2, &[100, 3])).unwrap();
     let v = eotf(100.0 / 255.0) as f32;
     assert_eq!(load_picture(&picture_camera(&pla, 1, 1), false).unwrap().rgb, vec![[v; 3]]);
     let prgba = d.join("rgba16.png");
-    image::ImageBuffer::<image::Rgba<u16>, Vec<u16>>::from_fn(1, 1, |_, _| image::Rgba([65535, 0, 0, 0]))
-        .save(&prgba)
-        .unwrap();
+    std::fs::write(&prgba, common::png16(1, 1, 4, &[65535, 0, 0, 0])).unwrap();
     assert_eq!(load_picture(&picture_camera(&prgba, 1, 1), false).unwrap().rgb, vec![[1.0, 0.0, 0.0]]);
     // JPEG, found by its bytes whatever its name.
     let jpeg = d.join("photo.jpg");
-    image::RgbImage::from_pixel(16, 8, image::Rgb([90, 90, 90])).save(&jpeg).unwrap();
+    let grey = vec![90u8; 16 * 8 * 3];
+    jpeg_encoder::Encoder::new_file(&jpeg, 75).unwrap().encode(&grey, 16, 8, jpeg_encoder::ColorType::Rgb).unwrap();
     let copy = d.join("photo_without_extension");
     std::fs::copy(&jpeg, &copy).unwrap();
     assert_eq!(image_size(&copy).unwrap(), (16, 8));

@@ -31,3 +31,40 @@ pub fn missing(what: &str) {
     assert!(std::env::var("HOLO_REQUIRE_DATA").as_deref() != Ok("1"), "{what} is missing and HOLO_REQUIRE_DATA=1");
     println!("SKIPPED: {what} not present");
 }
+
+/// The samples of `pixel(x, y)` for every pixel of a `width × height`
+/// picture, row by row from the top: what [`png8`] and [`png16`] take.
+pub fn pixels<T, const N: usize>(width: u32, height: u32, pixel: impl Fn(u32, u32) -> [T; N]) -> Vec<T> {
+    (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).flat_map(|(x, y)| pixel(x, y)).collect()
+}
+
+/// A PNG of `width × height` pixels of `channels` 8-bit samples each (1
+/// grey, 2 grey and alpha, 3 RGB, 4 RGBA), row by row from the top.
+pub fn png8(width: u32, height: u32, channels: usize, samples: &[u8]) -> Vec<u8> {
+    png_of(width, height, channels, png::BitDepth::Eight, samples)
+}
+
+/// A PNG of 16-bit samples, as [`png8`].
+pub fn png16(width: u32, height: u32, channels: usize, samples: &[u16]) -> Vec<u8> {
+    // PNG stores 16-bit samples most significant byte first.
+    let bytes: Vec<u8> = samples.iter().flat_map(|s| s.to_be_bytes()).collect();
+    png_of(width, height, channels, png::BitDepth::Sixteen, &bytes)
+}
+
+fn png_of(width: u32, height: u32, channels: usize, depth: png::BitDepth, bytes: &[u8]) -> Vec<u8> {
+    let colour = match channels {
+        1 => png::ColorType::Grayscale,
+        2 => png::ColorType::GrayscaleAlpha,
+        3 => png::ColorType::Rgb,
+        4 => png::ColorType::Rgba,
+        _ => panic!("a PNG pixel has 1 to 4 samples, not {channels}"),
+    };
+    let mut png = Vec::new();
+    let mut encoder = png::Encoder::new(&mut png, width, height);
+    encoder.set_color(colour);
+    encoder.set_depth(depth);
+    let mut writer = encoder.write_header().unwrap();
+    writer.write_image_data(bytes).unwrap();
+    writer.finish().unwrap();
+    png
+}

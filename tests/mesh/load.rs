@@ -318,8 +318,8 @@ fn obj_cube_vertex_colours() {
 }
 
 fn write_png(path: &Path, w: u32, h: u32) {
-    let img = image::RgbaImage::from_fn(w, h, |x, y| image::Rgba([(x * 60) as u8, (y * 60) as u8, 128, 255]));
-    img.save(path).unwrap();
+    let samples = common::pixels(w, h, |x, y| [(x * 60) as u8, (y * 60) as u8, 128, 255]);
+    std::fs::write(path, common::png8(w, h, 4, &samples)).unwrap();
 }
 
 #[test]
@@ -834,10 +834,7 @@ fn gltf_materials_textures_and_sparse_accessor() {
     buf.extend(f32s(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0])); // 60: normals, 36 bytes
     buf.extend([2u8, 0, 0, 0]); // 96: sparse index (u8) + padding
     buf.extend(f32s(&[0.0, 2.0, 0.0])); // 100: sparse value
-    let mut png = Vec::new();
-    image::RgbaImage::from_pixel(2, 2, image::Rgba([128, 128, 255, 255]))
-        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-        .unwrap();
+    let png = common::png8(2, 2, 4, &[128, 128, 255, 255].repeat(4));
     let json = serde_json::json!({
         "asset": {"version": "2.0"},
         "extensionsUsed": ["KHR_texture_transform"],

@@ -14,6 +14,7 @@ use holo::Modulation;
 use serde_json::{json, Value};
 
 use super::render::small_geometry;
+use crate::common;
 
 /// A quad facing +z over `x × y` at depth `z` (metres), with texture
 /// coordinates `u` from 0 at `x[0]` to 1 at `x[1]` and `v` from 0 at the
@@ -32,9 +33,14 @@ impl Quad {
     }
 }
 
-/// A glTF file of `quads` with `materials` (JSON) and `images` (PNG,
+/// An 8-bit RGBA PNG of `w × h` pixels, `pixel(x, y)` each.
+fn rgba(w: u32, h: u32, pixel: impl Fn(u32, u32) -> [u8; 4]) -> Vec<u8> {
+    common::png8(w, h, 4, &common::pixels(w, h, pixel))
+}
+
+/// A glTF file of `quads` with `materials` (JSON) and `images` (PNG bytes,
 /// embedded; texture `i` shows image `i`, clamped at its edges).
-fn write_gltf(dir: &Path, name: &str, quads: &[Quad], materials: Value, images: &[image::RgbaImage]) -> PathBuf {
+fn write_gltf(dir: &Path, name: &str, quads: &[Quad], materials: Value, images: &[Vec<u8>]) -> PathBuf {
     let mut buf: Vec<u8> = Vec::new();
     let (mut views, mut accessors, mut meshes, mut nodes) = (vec![], vec![], vec![], vec![]);
     let mut push = |buf: &mut Vec<u8>, bytes: Vec<u8>, count: usize, kind: &str, component: u32| {
@@ -72,14 +78,8 @@ fn write_gltf(dir: &Path, name: &str, quads: &[Quad], materials: Value, images: 
             "primitives": [{"attributes": attributes, "indices": ix, "material": q.material}]}));
         nodes.push(json!({"mesh": i, "name": format!("quad {i}")}));
     }
-    let images: Vec<Value> = images
-        .iter()
-        .map(|img| {
-            let mut png = Vec::new();
-            img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).unwrap();
-            json!({"uri": format!("data:image/png;base64,{}", base64(&png))})
-        })
-        .collect();
+    let images: Vec<Value> =
+        images.iter().map(|png| json!({"uri": format!("data:image/png;base64,{}", base64(png))})).collect();
     let textures: Vec<Value> = (0..images.len()).map(|i| json!({"source": i, "sampler": 0})).collect();
     let file = json!({
         "asset": {"version": "2.0"},
@@ -159,7 +159,7 @@ fn rgb(m: &Modulation, j: usize, e: usize, v: usize) -> [f64; 3] {
 #[test]
 fn mask_cuts_at_the_alpha_cutoff() {
     let dir = tempfile::tempdir().unwrap();
-    let ramp = image::RgbaImage::from_fn(2, 1, |x, _| image::Rgba([255, 255, 255, if x == 0 { 0 } else { 255 }]));
+    let ramp = rgba(2, 1, |x, _| [255, 255, 255, if x == 0 { 0 } else { 255 }]);
     let textured = |name: &str, mode: &str, cutoff: Option<f64>| {
         let mut m = emissive(name, [1.0, 0.0, 0.0], 1.0);
         m["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
@@ -228,7 +228,7 @@ fn mask_cuts_at_the_alpha_cutoff() {
 #[test]
 fn blend_composites_what_each_ray_crosses_front_to_back() {
     let dir = tempfile::tempdir().unwrap();
-    let half = image::RgbaImage::from_pixel(2, 2, image::Rgba([255, 255, 255, 128]));
+    let half = rgba(2, 2, |_, _| [255, 255, 255, 128]);
     let mut blue = emissive("blue", [0.0, 0.0, 1.0], 1.0);
     blue["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
     blue["alphaMode"] = json!("BLEND");
@@ -308,10 +308,9 @@ fn blend_composites_what_each_ray_crosses_front_to_back() {
 #[test]
 fn the_metallic_roughness_texture_is_read() {
     let dir = tempfile::tempdir().unwrap();
-    let wood = image::RgbaImage::from_pixel(2, 2, image::Rgba([200, 150, 100, 255]));
-    let metal_right =
-        image::RgbaImage::from_fn(2, 1, |x, _| image::Rgba([255, 200, if x == 0 { 0 } else { 255 }, 255]));
-    let plain = image::RgbaImage::from_pixel(2, 2, image::Rgba([255, 200, 0, 255]));
+    let wood = rgba(2, 2, |_, _| [200, 150, 100, 255]);
+    let metal_right = rgba(2, 1, |x, _| [255, 200, if x == 0 { 0 } else { 255 }, 255]);
+    let plain = rgba(2, 2, |_, _| [255, 200, 0, 255]);
     let bed = |mr: Option<usize>, factors: Option<(f64, f64)>| {
         let mut pbr = json!({"baseColorTexture": {"index": 0}});
         if let Some(t) = mr {

@@ -3,6 +3,8 @@
 
 use std::path::Path;
 
+use holo::picture::{decode, Bits};
+
 use super::{holo, ok, small_profile, spot, text};
 
 /// A Mark I view ramp written as `name` in `d`.
@@ -461,8 +463,8 @@ fn check_and_view_recover_what_was_assembled() {
     let o = holo(&["view", "fringes", "--eye", "-20,5", "-o", "left.png"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(text(&o).contains("x = -20 mm"), "{}", text(&o));
-    let png = image::open(d.join("left.png")).unwrap();
-    assert!(png.width() > 336 && png.height() == 2, "{} × {}", png.width(), png.height());
+    let png = decode::open(&d.join("left.png")).unwrap();
+    assert!(png.width > 336 && png.height == 2, "{} × {}", png.width, png.height);
     // An eye no view reaches: a black picture, and a warning that says why;
     // none from an eye inside the viewing zone.
     for (eye, warned) in [("5000", true), ("0", false)] {
@@ -497,8 +499,8 @@ fn export_quilt_names_its_file_and_overwrites_nothing() {
     let o = holo(&["export-quilt", "ramp.holo"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     let quilt = d.join("ramp_qs8x6a0.75.png");
-    let img = image::open(&quilt).unwrap();
-    assert_eq!((img.width(), img.height(), img.color()), (3360, 3360, image::ColorType::Rgb8));
+    let img = decode::open(&quilt).unwrap();
+    assert_eq!((img.width, img.height, img.channels, img.bits()), (3360, 3360, 3, Bits::Eight));
     let before = std::fs::read(&quilt).unwrap();
     let o = holo(&["export-quilt", "ramp.holo", "--white", "0.5"], d);
     assert_eq!(o.status.code(), Some(1));
@@ -506,7 +508,7 @@ fn export_quilt_names_its_file_and_overwrites_nothing() {
     assert_eq!(std::fs::read(&quilt).unwrap(), before);
     let o = holo(&["export-quilt", "ramp.holo", "--white", "0.5", "--force", "--tile", "40x30"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
-    assert_eq!(image::open(&quilt).unwrap().width(), 320);
+    assert_eq!(decode::open(&quilt).unwrap().width, 320);
     // Another preset into a directory; explicit grid and aspect.
     let o = holo(&["export-quilt", "ramp.holo", "--preset", "go", "--tile", "12x22", "--output-dir", "out"], d);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
@@ -529,7 +531,7 @@ fn export_quilt_names_its_file_and_overwrites_nothing() {
         d,
     );
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
-    assert_eq!(image::open(d.join("x.png")).unwrap().width(), 80);
+    assert_eq!(decode::open(&d.join("x.png")).unwrap().width, 80);
     for (args, needle) in [
         (&["export-quilt", "missing.holo"][..], "missing.holo"),
         (&["export-quilt", "ramp.holo", "--frame", "4", "-o", "y.png"], "no frame 4"),

@@ -265,7 +265,9 @@ fn left_behind(views: &Path) -> (Vec<PathBuf>, Vec<PathBuf>) {
         std::fs::read_dir(views).map(|r| r.flatten().map(|e| e.path()).collect()).unwrap_or_default();
     let truncated = left
         .iter()
-        .filter(|p| !p.file_name().unwrap().to_string_lossy().starts_with('.') && image::open(p).is_err())
+        .filter(|p| {
+            !p.file_name().unwrap().to_string_lossy().starts_with('.') && holo::picture::decode::open(p).is_err()
+        })
         .cloned()
         .collect();
     (left, truncated)

@@ -1,12 +1,35 @@
 //! The pictures holo writes, as a user looks at them.
 
+use std::path::Path;
+
+use holo::picture::decode::{self, Decoded};
+
 use super::{holo, ok, small_profile, text};
 
+/// A picture read back as 8-bit RGB.
+struct Rgb8 {
+    width: usize,
+    height: usize,
+    samples: Vec<u8>,
+}
+
+impl Rgb8 {
+    fn open(path: &Path) -> Rgb8 {
+        let picture = decode::open(path).unwrap();
+        Rgb8 { width: picture.width, height: picture.height, samples: picture.rgb8() }
+    }
+
+    fn get(&self, x: usize, y: usize) -> [u8; 3] {
+        let at = 3 * (y * self.width + x);
+        [self.samples[at], self.samples[at + 1], self.samples[at + 2]]
+    }
+}
+
 /// Tile `i`'s centre pixel of a quilt (view 0 bottom left, row by row up).
-fn tile_centre(quilt: &image::RgbImage, columns: u32, rows: u32, i: u32) -> [u8; 3] {
-    let (w, h) = (quilt.width() / columns, quilt.height() / rows);
+fn tile_centre(quilt: &Rgb8, columns: usize, rows: usize, i: usize) -> [u8; 3] {
+    let (w, h) = (quilt.width / columns, quilt.height / rows);
     let (col, row) = (i % columns, rows - 1 - i / columns);
-    quilt.get_pixel(col * w + w / 2, row * h + h / 2).0
+    quilt.get(col * w + w / 2, row * h + h / 2)
 }
 
 /// By default a quilt spans the file's own views: every tile shows one, and
@@ -28,7 +51,7 @@ fn a_quilt_fits_the_file_s_views_by_default() {
     // What is said: the outer tiles see the display's far side beyond the views.
     assert!(text(&o).contains("16 of 48 tiles see part of the display from beyond"), "{}", text(&o));
     assert!(text(&o).contains("a 23.8° view cone"), "{}", text(&o));
-    let fit = image::open(d.join("fit.png")).unwrap().to_rgb8();
+    let fit = Rgb8::open(&d.join("fit.png"));
     for i in 0..48 {
         assert!(tile_centre(&fit, 8, 6, i) != [0, 0, 0], "tile {i} is black");
     }
@@ -38,7 +61,7 @@ fn a_quilt_fits_the_file_s_views_by_default() {
         "{}",
         text(&o)
     );
-    let wide = image::open(d.join("wide.png")).unwrap().to_rgb8();
+    let wide = Rgb8::open(&d.join("wide.png"));
     assert_eq!((0..48).filter(|&i| tile_centre(&wide, 8, 6, i) == [0, 0, 0]).count(), 16);
     let o = ok(holo(&["export-quilt", "c.holo", "-o", "narrow.png", "--view-cone", "10"], d));
     assert!(text(&o).contains("56 of the file's 96 views lie outside the quilt's 10.0°"), "{}", text(&o));
@@ -46,18 +69,16 @@ fn a_quilt_fits_the_file_s_views_by_default() {
 
 /// The bounding box (columns, rows) of the pixels brighter than half of the
 /// brightest in `rect` (x0, y0, width, height) of a picture.
-fn lit_box(img: &image::DynamicImage, rect: (u32, u32, u32, u32)) -> (f64, f64) {
-    let grey = img.to_luma8();
+fn lit_box(img: &Decoded, rect: (usize, usize, usize, usize)) -> (f64, f64) {
+    let grey = img.grey8();
+    let at = |x: usize, y: usize| grey[y * img.width + x];
     let (x0, y0, w, h) = rect;
-    let peak =
-        (y0..y0 + h).flat_map(|y| (x0..x0 + w).map(move |x| (x, y))).map(|(x, y)| grey.get_pixel(x, y).0[0]).max();
+    let peak = (y0..y0 + h).flat_map(|y| (x0..x0 + w).map(move |x| (x, y))).map(|(x, y)| at(x, y)).max();
     let half = peak.unwrap() / 2;
-    let lit: Vec<(u32, u32)> = (y0..y0 + h)
-        .flat_map(|y| (x0..x0 + w).map(move |x| (x, y)))
-        .filter(|&(x, y)| grey.get_pixel(x, y).0[0] > half)
-        .collect();
-    let (xs, ys): (Vec<u32>, Vec<u32>) = lit.into_iter().unzip();
-    let span = |v: &[u32]| f64::from(v.iter().max().unwrap() - v.iter().min().unwrap() + 1);
+    let lit: Vec<(usize, usize)> =
+        (y0..y0 + h).flat_map(|y| (x0..x0 + w).map(move |x| (x, y))).filter(|&(x, y)| at(x, y) > half).collect();
+    let (xs, ys): (Vec<usize>, Vec<usize>) = lit.into_iter().unzip();
+    let span = |v: &[usize]| (v.iter().max().unwrap() - v.iter().min().unwrap() + 1) as f64;
     (span(&xs), span(&ys))
 }
 
@@ -111,26 +132,26 @@ fn pictures_show_a_square_square() {
     let png = std::fs::read(d.join("views/view_048.png")).unwrap();
     assert!(png.windows(4).any(|w| w == b"sRGB"), "export-views: no sRGB chunk");
     let (xppm, yppm) = pixels_per_metre(&png);
-    let img = image::load_from_memory(&png).unwrap();
-    let (w, h) = lit_box(&img, (0, 0, img.width(), img.height()));
+    let img = decode::decode(std::io::Cursor::new(&png)).unwrap();
+    let (w, h) = lit_box(&img, (0, 0, img.width, img.height));
     square_within("export-views (pHYs)", (w / xppm, h / yppm));
 
     // view: square pixels.
     ok(holo(&["view", "square.holo", "--layout", profile.to_str().unwrap(), "-o", "eye.png"], d));
-    let img = image::open(d.join("eye.png")).unwrap();
-    square_within("view", lit_box(&img, (0, 0, img.width(), img.height())));
+    let img = decode::open(&d.join("eye.png")).unwrap();
+    square_within("view", lit_box(&img, (0, 0, img.width, img.height)));
     // view --coherent: the same shape, another picture (neighbours interfere).
     ok(holo(
         &["view", "square.holo", "--layout", profile.to_str().unwrap(), "--coherent", "-o", "eye-coherent.png"],
         d,
     ));
-    let coherent = image::open(d.join("eye-coherent.png")).unwrap();
-    square_within("view --coherent", lit_box(&coherent, (0, 0, coherent.width(), coherent.height())));
-    assert_ne!(coherent.to_rgb8().into_raw(), img.to_rgb8().into_raw(), "--coherent changed nothing");
+    let coherent = decode::open(&d.join("eye-coherent.png")).unwrap();
+    square_within("view --coherent", lit_box(&coherent, (0, 0, coherent.width, coherent.height)));
+    assert_ne!(coherent.rgb8(), img.rgb8(), "--coherent changed nothing");
 
     // export-quilt: the middle tile, shown at the preset's aspect (square pixels).
     ok(holo(&["export-quilt", "square.holo", "-o", "q.png"], d));
-    let img = image::open(d.join("q.png")).unwrap();
-    let (tw, th) = (img.width() / 8, img.height() / 6);
+    let img = decode::open(&d.join("q.png")).unwrap();
+    let (tw, th) = (img.width / 8, img.height / 6);
     square_within("export-quilt", lit_box(&img, (4 * tw, 3 * th, tw, th)));
 }

@@ -6,7 +6,8 @@ use std::io::Cursor;
 use super::LoadLimits;
 use crate::math::{cross, dot, length, scale, sub, widen};
 use crate::mesh::{Texture, Wrap};
-use crate::picture::srgb_decode_f32;
+use crate::picture::decode::{decode as decode_picture, dimensions, DecodeError};
+use crate::picture::{srgb_decode_f32, Bits};
 
 /// Decode a PNG or JPEG image to linear RGBA texels. `srgb` says whether
 /// the colour channels are sRGB-encoded (base colour, emissive) or already
@@ -21,16 +22,11 @@ pub(crate) fn decode(
     wrap: [Wrap; 2],
     limits: &LoadLimits,
 ) -> Result<Texture, String> {
-    let reader = || {
-        image::ImageReader::new(Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| format!("cannot read the image: {e}"))
+    let fail = |e: DecodeError| match e {
+        DecodeError::NotPngOrJpeg => "is not a PNG or JPEG image".to_string(),
+        e => format!("cannot decode the image: {e}"),
     };
-    let r = reader()?;
-    if r.format().is_none() {
-        return Err("is not a PNG or JPEG image".into());
-    }
-    let (w, h) = r.into_dimensions().map_err(|e| format!("cannot decode the image: {e}"))?;
+    let (w, h) = dimensions(Cursor::new(bytes)).map_err(fail)?;
     let texels_count = (w as u64) * (h as u64);
     if texels_count > limits.max_texture_texels as u64 {
         return Err(format!(
@@ -41,27 +37,21 @@ pub(crate) fn decode(
     if texels_count == 0 {
         return Err("has no texels (width or height 0)".into());
     }
-    let img = reader()?.decode().map_err(|e| format!("cannot decode the image: {e}"))?;
-    let texels: Vec<[f32; 4]> = match img {
-        image::DynamicImage::ImageLuma8(_)
-        | image::DynamicImage::ImageLumaA8(_)
-        | image::DynamicImage::ImageRgb8(_)
-        | image::DynamicImage::ImageRgba8(_) => {
+    let img = decode_picture(Cursor::new(bytes)).map_err(fail)?;
+    let texels: Vec<[f32; 4]> = match img.bits() {
+        Bits::Eight => {
             let lut: Vec<f32> =
                 (0..256).map(|i| if srgb { srgb_decode_f32(i as f32 / 255.0) } else { i as f32 / 255.0 }).collect();
-            img.to_rgba8()
-                .pixels()
-                .map(|p| {
-                    let [r, g, b, a] = p.0;
-                    [lut[r as usize], lut[g as usize], lut[b as usize], a as f32 / 255.0]
-                })
+            img.rgba8()
+                .chunks_exact(4)
+                .map(|p| [lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize], p[3] as f32 / 255.0])
                 .collect()
         }
-        _ => img
-            .to_rgba32f()
-            .pixels()
+        Bits::Sixteen => img
+            .rgba_f32()
+            .chunks_exact(4)
             .map(|p| {
-                let [r, g, b, a] = p.0;
+                let [r, g, b, a] = [p[0], p[1], p[2], p[3]];
                 if srgb {
                     [srgb_decode_f32(r), srgb_decode_f32(g), srgb_decode_f32(b), a]
                 } else {
@@ -70,7 +60,7 @@ pub(crate) fn decode(
             })
             .collect(),
     };
-    Ok(Texture { name: name.to_string(), width: w as usize, height: h as usize, texels, wrap })
+    Ok(Texture { name: name.to_string(), width: w, height: h, texels, wrap })
 }
 
 /// Per-vertex tangents for a normal map, from the texture coordinates.
