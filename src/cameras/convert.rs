@@ -226,7 +226,7 @@ impl Source for CameraSource<'_> {
 /// Grey = fraction of the emitter's views unseen, one byte per (hololine,
 /// emitter) of a band's per-ray mask.
 fn unseen_fraction_grey<'m>(g: &Geometry, mask: &'m [bool]) -> impl Iterator<Item = u8> + 'm {
-    let v = g.views.count;
+    let v = g.views_per_emitter();
     mask.chunks_exact(v)
         .map(move |views| (255.0 * views.iter().filter(|&&u| u).count() as f64 / v as f64).round() as u8)
 }

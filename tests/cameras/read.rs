@@ -187,6 +187,51 @@ fn hci_ground_truth_becomes_depth() {
     assert!(e.contains("camera input_Cam005.png") && e.contains("8×7, parameters.cfg says 8×6"), "{e}");
 }
 
+/// An HCI folder without its parameters.cfg (as copies of the benchmark's
+/// scenes often come) is the same grid when the user gives what the file
+/// would have said; without those numbers it is refused, naming the flag.
+#[test]
+fn an_hci_grid_without_parameters_takes_them_from_the_user() {
+    let dir = tempfile::tempdir().unwrap();
+    let (with, without) = (dir.path().join("with"), dir.path().join("without"));
+    std::fs::create_dir_all(&with).unwrap();
+    // A 3 × 3 grid: 0.1 m apart, converging 2 m away, f = 50/36 · 8 px, at the origin.
+    std::fs::write(
+        with.join("parameters.cfg"),
+        "[intrinsics]\nfocal_length_mm = 50\nimage_resolution_x_px = 8\nimage_resolution_y_px = 6\n\
+         sensor_size_mm = 36\n[extrinsics]\nnum_cams_x = 3\nnum_cams_y = 3\nbaseline_mm = 100\n\
+         focus_distance_m = 2\ncenter_cam_x_m = 0\ncenter_cam_y_m = 0\ncenter_cam_z_m = 0\n\
+         center_cam_rx_rad = 0\ncenter_cam_ry_rad = 0\ncenter_cam_rz_rad = 0\n",
+    )
+    .unwrap();
+    for n in 0..9 {
+        png(&with.join(format!("input_Cam{n:03}.png")), 8, 6);
+        png(&without.join(format!("input_Cam{n:03}.png")), 8, 6);
+    }
+    let reference = open_rig(&with).unwrap();
+    let mut options = OpenOptions::default();
+    let e = error_of(open_rig_with(&without, &options));
+    assert!(e.contains("without parameters.cfg") && e.contains("--baseline"), "{e}");
+    options.folder.baseline = Some(0.1);
+    let e = error_of(open_rig_with(&without, &options));
+    assert!(e.contains("--focus"), "{e}");
+    options.folder.camera.focus_distance = Some(2.0);
+    let e = error_of(open_rig_with(&without, &options));
+    assert!(e.contains("focal length"), "{e}");
+    options.folder.camera.focal_length_px = Some(50.0 / 36.0 * 8.0);
+    let rig = open_rig_with(&without, &options).unwrap();
+    assert_eq!(rig.cameras.len(), 9);
+    assert_eq!(rig.focus_distance, Some(2.0));
+    for (a, b) in rig.cameras.iter().zip(&reference.cameras) {
+        assert_eq!(a.name, b.name);
+        assert!(near3(a.pose.centre, b.pose.centre, 1e-12), "{}", a.name);
+        assert_eq!((a.intrinsics, a.pose.rotation), (b.intrinsics, b.pose.rotation), "{}", a.name);
+    }
+    // Row 0 is the top: Cam001 is above the centre, Cam003 left of it.
+    assert!(near3(camera(&rig, "input_Cam001.png").pose.centre, [0.0, 0.1, 0.0], 1e-12));
+    assert!(near3(camera(&rig, "input_Cam003.png").pose.centre, [-0.1, 0.0, 0.0], 1e-12));
+}
+
 // ---------------------------------------------------------- Middlebury
 
 /// The point nearest (least squares) to all the cameras' axes.

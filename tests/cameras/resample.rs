@@ -441,3 +441,151 @@ fn the_recorded_placement_puts_the_focus_point_on_the_emitter_plane() {
     assert!(((step[0] - centre[0]).abs() - report.scale).abs() < 1e-12, "{step:?} {}", report.scale);
     assert_eq!(m[3], [0.0, 0.0, 0.0, 1.0]);
 }
+
+/// A small full-parallax display: [`display`] with 5 vertical views over
+/// ±10° (spec §8: rays `(tan θ_h, tan φ_k, 1)` from the emitter).
+fn full_parallax_display() -> Geometry {
+    display().with_vertical_views(Views::tan_spaced(5, -10f64.to_radians(), 10f64.to_radians()))
+}
+
+/// A planar grid of `columns × rows` cameras at z = 1 over x ∈ ±`half_width`,
+/// y ∈ ±0.25 (a camera sees 0.3 m above and below its own height at 1 m, so
+/// the outer rows still see the middle of the scene).
+fn planar_grid(columns: usize, rows: usize, half_width: f64) -> Rig {
+    let mut cameras = Vec::new();
+    for r in 0..rows {
+        for c in 0..columns {
+            let x = half_width * (2.0 * c as f64 / (columns - 1) as f64 - 1.0);
+            let y = -0.25 + 0.5 * r as f64 / (rows - 1) as f64;
+            cameras.push(camera(format!("grid{r}_{c}"), [x, y, 1.0]));
+        }
+    }
+    Rig { source: "synthetic grid".into(), cameras, ..rail(2) }
+}
+
+/// Full parallax: every ray `(j, e, h, k)` goes up or down at its vertical
+/// view's angle, so with the capture's directions as they are (true
+/// parallax, the cameras at the viewer's distance) and depth maps, each ray
+/// shows the textured plane where its own line meets it; a plane off the
+/// focus moves between the views above and below, as the scene's depth says.
+#[test]
+fn full_parallax_rays_see_the_plane_along_their_own_directions() {
+    let g = full_parallax_display();
+    let rig = planar_grid(9, 7, 0.9);
+    let plane_z = -0.1;
+    let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, plane_z)).collect();
+    let options = CameraOptions { want_mask: true, placement: physical(), ..CameraOptions::default() };
+    let (m, report) = resample_rig(&rig, &views, &g, &options, &holo::progress::Silent).unwrap();
+    assert_eq!(report.rays, (g.hololines * g.emitters * g.views.count * 5) as u64);
+    let (scale, mask) = (report.scale, report.mask.as_ref().unwrap());
+    let (vh, vv) = (g.views.count, 5);
+    let (mut err, mut sum, mut seen, mut moved) = (0.0f64, 0.0f64, 0usize, 0.0f64);
+    for j in 0..g.hololines {
+        for e in 0..g.emitters {
+            for k in 0..vv {
+                for h in 0..vh {
+                    let view = g.view_index(h, k);
+                    if mask[(j * g.emitters + e) * vh * vv + view] {
+                        continue;
+                    }
+                    let ray = g.ray(j, e, view);
+                    let (x, y) = (ray.origin_m[0], ray.origin_m[1]);
+                    let o = [x / scale, y / scale, 0.0];
+                    let t = plane_z - o[2];
+                    let want = pattern(o[0] + ray.slope_x * t, o[1] + ray.slope_y * t);
+                    for (c, want) in want.iter().enumerate() {
+                        let got = m.get(c, j, e, view);
+                        err += (got - want).abs() as f64;
+                        sum += *want as f64;
+                    }
+                    seen += 1;
+                }
+            }
+            // The middle view seen from above and from below (blue varies with y).
+            let (low, high) = (g.view_index(vh / 2, 0), g.view_index(vh / 2, vv - 1));
+            moved = moved.max((m.get(2, j, e, low) - m.get(2, j, e, high)).abs() as f64);
+        }
+    }
+    let unseen = report.unseen as f64 / report.rays as f64;
+    println!(
+        "full parallax, 9 × 7 cameras, plane 0.1 m off focus, depth maps: mean error {:.2e}, {:.1} % unseen; views above and below differ by up to {moved:.3}; {}",
+        err / sum,
+        unseen * 100.0,
+        report.placement
+    );
+    assert!(seen > 0 && unseen < 0.05, "the grid covers the view cone: {unseen}");
+    assert!(err / sum < 2e-3, "{}", err / sum);
+    assert!(moved > 0.05, "vertical parallax: {moved}");
+}
+
+/// Full parallax's fast path (views of an emitter sharing the cameras'
+/// samples, each view stepped along a hololine) equals the brute-force
+/// reference, for a planar grid (whose eye map spans the eyes' heights too)
+/// and a ring, every blend, with and without depth maps.
+#[test]
+fn full_parallax_fast_path_equals_the_brute_force_reference() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    // 7 hololines of 16 emitters, 12 × 5 views (the reference is slow).
+    let g = Geometry::centred(
+        7,
+        16,
+        Views::tan_spaced(12, -20f64.to_radians(), 20f64.to_radians()),
+        1e-3,
+        1e-3,
+        0.0,
+        0.5,
+        rgb_channels(),
+    )
+    .with_vertical_views(Views::tan_spaced(5, -10f64.to_radians(), 10f64.to_radians()));
+    let mut grid = planar_grid(5, 4, 0.4);
+    for c in &mut grid.cameras {
+        c.pose.centre[0] += rng.gen_range(-0.05..0.05);
+        c.pose.centre[1] += rng.gen_range(-0.02..0.02);
+    }
+    let ring = (0..7).map(|i| {
+        let a = (-30.0 + 10.0 * i as f64 + rng.gen_range(-2.0..2.0)).to_radians();
+        let centre = [a.sin(), rng.gen_range(-0.15..0.15), a.cos()];
+        Camera {
+            pose: Pose { rotation: look_rotation(centre.map(|c| -c), [0.0, -1.0, 0.0]), centre },
+            ..camera(format!("ring{i}"), centre)
+        }
+    });
+    let ring = Rig { source: "ring".into(), cameras: ring.collect(), ..rail(2) };
+    // (One ray per emitter unless said: by default a camera pixel here is a
+    // fifth of an emitter, and 5 × 5 rays per emitter make the reference slow.)
+    let placements = [
+        ("eye-mapped", PlacementRequest::default(), Some(1)),
+        ("true parallax", PlacementRequest { parallax: Parallax::True, ..PlacementRequest::default() }, Some(1)),
+        ("2 × 2 rays per emitter", PlacementRequest::default(), Some(2)),
+    ];
+    for rig in [&grid, &ring] {
+        for depth in [false, true] {
+            let views: Vec<CameraView> = rig.cameras.iter().map(|c| photograph(c, -0.05)).collect();
+            for (words, placement, taps) in &placements {
+                for blend in Blend::ALL {
+                    let fast = CameraOptions {
+                        blend,
+                        use_depth: depth,
+                        want_mask: true,
+                        placement: placement.clone(),
+                        emitter_taps: *taps,
+                        ..CameraOptions::default()
+                    };
+                    let reference = CameraOptions { reference: true, ..fast.clone() };
+                    let (a, ra) = resample_rig(rig, &views, &g, &fast, &holo::progress::Silent).unwrap();
+                    let (b, rb) = resample_rig(rig, &views, &g, &reference, &holo::progress::Silent).unwrap();
+                    let case = format!("{}, {words}, {}, depth {depth}", rig.source, blend.name());
+                    assert_eq!(ra.unseen, rb.unseen, "{case}");
+                    assert_eq!(ra.mask, rb.mask, "{case}");
+                    let worst = a.samples().iter().zip(b.samples()).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+                    let seen = ra.rays - ra.unseen;
+                    println!("{case}: {seen} of {} rays seen, largest difference {worst:.2e}", ra.rays);
+                    // (A ring at true angles sees only the views toward its cameras.)
+                    assert!(seen > ra.rays / 8, "{case}: the rig sees a good part of the display");
+                    assert!(worst < 1e-5, "{case}: {worst}");
+                }
+            }
+        }
+    }
+}

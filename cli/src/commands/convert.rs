@@ -12,6 +12,7 @@ use holo::cameras::quilt::{DEFAULT_VERTICAL_FOV_DEG, DEFAULT_VIEW_CONE_DEG};
 use holo::cameras::read::{CameraHints, OpenOptions};
 use holo::cameras::resample::{CameraOptions, Framing, Parallax, PlacementRequest, MAX_EMITTER_TAPS};
 use holo::farm::FarmOutput;
+use holo::geometry::{Geometry, Views};
 use holo::holoflick::convert::HoloFlickSource;
 use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
 use holo::math::Mat4;
@@ -323,11 +324,31 @@ pub struct CamerasArgs {
     /// Locate rays among the cameras by brute force (slow; for checking).
     #[arg(long)]
     reference: bool,
+    /// Full parallax: this many vertical views per emitter besides the layout's horizontal ones
+    /// (spec §8), so a 2-D capture keeps its vertical parallax; 2 to 64.
+    #[arg(long = "vertical-views", value_name = "N", value_parser = args::whole(2, 64))]
+    vertical_views: Option<usize>,
+    /// Full parallax: degrees from the lowest vertical view to the highest, centred on the
+    /// display's normal (default: the layout's horizontal view cone).
+    #[arg(long = "vertical-cone", value_name = "DEG", requires = "vertical_views", value_parser = args::angle_below_180_degrees())]
+    vertical_cone_deg: Option<f64>,
+}
+
+/// The layout's geometry, with `count` vertical views over `cone_deg`
+/// (tan-spaced, centred; by default the layout's own horizontal cone) when
+/// they are asked for: full parallax (spec §8).
+fn with_vertical_views(g: Geometry, count: Option<usize>, cone_deg: Option<f64>) -> Geometry {
+    let Some(count) = count else { return g };
+    let half_rad = match cone_deg {
+        Some(cone) => 0.5 * cone.to_radians(),
+        None => 0.5 * (g.views.theta_rad(g.views.count - 1) - g.views.theta_rad(0)).abs(),
+    };
+    g.with_vertical_views(Views::tan_spaced(count, -half_rad, half_rad))
 }
 
 fn cameras(a: CamerasArgs) -> Outcome {
     let write = &a.target.write;
-    let g = layout_geometry(&a.target.layout)?;
+    let g = with_vertical_views(layout_geometry(&a.target.layout)?, a.vertical_views, a.vertical_cone_deg);
     inputs_exist(&[&a.input])?;
     let _claim = check_output(&write.output, &[&a.input, Path::new(&a.target.layout)], write.force)?;
     let _mask_claim =

@@ -26,7 +26,7 @@ use std::path::Path;
 
 use super::super::array::ArrayFrame;
 use super::super::{DepthKind, DepthSource, ImageSource, Rig};
-use super::{bare, finish, list_files};
+use super::{bare, finish, list_files, CameraHints};
 use crate::cameras::image::image_size;
 use crate::error::{Error, Result};
 use crate::math;
@@ -81,22 +81,85 @@ pub fn read_hci(folder: &Path) -> Result<Rig> {
         value("extrinsics", "center_cam_rz_rad")?,
     ];
     let f = focal_mm / sensor_mm * width.max(height) as f64;
-    let frame = ArrayFrame { centre, rotation: blender_camera_rotation(euler) };
-    let centre_index = nx * ny / 2;
+    let grid = Grid { nx, ny, size: (width, height), f, baseline, focus, said_by: "parameters.cfg" };
+    hci_grid(folder, &grid, ArrayFrame { centre, rotation: blender_camera_rotation(euler) })
+}
 
+/// An HCI folder's `input_CamNNN.png` grid without its `parameters.cfg`
+/// (copies of the benchmark's scenes often leave it out): the grid is the
+/// square that the highest camera number fills (9 × 9 for `Cam080`), the
+/// picture size the centre camera's, and what the file would have said —
+/// the focal length (`hints`, in pixels or as a field of view), the
+/// baseline and the focus distance, in any one unit — is given by the user.
+/// The cameras are the add-on's: parallel, in the plane `z = 0` looking
+/// along −z, sensors shifted to converge at the focus.
+pub fn read_hci_grid(folder: &Path, baseline: Option<f64>, hints: &CameraHints) -> Result<Rig> {
+    let names = list_files(folder)?;
+    let highest = names.iter().filter_map(|n| camera_index(n)).max();
+    let Some(highest) = highest else {
+        return Err(Error::rig(folder, "holds no input_CamNNN.png images"));
+    };
+    let n = (1..=1000).find(|n| n * n > highest).unwrap_or(1001);
+    let missing = |what: &str, flag: &str| {
+        Error::rig(
+            folder,
+            format!(
+                "an HCI light field without parameters.cfg does not say {what}: give it ({flag}), \
+                 or put the scene's parameters.cfg beside the pictures"
+            ),
+        )
+    };
+    let baseline = baseline.ok_or_else(|| missing("how far apart its cameras are", "--baseline"))?;
+    let focus = hints.focus_distance.ok_or_else(|| missing("where its views converge", "--focus"))?;
+    for (what, v) in [("baseline", baseline), ("focus distance", focus)] {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(Error::argument(what, format!("the {what} must be positive, not {v}")));
+        }
+    }
+    let centre = folder.join(format!("input_Cam{:03}.png", n * n / 2));
+    let middle = if centre.is_file() {
+        centre
+    } else {
+        folder.join(names.iter().find(|n| camera_index(n).is_some()).expect("a camera, above"))
+    };
+    let size = image_size(&middle).map_err(|e| Error::rig(&middle, bare(&e, &middle)))?;
+    let f = super::focal_px(hints.focal_length_px, hints.horizontal_fov_deg, size.0)
+        .map_err(|problem| Error::rig(folder, problem))?;
+    let grid = Grid { nx: n, ny: n, size, f, baseline, focus, said_by: "the centre picture" };
+    hci_grid(folder, &grid, ArrayFrame { centre: [0.0; 3], rotation: blender_camera_rotation([0.0; 3]) })
+}
+
+/// An HCI grid's geometry, from its `parameters.cfg` or from the user.
+struct Grid {
+    nx: usize,
+    ny: usize,
+    /// Picture size, pixels.
+    size: (usize, usize),
+    /// Focal length, pixels.
+    f: f64,
+    baseline: f64,
+    focus: f64,
+    /// Where the size and grid came from, for the messages.
+    said_by: &'static str,
+}
+
+/// The cameras of `grid` whose pictures `folder` holds, in index order.
+fn hci_grid(folder: &Path, grid: &Grid, frame: ArrayFrame) -> Result<Rig> {
+    let Grid { nx, ny, size: (width, height), f, baseline, focus, said_by } = *grid;
+    let centre_index = nx * ny / 2;
     let names = list_files(folder)?;
     let mut cameras = Vec::new();
     for name in &names {
         let Some(index) = camera_index(name) else { continue };
         let path = folder.join(name);
         if index >= nx * ny {
-            return Err(Error::rig(&path, format!("camera {index} is outside the {nx}×{ny} grid of parameters.cfg")));
+            return Err(Error::rig(&path, format!("camera {index} is outside the {nx}×{ny} grid of {said_by}")));
         }
         let size = image_size(&path).map_err(|e| Error::rig(&path, format!("camera {name}: {}", bare(&e, &path))))?;
         if size != (width, height) {
             return Err(Error::rig(
                 &path,
-                format!("camera {name}: the image is {}×{}, parameters.cfg says {width}×{height}", size.0, size.1),
+                format!("camera {name}: the image is {}×{}, {said_by} says {width}×{height}", size.0, size.1),
             ));
         }
         let (row, col) = (index / nx, index % nx);
@@ -124,7 +187,7 @@ pub fn read_hci(folder: &Path) -> Result<Rig> {
 }
 
 /// NNN of `input_CamNNN.png`.
-fn camera_index(name: &str) -> Option<usize> {
+pub(super) fn camera_index(name: &str) -> Option<usize> {
     let digits = name.strip_prefix("input_Cam")?.strip_suffix(".png")?;
     if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) || digits.len() > 6 {
         return None;

@@ -19,7 +19,7 @@ mod quilt;
 mod stanford;
 
 pub use folder::read_folder;
-pub use hci::read_hci;
+pub use hci::{read_hci, read_hci_grid};
 pub use middlebury::read_middlebury;
 pub use quilt::{quilt_layout, read_quilt, QuiltLayout};
 pub use stanford::{read_stanford, stanford_position};
@@ -122,7 +122,9 @@ pub fn open_rig(path: &Path) -> Result<Rig> {
 /// or `.json` rig file; a `*_par.txt` Middlebury file; a quilt image named
 /// `*_qs{columns}x{rows}a{aspect}.png` (or `.jpg`); a folder holding
 /// `parameters.cfg` (HCI), `rig.toml` or `rig.json`, one `*_par.txt`,
-/// `out_RR_CC_Y_X.png` images (Stanford), or any images (a plain rail).
+/// `out_RR_CC_Y_X.png` images (Stanford), `input_CamNNN.png` images (an HCI
+/// grid without its parameters.cfg: [`read_hci_grid`]), or any images (a
+/// plain rail).
 pub fn open_rig_with(path: &Path, options: &OpenOptions) -> Result<Rig> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if meta.is_dir() {
@@ -149,6 +151,9 @@ pub fn open_rig_with(path: &Path, options: &OpenOptions) -> Result<Rig> {
         }
         if names.iter().any(|n| stanford_position(n).is_some()) {
             return read_stanford(path, &options.stanford);
+        }
+        if names.iter().any(|n| hci::camera_index(n).is_some()) {
+            return read_hci_grid(path, options.folder.baseline, &options.folder.camera);
         }
         if names.iter().any(|n| is_image(n)) {
             return read_folder(path, &options.folder);

@@ -299,10 +299,17 @@ pub struct RigResampler<'a> {
     warnings: Vec<String>,
     /// Channel weights of linear RGB, per channel.
     weights: Vec<[f64; 3]>,
-    /// tan θ of every view.
+    /// tan θ of every (horizontal) view.
     slopes: Vec<f64>,
+    /// Full parallax: tan φ of every vertical view (spec §8); `None` for
+    /// horizontal parallax, whose rays go toward the viewer line.
+    vertical_slopes: Option<Vec<f64>>,
     /// Offsets across an emitter's aperture of the rays averaged, metres.
     tap_x_m: Vec<f64>,
+    /// Their offsets up the aperture: `[0]` for horizontal parallax (a
+    /// hololine has no height to average over); for full parallax an
+    /// emitter is a cell as tall as the hololine pitch, sampled as across.
+    tap_y_m: Vec<f64>,
     /// Hololines done so far (for progress).
     done: std::sync::atomic::AtomicUsize,
     /// Every ray's focus point is its origin ([`SharedFocus`]): no depth map
@@ -386,11 +393,28 @@ impl<'a> RigResampler<'a> {
         };
         let depth_maps = options.use_depth && views.iter().any(|v| v.depth_z.is_some());
         let shared_focus = !(options.reference || depth_maps) && geo.centre_on_focus_plane();
+        let offsets = |pitch_m: f64, taps: usize| -> Vec<f64> {
+            (0..taps).map(|k| pitch_m * ((k as f64 + 0.5) / taps as f64 - 0.5)).collect()
+        };
+        let tap_y_m = match &g.vertical_views {
+            None => vec![0.0],
+            Some(_) => {
+                let taps = options
+                    .emitter_taps
+                    .unwrap_or_else(|| ((g.hololine_pitch_m / geo.pixel_at_focus_m).ceil() as usize).clamp(1, 16));
+                offsets(g.hololine_pitch_m, taps)
+            }
+        };
         Ok(RigResampler {
             views,
             weights: channel_weights(&names),
             slopes: (0..g.views.count).map(|k| g.ray_slope_x(k as f64)).collect(),
-            tap_x_m: (0..taps).map(|k| g.emitter_pitch_m * ((k as f64 + 0.5) / taps as f64 - 0.5)).collect(),
+            vertical_slopes: g
+                .vertical_views
+                .as_ref()
+                .map(|vertical| (0..vertical.count).map(|k| vertical.theta_at(k as f64).tan()).collect()),
+            tap_x_m: offsets(g.emitter_pitch_m, taps),
+            tap_y_m,
             rig,
             g: g.clone(),
             options: options.clone(),
@@ -404,12 +428,14 @@ impl<'a> RigResampler<'a> {
     }
 
     /// Find [`RayWeights`] when they are worth keeping: natural-neighbour
-    /// blending, an eye map, the fast path, and not too many rays.
+    /// blending, an eye map, the fast path, horizontal parallax (a full-
+    /// parallax eye's height depends on the hololine) and not too many rays.
     fn with_ray_weights(mut self) -> Self {
         use rayon::prelude::*;
         let (g, taps) = (&self.g, self.tap_x_m.len());
         let rays = g.emitters * taps * g.views.count;
         let worth = self.options.blend == Blend::NaturalNeighbour
+            && self.vertical_slopes.is_none()
             && self.shared_focus
             && self.geo.eye_map.is_some()
             && rays <= RayWeights::MAX_RAYS;
@@ -454,7 +480,7 @@ impl<'a> RigResampler<'a> {
         use rayon::prelude::*;
         let g = &self.g;
         let lines = band.hololines();
-        let (e, v, c) = (g.emitters, g.views.count, g.channels.len());
+        let (e, v, c) = (g.emitters, g.views_per_emitter(), g.channels.len());
         let mut rows: Vec<Vec<&mut [f32]>> = lines.clone().map(|_| Vec::with_capacity(c)).collect();
         for (i, row) in band.samples_mut().chunks_exact_mut(e * v).enumerate() {
             rows[i % lines.len()].push(row);
@@ -476,8 +502,9 @@ impl<'a> RigResampler<'a> {
         (unseen, per_line.into_iter().flat_map(|l| l.1).collect())
     }
 
-    /// Per view, the ray's point on the camera surface as an affine function
-    /// of emitter-plane `x` along hololine `y` (ray slope `sy`), when the
+    /// Per view (every view of an emitter, [`Geometry::view_index`] order),
+    /// the ray's point on the camera surface as an affine function of
+    /// emitter-plane `x` along the line at height `y`, when the
     /// directions are as captured: rays of one view along a hololine then
     /// differ only in their origin, which moves along a line, so their
     /// crossings of a camera plane step evenly and their directions stay.
@@ -486,47 +513,71 @@ impl<'a> RigResampler<'a> {
     /// gives the points (by its own affine arithmetic, as cheap as a step
     /// and exactly the reference's: its outermost rays land exactly on the
     /// end cameras, where a rounding would lose them).
-    fn surface_steps(&self, y: f64, sy: f64) -> Vec<Option<SurfaceStep>> {
+    fn surface_steps(&self, y: f64) -> Vec<Option<SurfaceStep>> {
         let g = &self.g;
         let first = g.emitter_x_m(0) + self.tap_x_m[0];
         let last = g.emitter_x_m(g.emitters - 1) + self.tap_x_m[self.tap_x_m.len() - 1];
         if !(self.shared_focus && self.geo.eye_map.is_none() && last > first) {
             return Vec::new();
         }
-        let point = |x: f64, sx: f64| self.geo.ray_surface_point(Ray { x, y, sx, sy });
-        self.slopes
-            .iter()
-            .map(|&sx| {
-                let (a, b) = (point(first, sx)?, point(last, sx)?);
+        (0..g.views_per_emitter())
+            .map(|vi| {
+                let (sx, sy) = self.slopes_of(vi, y);
+                let point = |x: f64| self.geo.ray_surface_point(Ray { x, y, sx, sy });
+                let (a, b) = (point(first)?, point(last)?);
                 let per_m = [(b[0] - a[0]) / (last - first), (b[1] - a[1]) / (last - first)];
                 Some(SurfaceStep { x0: first, at_x0: a, per_m })
             })
             .collect()
     }
 
+    /// The slopes `(dx/dz, dy/dz)` of view `vi` (an index among an emitter's
+    /// views) for rays leaving the emitter plane at height `y`: toward the
+    /// viewer line for horizontal parallax, at the vertical view's `φ` for
+    /// full parallax (the one ray geometry, [`Geometry::ray_at_views`]).
+    fn slopes_of(&self, vi: usize, y: f64) -> (f64, f64) {
+        match &self.vertical_slopes {
+            None => (self.slopes[vi], self.g.ray_slope_y(y)),
+            Some(vertical) => {
+                let (h, k) = self.g.view_of_index(vi);
+                (self.slopes[h], vertical[k])
+            }
+        }
+    }
+
     /// Fill hololine `j`'s `rows` (one per channel, emitter-major) and, when
     /// `mask` is not empty, mark its unseen rays; returns those.
     fn fill_hololine(&self, j: usize, rows: &mut [&mut [f32]], mask: &mut [bool]) -> Unseen {
         let g = &self.g;
-        let v = g.views.count;
-        let y = g.hololine_y_m(j);
-        let sy = g.ray_slope_y(y);
+        let v = g.views_per_emitter();
+        let y_line = g.hololine_y_m(j);
         let mut unseen = Unseen::default();
         let (mut w, mut scratch) = (Vec::new(), Scratch::new(v));
         // Per view: the radiance summed over the emitter's taps, and the taps that saw.
         let mut sums = vec![([0.0f64; 3], 0usize); v];
         let mut shared = SharedFocus { point: [0.0; 3], samples: vec![None; self.rig.cameras.len()] };
-        let steps = self.surface_steps(y, sy);
+        // Per row of taps up the aperture (one for horizontal parallax): its
+        // height, and each view's slopes and steps along it.
+        let tap_rows: Vec<TapRow> = self
+            .tap_y_m
+            .iter()
+            .map(|dy| {
+                let y = y_line + dy;
+                TapRow { y, slopes: (0..v).map(|vi| self.slopes_of(vi, y)).collect(), steps: self.surface_steps(y) }
+            })
+            .collect();
         for ei in 0..g.emitters {
             let x = g.emitter_x_m(ei);
             sums.fill(([0.0; 3], 0));
-            for (ti, dx) in self.tap_x_m.iter().enumerate() {
-                let x = x + dx;
+            for ((ti, dx), TapRow { y, slopes, steps }) in
+                tap_rows.iter().flat_map(|row| self.tap_x_m.iter().enumerate().map(move |tap| (tap, row)))
+            {
+                let (x, y) = (x + dx, *y);
                 if self.shared_focus {
                     shared.point = self.geo.capture_point(x, y);
                     shared.samples.fill(None);
                 }
-                for (vi, &sx) in self.slopes.iter().enumerate() {
+                for (vi, &(sx, sy)) in slopes.iter().enumerate() {
                     scratch.view = vi;
                     let ray = Ray { x, y, sx, sy };
                     let rgb = if let Some(table) = &self.ray_weights {
@@ -553,7 +604,7 @@ impl<'a> RigResampler<'a> {
                     }
                 }
             }
-            let in_frame = self.geo.in_frame(&self.rig, x, y);
+            let in_frame = self.geo.in_frame(&self.rig, x, y_line);
             for (vi, &(sum, seen)) in sums.iter().enumerate() {
                 let at = ei * v + vi;
                 if seen > 0 {
@@ -597,10 +648,10 @@ impl<'a> RigResampler<'a> {
             placement: self.geo.placement_words.clone(),
             scale: self.geo.placement.scale,
             centre: self.geo.placement.centre,
-            emitter_taps: self.tap_x_m.len(),
+            emitter_taps: self.tap_x_m.len() * self.tap_y_m.len(),
             warnings: self.warnings.clone(),
             surface: self.geo.surface_words(self.rig.cameras.len()),
-            rays: (g.hololines * g.emitters * g.views.count) as u64,
+            rays: (g.hololines * g.emitters * g.views_per_emitter()) as u64,
             unseen: unseen.rays,
             unseen_outside_frame: unseen.outside_frame,
             mask,
@@ -616,6 +667,14 @@ struct Ray {
     y: f64,
     sx: f64,
     sy: f64,
+}
+
+/// A row of rays across an emitter's aperture at height `y`: each view's
+/// slopes `(dx/dz, dy/dz)` and [`SurfaceStep`].
+struct TapRow {
+    y: f64,
+    slopes: Vec<(f64, f64)>,
+    steps: Vec<Option<SurfaceStep>>,
 }
 
 /// A ray's point on the camera surface along a hololine at one view:

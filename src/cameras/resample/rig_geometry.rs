@@ -48,24 +48,33 @@ pub(super) enum Surface {
 /// `sx` reaches the viewer line at eye position `e = x + D sx`; the capture
 /// ray leaves the ray's focus-plane point toward the camera-surface point of
 /// `e`, so every ray one eye sees comes from one place among the cameras
-/// (for horizontal parallax, at the cameras' middle height).
+/// (for horizontal parallax, at the cameras' middle height). For full
+/// parallax the eyes fill a rectangle of the viewer plane: a ray reaches the
+/// eye at height `e_y = y + D s_y` too, and the cameras' vertical span is
+/// taken across the eyes' heights the same way.
 pub(super) struct EyeMap {
     /// Emitter plane to viewer line, display metres (`D`).
     pub(super) viewer_span_m: f64,
     /// Eye positions (display `x`, metres) from which some emitter is seen,
     /// lowest first.
     pub(super) eyes_m: [f64; 2],
+    /// Full parallax: the eye heights (display `y`, metres) from which some
+    /// emitter is seen, lowest first; `None` for horizontal parallax.
+    pub(super) eyes_y_m: Option<[f64; 2]>,
     pub(super) target: EyeTarget,
 }
 
 pub(super) enum EyeTarget {
     /// A rail or grid: the cameras' range along the plane's `u` axis, taken
-    /// across the eyes' range, at `v`.
-    Plane { u: [f64; 2], v: f64 },
+    /// across the eyes' range, at `v`; for full parallax the range along
+    /// `v` (`v_across`, lowest eye first) across the eyes' heights instead.
+    Plane { u: [f64; 2], v: f64, v_across: Option<[f64; 2]> },
     /// Cameras around the scene at `radius` from the surface's centre: the
     /// azimuth range (radians) taken across the eyes' range, or `None` for
-    /// each eye's own azimuth from the display's middle; at `elevation`.
-    Sphere { azimuth: Option<[f64; 2]>, elevation: f64, radius: f64 },
+    /// each eye's own azimuth from the display's middle; at `elevation`, or
+    /// for full parallax the elevation range (`elevation_across`, lowest eye
+    /// first) across the eyes' heights.
+    Sphere { azimuth: Option<[f64; 2]>, elevation: f64, elevation_across: Option<[f64; 2]>, radius: f64 },
 }
 
 impl EyeMap {
@@ -74,6 +83,14 @@ impl EyeMap {
     pub(super) fn eye_fraction(&self, x: f64, sx: f64) -> f64 {
         let e = x + self.viewer_span_m * sx;
         (e - self.eyes_m[0]) / (self.eyes_m[1] - self.eyes_m[0])
+    }
+
+    /// Full parallax: the fraction of the way up the eyes' heights of the
+    /// eye that ray `(y, sy)` reaches; `None` for horizontal parallax.
+    pub(super) fn eye_fraction_y(&self, y: f64, sy: f64) -> Option<f64> {
+        let [lo, hi] = self.eyes_y_m?;
+        let e = y + self.viewer_span_m * sy;
+        Some(if hi > lo { (e - lo) / (hi - lo) } else { 0.5 })
     }
 }
 
@@ -188,7 +205,7 @@ impl RigGeometry {
             centre[0], centre[1], centre[2]
         );
         let pixel_at_focus_m = focus_depth / cam.intrinsics.fx * scale_d;
-        let (eye_map, parallax_words) = eye_map(rig, g, request, &surface, &points, x_d);
+        let (eye_map, parallax_words) = eye_map(rig, g, request, &surface, &points, [x_d, y_d]);
         let placement_words = match ring_words {
             Some(ring) => format!("{ring}; {placement_words}; {parallax_words}"),
             None => format!("{placement_words}; {parallax_words}"),
@@ -244,7 +261,7 @@ impl RigGeometry {
     pub(super) fn capture_ray(&self, x: f64, y: f64, sx: f64, sy: f64) -> ([f64; 3], [f64; 3], Option<[f64; 2]>) {
         let r = &self.placement.rotation;
         let origin = self.capture_point(x, y);
-        let target = self.eye_point(x, sx).and_then(|at| match (&self.eye_map, &self.surface) {
+        let target = self.eye_point(x, y, sx, sy).and_then(|at| match (&self.eye_map, &self.surface) {
             (Some(EyeMap { target: EyeTarget::Plane { .. }, .. }), Surface::Plane { plane, u, v }) => {
                 Some((add(plane.point, add(scale(*u, at[0]), scale(*v, at[1]))), at))
             }
@@ -263,19 +280,35 @@ impl RigGeometry {
     }
 
     /// The point on the camera surface that the eye map gives the display
-    /// ray from `x` with slope `sx` (the eye it reaches), or `None` without
-    /// an eye map.
-    pub(super) fn eye_point(&self, x: f64, sx: f64) -> Option<[f64; 2]> {
+    /// ray from `(x, y)` with slopes `(sx, sy)` (the eye it reaches), or
+    /// `None` without an eye map. (`y` and `sy` matter for full parallax
+    /// only: a horizontal-parallax eye map keeps the cameras' middle height.)
+    pub(super) fn eye_point(&self, x: f64, y: f64, sx: f64, sy: f64) -> Option<[f64; 2]> {
         let map = self.eye_map.as_ref()?;
         let t = map.eye_fraction(x, sx);
+        let across = |range: &[f64; 2], t: f64| range[0] + t * (range[1] - range[0]);
+        // Up the eyes' heights (full parallax only), a form exact at both
+        // ends: the outermost rays land exactly on the corner cameras, where
+        // a rounding would put them outside the cameras' hull.
+        let up = |range: &[f64; 2], t: f64| range[0] * (1.0 - t) + range[1] * t;
         match (&map.target, &self.surface) {
-            (EyeTarget::Plane { u, v }, Surface::Plane { .. }) => Some([u[0] + t * (u[1] - u[0]), *v]),
-            (EyeTarget::Sphere { azimuth, elevation, .. }, Surface::Directions { .. }) => {
+            (EyeTarget::Plane { u, v, v_across }, Surface::Plane { .. }) => {
+                let v = match (v_across, map.eye_fraction_y(y, sy)) {
+                    (Some(range), Some(t_y)) => up(range, t_y),
+                    _ => *v,
+                };
+                Some([across(u, t), v])
+            }
+            (EyeTarget::Sphere { azimuth, elevation, elevation_across, .. }, Surface::Directions { .. }) => {
                 let a = match azimuth {
-                    Some(range) => range[0] + t * (range[1] - range[0]),
+                    Some(range) => across(range, t),
                     None => (x / map.viewer_span_m + sx).atan(),
                 };
-                Some([a, *elevation])
+                let elevation = match (elevation_across, map.eye_fraction_y(y, sy)) {
+                    (Some(range), Some(t_y)) => up(range, t_y),
+                    _ => *elevation,
+                };
+                Some([a, elevation])
             }
             // The map is made for its surface.
             _ => None,
@@ -285,7 +318,7 @@ impl RigGeometry {
     /// The display ray's point on the camera surface, or `None` when it
     /// misses it.
     pub(super) fn ray_surface_point(&self, ray: Ray) -> Option<[f64; 2]> {
-        if let Some(at) = self.eye_point(ray.x, ray.sx) {
+        if let Some(at) = self.eye_point(ray.x, ray.y, ray.sx, ray.sy) {
             return Some(at);
         }
         let (origin, dir, _) = self.capture_ray(ray.x, ray.y, ray.sx, ray.sy);
@@ -479,7 +512,7 @@ pub(super) fn eye_map(
     request: &PlacementRequest,
     surface: &Surface,
     points: &[[f64; 2]],
-    x_d: [f64; 3],
+    [x_d, y_d]: [[f64; 3]; 2],
 ) -> (Option<EyeMap>, String) {
     let viewer_span_m = g.viewer_distance_m - g.emitter_z_m;
     if request.parallax == Parallax::True {
@@ -498,16 +531,38 @@ pub(super) fn eye_map(
     ];
     let range =
         |k: usize| points.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |r, p| [r[0].min(p[k]), r[1].max(p[k])]);
-    let eyes_words =
+    // Full parallax: the eyes' heights likewise, from the vertical views.
+    let eyes_y_m = g.vertical_views.as_ref().map(|vertical| {
+        let ys = [g.hololine_y_m(0), g.hololine_y_m(g.hololines - 1)];
+        let slopes = [vertical.theta_at(0.0).tan(), vertical.theta_at((vertical.count - 1) as f64).tan()];
+        [
+            ys[0].min(ys[1]) + viewer_span_m * slopes[0].min(slopes[1]),
+            ys[0].max(ys[1]) + viewer_span_m * slopes[0].max(slopes[1]),
+        ]
+    });
+    let mut eyes_words =
         format!("eyes from {:+.0} to {:+.0} mm at {:.0} mm", eyes_m[0] * 1e3, eyes_m[1] * 1e3, viewer_span_m * 1e3);
+    if let Some([lo, hi]) = eyes_y_m {
+        eyes_words = format!("{eyes_words}, {:+.0} to {:+.0} mm high", lo * 1e3, hi * 1e3);
+    }
     match surface {
-        Surface::Plane { u: u_axis, .. } => {
+        Surface::Plane { u: u_axis, v: v_axis, .. } => {
             let [lo, hi] = range(0);
             let v = range(1);
-            // Left eyes see from the left cameras: u oriented along display x.
+            // Left eyes see from the left cameras: u oriented along display x;
+            // and lower eyes from the lower cameras: v along display y.
             let u = if dot(*u_axis, x_d) >= 0.0 { [lo, hi] } else { [hi, lo] };
-            let words = format!("parallax fitted: the cameras' {:.4} units across the {eyes_words}", hi - lo);
-            (Some(EyeMap { viewer_span_m, eyes_m, target: EyeTarget::Plane { u, v: 0.5 * (v[0] + v[1]) } }), words)
+            let v_across = eyes_y_m.map(|_| if dot(*v_axis, y_d) >= 0.0 { v } else { [v[1], v[0]] });
+            let words = match v_across {
+                None => format!("parallax fitted: the cameras' {:.4} units across the {eyes_words}", hi - lo),
+                Some(_) => format!(
+                    "parallax fitted: the cameras' {:.4} × {:.4} units across the {eyes_words}",
+                    hi - lo,
+                    v[1] - v[0]
+                ),
+            };
+            let target = EyeTarget::Plane { u, v: 0.5 * (v[0] + v[1]), v_across };
+            (Some(EyeMap { viewer_span_m, eyes_m, eyes_y_m, target }), words)
         }
         Surface::Directions { centre } => {
             let [lo, hi] = range(0);
@@ -535,8 +590,10 @@ pub(super) fn eye_map(
                     ),
                 )
             };
-            let target = EyeTarget::Sphere { azimuth, elevation: 0.5 * (el[0] + el[1]), radius };
-            (Some(EyeMap { viewer_span_m, eyes_m, target }), words)
+            // Elevation grows upward (direction_coords), as the eyes' heights do.
+            let elevation_across = eyes_y_m.map(|_| el);
+            let target = EyeTarget::Sphere { azimuth, elevation: 0.5 * (el[0] + el[1]), elevation_across, radius };
+            (Some(EyeMap { viewer_span_m, eyes_m, eyes_y_m, target }), words)
         }
     }
 }
