@@ -142,18 +142,23 @@ fn hci_dino_geometry() {
     assert!(picture.rgb.iter().flatten().all(|&v| (0.0..=1.0).contains(&v)));
 }
 
+/// A parameters.cfg of a 3 × 3 grid of 8 × 6 pictures: 100 mm apart,
+/// converging 2 m away, f = 50/36 · 8 px, its centre camera unrotated at
+/// height `z` metres.
+fn hci_parameters(z: f64) -> String {
+    format!(
+        "[intrinsics]\nfocal_length_mm = 50\nimage_resolution_x_px = 8\nimage_resolution_y_px = 6\n\
+         sensor_size_mm = 36\n[extrinsics]\nnum_cams_x = 3\nnum_cams_y = 3\nbaseline_mm = 100\n\
+         focus_distance_m = 2\ncenter_cam_x_m = 0\ncenter_cam_y_m = 0\ncenter_cam_z_m = {z}\n\
+         center_cam_rx_rad = 0\ncenter_cam_ry_rad = 0\ncenter_cam_rz_rad = 0\n"
+    )
+}
+
 #[test]
 fn hci_ground_truth_becomes_depth() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    std::fs::write(
-        d.join("parameters.cfg"),
-        "[intrinsics]\nfocal_length_mm = 50\nimage_resolution_x_px = 8\nimage_resolution_y_px = 6\n\
-         sensor_size_mm = 36\n[extrinsics]\nnum_cams_x = 3\nnum_cams_y = 3\nbaseline_mm = 100\n\
-         focus_distance_m = 2\ncenter_cam_x_m = 0\ncenter_cam_y_m = 0\ncenter_cam_z_m = 1\n\
-         center_cam_rx_rad = 0\ncenter_cam_ry_rad = 0\ncenter_cam_rz_rad = 0\n",
-    )
-    .unwrap();
+    std::fs::write(d.join("parameters.cfg"), hci_parameters(1.0)).unwrap();
     for n in [3, 4, 5] {
         png(&d.join(format!("input_Cam{n:03}.png")), 8, 6);
     }
@@ -195,15 +200,7 @@ fn an_hci_grid_without_parameters_takes_them_from_the_user() {
     let dir = tempfile::tempdir().unwrap();
     let (with, without) = (dir.path().join("with"), dir.path().join("without"));
     std::fs::create_dir_all(&with).unwrap();
-    // A 3 × 3 grid: 0.1 m apart, converging 2 m away, f = 50/36 · 8 px, at the origin.
-    std::fs::write(
-        with.join("parameters.cfg"),
-        "[intrinsics]\nfocal_length_mm = 50\nimage_resolution_x_px = 8\nimage_resolution_y_px = 6\n\
-         sensor_size_mm = 36\n[extrinsics]\nnum_cams_x = 3\nnum_cams_y = 3\nbaseline_mm = 100\n\
-         focus_distance_m = 2\ncenter_cam_x_m = 0\ncenter_cam_y_m = 0\ncenter_cam_z_m = 0\n\
-         center_cam_rx_rad = 0\ncenter_cam_ry_rad = 0\ncenter_cam_rz_rad = 0\n",
-    )
-    .unwrap();
+    std::fs::write(with.join("parameters.cfg"), hci_parameters(0.0)).unwrap();
     for n in 0..9 {
         png(&with.join(format!("input_Cam{n:03}.png")), 8, 6);
         png(&without.join(format!("input_Cam{n:03}.png")), 8, 6);
