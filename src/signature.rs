@@ -9,6 +9,9 @@ pub const HOLOFLICK: [u8; 8] = [0x89, b'H', b'F', b'L', b'K', 0x0D, 0x0A, 0x1A];
 pub const OPENEXR: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 /// The first 8 bytes of every PNG picture (PNG specification §5.2).
 pub const PNG: [u8; 8] = *b"\x89PNG\r\n\x1a\n";
+/// The first 3 bytes of every JPEG picture: the start-of-image marker and
+/// the first byte of the next marker (ITU-T T.81 Annex B).
+pub const JPEG: [u8; 3] = [0xFF, 0xD8, 0xFF];
 /// The first 4 bytes of a binary glTF (`.glb`) scene (glTF 2.0 §4.4.2).
 pub const GLB: [u8; 4] = *b"glTF";
 

@@ -29,15 +29,13 @@ use zune_jpeg::zune_core::colorspace::ColorSpace;
 use zune_jpeg::zune_core::options::DecoderOptions;
 
 use super::{Bits, Samples};
+use crate::signature::{JPEG as JPEG_SIGNATURE, PNG as PNG_SIGNATURE};
 
 /// The most bytes a decoded picture (or a PNG's chunks besides its pixels)
 /// may take, 512 MiB: a damaged or hostile header cannot make the reader
 /// allocate more. It is the limit `image` had; a 16-bit RGB picture of
 /// 44 megapixels fits.
 pub const MAX_DECODED_BYTES: usize = 512 << 20;
-
-const PNG_SIGNATURE: [u8; 8] = *b"\x89PNG\r\n\x1a\n";
-const JPEG_SIGNATURE: [u8; 3] = [0xFF, 0xD8, 0xFF];
 
 /// The formats pictures are read from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
