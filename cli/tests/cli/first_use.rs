@@ -235,3 +235,28 @@ fn every_argument_is_checked_before_the_output() {
         assert_eq!(std::fs::read(d.join(name)).unwrap(), b"a file of the user's");
     }
 }
+
+/// A 2-D capture made full parallax: an HCI folder without its
+/// parameters.cfg asks for the numbers it lacks by their flags, then
+/// converts with `--vertical-views` into a file that says it is full
+/// parallax and is valid; `--vertical-cone` alone is a usage error.
+#[test]
+fn a_grid_of_pictures_converts_to_full_parallax() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let names: Vec<String> = (0..9).map(|n| format!("input_Cam{n:03}.png")).collect();
+    pictures(&d.join("grid"), &names.iter().map(String::as_str).collect::<Vec<_>>());
+    let o = holo(&["convert", "cameras", "grid", "--layout", "mark1", "--vertical-views", "3", "-o", "fp.holo"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("parameters.cfg") && text(&o).contains("--baseline"), "{}", text(&o));
+    let o = holo(&["convert", "cameras", "grid", "--layout", "mark1", "--vertical-cone", "20", "-o", "fp.holo"], d);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let args =
+        ["--baseline", "0.1", "--focal-px", "10", "--focus", "2", "--vertical-views", "3", "--vertical-cone", "20"];
+    let convert = [&["convert", "cameras", "grid", "--layout", "mark1", "-o", "fp.holo"][..], &args].concat();
+    ok(holo(&convert, d));
+    let info = text(&ok(holo(&["info", "fp.holo"], d)));
+    assert!(info.contains("full parallax") && info.contains("× 3 views"), "{info}");
+    assert!(info.contains("-10.000° … 10.000°"), "the vertical cone asked for: {info}");
+    assert!(holo::validate(d.join("fp.holo")).unwrap().is_valid());
+}
