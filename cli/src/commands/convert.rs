@@ -337,7 +337,7 @@ pub struct CamerasArgs {
 /// The layout's geometry, with `count` vertical views over `cone_deg`
 /// (tan-spaced, centred; by default the layout's own horizontal cone) when
 /// they are asked for: full parallax (spec §8).
-fn with_vertical_views(g: Geometry, count: Option<usize>, cone_deg: Option<f64>) -> Geometry {
+pub(crate) fn with_vertical_views(g: Geometry, count: Option<usize>, cone_deg: Option<f64>) -> Geometry {
     let Some(count) = count else { return g };
     let half_rad = match cone_deg {
         Some(cone) => 0.5 * cone.to_radians(),

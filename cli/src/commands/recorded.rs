@@ -38,14 +38,29 @@ pub struct CommandLine {
 /// (`--layout` a built-in layout when one has that geometry), writing `OUT.holo`.
 pub fn command_line(c: &Conversion, info: &FileInfo) -> CommandLine {
     let mut a = Line::default();
+    // A full-parallax file: a layout's horizontal geometry with vertical views.
+    let horizontal = holo::Geometry {
+        vertical_views: None,
+        parallax: holo::geometry::Parallax::Horizontal,
+        ..info.geometry.clone()
+    };
     let builtin = holo::layout::BUILTIN
         .into_iter()
-        .find(|name| holo::layout::builtin(name).is_some_and(|l| l.geometry == info.geometry));
+        .find(|name| holo::layout::builtin(name).is_some_and(|l| l.geometry == horizontal));
     let layout = builtin.unwrap_or_else(|| {
         a.unsaid.push("the layout, which no built-in one is: LAYOUT stands for it".into());
         "LAYOUT"
     });
     a.push(["--layout", layout, "-o", "OUT.holo"]);
+    if let Some(vertical) = &info.geometry.vertical_views {
+        let cone_deg = (vertical.last_theta_rad - vertical.first_theta_rad).to_degrees();
+        a.flag("--vertical-views", vertical.count);
+        a.flag("--vertical-cone", cone_deg);
+        let made = super::convert::with_vertical_views(horizontal, Some(vertical.count), Some(cone_deg));
+        if made != info.geometry {
+            a.unsaid.push("the vertical views, which --vertical-cone gives only centred and tan-spaced".into());
+        }
+    }
     let kind = c.options.kind();
     match &c.options {
         ConverterOptions::Mesh(o) => mesh(&mut a, o, info),
@@ -356,7 +371,9 @@ pub fn like(a: LikeArgs) -> Outcome {
         written.path.display(),
         started.elapsed().as_secs_f64()
     );
-    let same = file.info().frames.iter().map(|f| f.digest.as_ref()).eq(written.digests.iter().map(Some));
+    // As `holo info A B` judges it (a full-parallax frame has a digest per view).
+    let same =
+        holo::report::same_content(&holo::report::info(&a.like, false)?, &holo::report::info(&written.path, false)?);
     say!("same content as {}: {}", a.like.display(), if same { "yes" } else { "no" });
     Ok(ExitCode::SUCCESS)
 }

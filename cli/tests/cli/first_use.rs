@@ -239,7 +239,9 @@ fn every_argument_is_checked_before_the_output() {
 /// A 2-D capture made full parallax: an HCI folder without its
 /// parameters.cfg asks for the numbers it lacks by their flags, then
 /// converts with `--vertical-views` into a file that says it is full
-/// parallax and is valid; `--vertical-cone` alone is a usage error.
+/// parallax (and the command line that makes it again) and is valid, which
+/// `convert like` makes again with the same content; `--vertical-cone`
+/// alone is a usage error.
 #[test]
 fn a_grid_of_pictures_converts_to_full_parallax() {
     let dir = tempfile::tempdir().unwrap();
@@ -258,5 +260,9 @@ fn a_grid_of_pictures_converts_to_full_parallax() {
     let info = text(&ok(holo(&["info", "fp.holo"], d)));
     assert!(info.contains("full parallax") && info.contains("× 3 views"), "{info}");
     assert!(info.contains("-10.000° … 10.000°"), "the vertical cone asked for: {info}");
+    assert!(info.contains("--layout mark1 -o OUT.holo --vertical-views 3 --vertical-cone 20"), "{info}");
     assert!(holo::validate(d.join("fp.holo")).unwrap().is_valid());
+    // Made again from what the file records: the same views, digest by digest.
+    let again = text(&ok(holo(&["convert", "like", "fp.holo", "-o", "again.holo"], d)));
+    assert!(again.contains("same content as fp.holo: yes"), "{again}");
 }
