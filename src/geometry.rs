@@ -408,6 +408,18 @@ impl Geometry {
         self
     }
 
+    /// This geometry made full parallax with `count` vertical views,
+    /// tan-spaced and centred on the display's normal, over `cone_rad` from
+    /// the lowest to the highest (by default the horizontal views' own cone):
+    /// what `convert cameras --vertical-views N [--vertical-cone DEG]` asks for.
+    pub fn with_centred_vertical_views(self, count: usize, cone_rad: Option<f64>) -> Geometry {
+        let half_rad = match cone_rad {
+            Some(cone) => 0.5 * cone,
+            None => 0.5 * (self.views.theta_rad(self.views.count - 1) - self.views.theta_rad(0)).abs(),
+        };
+        self.with_vertical_views(Views::tan_spaced(count, -half_rad, half_rad))
+    }
+
     /// [`Geometry::problems`], and a frame larger than a `.holo` frame may
     /// hold: what must hold before a frame of this geometry is allocated (it
     /// could not be written, and would exhaust memory).

@@ -12,7 +12,6 @@ use holo::cameras::quilt::{DEFAULT_VERTICAL_FOV_DEG, DEFAULT_VIEW_CONE_DEG};
 use holo::cameras::read::{CameraHints, OpenOptions};
 use holo::cameras::resample::{CameraOptions, Framing, Parallax, PlacementRequest, MAX_EMITTER_TAPS};
 use holo::farm::FarmOutput;
-use holo::geometry::{Geometry, Views};
 use holo::holoflick::convert::HoloFlickSource;
 use holo::holoflick::convert::{convert_holoflick, HoloFlickConvertOptions};
 use holo::math::Mat4;
@@ -334,21 +333,12 @@ pub struct CamerasArgs {
     vertical_cone_deg: Option<f64>,
 }
 
-/// The layout's geometry, with `count` vertical views over `cone_deg`
-/// (tan-spaced, centred; by default the layout's own horizontal cone) when
-/// they are asked for: full parallax (spec §8).
-pub(crate) fn with_vertical_views(g: Geometry, count: Option<usize>, cone_deg: Option<f64>) -> Geometry {
-    let Some(count) = count else { return g };
-    let half_rad = match cone_deg {
-        Some(cone) => 0.5 * cone.to_radians(),
-        None => 0.5 * (g.views.theta_rad(g.views.count - 1) - g.views.theta_rad(0)).abs(),
-    };
-    g.with_vertical_views(Views::tan_spaced(count, -half_rad, half_rad))
-}
-
 fn cameras(a: CamerasArgs) -> Outcome {
     let write = &a.target.write;
-    let g = with_vertical_views(layout_geometry(&a.target.layout)?, a.vertical_views, a.vertical_cone_deg);
+    let mut g = layout_geometry(&a.target.layout)?;
+    if let Some(count) = a.vertical_views {
+        g = g.with_centred_vertical_views(count, a.vertical_cone_deg.map(f64::to_radians));
+    }
     inputs_exist(&[&a.input])?;
     let _claim = check_output(&write.output, &[&a.input, Path::new(&a.target.layout)], write.force)?;
     let _mask_claim =

@@ -56,7 +56,7 @@ pub fn command_line(c: &Conversion, info: &FileInfo) -> CommandLine {
         let cone_deg = (vertical.last_theta_rad - vertical.first_theta_rad).to_degrees();
         a.flag("--vertical-views", vertical.count);
         a.flag("--vertical-cone", cone_deg);
-        let made = super::convert::with_vertical_views(horizontal, Some(vertical.count), Some(cone_deg));
+        let made = horizontal.with_centred_vertical_views(vertical.count, Some(cone_deg.to_radians()));
         if made != info.geometry {
             a.unsaid.push("the vertical views, which --vertical-cone gives only centred and tan-spaced".into());
         }
