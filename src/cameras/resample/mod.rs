@@ -194,7 +194,8 @@ pub struct CameraOptions {
     pub reference: bool,
     /// Rays averaged across each emitter's aperture (the mesh renderer's
     /// emitter supersampling); `None`: as many as the middle camera has
-    /// pixels across an emitter at the focus (1 to 16).
+    /// pixels across an emitter at the focus (1 to 16). For full parallax
+    /// as many again up it (`n × n`; by default from the hololine pitch).
     pub emitter_taps: Option<usize>,
 }
 
