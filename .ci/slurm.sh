@@ -183,8 +183,8 @@ farm_tests() {
     trap stop EXIT
     arrays
     say "the tests of holo farm against the cluster"
-    # --workspace: the same features as the README's test command, so nothing is rebuilt.
-    cargo test --workspace --test cli farm -- --ignored
+    # --workspace and the full profile: the same build as .ci/run's full run, so nothing is rebuilt.
+    cargo test --workspace --profile full --test cli farm -- --ignored
 }
 
 case "${1:-}" in

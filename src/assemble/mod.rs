@@ -610,6 +610,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "slow: the full run takes it (README, Development)"]
     fn fast_and_straightforward_agree_with_the_f64_reference_for_every_basis() {
         // One layout per core: the test is the longest of the library's.
         use rayon::prelude::*;
@@ -685,6 +686,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "slow: the full run takes it (README, Development)"]
     fn emitter_phases_agree_with_the_f64_reference_in_every_path() {
         // Complex weights run the kernel twice (I/Q) or against the
         // imaginary table (real signals); the reference multiplies each
@@ -781,6 +783,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "slow: the full run takes it (README, Development)"]
     fn tapered_segments_agree_with_the_f64_reference_and_fold_less() {
         use rayon::prelude::*;
         [mark3(), mark1(), mark2()].into_par_iter().for_each(|layout| {
@@ -964,6 +967,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "slow: the full run takes it (README, Development)"]
     fn unpack_inverts_assembly_except_for_blanking_and_quantization() {
         // Mark III with its blanking gains, without them, and with odd lines
         // sent backwards (the runs then fall elsewhere in the signal, the
@@ -1033,6 +1037,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "slow: the full run takes it (README, Development)"]
     fn flat_field_gains_apply_where_the_neighbourhood_is_evenly_lit() {
         // Mark III with a flat-field table of another reach than its general
         // one (random gains, to tell them apart), lines sent either way, on

@@ -48,6 +48,7 @@ fn mesh_to_holo_then_read_and_inspect() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn assemble_fringes() {
     let (_folder, fringes) = run_example(assemble_fringes::run);
     assert!(fringes.join(holo::assemble::output::FRINGE_SIDECAR).is_file());

@@ -47,6 +47,7 @@ fn image_index(layout: &Layout, name: &str) -> usize {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn mark2_hololines_land_where_the_mit_layout_puts_them() {
     let layout = mark2();
     let (images, signals) = assembled(&layout);
@@ -83,6 +84,7 @@ fn mark2_hololines_land_where_the_mit_layout_puts_them() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn mark4_hololines_land_where_the_mit_layout_puts_them() {
     let layout = mark4();
     let (images, signals) = assembled(&layout);

@@ -51,6 +51,7 @@ const BOUNDS: [(&str, bool, f64, f64); 4] = [
 ];
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn random_modulation_comes_back_within_the_stated_errors() {
     for (name, rough, signal_bound, optical_bound) in BOUNDS {
         let layout = with_hololines(name, 3);
@@ -141,6 +142,7 @@ fn mark3_blanked(layout: &Layout, e: usize) -> bool {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn test_patterns_look_right_to_a_viewer() {
     let layout = with_hololines("mark3", 16);
     let g = &layout.geometry;
@@ -204,6 +206,7 @@ fn test_patterns_look_right_to_a_viewer() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn mark1_colour_bars_come_out_in_colour() {
     let layout = builtin("mark1").unwrap();
     let g = &layout.geometry;

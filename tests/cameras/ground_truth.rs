@@ -108,6 +108,7 @@ fn compare(m: &Modulation, truth: &Modulation, mask: &[bool]) -> (f64, f64) {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn camera_arrays_of_a_mesh_match_direct_conversion() {
     let g = display();
     let scene = spot(&g);

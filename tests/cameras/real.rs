@@ -22,6 +22,7 @@ fn artefacts() -> PathBuf {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn real_captures_convert_and_dino_is_seen_through_the_display() {
     let Some(data) = shared_data() else { return };
     let layout = holo::layout::mark3();
@@ -76,6 +77,7 @@ fn real_captures_convert_and_dino_is_seen_through_the_display() {
 /// quilt's focal rectangle and whose viewer line is where the cameras are:
 /// quilt → `.holo` → quilt gives the views back.
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn quilt_round_trip_keeps_the_views() {
     let Some(data) = shared_data() else { return };
     let input = data.join("quilt_lookingglass_4x8/example02_qs4x8a1.6.png");

@@ -74,6 +74,7 @@ const REAL: [(&str, &str); 4] = [
 ];
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn real_meshes_round_trip_within_bounds() {
     if shared_data().is_none() {
         missing("../shared/data");

@@ -139,6 +139,7 @@ fn unseen_objects_are_skipped_and_key_frame_objects_decoded_once() {
 /// `convert holoflick`, against `convert mesh` of the same scene. The error
 /// shrinks with the micropolygons down to the quantization's floor.
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn encoded_movies_convert_like_the_mesh() {
     use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
     use holo::mesh::convert::{convert_mesh, ConvertOptions};

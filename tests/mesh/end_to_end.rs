@@ -64,11 +64,13 @@ fn end_to_end(layout: &Layout, bound: f64) {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn reconstructed_views_match_a_direct_render_mark1() {
     end_to_end(&holo::layout::mark1(), 0.25);
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn reconstructed_views_match_a_direct_render_mark3() {
     end_to_end(&holo::layout::mark3(), 0.12);
 }

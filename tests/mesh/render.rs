@@ -124,6 +124,7 @@ pub(crate) fn lighting(model: SpecularModel) -> Lighting {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn fast_equals_reference_on_random_scenes() {
     for (seed, z_e, model, ss) in [
         (1, 0.0, SpecularModel::Blinn, Supersample::new(1, 1)),
@@ -326,6 +327,7 @@ fn band(layout: &holo::layout::Layout, rows: usize) -> Geometry {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn fast_equals_reference_on_real_models_at_several_layouts() {
     use holo::mesh::load::SceneSource;
     use holo::mesh::place::{place, Placement};
@@ -504,6 +506,7 @@ fn render_into_a_used_frame_equals_a_fresh_render() {
 /// by run beside batched ones). The choices must matter, and choosing every
 /// light and the render's lobe must change no bit.
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn fast_equals_reference_with_per_material_lobes_and_lights() {
     let key = Light::Directional { direction: [0.3, -0.5, -1.0], irradiance: [2.0, 2.0, 2.0], name: "key".into() };
     let fill = Light::Directional { direction: [-0.6, 0.2, -0.5], irradiance: [0.5, 0.7, 0.9], name: "fill".into() };

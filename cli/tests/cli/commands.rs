@@ -65,6 +65,7 @@ fn help_on_every_command_and_usage_errors_exit_2() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn every_pattern_for_both_layouts_is_valid_and_described() {
     let dir = tempfile::tempdir().unwrap();
     for layout in ["mark3", "mark1"] {
@@ -287,6 +288,7 @@ fn display_outlines(frame: &[u8], w: usize, h: usize) -> Vec<(usize, usize, usiz
 /// says; eyes across the viewing zone see different pictures; every picture
 /// of the display is at its physical proportions; counts and rates are true.
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn demo_runs_and_says_where_its_files_are() {
     let dir = tempfile::tempdir().unwrap();
     // The folder already holds what an earlier run left, from before the
@@ -438,6 +440,7 @@ fn a_profile_whose_basis_does_not_fit_is_refused_with_its_reasons_everywhere() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn check_and_view_recover_what_was_assembled() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -491,6 +494,7 @@ fn check_and_view_recover_what_was_assembled() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn export_quilt_names_its_file_and_overwrites_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -663,6 +667,7 @@ fn help_lists_every_choice() {
 /// command line itself gets wrong is a usage error, exit 2, as clap's own
 /// refusals are: it is found before any file is read.
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn negative_values_are_taken_or_refused_with_their_meaning() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -718,6 +723,7 @@ fn a_layout_file_that_is_not_there_is_named() {
 /// `-o/--output` is the thing written, a file or the folder of a
 /// multi-file output; `--out` stays as a hidden alias for old scripts.
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn output_is_o_everywhere_and_out_still_works() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -865,6 +871,7 @@ fn convert_like_makes_the_recorded_conversion_again() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn timings_say_where_the_time_went_stage_by_stage() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -902,6 +909,7 @@ fn timings_say_where_the_time_went_stage_by_stage() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn raw_blanking_drops_the_layouts_blanking_gains() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -37,6 +37,7 @@ fn a_light_given_says_it_replaces_the_default_lights_and_dir_says_where_light_go
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn placement_is_said_in_millimetres_and_a_scene_beyond_the_display_is_warned() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -58,6 +59,7 @@ fn placement_is_said_in_millimetres_and_a_scene_beyond_the_display_is_warned() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn holoflick_encode_places_the_scene_as_convert_mesh_does() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -92,6 +94,7 @@ fn holoflick_encode_places_the_scene_as_convert_mesh_does() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn export_quilt_says_which_tiles_see_the_display_from_beyond_its_views() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -106,6 +109,7 @@ fn export_quilt_says_which_tiles_see_the_display_from_beyond_its_views() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn check_judges_the_figures_by_the_spec_s_bounds() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -137,6 +141,7 @@ fn check_judges_the_figures_by_the_spec_s_bounds() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn check_takes_the_frames_of_a_movie() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -103,6 +103,7 @@ fn noise(k: u64) -> f32 {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn interrupts_remove_temporaries_keep_the_previous_file_and_say_which_signal() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -181,6 +182,7 @@ fn the_demo_writes_over_no_file_of_yours_and_an_interrupted_demo_leaves_nothing(
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn an_interrupted_assemble_keeps_the_previous_set_and_a_mixed_set_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -324,6 +326,7 @@ fn an_export_whose_writes_fail_truncates_nothing() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn a_write_that_fails_names_the_file_asked_for_and_leaves_nothing() {
     // A file-size limit (4 KiB) every output here exceeds, as a full disk
     // would stop it: the error names the file asked for, not the hidden
@@ -419,6 +422,7 @@ fn a_closed_stdout_ends_a_listing_quietly() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn refusals_come_before_any_work() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -471,6 +475,7 @@ fn mkfifo(path: &Path) {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn an_output_that_is_not_a_regular_file_is_refused_even_with_force() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -534,6 +539,7 @@ fn an_output_that_is_not_a_regular_file_is_refused_even_with_force() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn any_name_the_file_system_takes_is_written_and_a_longer_one_refused_at_once() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -565,6 +571,7 @@ fn any_name_the_file_system_takes_is_written_and_a_longer_one_refused_at_once() 
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn a_second_writer_of_an_output_is_refused_before_any_work() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -620,6 +627,7 @@ fn a_second_writer_of_an_output_is_refused_before_any_work() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn temporaries_a_killed_run_left_are_removed_by_the_next_run_and_said() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -661,6 +669,7 @@ fn temporaries_a_killed_run_left_are_removed_by_the_next_run_and_said() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn every_reader_of_a_set_says_its_replacement_was_interrupted_and_how_to_repair_it() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -693,6 +702,7 @@ fn every_reader_of_a_set_says_its_replacement_was_interrupted_and_how_to_repair_
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn an_interrupted_demo_into_an_earlier_demos_folder_leaves_it_as_it_was() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

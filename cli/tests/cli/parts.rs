@@ -111,6 +111,7 @@ fn an_animation_holds_its_frames() {
 }
 
 #[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
 fn the_legend_says_what_the_colours_zones_and_lobes_are() {
     let layout = holo::layout::mark3();
     let a = holo::assemble::Assembler::new(&layout).unwrap();
