@@ -108,9 +108,18 @@ pub(crate) struct Parsed {
 /// be damaged when a digest does not match (a flipped bit in an attribute's
 /// size or type breaks the parse before any rule can be checked).
 pub(crate) fn read_meta(path: &Path) -> crate::error::Result<(MetaData, u64)> {
+    read_meta_and_end(path).map(|(meta, file_bytes, _)| (meta, file_bytes))
+}
+
+/// [`read_meta`], with the byte position where the headers end (and the
+/// offset tables begin).
+pub(crate) fn read_meta_and_end(path: &Path) -> crate::error::Result<(MetaData, u64, u64)> {
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
-    let meta = MetaData::read_from_buffered(std::io::BufReader::new(file), false).map_err(|e| {
+    // The bytes the parser takes are counted: it consumes exactly the
+    // headers (every list it reads ends with a byte it consumes).
+    let mut counted = Counted { inner: std::io::BufReader::new(file), bytes: 0 };
+    let meta = MetaData::read_from_buffered(&mut counted, false).map_err(|e| {
         if let Some(kind) = other_kind(path) {
             return Error::invalid(path, kind);
         }
@@ -119,7 +128,21 @@ pub(crate) fn read_meta(path: &Path) -> crate::error::Result<(MetaData, u64)> {
             _ => Error::exr(path, e),
         }
     })?;
-    Ok((meta, file_bytes))
+    Ok((meta, file_bytes, counted.bytes))
+}
+
+/// A reader that counts the bytes taken from it.
+struct Counted<R> {
+    inner: R,
+    bytes: u64,
+}
+
+impl<R: std::io::Read> std::io::Read for Counted<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.bytes += n as u64;
+        Ok(n)
+    }
 }
 
 /// What a file that is not OpenEXR is instead, for the files holo's users
@@ -142,13 +165,14 @@ fn other_kind(path: &Path) -> Option<&'static str> {
 
 /// Open: the headers must have no problem at all, and (when `sealed`) each
 /// must match its digest. The writer opens its own file unsealed, before the
-/// digests are filled in.
-pub(crate) fn file_info(path: &Path, sealed: bool) -> crate::error::Result<(FileInfo, MetaData)> {
-    let (meta, file_bytes) = read_meta(path)?;
+/// digests are filled in. With the headers as OpenEXR's meta data, and the
+/// byte position where they end.
+pub(crate) fn file_info(path: &Path, sealed: bool) -> crate::error::Result<(FileInfo, MetaData, u64)> {
+    let (meta, file_bytes, headers_end) = read_meta_and_end(path)?;
     let stored = if sealed { Some(header_digest::read_stored(path)?) } else { None };
     let parsed = parse(path, &meta, file_bytes, stored.as_ref())?;
     match (parsed.info, parsed.problems.first()) {
-        (Some(info), None) => Ok((info, meta)),
+        (Some(info), None) => Ok((info, meta, headers_end)),
         (_, Some(first)) => {
             let more = parsed.problems.len() - 1;
             let tail =

@@ -5,9 +5,10 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use exr::block::chunk::TileCoordinates;
-use exr::block::reader::ChunksReader;
-use exr::block::BlockIndex;
+use std::io::{BufReader, Read, Seek, SeekFrom};
+
+use exr::block::chunk::Chunk;
+use exr::block::{BlockIndex, UncompressedBlock};
 use exr::meta::MetaData;
 
 use super::channels::{colour_slots, ChannelOrder};
@@ -54,6 +55,7 @@ impl Region {
 #[derive(Debug)]
 pub struct HoloFile {
     info: FileInfo,
+    container: Container,
 }
 
 /// Read frame 0 of a file whole, checking its digest.
@@ -65,15 +67,15 @@ impl HoloFile {
     /// Read and check the headers, each against its digest (spec §7.2); no
     /// pixel data is touched.
     pub fn open(path: impl AsRef<Path>) -> Result<Self> {
-        let (info, _) = file_info(path.as_ref(), true)?;
-        Ok(HoloFile { info })
+        let (info, meta, headers_end) = file_info(path.as_ref(), true)?;
+        Ok(HoloFile { info, container: Container::new(meta, headers_end) })
     }
 
     /// Open a file whose header digests are not yet filled in: the writer's
     /// own, read back before it is finished.
     pub(crate) fn open_unsealed(path: &Path) -> Result<Self> {
-        let (info, _) = file_info(path, false)?;
-        Ok(HoloFile { info })
+        let (info, meta, headers_end) = file_info(path, false)?;
+        Ok(HoloFile { info, container: Container::new(meta, headers_end) })
     }
 
     /// What the headers say.
@@ -240,20 +242,8 @@ impl HoloFile {
         let order = ChannelOrder::new(g);
         let wanted = Wanted::new(g, frame, region);
         let wanted_rows = region.hololines.clone();
-        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-        let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
-        let reader = exr::block::read(std::io::BufReader::new(file), false).map_err(|e| Error::exr(path, e))?;
-        let chunks = reader
-            .filter_chunks(false, |_meta: &MetaData, _tile: TileCoordinates, block: BlockIndex| {
-                let Some(part) = wanted.part(block.layer) else { return false };
-                let top = part.window.y + block.pixel_position.1;
-                block.level == exr::math::Vec2(0, 0)
-                    && top < wanted_rows.end
-                    && top + block.pixel_size.1 > wanted_rows.start
-            })
-            .map_err(|e| Error::exr(path, e))?;
         let colours = colour_slots(g);
-        let mut place = |block: exr::block::UncompressedBlock| -> Result<()> {
+        let mut place = |block: UncompressedBlock| -> Result<()> {
             let Some(part) = wanted.part(block.index.layer) else { return Ok(()) };
             let dw = part.window;
             let st = self.info.sample_type;
@@ -283,28 +273,11 @@ impl HoloFile {
             }
             Ok(())
         };
-        // exr starts a thread pool per parallel read; below a megabyte that
-        // costs more than it saves (and its threads outlive the call).
-        let parallel =
-            if file_bytes >= PARALLEL_DECODE_MIN_BYTES { chunks.parallel_decompressor(false) } else { Err(chunks) };
         // The exr crate's decoders can panic on hostile compressed data (its
         // B44 decoder subtracts with overflow on some blocks); that is a
         // damaged file, said as one, not a crash.
-        let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| -> Result<()> {
-            match parallel {
-                Ok(mut decompressor) => {
-                    while let Some(block) = decompressor.decompress_next_block() {
-                        place(block.map_err(|e| Error::exr(path, e))?)?;
-                    }
-                }
-                Err(chunks) => {
-                    let mut decompressor = chunks.sequential_decompressor(false);
-                    while let Some(block) = decompressor.decompress_next_block() {
-                        place(block.map_err(|e| Error::exr(path, e))?)?;
-                    }
-                }
-            }
-            Ok(())
+        let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            self.container.decode(path, &wanted, &wanted_rows, &mut place)
         }));
         decoded.unwrap_or_else(|_| {
             Err(Error::invalid(path, format!("frame {index}: a compressed block could not be decoded (it is damaged)")))
@@ -504,6 +477,175 @@ fn sub_geometry(g: &Geometry, r: &Region) -> Geometry {
     s
 }
 
+/// What reading chunks needs of a file's container, kept from opening it:
+/// the headers as OpenEXR's meta data, parsed once, and where each part's
+/// offset table is. A read then touches only the offset tables and chunks of
+/// the parts it wants: one view of a full-parallax frame (a part, spec §8)
+/// costs its own chunks, not the frame's thousand headers.
+#[derive(Debug)]
+struct Container {
+    meta: MetaData,
+    /// Byte position of each part's offset table.
+    table_at: Vec<u64>,
+    /// Where the offset tables end: no chunk starts before.
+    tables_end: u64,
+}
+
+/// Compressed chunks are read and decoded in batches of about this many
+/// decoded bytes: enough to keep every core busy, bounded whatever the frame.
+const DECODE_BATCH_BYTES: usize = 32 << 20;
+
+impl Container {
+    /// The meta data of a file whose headers end at byte `headers_end`
+    /// (the offset tables follow, one after another in part order).
+    fn new(meta: MetaData, headers_end: u64) -> Container {
+        let mut at = headers_end;
+        let table_at = meta
+            .headers
+            .iter()
+            .map(|h| {
+                let here = at;
+                at += 8 * h.chunk_count as u64;
+                here
+            })
+            .collect();
+        Container { meta, table_at, tables_end: at }
+    }
+
+    /// Decode the chunks of the `wanted` parts that hold rows `rows`
+    /// (absolute), handing each decoded block to `place`: in file order
+    /// within a batch, the batches decoded on every core for a file of a
+    /// megabyte or more.
+    fn decode(
+        &self,
+        path: &Path,
+        wanted: &Wanted,
+        rows: &Range<usize>,
+        place: &mut dyn FnMut(UncompressedBlock) -> Result<()>,
+    ) -> Result<()> {
+        let damaged = |what: String| Error::invalid(path, format!("{what}: the file is damaged"));
+        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
+        let mut file = Positioned { inner: BufReader::new(file), at: 0 };
+        // (offset, part, block) of every chunk wanted.
+        let mut chunks: Vec<(u64, usize, BlockIndex)> = Vec::new();
+        for (layer, part) in wanted.parts() {
+            let header = self.meta.headers.get(layer).ok_or_else(|| damaged(format!("part {layer} has no header")))?;
+            let mut table = vec![0u8; 8 * header.chunk_count];
+            file.seek_to(self.table_at[layer]).map_err(|e| Error::io(path, e))?;
+            file.read_exact(&mut table).map_err(|e| Error::io(path, e))?;
+            let offsets = table.chunks_exact(8).map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")));
+            for (offset, tile) in offsets.zip(header.blocks_increasing_y_order()) {
+                if tile.location.level_index != exr::math::Vec2(0, 0) {
+                    continue;
+                }
+                let at = header.get_absolute_block_pixel_coordinates(tile.location).map_err(|e| Error::exr(path, e))?;
+                let (Ok(x), Ok(y)) = (usize::try_from(at.position.x()), usize::try_from(at.position.y())) else {
+                    return Err(damaged(format!("part {layer} has a block before its data window")));
+                };
+                let top = part.window.y + y;
+                if top >= rows.end || top + at.size.height() <= rows.start {
+                    continue;
+                }
+                if offset >= file_bytes {
+                    return Err(Error::invalid(
+                        path,
+                        format!(
+                            "part {layer} has a chunk at byte {offset}, past the end of the {file_bytes}-byte file: the file is truncated"
+                        ),
+                    ));
+                }
+                if offset < self.tables_end {
+                    return Err(damaged(format!(
+                        "part {layer}'s offset table points at byte {offset}, before the chunks begin (byte {})",
+                        self.tables_end
+                    )));
+                }
+                let block = BlockIndex {
+                    layer,
+                    level: exr::math::Vec2(0, 0),
+                    pixel_position: exr::math::Vec2(x, y),
+                    pixel_size: at.size,
+                };
+                chunks.push((offset, layer, block));
+            }
+        }
+        // In file order: a whole frame is read front to back.
+        chunks.sort_unstable_by_key(|&(offset, ..)| offset);
+        let parallel = file_bytes >= PARALLEL_DECODE_MIN_BYTES;
+        let mut batch: Vec<(Chunk, BlockIndex)> = Vec::new();
+        let mut batch_bytes = 0;
+        let mut chunks = chunks.into_iter().peekable();
+        while let Some((offset, layer, block)) = chunks.next() {
+            file.seek_to(offset).map_err(|e| Error::io(path, e))?;
+            let chunk = Chunk::read(&mut file, &self.meta).map_err(|e| Error::exr(path, e))?;
+            if chunk.layer_index != layer {
+                return Err(damaged(format!(
+                    "the chunk at byte {offset} says part {}, where part {layer}'s offset table points",
+                    chunk.layer_index
+                )));
+            }
+            batch_bytes += self.meta.headers[layer].max_block_byte_size();
+            batch.push((chunk, block));
+            if batch_bytes >= DECODE_BATCH_BYTES || chunks.peek().is_none() {
+                let decode = |(chunk, block): (Chunk, BlockIndex)| -> Result<UncompressedBlock> {
+                    let decoded = UncompressedBlock::decompress_chunk(chunk, &self.meta, false)
+                        .map_err(|e| Error::exr(path, e))?;
+                    if decoded.index != block {
+                        return Err(damaged(format!(
+                            "a chunk of part {} is not the block its offset says",
+                            block.layer
+                        )));
+                    }
+                    Ok(decoded)
+                };
+                let decoded: Vec<Result<UncompressedBlock>> = if parallel && batch.len() > 1 {
+                    use rayon::prelude::*;
+                    std::mem::take(&mut batch).into_par_iter().map(decode).collect()
+                } else {
+                    std::mem::take(&mut batch).into_iter().map(decode).collect()
+                };
+                for block in decoded {
+                    place(block?)?;
+                }
+                batch_bytes = 0;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A buffered file that knows where it is, so that reading chunks that
+/// follow one another keeps the buffer.
+struct Positioned {
+    inner: BufReader<std::fs::File>,
+    at: u64,
+}
+
+impl Positioned {
+    fn seek_to(&mut self, to: u64) -> std::io::Result<()> {
+        if to != self.at {
+            let by = i64::try_from(to).ok().zip(i64::try_from(self.at).ok()).map(|(to, at)| to - at);
+            match by {
+                Some(by) => self.inner.seek_relative(by)?,
+                None => {
+                    self.inner.seek(SeekFrom::Start(to))?;
+                }
+            }
+            self.at = to;
+        }
+        Ok(())
+    }
+}
+
+impl Read for Positioned {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.at += n as u64;
+        Ok(n)
+    }
+}
+
 /// The parts a region read decodes, with where each one's samples go.
 struct Wanted {
     /// The frame's first part.
@@ -539,6 +681,11 @@ impl Wanted {
     fn part(&self, layer: usize) -> Option<&WantedPart> {
         self.parts.get(layer.checked_sub(self.first)?)?.as_ref()
     }
+
+    /// The parts wanted, by their index among the file's parts.
+    fn parts(&self) -> impl Iterator<Item = (usize, &WantedPart)> + '_ {
+        self.parts.iter().enumerate().filter_map(|(i, p)| Some((self.first + i, p.as_ref()?)))
+    }
 }
 
 /// Copy the samples of one decoded block that fall inside the region into
@@ -552,7 +699,7 @@ impl Wanted {
 fn place_block<T: FrameSample>(
     out: &mut [T],
     sub: &Geometry,
-    block: &exr::block::UncompressedBlock,
+    block: &UncompressedBlock,
     channels: usize,
     target: impl Fn(usize) -> Option<(usize, usize)>,
     sample_type: SampleType,
