@@ -249,7 +249,14 @@ pub(crate) use white_help;
 
 /// The help of a `--layout` argument: the built-in layouts, from the library.
 pub fn layout_help(default: &str) -> String {
-    format!("Display layout: {} (built in), or a .toml/.json profile{default}", BUILTIN.join(", "))
+    let (full, horizontal): (Vec<&str>, Vec<&str>) = BUILTIN
+        .into_iter()
+        .partition(|name| holo::layout::builtin(name).is_some_and(|l| l.geometry.vertical_views.is_some()));
+    format!(
+        "Display layout: {} (built in; full parallax: {}; `holo layout --list`), or a .toml/.json profile{default}",
+        horizontal.join(", "),
+        full.join(", ")
+    )
 }
 
 /// Load a layout ready to assemble: a built-in name or a profile file; a
@@ -281,6 +288,20 @@ impl BlankingArg {
             }
         }
         layout
+    }
+}
+
+/// [`layout_geometry`] for a command that makes horizontal parallax only
+/// (`command`, as typed after `holo`): a full-parallax layout is refused,
+/// saying which command takes it.
+pub fn horizontal_layout_geometry(name: &str, command: &str) -> Result<Geometry, Failure> {
+    let g = layout_geometry(name)?;
+    match &g.vertical_views {
+        None => Ok(g),
+        Some(vertical) => Err(Failure(format!(
+            "layout {name} is full parallax ({} × {} views); `holo {command}` makes horizontal parallax only so far (`holo convert cameras` takes it)",
+            g.views.count, vertical.count
+        ))),
     }
 }
 

@@ -6,10 +6,11 @@ use super::{
     Basis, BlankingGains, ChannelSlot, ColourSignals, EmitterPhases, FlatFieldGains, FrameBuffer, Fringe, Layout,
     Quantization, SignalKind,
 };
-use crate::geometry::{mono_channel, rgb_channels, Geometry, Views};
+use crate::geometry::{mono_channel, rgb_channels, ColourChannel, Geometry, ViewSpacing, Views};
 
-/// Names of the built-in layouts.
-pub const BUILTIN: [&str; 5] = ["mark3", "mark1", "mark1-hogel", "mark2", "mark4"];
+/// Names of the built-in layouts: the horizontal-parallax displays, then the
+/// full-parallax geometries (spec/layouts.md §7).
+pub const BUILTIN: [&str; 7] = ["mark3", "mark1", "mark1-hogel", "mark2", "mark4", "pluto2-hogels", "chimera"];
 
 /// A built-in layout by name.
 pub fn builtin(name: &str) -> Option<Layout> {
@@ -19,6 +20,8 @@ pub fn builtin(name: &str) -> Option<Layout> {
         "mark1-hogel" => Some(mark1_hogel()),
         "mark2" | "mark-ii" | "markii" => Some(mark2()),
         "mark4" | "mark-iv" | "markiv" => Some(mark4()),
+        "pluto2-hogels" => Some(pluto2_hogels()),
+        "chimera" => Some(chimera()),
         _ => None,
     }
 }
@@ -387,5 +390,90 @@ pub fn mark4() -> Layout {
             },
             quantization: Quantization { bits: 8, offset: 128.0, gain: 73.0 },
         }),
+    }
+}
+
+/// A phase-only LCoS modulator used as a full-parallax hogel display: the
+/// holographic stereogram as the field computes it for such modulators
+/// (each hogel the 2-D Fourier transform of its directional picture), on
+/// HOLOEYE's PLUTO-2.
+///
+/// Stated (HOLOEYE PLUTO-2 datasheet): 1920 × 1080 pixels at 8.0 µm
+/// (15.36 mm × 8.64 mm).
+/// Derived: a hogel of `N × N` pixels sends `N` plane waves along each axis,
+/// one per frequency of its transform, `λ / (N p)` apart in `sin θ`; centred
+/// on the axis (half a step off the transform's own grid, a linear phase
+/// across the hogel), the outermost at `±(N − 1) λ / (2 N p)`, inside the
+/// modulator's limit `λ / 2p`. With `N = 16` at 532 nm: 120 × 67 hogels of
+/// 128 µm (the 1072 middle rows of pixels), 16 × 16 views, ±1.79°.
+/// Assumptions: 16-pixel hogels (a square picture per hogel; the trade
+/// between hogel size and view count is the user's); one channel at 532 nm
+/// (a green DPSS laser, the usual source for such a modulator); hogels on
+/// the modulator (`z = 0`); a viewer at 300 mm.
+pub fn pluto2_hogels() -> Layout {
+    let (pixels_across, pixels_down, pixel_pitch_m) = (1920usize, 1080usize, 8.0e-6);
+    let hogel_pixels = 16usize;
+    let wavelength_m = 532e-9;
+    let step = wavelength_m / (hogel_pixels as f64 * pixel_pitch_m);
+    let outermost = 0.5 * (hogel_pixels as f64 - 1.0) * step;
+    let views = Views {
+        count: hogel_pixels,
+        first_theta_rad: (-outermost).asin(),
+        last_theta_rad: outermost.asin(),
+        spacing: ViewSpacing::Sin,
+    };
+    let hogel_m = hogel_pixels as f64 * pixel_pitch_m;
+    let geometry = Geometry::centred(
+        pixels_down / hogel_pixels,
+        pixels_across / hogel_pixels,
+        views.clone(),
+        hogel_m,
+        hogel_m,
+        0.0,
+        0.300,
+        vec![ColourChannel::new("Y", wavelength_m)],
+    )
+    .with_vertical_views(views);
+    Layout {
+        name: "pluto2-hogels".into(),
+        description: "HOLOEYE PLUTO-2 phase modulator (1920 × 1080 at 8 µm, datasheet) as a hogel display: \
+                      120 × 67 hogels of 16 × 16 pixels, 16 × 16 views over ±1.79° at 532 nm; full parallax, \
+                      geometry only"
+            .into(),
+        geometry,
+        fringe: None,
+    }
+}
+
+/// A holographic stereogram printer: CHIMERA (Gentet, Gentet and Lee,
+/// "CHIMERA, a new holoprinter technology combining low-power continuous
+/// lasers and fast printing", Applied Optics 58(34), G226–G230, 2019).
+///
+/// Stated (the publisher's announcement of the paper, Optica, November
+/// 2019): full-parallax hogels printed one after another with red, green
+/// and blue low-power continuous lasers; a field of view of 120°; a
+/// 30 × 40 cm hologram in about 11 hours.
+/// Assumptions: hogels 250 µm square (the announcement gives no size; at
+/// 250 µm that print is 1.92 million hogels, 48 a second over 11 hours);
+/// one 100 mm × 100 mm tile of 400 × 400 hogels
+/// (a larger print is more hogels of the same profile: `holo layout chimera`
+/// prints one to edit); 32 × 32 views, the centres of equal segments of
+/// `tan θ` over ±60° in both axes (a perspective camera at each hogel, as
+/// printers' directional pictures are rendered); hogels on the plate
+/// (`z = 0`), a viewer at 500 mm; the colours at holo's red, green and blue
+/// wavelengths (a printer's views are set by its optics, not by diffraction
+/// at the hogel, so they only name the colours).
+pub fn chimera() -> Layout {
+    let hogel_m = 250e-6;
+    let views = segment_centre_views(32, 60f64.to_radians());
+    let geometry = Geometry::centred(400, 400, views.clone(), hogel_m, hogel_m, 0.0, 0.500, rgb_channels())
+        .with_vertical_views(views);
+    Layout {
+        name: "chimera".into(),
+        description: "CHIMERA holoprinter (Gentet et al. 2019): full parallax over a 120° field of view; a 100 mm \
+                      tile of 400 × 400 hogels of 250 µm (assumed), 32 × 32 views, RGB; geometry only"
+            .into(),
+        geometry,
+        fringe: None,
     }
 }

@@ -19,7 +19,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
-pub use builtin::{builtin, mark1, mark1_hogel, mark2, mark3, mark4, segment_centre_views, BUILTIN};
+pub use builtin::{
+    builtin, chimera, mark1, mark1_hogel, mark2, mark3, mark4, pluto2_hogels, segment_centre_views, BUILTIN,
+};
 pub use fringe::{
     Basis, BlankingGains, ChannelSlot, ColourSignals, EmitterPhases, FlatFieldGains, FrameBuffer, Fringe, Pixel,
     Quantization, SignalKind,
@@ -144,6 +146,13 @@ impl Layout {
     /// impossible quantization. Meaningful for a consistent geometry.
     pub fn fringe_problems(&self) -> Vec<String> {
         let Some(f) = &self.fringe else { return Vec::new() };
+        if let Some(vertical) = &self.geometry.vertical_views {
+            // spec/layouts.md §2: a full-parallax layout is a geometry only.
+            return vec![format!(
+                "a full-parallax geometry ({} × {} views) has no fringe side yet: holo assembles horizontal parallax only, so drop the [fringe] table",
+                self.geometry.views.count, vertical.count
+            )];
+        }
         let mut p =
             f.frame_buffer.problems(self.geometry.hololines, self.signals_per_hololine(), f.samples_per_hololine);
         // The gains' checks walk the hololine's samples: only once the frame
@@ -161,6 +170,52 @@ impl Layout {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn full_parallax_builtins_agree_with_their_sources_and_their_rays_with_their_views() {
+        // PLUTO-2: 8 µm pixels, 16-pixel hogels; the outermost plane wave of a
+        // hogel's transform inside the modulator's limit λ / 2p.
+        let g = pluto2_hogels().geometry;
+        let vertical = g.vertical_views.clone().unwrap();
+        assert_eq!((g.emitters, g.hololines, g.views.count, vertical.count), (120, 67, 16, 16));
+        assert!((g.emitter_pitch_m - 128e-6).abs() < 1e-15 && (g.hololine_pitch_m - 128e-6).abs() < 1e-15);
+        let lambda = g.channels[0].wavelength_m;
+        let step = lambda / (16.0 * 8e-6);
+        for v in 0..16 {
+            let want = (v as f64 - 7.5) * step;
+            assert!((g.views.theta_rad(v).sin() - want).abs() < 1e-15, "view {v}");
+            assert!((vertical.theta_rad(v).sin() - want).abs() < 1e-15, "vertical view {v}");
+        }
+        assert!(g.views.last_theta_rad.sin() < lambda / (2.0 * 8e-6));
+        // CHIMERA: 120° across both axes (the views are centres of equal tan segments of ±60°).
+        let g = chimera().geometry;
+        let vertical = g.vertical_views.clone().unwrap();
+        let t = 60f64.to_radians().tan();
+        let half_step = t / 32.0;
+        assert!((g.views.last_theta_rad.tan() - (t - half_step)).abs() < 1e-12);
+        assert!((vertical.first_theta_rad.tan() + (t - half_step)).abs() < 1e-12);
+        // Every ray leaves its hogel at its view's two angles.
+        for l in [pluto2_hogels(), chimera()] {
+            let g = &l.geometry;
+            let vertical = g.vertical_views.as_ref().unwrap();
+            assert!(l.problems().is_empty(), "{}: {:?}", l.name, l.problems());
+            for (j, e, h, k) in
+                [(0, 0, 0, 0), (g.hololines - 1, g.emitters - 1, g.views.count - 1, vertical.count - 1), (3, 5, 2, 7)]
+            {
+                let ray = g.ray(j, e, g.view_index(h, k));
+                assert_eq!(ray.origin_m, [g.emitter_x_m(e), g.hololine_y_m(j), g.emitter_z_m]);
+                assert!((ray.slope_x - g.views.theta_rad(h).tan()).abs() < 1e-15);
+                assert!((ray.slope_y - vertical.theta_rad(k).tan()).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn a_full_parallax_layout_with_a_fringe_side_is_refused() {
+        let mut l = mark3();
+        l.geometry = l.geometry.clone().with_centred_vertical_views(4, None);
+        assert!(l.problems().iter().any(|p| p.contains("full-parallax") && p.contains("fringe")), "{:?}", l.problems());
+    }
 
     #[test]
     fn mark3_numbers_agree_with_the_paper() {

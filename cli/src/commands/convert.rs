@@ -24,8 +24,8 @@ use holo::pipeline::decide;
 use super::frame_job::{Decided, FrameJob};
 use super::{check_output, inputs_exist, Failure, Outcome};
 use crate::args::{
-    self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, PlacementArgs, SpecularChoice,
-    WriteArgs,
+    self, horizontal_layout_geometry, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice,
+    PlacementArgs, SpecularChoice, WriteArgs,
 };
 use crate::out::{note, say, warn};
 use crate::progress::Reporter;
@@ -100,7 +100,7 @@ pub struct HoloflickArgs {
 }
 
 fn holoflick(a: HoloflickArgs) -> Outcome {
-    let g = layout_geometry(&a.target.layout)?;
+    let g = horizontal_layout_geometry(&a.target.layout, "convert holoflick")?;
     inputs_exist(&[&a.file])?;
     let _claim = check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
     let options = holoflick_options(&a);
@@ -192,7 +192,7 @@ pub struct MeshArgs {
 }
 
 fn mesh(a: MeshArgs) -> Outcome {
-    let g = layout_geometry(&a.target.layout)?;
+    let g = horizontal_layout_geometry(&a.target.layout, "convert mesh")?;
     let options = mesh_options(&a, &g)?;
     inputs_exist(&[&a.scene])?;
     let mut read = vec![a.scene.as_path(), Path::new(&a.target.layout)];
@@ -337,6 +337,12 @@ fn cameras(a: CamerasArgs) -> Outcome {
     let write = &a.target.write;
     let mut g = layout_geometry(&a.target.layout)?;
     if let Some(count) = a.vertical_views {
+        if let Some(vertical) = &g.vertical_views {
+            return Err(Failure(format!(
+                "layout {} is full parallax already ({} vertical views); --vertical-views makes a horizontal-parallax layout full parallax",
+                a.target.layout, vertical.count
+            )));
+        }
         g = g.with_centred_vertical_views(count, a.vertical_cone_deg.map(f64::to_radians));
     }
     inputs_exist(&[&a.input])?;
@@ -454,7 +460,7 @@ impl FrameJob for MeshArgs {
     }
 
     fn decide(&self) -> Result<Decided, Failure> {
-        let g = layout_geometry(&self.target.layout)?;
+        let g = horizontal_layout_geometry(&self.target.layout, "convert mesh")?;
         let options = mesh_options(self, &g)?;
         let mut source = SceneFrames::open(&self.scene, &g, &options.scene, MeshRender::new(&options))?;
         let (frames, placement) = decide(&mut source, self.frames.clone())?;
@@ -474,7 +480,7 @@ impl FrameJob for HoloflickArgs {
     }
 
     fn decide(&self) -> Result<Decided, Failure> {
-        let g = layout_geometry(&self.target.layout)?;
+        let g = horizontal_layout_geometry(&self.target.layout, "convert holoflick")?;
         let options = holoflick_options(self);
         let mut source = HoloFlickSource::open(&self.file, &g, &options)?;
         let (frames, placement) = decide(&mut source, self.frames.clone())?;

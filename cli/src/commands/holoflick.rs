@@ -13,7 +13,7 @@ use holo::holoflick::tools::{info, pack, unpack, PackOptions, PackReport};
 use holo::mesh::convert::SceneFramesOptions;
 
 use super::{check_output, inputs_exist, Outcome};
-use crate::args::{self, layout_geometry, layout_help, PlacementArgs};
+use crate::args::{self, horizontal_layout_geometry, layout_help, PlacementArgs};
 use crate::out::{put, say, warn};
 use crate::progress::Reporter;
 
@@ -175,7 +175,7 @@ pub struct EncodeArgs {
 }
 
 fn run_encode(a: EncodeArgs) -> Outcome {
-    let g = layout_geometry(&a.layout)?;
+    let g = horizontal_layout_geometry(&a.layout, "holoflick encode")?;
     inputs_exist(&[&a.scene])?;
     let _claim = check_output(&a.output, &[&a.scene, Path::new(&a.layout)], a.movie.force)?;
     let m = &a.movie;

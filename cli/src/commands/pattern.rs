@@ -6,7 +6,7 @@ use clap::Args;
 use holo::pattern::{write_pattern, Pattern};
 
 use super::{check_output, wrote, Outcome};
-use crate::args::{self, layout_geometry, layout_help, ChannelsChoice, PatternChoice, WriteArgs};
+use crate::args::{self, horizontal_layout_geometry, layout_help, ChannelsChoice, PatternChoice, WriteArgs};
 use crate::progress::Reporter;
 
 /// Write a display-engineering test pattern for a layout.
@@ -40,7 +40,7 @@ pub struct PatternArgs {
 }
 
 pub fn run(a: PatternArgs) -> Outcome {
-    let mut geometry = layout_geometry(&a.layout)?;
+    let mut geometry = horizontal_layout_geometry(&a.layout, "pattern")?;
     let _claim = check_output(&a.write.output, &[Path::new(&a.layout)], a.write.force)?;
     if let Some(c) = a.channels {
         geometry.channels = c.channels();

@@ -992,3 +992,62 @@ fn a_full_parallax_file_is_described_validated_and_its_views_exported_by_both_in
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o).contains("does not yet make a quilt"), "{}", text(&o));
 }
+
+#[test]
+fn layout_list_names_every_builtin_with_its_parallax_and_full_parallax_layouts_go_where_they_are_taken() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = ok(holo(&["layout", "--list"], d));
+    let listing = text(&o);
+    for name in holo::layout::BUILTIN {
+        let line = listing.lines().find(|l| l.split_whitespace().next() == Some(name));
+        let line = line.unwrap_or_else(|| panic!("{name} not listed:\n{listing}"));
+        let full = holo::layout::builtin(name).unwrap().geometry.vertical_views.is_some();
+        assert!(line.contains(if full { " full " } else { " horizontal " }), "{line}");
+    }
+    assert!(listing.contains("120 × 67") && listing.contains("16 × 16"), "{listing}");
+    let o = ok(holo(&["layout", "--list", "--json"], d));
+    let listed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let listed = listed.as_array().unwrap();
+    assert_eq!(listed.len(), holo::layout::BUILTIN.len());
+    let chimera = listed.iter().find(|l| l["name"] == "chimera").unwrap();
+    assert_eq!((chimera["parallax"].as_str(), chimera["vertical_views"].as_u64()), (Some("full"), Some(32)));
+    assert!(chimera["basis"].is_null());
+    let mark3 = listed.iter().find(|l| l["name"] == "mark3").unwrap();
+    assert_eq!((mark3["parallax"].as_str(), mark3["basis"].as_str()), (Some("horizontal"), Some("chirp")));
+    assert!(mark3.get("vertical_views").is_none());
+    // A name and --list together is a usage error.
+    assert_eq!(holo(&["layout", "mark3", "--list"], d).status.code(), Some(2));
+
+    // A full-parallax profile prints, reads back, and is taken by the converter that makes full parallax ...
+    let profile = ok(holo(&["layout", "pluto2-hogels"], d)).stdout;
+    let text_profile = String::from_utf8(profile.clone()).unwrap();
+    assert!(text_profile.contains("[geometry.vertical_views]") && !text_profile.contains("[fringe"), "{text_profile}");
+    std::fs::write(d.join("hogels.toml"), &profile).unwrap();
+    assert_eq!(ok(holo(&["layout", "hogels.toml"], d)).stdout, profile);
+    // ... and refused, before any work and naming what takes it, by those that make horizontal parallax only.
+    for cmd in [
+        &["convert", "mesh", &spot(), "--layout", "chimera", "-o", "m.holo"][..],
+        &["pattern", "--layout", "hogels.toml", "--kind", "single-emitter", "-o", "p.holo"],
+        &["holoflick", "encode", &spot(), "--layout", "chimera", "-o", "e.hflk"],
+    ] {
+        let o = holo(cmd, d);
+        assert_eq!(o.status.code(), Some(1), "{cmd:?}: {}", text(&o));
+        assert!(text(&o).contains("is full parallax (") && text(&o).contains("holo convert cameras"), "{}", text(&o));
+    }
+    let o = holo(&["convert", "cameras", "x", "--layout", "chimera", "--vertical-views", "4", "-o", "c.holo"], d);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("full parallax already"), "{}", text(&o));
+    // A fringe side on a full-parallax geometry is refused wherever a layout is loaded.
+    let with_fringe = ok(holo(&["layout", "mark3"], d)).stdout;
+    let vertical =
+        "\n[geometry.vertical_views]\ncount = 4\nfirst_theta_rad = -0.1\nlast_theta_rad = 0.1\nspacing = \"tan\"\n";
+    let mut full = String::from_utf8(with_fringe).unwrap().replace("parallax = \"horizontal\"", "parallax = \"full\"");
+    let at = full.find("\n[geometry.views]").unwrap();
+    full.insert_str(at, vertical);
+    std::fs::write(d.join("full3.toml"), full).unwrap();
+    let o = holo(&["layout", "full3.toml"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("has no fringe side yet"), "{}", text(&o));
+    assert!(!["m.holo", "p.holo", "e.hflk", "c.holo"].iter().any(|f| d.join(f).exists()));
+}
