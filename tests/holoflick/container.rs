@@ -4,7 +4,7 @@
 //! truncation, corrupted counts and offsets, bad references, unknown versions
 //! and chunks, random byte flips) giving clear errors and never a panic.
 //! Regenerate the 1.1 vector only on a deliberate format change:
-//! `HOLO_BLESS=1 cargo test --test holo holoflick::container` (then update spec §12).
+//! `HOLO_BLESS=1 cargo test --test holoflick container` (then update spec §12).
 //!
 //! The structural checks are tested on patched files whose checksums
 //! [`reseal`] recomputes, as a careless or hostile writer would leave them:
