@@ -224,9 +224,17 @@ pub fn assemble_file(
 
 fn with_frame(e: Error, input: &Path, frame: usize) -> Error {
     match e {
-        Error::BadSample { hololine, emitter, view, channel, value, why, .. } => {
-            Error::BadSample { path: input.to_path_buf(), frame, hololine, emitter, view, channel, value, why }
-        }
+        Error::BadSample { hololine, emitter, view, vertical_view, channel, value, why, .. } => Error::BadSample {
+            path: input.to_path_buf(),
+            frame,
+            hololine,
+            emitter,
+            view,
+            vertical_view,
+            channel,
+            value,
+            why,
+        },
         other => other,
     }
 }

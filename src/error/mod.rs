@@ -62,7 +62,7 @@ pub enum Error {
         limit: u64,
     },
     /// A sample is NaN, infinite, negative or out of the stored type's range.
-    #[error("{path}: frame {frame}, hololine {hololine}, emitter {emitter}, view {view}, channel {channel}: sample {value} is {why}", path = .path.display())]
+    #[error("{path}: frame {frame}, hololine {hololine}, emitter {emitter}, view {view_text}, channel {channel}: sample {value} is {why}", path = .path.display(), view_text = view_text(*.view, *.vertical_view))]
     BadSample {
         /// The file concerned (or the file being written).
         path: PathBuf,
@@ -72,8 +72,11 @@ pub enum Error {
         hololine: usize,
         /// Emitter index.
         emitter: usize,
-        /// View index.
+        /// View index (full parallax: the horizontal one).
         view: usize,
+        /// Full parallax: the vertical view index (the view is then said as
+        /// `(view vertical_view)`, as a view picture's name says it).
+        vertical_view: Option<usize>,
         /// Channel suffix (`R`, `G`, `B`, `Y`).
         channel: String,
         /// The value found.
@@ -364,5 +367,14 @@ fn no_frame_text(asked: &std::ops::Range<usize>, frames: &usize) -> String {
         format!("has {frames} frame(s); there is no frame {}", asked.start)
     } else {
         format!("frames {}..{} asked for; it has frames 0..{frames}", asked.start, asked.end)
+    }
+}
+
+/// A view as an error names it: its index, or for full parallax its
+/// horizontal and vertical indices, `(h k)`.
+fn view_text(view: usize, vertical_view: Option<usize>) -> String {
+    match vertical_view {
+        Some(k) => format!("({view} {k})"),
+        None => view.to_string(),
     }
 }

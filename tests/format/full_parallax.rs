@@ -203,11 +203,12 @@ fn a_bad_sample_is_refused_before_the_file_is_made() {
     let mut m = random(g.clone(), 1);
     m.set(0, 3, 2, g.view_index(1, 1), f32::NAN);
     let err = write(&path, &m, &options(SampleType::F32, Compression::Zip)).unwrap_err().to_string();
-    assert!(err.contains("not a number"), "{err}");
+    // The view named by its two indices, as its picture's name has them.
+    assert!(err.contains("not a number") && err.contains("view (1 1)"), "{err}");
     let mut m = random(g.clone(), 2);
     m.set(0, 1, 0, g.view_index(0, 1), 1e6);
     let err = write(&path, &m, &options(SampleType::F16, Compression::Zip)).unwrap_err().to_string();
-    assert!(err.contains("too large for f16"), "{err}");
+    assert!(err.contains("too large for f16") && err.contains("view (0 1)"), "{err}");
     assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none(), "nothing left behind");
 }
 
