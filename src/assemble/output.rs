@@ -187,7 +187,7 @@ pub fn assemble_file(
                 FringeFormat::Exr => assembler.assemble_into(&m, &mut floats),
                 _ => assembler.assemble_into(&m, &mut bytes),
             })
-            .map_err(|e| with_frame(e, input, index))?;
+            .map_err(|e| e.in_frame_of(input, index))?;
         let files = names(index);
         let encoding = std::time::Instant::now();
         for (image, name) in files.iter().enumerate() {
@@ -220,23 +220,6 @@ pub fn assemble_file(
     })?;
     timings.add("encode", committing.elapsed());
     Ok(AssembleReport { files, frames, stats: total, resampled, timings })
-}
-
-fn with_frame(e: Error, input: &Path, frame: usize) -> Error {
-    match e {
-        Error::BadSample { hololine, emitter, view, vertical_view, channel, value, why, .. } => Error::BadSample {
-            path: input.to_path_buf(),
-            frame,
-            hololine,
-            emitter,
-            view,
-            vertical_view,
-            channel,
-            value,
-            why,
-        },
-        other => other,
-    }
 }
 
 /// Read a fringe directory's sidecar, once the images it lists are checked

@@ -319,6 +319,24 @@ impl Error {
     pub(crate) fn argument(what: &'static str, problem: impl Into<String>) -> Self {
         Error::Argument { what, problem: problem.into() }
     }
+    /// An [`Error::BadSample`] found in memory (assembly of a frame read
+    /// from `path`) said of that file and frame; any other error as it is.
+    pub(crate) fn in_frame_of(self, path: &std::path::Path, frame: usize) -> Self {
+        match self {
+            Error::BadSample { hololine, emitter, view, vertical_view, channel, value, why, .. } => Error::BadSample {
+                path: path.to_path_buf(),
+                frame,
+                hololine,
+                emitter,
+                view,
+                vertical_view,
+                channel,
+                value,
+                why,
+            },
+            other => other,
+        }
+    }
     /// An [`Error::Argument`] with the file it concerns put before its
     /// sentence; any other error as it is (it names its file already).
     pub(crate) fn naming(self, path: &std::path::Path) -> Self {

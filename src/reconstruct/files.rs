@@ -98,18 +98,7 @@ fn assemble_frame(
 }
 
 fn with_path(e: Error, path: &Path, frame: usize) -> Error {
-    match e {
-        Error::BadSample { hololine, emitter, view, vertical_view, channel, value, why, .. } => Error::BadSample {
-            path: path.to_path_buf(),
-            frame,
-            hololine,
-            emitter,
-            view,
-            vertical_view,
-            channel,
-            value,
-            why,
-        },
+    match e.in_frame_of(path, frame) {
         e @ Error::Argument { .. } => e.naming(path),
         other => other,
     }
