@@ -118,8 +118,8 @@ pub(crate) fn read_meta_and_end(path: &Path) -> crate::error::Result<(MetaData, 
     let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
     // The bytes the parser takes are counted: it consumes exactly the
     // headers (every list it reads ends with a byte it consumes).
-    let mut counted = Counted { inner: std::io::BufReader::new(file), bytes: 0 };
-    let meta = MetaData::read_from_buffered(&mut counted, false).map_err(|e| {
+    let mut reader = Positioned::new(file);
+    let meta = MetaData::read_from_buffered(&mut reader, false).map_err(|e| {
         if let Some(kind) = other_kind(path) {
             return Error::invalid(path, kind);
         }
@@ -128,19 +128,46 @@ pub(crate) fn read_meta_and_end(path: &Path) -> crate::error::Result<(MetaData, 
             _ => Error::exr(path, e),
         }
     })?;
-    Ok((meta, file_bytes, counted.bytes))
+    Ok((meta, file_bytes, reader.at()))
 }
 
-/// A reader that counts the bytes taken from it.
-struct Counted<R> {
-    inner: R,
-    bytes: u64,
+/// A buffered file that knows where it is: what the header parser took,
+/// and the reader's seeks from chunk to chunk, which keep the buffer when
+/// the next chunk follows.
+pub(super) struct Positioned {
+    inner: std::io::BufReader<std::fs::File>,
+    at: u64,
 }
 
-impl<R: std::io::Read> std::io::Read for Counted<R> {
+impl Positioned {
+    pub(super) fn new(file: std::fs::File) -> Positioned {
+        Positioned { inner: std::io::BufReader::new(file), at: 0 }
+    }
+
+    /// The byte position of the next read.
+    pub(super) fn at(&self) -> u64 {
+        self.at
+    }
+
+    pub(super) fn seek_to(&mut self, to: u64) -> std::io::Result<()> {
+        use std::io::Seek;
+        if to != self.at {
+            match i64::try_from(to).ok().zip(i64::try_from(self.at).ok()) {
+                Some((to, at)) => self.inner.seek_relative(to - at)?,
+                None => {
+                    self.inner.seek(std::io::SeekFrom::Start(to))?;
+                }
+            }
+            self.at = to;
+        }
+        Ok(())
+    }
+}
+
+impl std::io::Read for Positioned {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let n = self.inner.read(buf)?;
-        self.bytes += n as u64;
+        self.at += n as u64;
         Ok(n)
     }
 }

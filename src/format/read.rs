@@ -5,7 +5,7 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::io::Read;
 
 use exr::block::chunk::Chunk;
 use exr::block::{BlockIndex, UncompressedBlock};
@@ -15,7 +15,7 @@ use super::channels::{colour_slots, ChannelOrder};
 use half::slice::HalfFloatSliceExt;
 
 use super::digest::{frame_digest, BlockDigest, RowDigest};
-use super::header::{file_info, FileInfo};
+use super::header::{file_info, FileInfo, Positioned};
 use super::{SampleType, MAX_SAMPLES_PER_FRAME};
 use crate::error::{Error, Result};
 use crate::geometry::{Geometry, ViewSpacing};
@@ -527,9 +527,9 @@ impl Container {
         let damaged = |what: String| Error::invalid(path, format!("{what}: the file is damaged"));
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
         let file_bytes = file.metadata().map_err(|e| Error::io(path, e))?.len();
-        let mut file = Positioned { inner: BufReader::new(file), at: 0 };
-        // (offset, part, block) of every chunk wanted.
-        let mut chunks: Vec<(u64, usize, BlockIndex)> = Vec::new();
+        let mut file = Positioned::new(file);
+        // (offset, block) of every chunk wanted.
+        let mut chunks: Vec<(u64, BlockIndex)> = Vec::new();
         for (layer, part) in wanted.parts() {
             let header = self.meta.headers.get(layer).ok_or_else(|| damaged(format!("part {layer} has no header")))?;
             let mut table = vec![0u8; 8 * header.chunk_count];
@@ -568,16 +568,17 @@ impl Container {
                     pixel_position: exr::math::Vec2(x, y),
                     pixel_size: at.size,
                 };
-                chunks.push((offset, layer, block));
+                chunks.push((offset, block));
             }
         }
         // In file order: a whole frame is read front to back.
-        chunks.sort_unstable_by_key(|&(offset, ..)| offset);
+        chunks.sort_unstable_by_key(|&(offset, _)| offset);
         let parallel = file_bytes >= PARALLEL_DECODE_MIN_BYTES;
         let mut batch: Vec<(Chunk, BlockIndex)> = Vec::new();
         let mut batch_bytes = 0;
         let mut chunks = chunks.into_iter().peekable();
-        while let Some((offset, layer, block)) = chunks.next() {
+        while let Some((offset, block)) = chunks.next() {
+            let layer = block.layer;
             file.seek_to(offset).map_err(|e| Error::io(path, e))?;
             let chunk = Chunk::read(&mut file, &self.meta).map_err(|e| Error::exr(path, e))?;
             if chunk.layer_index != layer {
@@ -613,37 +614,6 @@ impl Container {
             }
         }
         Ok(())
-    }
-}
-
-/// A buffered file that knows where it is, so that reading chunks that
-/// follow one another keeps the buffer.
-struct Positioned {
-    inner: BufReader<std::fs::File>,
-    at: u64,
-}
-
-impl Positioned {
-    fn seek_to(&mut self, to: u64) -> std::io::Result<()> {
-        if to != self.at {
-            let by = i64::try_from(to).ok().zip(i64::try_from(self.at).ok()).map(|(to, at)| to - at);
-            match by {
-                Some(by) => self.inner.seek_relative(by)?,
-                None => {
-                    self.inner.seek(SeekFrom::Start(to))?;
-                }
-            }
-            self.at = to;
-        }
-        Ok(())
-    }
-}
-
-impl Read for Positioned {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        self.at += n as u64;
-        Ok(n)
     }
 }
 
