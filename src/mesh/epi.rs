@@ -30,7 +30,8 @@
 use rayon::prelude::*;
 
 use super::fastshade::{self, Attrs, Batch, Column, FastLights, FastMaterial, LightGroups, Run, SegmentTable};
-use super::rays::{HololineRenderer, RenderStats, Shading};
+use super::rays::{HololineRenderer, Rays, RenderStats, Shading};
+use super::Scene;
 use crate::math::{cross, narrow, normalize, sub};
 
 /// One triangle as the rasteriser sees it, made from the scene when a
@@ -91,7 +92,6 @@ pub(crate) struct EpiRenderer<'a> {
 impl<'a> EpiRenderer<'a> {
     pub(crate) fn new(s: Shading<'a>) -> Self {
         let r = s.rays;
-        let span = r.viewer_distance_m - r.emitter_z_m;
         let mut tris = Vec::with_capacity(s.scene.triangle_count());
         let mut vertex_offset = Vec::with_capacity(s.scene.objects.len());
         let mut offset = 0u64;
@@ -100,51 +100,31 @@ impl<'a> EpiRenderer<'a> {
             vertex_offset.push(offset);
             offset += o.positions.len() as u64;
         }
-        // Hololine range of each triangle: a vertex projects from the viewer
-        // line onto the emitter plane at height y_p = (Y − a·y_v)/(1 − a),
-        // a = (Z − z_e)/(D − z_e), and f_j has the sign of y_p − y_j.
-        let h = r.hololine_y_m.len();
-        let top = r.hololine_y_m.first().copied().unwrap_or(0.0);
-        let pitch = if h > 1 { r.hololine_y_m[0] - r.hololine_y_m[1] } else { 1.0 };
-        let ranges: Vec<(usize, usize)> = tris
-            .par_iter()
-            .map(|&(oi, ti)| {
-                let o = &s.scene.objects[oi as usize];
-                let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-                for &vi in &o.triangles[ti as usize] {
-                    let p = o.positions[vi as usize];
-                    let a = (p[2] - r.emitter_z_m) / span;
-                    if a >= 1.0 - 1e-12 {
-                        return (0, h); // reaches the viewer line: every hololine, clipped later
-                    }
-                    let yp = (p[1] - a * r.viewer_height_m) / (1.0 - a);
-                    lo = lo.min(yp);
-                    hi = hi.max(yp);
+        // The planes each triangle cuts ([`Rays::plane`]), family by family,
+        // counted first and then listed: plane `f·n + i` cuts the triangle
+        // when `lo ≤ y_i ≤ hi`, its vertices' heights projected along the
+        // family's rays onto the emitter plane.
+        let (families, n) = (r.plane_families(), r.sub_hololines());
+        let mut start = vec![0usize; families * n + 1];
+        for f in 0..families {
+            for (a, b) in tris.par_iter().map(|&t| plane_range(s.scene, r, f, t)).collect::<Vec<_>>() {
+                for i in a..b {
+                    start[f * n + i + 1] += 1;
                 }
-                // Hololine j (y_j = top − j·pitch) is cut when lo ≤ y_j ≤ hi.
-                let first = ((top - hi) / pitch).ceil().max(0.0);
-                let last = ((top - lo) / pitch).floor();
-                if !(first.is_finite() && last.is_finite()) || last < first || first >= h as f64 || last < 0.0 {
-                    return (0, 0);
-                }
-                (first as usize, (last as usize + 1).min(h))
-            })
-            .collect();
-        let mut start = vec![0usize; h + 1];
-        for &(a, b) in &ranges {
-            for j in a..b {
-                start[j + 1] += 1;
             }
         }
-        for j in 0..h {
-            start[j + 1] += start[j];
+        for p in 0..families * n {
+            start[p + 1] += start[p];
         }
         let mut fill = start.clone();
-        let mut bucket = vec![0u32; start[h]];
-        for (i, &(a, b)) in ranges.iter().enumerate() {
-            for j in a..b {
-                bucket[fill[j]] = i as u32;
-                fill[j] += 1;
+        let mut bucket = vec![0u32; start[families * n]];
+        for f in 0..families {
+            let ranges: Vec<(usize, usize)> = tris.par_iter().map(|&t| plane_range(s.scene, r, f, t)).collect();
+            for (ti, (a, b)) in ranges.into_iter().enumerate() {
+                for i in a..b {
+                    bucket[fill[f * n + i]] = ti as u32;
+                    fill[f * n + i] += 1;
+                }
             }
         }
         let lights = LightGroups::new(s.scene, s.lighting);
@@ -180,7 +160,7 @@ impl<'a> EpiRenderer<'a> {
     /// back-face cull dropped.
     fn segments(&self, j: usize) -> (Vec<Segment>, u64) {
         let r = self.s.rays;
-        let (y, k) = (r.hololine_y_m[j], r.hololine_slope[j]);
+        let (y, k) = r.plane(j);
         let z_max = r.viewer_distance_m;
         let (s_first, s_last) = (r.sub_view_slope[0], r.sub_view_slope[r.sub_view_slope.len() - 1]);
         let mut out = Vec::new();
@@ -573,6 +553,45 @@ impl SeeThrough {
 /// 32 bits, whose conversions from f64 are one instruction (a sub-emitter
 /// count is far below 2³¹).
 #[inline]
+/// The sub-hololines `a..b` of plane family `f` ([`Rays::plane`]) whose
+/// planes cut triangle `(object, triangle)`. A vertex `(X, Y, Z)` lies in
+/// the plane of sub-hololine `i` when `Y − y_i = k (Z − z_e)`: for full
+/// parallax `k` is the family's, and the vertex projects along it onto the
+/// emitter plane at `y_p = Y − k (Z − z_e)`; for horizontal parallax every
+/// plane passes through the viewer line, and the vertex projects from it at
+/// `y_p = (Y − a·y_v)/(1 − a)`, `a = (Z − z_e)/(D − z_e)`. Plane `i` cuts
+/// the triangle when `y_i` lies between its vertices' `y_p`.
+fn plane_range(scene: &Scene, r: &Rays, f: usize, (oi, ti): (u32, u32)) -> (usize, usize) {
+    let o = &scene.objects[oi as usize];
+    let span = r.viewer_distance_m - r.emitter_z_m;
+    let n = r.sub_hololines();
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &vi in &o.triangles[ti as usize] {
+        let p = o.positions[vi as usize];
+        let yp = match r.vertical_view_slope.get(f) {
+            Some(&k) => p[1] - k * (p[2] - r.emitter_z_m),
+            None => {
+                let a = (p[2] - r.emitter_z_m) / span;
+                if a >= 1.0 - 1e-12 {
+                    return (0, n); // reaches the viewer line: every hololine, clipped later
+                }
+                (p[1] - a * r.viewer_height_m) / (1.0 - a)
+            }
+        };
+        lo = lo.min(yp);
+        hi = hi.max(yp);
+    }
+    let top = r.hololine_y_m.first().copied().unwrap_or(0.0);
+    let pitch = if n > 1 { r.hololine_y_m[0] - r.hololine_y_m[1] } else { 1.0 };
+    // Sub-hololine i (y_i = top − i·pitch) is cut when lo ≤ y_i ≤ hi.
+    let first = ((top - hi) / pitch).ceil().max(0.0);
+    let last = ((top - lo) / pitch).floor();
+    if !(first.is_finite() && last.is_finite()) || last < first || first >= n as f64 || last < 0.0 {
+        return (0, 0);
+    }
+    (first as usize, (last as usize + 1).min(n))
+}
+
 fn ceil_clamped(x: f64, n: u32) -> u32 {
     let x = x.clamp(0.0, n as f64); // NaN stays NaN and converts to 0
     let i = x as i32;
@@ -649,7 +668,7 @@ impl EpiRenderer<'_> {
         let g = self.s.geometry;
         let (e_count, v_count) = (g.emitters, g.views.count);
         let (se, sv) = (r.supersample.emitter, r.supersample.view);
-        let k = r.hololine_slope[j];
+        let k = r.plane(j).1;
         let z_e = r.emitter_z_m;
         let n_sub = r.sub_emitter_x_m.len();
         let x_first = r.sub_emitter_x_m[0];

@@ -12,6 +12,15 @@
 //! aperture, and views at fractional view indices `v + (i + ½)/S_v − ½`
 //! mapped through the file's spacing rule ([`Geometry::ray_at`]), so the
 //! sub-rays tile each view's angular interval.
+//!
+//! Every ray of one hololine lies in one plane, `y − y_j = k_j (z − z_e)`,
+//! and the renderers draw a scene plane by plane ([`Rays::plane`]). A
+//! full-parallax geometry (spec §8) has one such plane per hololine and
+//! vertical view `w`: its rays have `dy/dz = tan φ_w` whatever their
+//! horizontal view ([`Geometry::ray_at_views`]), so `(j, w)`'s rays lie in
+//! `y − y_j = tan φ_w (z − z_e)`. Vertical views are supersampled as
+//! horizontal ones are, `S_v` sub-views across each vertical view's
+//! interval, and hololines by `S_h` sub-hololines in both kinds.
 
 use super::shade::Lighting;
 use super::Scene;
@@ -81,8 +90,14 @@ pub struct Rays {
     /// sub-hololine `j·S_h + t` is at `y_j + pitch · (½ − (t + ½)/S_h)`
     /// (`y_j` itself when `S_h` is 1).
     pub hololine_y_m: Vec<f64>,
-    /// `k = dy/dz` per sub-hololine.
+    /// `k = dy/dz` per sub-hololine: toward the viewer line (horizontal
+    /// parallax only; empty for full parallax, whose slopes are
+    /// [`Rays::vertical_view_slope`]).
     pub hololine_slope: Vec<f64>,
+    /// Full parallax: `tan φ` of every sub-vertical-view, `W·S_v` of them,
+    /// at fractional vertical view indices `w + (i + ½)/S_v − ½`; empty for
+    /// horizontal parallax.
+    pub vertical_view_slope: Vec<f64>,
     /// `z_e`.
     pub emitter_z_m: f64,
     /// `D`.
@@ -131,12 +146,24 @@ impl Rays {
                 g.hololine_y_m(j) + g.hololine_pitch_m * (0.5 - (t as f64 + 0.5) / s.hololine as f64)
             })
             .collect();
-        let hololine_slope = hololine_y_m.iter().map(|&y| g.ray_slope_y(y)).collect();
+        let (hololine_slope, vertical_view_slope) = match &g.vertical_views {
+            None => (hololine_y_m.iter().map(|&y| g.ray_slope_y(y)).collect(), Vec::new()),
+            Some(vertical) => (
+                Vec::new(),
+                (0..vertical.count * s.view)
+                    .map(|i| {
+                        let (w, k) = (i / s.view, i % s.view);
+                        vertical.theta_at(w as f64 + (k as f64 + 0.5) / s.view as f64 - 0.5).tan()
+                    })
+                    .collect(),
+            ),
+        };
         Ok(Rays {
             sub_emitter_x_m,
             sub_view_slope,
             hololine_y_m,
             hololine_slope,
+            vertical_view_slope,
             emitter_z_m: g.emitter_z_m,
             viewer_distance_m: g.viewer_distance_m,
             viewer_height_m: g.viewer_height_m,
@@ -145,10 +172,42 @@ impl Rays {
     }
 }
 
-/// What an engine does for one hololine: fill `rows` completely (one per
-/// channel, each `E × V` in the modulation's order) and count its work.
+impl Rays {
+    /// Sub-hololines, `H·S_h`.
+    pub fn sub_hololines(&self) -> usize {
+        self.hololine_y_m.len()
+    }
+
+    /// Families of parallel-or-concurrent planes: 1 for horizontal parallax
+    /// (every hololine's plane passes through the viewer line), `W·S_v` for
+    /// full parallax (one family of parallel planes per sub-vertical-view).
+    pub fn plane_families(&self) -> usize {
+        self.vertical_view_slope.len().max(1)
+    }
+
+    /// Planes the renderers draw: [`Rays::sub_hololines`] per family.
+    pub fn planes(&self) -> usize {
+        self.sub_hololines() * self.plane_families()
+    }
+
+    /// Plane `p`'s `(y, k)`: its rays leave the emitter plane at height `y`
+    /// with `dy/dz = k`, so they lie in `y' − y = k (z − z_e)`. Plane
+    /// `p = f · H·S_h + i` is sub-hololine `i` of family `f`.
+    pub fn plane(&self, p: usize) -> (f64, f64) {
+        let n = self.sub_hololines();
+        let (f, i) = (p / n, p % n);
+        match self.vertical_view_slope.get(f) {
+            Some(&k) => (self.hololine_y_m[i], k),
+            None => (self.hololine_y_m[i], self.hololine_slope[i]),
+        }
+    }
+}
+
+/// What an engine does for one plane of rays ([`Rays::plane`]): fill
+/// `rows` completely (one per channel, each `E × V`, emitter by emitter,
+/// horizontal views within) and count its work.
 pub(crate) trait HololineRenderer: Sync {
-    fn render_hololine(&self, j: usize, rows: &mut [&mut [f32]]) -> RenderStats;
+    fn render_hololine(&self, plane: usize, rows: &mut [&mut [f32]]) -> RenderStats;
 }
 
 /// What both engines share.

@@ -138,10 +138,9 @@ pub fn render_into(
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = channel_weights(&names);
     let shading = Shading { scene, lighting: &lighting, weights: &weights, rays: &rays, geometry };
-    let per_hololine = options.supersample.hololine;
     let stats = match options.engine {
-        Engine::Fast => run(&super::epi::EpiRenderer::new(shading), per_hololine, frame, progress),
-        Engine::Reference => run(&super::trace::TraceRenderer::new(shading), per_hololine, frame, progress),
+        Engine::Fast => run(&super::epi::EpiRenderer::new(shading), &rays, frame, progress),
+        Engine::Reference => run(&super::trace::TraceRenderer::new(shading), &rays, frame, progress),
     };
     if progress.cancelled() {
         return Err(Error::Cancelled);
@@ -149,21 +148,20 @@ pub fn render_into(
     Ok(stats)
 }
 
-/// Every hololine of `frame` from `engine`, whose rays have `per_hololine`
-/// sub-hololines per hololine ([`Rays::hololine_y_m`]): their mean.
-fn run(
-    engine: &dyn HololineRenderer,
-    per_hololine: usize,
-    frame: &mut Modulation,
-    progress: &dyn Progress,
-) -> RenderStats {
+/// Every hololine of `frame` from `engine`, drawing the planes of `rays`
+/// ([`Rays::plane`]): a sample is the mean over its hololine's
+/// sub-hololines and, for full parallax, its vertical view's sub-views.
+fn run(engine: &dyn HololineRenderer, rays: &Rays, frame: &mut Modulation, progress: &dyn Progress) -> RenderStats {
     let g = frame.geometry();
-    let (h, e, v, c) = (g.hololines, g.emitters, g.views.count, g.channels.len());
+    let (h, e, v, c, w_count) = (g.hololines, g.emitters, g.views.count, g.channels.len(), g.vertical_view_count());
+    let (per_hololine, n) = (rays.supersample.hololine, rays.sub_hololines());
+    // Sub-views per vertical view: the plane families of one vertical view.
+    let per_vertical = rays.plane_families() / w_count;
     let steps = Steps::begin(progress, "hololines", h);
-    // Each hololine's rows, one per channel: the samples are (C, H, E × V).
-    // The engines write straight into them.
+    // Each hololine's rows, one per channel: the samples are (C, H, E × V·W).
+    // The engines write straight into them when a sample is one plane's.
     let mut rows: Vec<Vec<&mut [f32]>> = (0..h).map(|_| Vec::with_capacity(c)).collect();
-    for (i, row) in frame.samples_mut().chunks_exact_mut(e * v).enumerate() {
+    for (i, row) in frame.samples_mut().chunks_exact_mut(e * v * w_count).enumerate() {
         rows[i % h].push(row);
     }
     rows.into_par_iter()
@@ -174,19 +172,32 @@ fn run(
             if steps.cancelled() {
                 return RenderStats::default();
             }
-            let stats = if per_hololine == 1 {
+            let stats = if per_hololine * per_vertical == 1 && w_count == 1 {
                 engine.render_hololine(j, &mut rows)
             } else {
-                // Each sub-hololine into a scratch row, their mean into the frame.
+                // Each plane into a scratch row, the mean of a vertical
+                // view's planes into `mean`, and that into its place among
+                // each emitter's views (`w·V + h`).
                 let mut stats = RenderStats::default();
-                let mut scratch: Vec<Vec<f32>> = rows.iter().map(|r| vec![0.0; r.len()]).collect();
-                rows.iter_mut().for_each(|r| r.fill(0.0));
-                let share = 1.0 / per_hololine as f32;
-                for t in 0..per_hololine {
-                    let mut sub: Vec<&mut [f32]> = scratch.iter_mut().map(|r| r.as_mut_slice()).collect();
-                    stats += engine.render_hololine(j * per_hololine + t, &mut sub);
-                    for (row, sub) in rows.iter_mut().zip(&scratch) {
-                        row.iter_mut().zip(sub).for_each(|(a, b)| *a += share * b);
+                let mut scratch: Vec<Vec<f32>> = (0..c).map(|_| vec![0.0; e * v]).collect();
+                let mut mean: Vec<Vec<f32>> = scratch.clone();
+                let share = 1.0 / (per_hololine * per_vertical) as f32;
+                for w in 0..w_count {
+                    mean.iter_mut().for_each(|r| r.fill(0.0));
+                    for u in 0..per_vertical {
+                        for t in 0..per_hololine {
+                            let plane = (w * per_vertical + u) * n + j * per_hololine + t;
+                            let mut sub: Vec<&mut [f32]> = scratch.iter_mut().map(|r| r.as_mut_slice()).collect();
+                            stats += engine.render_hololine(plane, &mut sub);
+                            for (m, sub) in mean.iter_mut().zip(&scratch) {
+                                m.iter_mut().zip(sub).for_each(|(a, b)| *a += share * b);
+                            }
+                        }
+                    }
+                    for (row, m) in rows.iter_mut().zip(&mean) {
+                        for (emitter_views, m) in row.chunks_exact_mut(v * w_count).zip(m.chunks_exact(v)) {
+                            emitter_views[w * v..(w + 1) * v].copy_from_slice(m);
+                        }
                     }
                 }
                 stats

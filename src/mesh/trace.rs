@@ -75,12 +75,12 @@ impl<'a> TraceRenderer<'a> {
 }
 
 impl HololineRenderer for TraceRenderer<'_> {
-    fn render_hololine(&self, j: usize, rows: &mut [&mut [f32]]) -> RenderStats {
+    fn render_hololine(&self, plane: usize, rows: &mut [&mut [f32]]) -> RenderStats {
         let r = self.s.rays;
         let g = self.s.geometry;
         let (e_count, v_count) = (g.emitters, g.views.count);
         let (se, sv) = (r.supersample.emitter, r.supersample.view);
-        let (y, k) = (r.hololine_y_m[j], r.hololine_slope[j]);
+        let (y, k) = r.plane(plane);
         let norm = 1.0 / (se * sv) as f64;
         let mut stats = RenderStats::default();
         for e in 0..e_count {
@@ -125,30 +125,59 @@ pub fn eye_picture(
     pupil_m: f64,
     pupil_samples: usize,
 ) -> crate::error::Result<Vec<f32>> {
+    let n = pupil_samples.max(1);
+    let pupil: Vec<[f64; 3]> = (0..n)
+        .map(|p| {
+            let x = eye_x_m + pupil_m * ((p as f64 + 0.5) / n as f64 - 0.5);
+            [x, geometry.viewer_height_m, geometry.viewer_distance_m]
+        })
+        .collect();
+    picture_through(scene, lighting, geometry, &pupil)
+}
+
+/// [`eye_picture`] for an eye anywhere in front of the display, at
+/// `eye_m = (x, y, z)`, a pinhole: for each hololine `j` and emitter `e`, the
+/// radiance along the ray from `(x_e, y_j, z_e)` to the eye. What a perfect
+/// full-parallax display shows that eye (a horizontal-parallax display shows
+/// it only on the viewer line).
+pub fn eye_picture_at(
+    scene: &super::Scene,
+    lighting: &super::shade::Lighting,
+    geometry: &crate::geometry::Geometry,
+    eye_m: [f64; 3],
+) -> crate::error::Result<Vec<f32>> {
+    picture_through(scene, lighting, geometry, &[eye_m])
+}
+
+/// The picture of [`eye_picture`]: each sample the mean radiance along the
+/// rays from its emitter to each point of `pupil`.
+fn picture_through(
+    scene: &super::Scene,
+    lighting: &super::shade::Lighting,
+    geometry: &crate::geometry::Geometry,
+    pupil: &[[f64; 3]],
+) -> crate::error::Result<Vec<f32>> {
     use rayon::prelude::*;
     let rays = super::rays::Rays::new(geometry, super::rays::Supersample::new(1, 1))?;
     let names: Vec<&str> = geometry.channels.iter().map(|c| c.name.as_str()).collect();
     let weights = crate::geometry::channel_weights(&names);
     let s = Shading { scene, lighting, weights: &weights, rays: &rays, geometry };
     let tracer = TraceRenderer::new(s);
-    let n = pupil_samples.max(1);
+    let n = pupil.len() as f64;
+    let z_e = geometry.emitter_z_m;
     let rows: Vec<Vec<f32>> = (0..geometry.hololines)
         .into_par_iter()
         .map(|j| {
             let mut row = Vec::with_capacity(geometry.emitters * weights.len());
+            let y = geometry.hololine_y_m(j);
             for e in 0..geometry.emitters {
                 let x = geometry.emitter_x_m(e);
                 let mut sum = [0.0; 3];
-                for p in 0..n {
-                    let eye = eye_x_m + pupil_m * ((p as f64 + 0.5) / n as f64 - 0.5);
-                    if let Some(rgb) = tracer.trace(
-                        x,
-                        rays.hololine_y_m[j],
-                        geometry.ray_slope_x_toward(x, eye),
-                        rays.hololine_slope[j],
-                    ) {
+                for eye in pupil {
+                    let span = eye[2] - z_e;
+                    if let Some(rgb) = tracer.trace(x, y, (eye[0] - x) / span, (eye[1] - y) / span) {
                         for c in 0..3 {
-                            sum[c] += rgb[c] / n as f64;
+                            sum[c] += rgb[c] / n;
                         }
                     }
                 }

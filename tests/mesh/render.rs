@@ -676,3 +676,72 @@ fn hololine_supersampling_antialiases_edges_near_the_horizontal() {
     assert!(hard_partial < 0.02 && smooth_partial > 0.12, "{hard_partial} {smooth_partial}");
     assert!(smooth < hard / 4.0 && smooth < 0.02, "{hard} {smooth}");
 }
+
+/// [`small_geometry`] made full parallax: 16 × 7 views over ±20° × ±12°.
+pub(crate) fn small_full_parallax_geometry(emitter_z_m: f64) -> Geometry {
+    let mut g = small_geometry(emitter_z_m);
+    g.views = Views::tan_spaced(16, -20f64.to_radians(), 20f64.to_radians());
+    g.with_vertical_views(Views::tan_spaced(7, -12f64.to_radians(), 12f64.to_radians()))
+}
+
+/// Full parallax draws one plane of rays per hololine and vertical view: the
+/// fast rasteriser against the reference ray caster, supersampled in every
+/// axis, on random scenes across the emitter plane.
+#[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
+fn fast_equals_reference_in_full_parallax() {
+    for (seed, z_e, model, ss) in [
+        (21, 0.0, SpecularModel::Blinn, Supersample::new(1, 1)),
+        (22, 0.01, SpecularModel::Phong, Supersample::new(2, 2)),
+        (23, -0.02, SpecularModel::Blinn, Supersample { emitter: 1, view: 3, hololine: 2 }),
+    ] {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let scene = random_scene(&mut rng, 60);
+        let g = small_full_parallax_geometry(z_e);
+        let options =
+            RenderOptions { supersample: ss, engine: Engine::Fast, ..RenderOptions::lit_exactly(lighting(model)) };
+        let (reference, off, mean) = fast_against_reference(seed, &scene, &g, &options);
+        assert!(off < 0.005 && mean < 0.005, "seed {seed}: fast path differs from the reference");
+        // The vertical views differ: the scene has depth.
+        let (top, bottom) = (g.view_index(8, 0), g.view_index(8, 6));
+        let differ = (0..g.hololines)
+            .flat_map(|j| (0..g.emitters).map(move |e| (j, e)))
+            .filter(|&(j, e)| reference.get(0, j, e, top) != reference.get(0, j, e, bottom))
+            .count();
+        assert!(differ > g.hololines * g.emitters / 10, "seed {seed}: vertical views differ at {differ} emitters");
+    }
+}
+
+/// A full-parallax sample is what its ray sees: each sample of a render
+/// without supersampling equals the pinhole picture of an eye placed on its
+/// ray ([`holo::mesh::trace::eye_picture_at`]), for views in every corner of
+/// the grid, in front of and behind the emitter plane.
+#[test]
+fn full_parallax_samples_are_the_rays_of_their_views() {
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    let scene = random_scene(&mut rng, 45);
+    let g = small_full_parallax_geometry(0.0);
+    let light = lighting(SpecularModel::Blinn);
+    let options = RenderOptions {
+        supersample: Supersample::new(1, 1),
+        engine: Engine::Reference,
+        ..RenderOptions::lit_exactly(light.clone())
+    };
+    let (m, _) = render(&scene, &g, &options, &holo::progress::Silent).unwrap();
+    let mut lit = 0;
+    for (h, w) in [(0, 0), (15, 0), (0, 6), (15, 6), (7, 3)] {
+        // An eye 0.4 m in front of emitter (10, 20) along view (h, w): it sees
+        // that emitter in that view; other emitters it sees at other angles.
+        let (j, e) = (10, 20);
+        let ray = g.ray(j, e, g.view_index(h, w));
+        let eye = ray.at_z(0.4);
+        let picture = holo::mesh::trace::eye_picture_at(&scene, &light, &g, eye).unwrap();
+        for c in 0..3 {
+            let want = picture[(j * g.emitters + e) * 3 + c];
+            let got = m.get(c, j, e, g.view_index(h, w));
+            assert!((got - want).abs() <= 1e-6 * want.abs().max(1e-3), "view ({h} {w}) channel {c}: {got} vs {want}");
+            lit += usize::from(want > 0.0);
+        }
+    }
+    assert!(lit >= 6, "the chosen rays meet the scene ({lit} lit)");
+}
