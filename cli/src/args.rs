@@ -331,6 +331,36 @@ fn missing_file(name: &str) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Vertical views added to a horizontal-parallax layout (`convert mesh`,
+/// `convert cameras`): the file made full parallax (spec §8).
+#[derive(Args, Clone, Debug, Default)]
+pub struct VerticalViewsArgs {
+    /// Full parallax: this many vertical views per emitter besides the layout's horizontal ones
+    /// (spec §8); 2 to 64.
+    #[arg(long = "vertical-views", value_name = "N", value_parser = whole(2, 64))]
+    pub vertical_views: Option<usize>,
+    /// Full parallax: degrees from the lowest vertical view to the highest, centred on the
+    /// display's normal (default: the layout's horizontal view cone).
+    #[arg(long = "vertical-cone", value_name = "DEG", requires = "vertical_views", value_parser = angle_below_180_degrees())]
+    pub vertical_cone_deg: Option<f64>,
+}
+
+impl VerticalViewsArgs {
+    /// The geometry of layout `name` (as [`layout_geometry`]) with these
+    /// vertical views; a full-parallax layout is refused when some are asked for.
+    pub fn geometry(&self, name: &str) -> Result<Geometry, Failure> {
+        let g = layout_geometry(name)?;
+        let Some(count) = self.vertical_views else { return Ok(g) };
+        if let Some(vertical) = &g.vertical_views {
+            return Err(Failure(format!(
+                "layout {name} is full parallax already ({} vertical views); --vertical-views makes a horizontal-parallax layout full parallax",
+                vertical.count
+            )));
+        }
+        Ok(g.with_centred_vertical_views(count, self.vertical_cone_deg.map(f64::to_radians)))
+    }
+}
+
 /// Where a scene goes in the display (`convert mesh`, `holoflick encode`):
 /// fitted into the display's volume unless a scale or a matrix is given
 /// (`holo::mesh::place`).

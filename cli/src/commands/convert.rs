@@ -84,7 +84,8 @@ pub struct HoloflickArgs {
     /// Frames to convert: N, A..B or A..=B (split a movie across machines); default all.
     #[arg(long, value_parser = args::range())]
     frames: Option<Range<usize>>,
-    /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN.
+    /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN; full parallax: VIEWS sub-views
+    /// across each view in both directions.
     #[arg(long, default_value = "2x2", value_parser = args::by(64, true))]
     supersample: (usize, usize),
     /// Lines across each hololine's height, averaged (antialiases edges near the horizontal), 1 to 64.
@@ -154,7 +155,8 @@ pub struct MeshArgs {
     /// Frames per second at which animations are sampled: a number, or an exact fraction such as 24000/1001.
     #[arg(long, default_value = "30", value_parser = args::frame_rate())]
     fps: f64,
-    /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN.
+    /// Sub-rays per sample, EMITTERSxVIEWS (e.g. 2x2) or N for NxN; full parallax: VIEWS sub-views
+    /// across each view in both directions.
     #[arg(long, default_value = "2x2", value_parser = args::by(64, true))]
     supersample: (usize, usize),
     /// Lines across each hololine's height, averaged (antialiases edges near the horizontal), 1 to 64.
@@ -184,6 +186,8 @@ pub struct MeshArgs {
     /// Render with the reference ray caster (slow; for checking).
     #[arg(long)]
     reference: bool,
+    #[command(flatten)]
+    vertical: args::VerticalViewsArgs,
     /// Give objects without normals (scans, old exporters) smooth ones: edges
     /// between faces within DEG of each other are smoothed (30 is a common
     /// choice); without it they are shaded flat.
@@ -192,7 +196,7 @@ pub struct MeshArgs {
 }
 
 fn mesh(a: MeshArgs) -> Outcome {
-    let g = horizontal_layout_geometry(&a.target.layout, "convert mesh")?;
+    let g = a.vertical.geometry(&a.target.layout)?;
     let options = mesh_options(&a, &g)?;
     inputs_exist(&[&a.scene])?;
     let mut read = vec![a.scene.as_path(), Path::new(&a.target.layout)];
@@ -323,28 +327,13 @@ pub struct CamerasArgs {
     /// Locate rays among the cameras by brute force (slow; for checking).
     #[arg(long)]
     reference: bool,
-    /// Full parallax: this many vertical views per emitter besides the layout's horizontal ones
-    /// (spec §8), so a 2-D capture keeps its vertical parallax; 2 to 64.
-    #[arg(long = "vertical-views", value_name = "N", value_parser = args::whole(2, 64))]
-    vertical_views: Option<usize>,
-    /// Full parallax: degrees from the lowest vertical view to the highest, centred on the
-    /// display's normal (default: the layout's horizontal view cone).
-    #[arg(long = "vertical-cone", value_name = "DEG", requires = "vertical_views", value_parser = args::angle_below_180_degrees())]
-    vertical_cone_deg: Option<f64>,
+    #[command(flatten)]
+    vertical: args::VerticalViewsArgs,
 }
 
 fn cameras(a: CamerasArgs) -> Outcome {
     let write = &a.target.write;
-    let mut g = layout_geometry(&a.target.layout)?;
-    if let Some(count) = a.vertical_views {
-        if let Some(vertical) = &g.vertical_views {
-            return Err(Failure(format!(
-                "layout {} is full parallax already ({} vertical views); --vertical-views makes a horizontal-parallax layout full parallax",
-                a.target.layout, vertical.count
-            )));
-        }
-        g = g.with_centred_vertical_views(count, a.vertical_cone_deg.map(f64::to_radians));
-    }
+    let g = a.vertical.geometry(&a.target.layout)?;
     inputs_exist(&[&a.input])?;
     let _claim = check_output(&write.output, &[&a.input, Path::new(&a.target.layout)], write.force)?;
     let _mask_claim =
@@ -460,7 +449,7 @@ impl FrameJob for MeshArgs {
     }
 
     fn decide(&self) -> Result<Decided, Failure> {
-        let g = horizontal_layout_geometry(&self.target.layout, "convert mesh")?;
+        let g = self.vertical.geometry(&self.target.layout)?;
         let options = mesh_options(self, &g)?;
         let mut source = SceneFrames::open(&self.scene, &g, &options.scene, MeshRender::new(&options))?;
         let (frames, placement) = decide(&mut source, self.frames.clone())?;

@@ -44,15 +44,18 @@ pub fn command_line(c: &Conversion, info: &FileInfo) -> CommandLine {
         parallax: holo::geometry::Parallax::Horizontal,
         ..info.geometry.clone()
     };
-    let builtin = holo::layout::BUILTIN
-        .into_iter()
-        .find(|name| holo::layout::builtin(name).is_some_and(|l| l.geometry == horizontal));
-    let layout = builtin.unwrap_or_else(|| {
+    let builtin_of = |g: &holo::Geometry| {
+        holo::layout::BUILTIN.into_iter().find(|name| holo::layout::builtin(name).is_some_and(|l| l.geometry == *g))
+    };
+    // A full-parallax built-in is named as it is; any other full-parallax
+    // geometry as a horizontal one with vertical views.
+    let full_builtin = builtin_of(&info.geometry).filter(|_| info.geometry.vertical_views.is_some());
+    let layout = full_builtin.or_else(|| builtin_of(&horizontal)).unwrap_or_else(|| {
         a.unsaid.push("the layout, which no built-in one is: LAYOUT stands for it".into());
         "LAYOUT"
     });
     a.push(["--layout", layout, "-o", "OUT.holo"]);
-    if let Some(vertical) = &info.geometry.vertical_views {
+    if let (Some(vertical), None) = (&info.geometry.vertical_views, full_builtin) {
         let cone_deg = (vertical.last_theta_rad - vertical.first_theta_rad).to_degrees();
         a.flag("--vertical-views", vertical.count);
         a.flag("--vertical-cone", cone_deg);
