@@ -65,6 +65,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{Geometry, Views};
 use crate::modulation::Modulation;
 use crate::picture::{encode_png, Bits, Colour, Tone, White};
+use crate::sampling::linear_taps;
 
 /// The layout of a quilt and the cameras that fill it.
 #[derive(Clone, Debug, PartialEq)]
@@ -335,21 +336,6 @@ pub struct Quilt {
     pub beyond_views: Vec<u64>,
 }
 
-/// Linear interpolation taps of fractional index `f` among `n` samples,
-/// each sample covering `±½` about its index; `None` outside.
-fn taps(f: f64, n: usize) -> Option<[(usize, f32); 2]> {
-    if !(-0.5..=n as f64 - 0.5).contains(&f) {
-        return None;
-    }
-    if n == 1 {
-        return Some([(0, 1.0), (0, 0.0)]);
-    }
-    let f = f.clamp(0.0, (n - 1) as f64);
-    let i = (f.floor() as usize).min(n - 2);
-    let t = (f - i as f64) as f32;
-    Some([(i, 1.0 - t), (i + 1, t)])
-}
-
 /// Resample one frame of modulation into a quilt (see the module's text for
 /// the cameras and the interpolation).
 pub fn quilt_from_modulation(m: &Modulation, spec: &QuiltSpec) -> Result<Quilt> {
@@ -387,9 +373,13 @@ pub fn quilt_from_modulation(m: &Modulation, spec: &QuiltSpec) -> Result<Quilt> 
                 let u = (px % spec.tile_width) as f64;
                 let (x, y) = f.point(spec, u, v);
                 let theta = g.ray_slope_x_toward(x, f.eye_x[i]).atan();
-                let tj = taps((g.hololine_top_y_m - y) / g.hololine_pitch_m, g.hololines);
-                let te = taps((x - g.emitter_left_x_m) / g.emitter_pitch_m, g.emitters);
-                let tv = if g.views.count == 1 { taps(0.0, 1) } else { taps(g.views.index_at(theta), g.views.count) };
+                let tj = linear_taps((g.hololine_top_y_m - y) / g.hololine_pitch_m, g.hololines);
+                let te = linear_taps((x - g.emitter_left_x_m) / g.emitter_pitch_m, g.emitters);
+                let tv = if g.views.count == 1 {
+                    linear_taps(0.0, 1)
+                } else {
+                    linear_taps(g.views.index_at(theta), g.views.count)
+                };
                 let (Some(tj), Some(te), Some(tv)) = (tj, te, tv) else {
                     outside += 1;
                     beyond[px / spec.tile_width] += u64::from(tj.is_some() && te.is_some());

@@ -9,6 +9,7 @@ pub mod check;
 pub mod coherent;
 pub(crate) mod field;
 pub mod files;
+pub mod light_field;
 pub mod picture;
 pub mod propagate;
 pub(crate) mod solve;
