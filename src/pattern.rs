@@ -21,6 +21,9 @@ pub enum PatternKind {
     EveryNthEmitter,
     /// Brightness rising linearly from view 0 (dark) to the last view (full).
     ViewRamp,
+    /// Full parallax: brightness rising linearly from the lowest vertical
+    /// view (dark) to the highest (full).
+    VerticalViewRamp,
     /// Eight vertical bars: white, yellow, cyan, green, magenta, red, blue,
     /// black (grey levels for one channel), the same in every view.
     ColourBars,
@@ -30,11 +33,12 @@ pub enum PatternKind {
 
 impl PatternKind {
     /// Every kind with its command-line name.
-    pub const ALL: [(PatternKind, &'static str); 6] = [
+    pub const ALL: [(PatternKind, &'static str); 7] = [
         (PatternKind::SingleEmitter, "single-emitter"),
         (PatternKind::SingleView, "single-view"),
         (PatternKind::EveryNthEmitter, "every-nth-emitter"),
         (PatternKind::ViewRamp, "view-ramp"),
+        (PatternKind::VerticalViewRamp, "vertical-view-ramp"),
         (PatternKind::ColourBars, "colour-bars"),
         (PatternKind::Checkerboard, "checkerboard"),
     ];
@@ -59,6 +63,8 @@ pub struct Pattern {
     pub emitter: Option<usize>,
     /// View of `single-view` (default: the centre one).
     pub view: Option<usize>,
+    /// Full parallax: vertical view of `single-view` (default: the centre one).
+    pub vertical_view: Option<usize>,
     /// Spacing of `every-nth-emitter` (default 8).
     pub every: usize,
     /// Cell size of `checkerboard` in hololines and emitters (default 8).
@@ -70,13 +76,16 @@ pub struct Pattern {
 impl Pattern {
     /// A pattern with default parameters.
     pub fn new(kind: PatternKind) -> Self {
-        Pattern { kind, emitter: None, view: None, every: 8, cell: 8, level: 1.0 }
+        Pattern { kind, emitter: None, view: None, vertical_view: None, every: 8, cell: 8, level: 1.0 }
     }
 
-    /// One-line description for provenance (`holo.source`).
+    /// One-line description for provenance (`holo.source`); a vertical
+    /// view is said only when one is given, so horizontal-parallax patterns
+    /// say what they always said.
     pub fn describe(&self) -> String {
+        let vertical = self.vertical_view.map(|k| format!(" vertical_view={k}")).unwrap_or_default();
         format!(
-            "holo pattern kind={} emitter={:?} view={:?} every={} cell={} level={}",
+            "holo pattern kind={} emitter={:?} view={:?}{vertical} every={} cell={} level={}",
             self.kind.name(),
             self.emitter,
             self.view,
@@ -106,6 +115,18 @@ impl Pattern {
         };
         let emitter = pick("emitter", self.emitter, g.emitters)?;
         let view = pick("view", self.view, g.views.count)?;
+        let full_parallax_only = match self.kind {
+            PatternKind::VerticalViewRamp => Some("the vertical-view-ramp pattern"),
+            _ => self.vertical_view.map(|_| "a vertical view"),
+        };
+        if let (Some(what), None) = (full_parallax_only, &g.vertical_views) {
+            return Err(Error::argument(
+                "pattern",
+                format!("{what} needs a full-parallax layout: this one has horizontal parallax only"),
+            ));
+        }
+        let vertical_view = pick("vertical view", self.vertical_view, g.vertical_view_count())?;
+        let vertical_views = g.vertical_view_count();
         if self.every == 0 || self.cell == 0 {
             return Err(Error::argument("pattern", "the emitter spacing and checker cell must each be at least 1"));
         }
@@ -122,14 +143,23 @@ impl Pattern {
             [0., 0., 1.],
             [0., 0., 0.],
         ];
-        Modulation::from_fn(g.clone(), |c, j, e, v| {
+        Modulation::from_fn(g.clone(), |c, j, e, index| {
+            // Horizontal and vertical view (the vertical one 0 for horizontal parallax).
+            let (v, k) = g.view_of_index(index);
             let lit = match self.kind {
                 PatternKind::SingleEmitter => f32::from(e == emitter),
-                PatternKind::SingleView => f32::from(v == view),
+                PatternKind::SingleView => f32::from(v == view && k == vertical_view),
                 PatternKind::EveryNthEmitter => f32::from(e % self.every == 0),
                 PatternKind::ViewRamp => {
                     if views > 1 {
                         v as f32 / (views - 1) as f32
+                    } else {
+                        1.0
+                    }
+                }
+                PatternKind::VerticalViewRamp => {
+                    if vertical_views > 1 {
+                        k as f32 / (vertical_views - 1) as f32
                     } else {
                         1.0
                     }

@@ -299,7 +299,7 @@ pub fn horizontal_layout_geometry(name: &str, command: &str) -> Result<Geometry,
     match &g.vertical_views {
         None => Ok(g),
         Some(vertical) => Err(Failure(format!(
-            "layout {name} is full parallax ({} × {} views); `holo {command}` makes horizontal parallax only so far (`holo convert cameras` takes it)",
+            "layout {name} is full parallax ({} × {} views); `holo {command}` makes horizontal parallax only so far (`holo convert mesh`, `convert cameras` and `pattern` take it)",
             g.views.count, vertical.count
         ))),
     }

@@ -1027,17 +1027,27 @@ fn layout_list_names_every_builtin_with_its_parallax_and_full_parallax_layouts_g
     assert_eq!(ok(holo(&["layout", "hogels.toml"], d)).stdout, profile);
     // ... and refused, before any work and naming what takes it, by those that make horizontal parallax only.
     for cmd in [
-        &["convert", "mesh", &spot(), "--layout", "chimera", "-o", "m.holo"][..],
-        &["pattern", "--layout", "hogels.toml", "--kind", "single-emitter", "-o", "p.holo"],
-        &["holoflick", "encode", &spot(), "--layout", "chimera", "-o", "e.hflk"],
+        &["holoflick", "encode", &spot(), "--layout", "chimera", "-o", "e.hflk"][..],
+        &["convert", "holoflick", "nothing.hflk", "--layout", "chimera", "-o", "h.holo"],
     ] {
         let o = holo(cmd, d);
         assert_eq!(o.status.code(), Some(1), "{cmd:?}: {}", text(&o));
-        assert!(text(&o).contains("is full parallax (") && text(&o).contains("holo convert cameras"), "{}", text(&o));
+        assert!(text(&o).contains("is full parallax (") && text(&o).contains("convert cameras"), "{}", text(&o));
     }
-    let o = holo(&["convert", "cameras", "x", "--layout", "chimera", "--vertical-views", "4", "-o", "c.holo"], d);
-    assert_eq!(o.status.code(), Some(1));
-    assert!(text(&o).contains("full parallax already"), "{}", text(&o));
+    // A pattern in both axes: the vertical view ramp rises from the lowest vertical view to the highest.
+    ok(holo(&["pattern", "--layout", "hogels.toml", "--kind", "vertical-view-ramp", "-o", "ramp.holo"], d));
+    let m = holo::read(&d.join("ramp.holo")).unwrap();
+    let g = m.geometry().clone();
+    assert_eq!((m.get(0, 3, 5, g.view_index(7, 0)), m.get(0, 3, 5, g.view_index(7, 15))), (0.0, 1.0));
+    let o = holo(&["pattern", "--layout", "mark1", "--kind", "vertical-view-ramp", "-o", "q.holo"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("needs a full-parallax layout") && !d.join("q.holo").exists(), "{}", text(&o));
+    for cmd in ["mesh", "cameras"] {
+        let input = if cmd == "mesh" { spot() } else { "x".to_string() };
+        let o = holo(&["convert", cmd, &input, "--layout", "chimera", "--vertical-views", "4", "-o", "c.holo"], d);
+        assert_eq!(o.status.code(), Some(1), "{cmd}: {}", text(&o));
+        assert!(text(&o).contains("full parallax already"), "{cmd}: {}", text(&o));
+    }
     // A fringe side on a full-parallax geometry is refused wherever a layout is loaded.
     let with_fringe = ok(holo(&["layout", "mark3"], d)).stdout;
     let vertical =
