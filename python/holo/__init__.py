@@ -13,6 +13,8 @@ display sends in every view direction. This package reads and writes them as num
     images = holo.assemble(frame, mark3)      # the display's frame-buffer images, uint8
     seen = holo.view(frame, mark3, [0.0])     # what an eye at x = 0 sees, [hololine, emitter, channel]
 
+A full-parallax file's frames have five axes, ``[channel, hololine, emitter, vertical view, view]``.
+
 Heavy calls release the GIL, so other Python threads run meanwhile. Errors are ``holo.HoloError`` or one of
 its kinds: ``FileError`` (the operating system refused), ``FormatError`` (not a readable .holo file) and
 ``InputError`` (an argument or array that does not fit); each message is one sentence naming the file.
