@@ -1,5 +1,5 @@
-"""Full-parallax frames (spec/holo-format.md §8) from Python: five axes, regions by rows and by views, and writing
-(README, "Full parallax"), checked against OpenEXR's own reading of each view.
+"""Full-parallax frames (spec/holo-format.md §8) from Python: five axes, regions by rows and by views, writing, and
+the light-field tools' axis orders (README, "Full parallax"), checked against OpenEXR's own reading of each view.
 
 Every array written here says in each sample where it stands (`encoded`), so a sample put in the wrong place
 cannot pass for a right one; none is zero.
@@ -161,3 +161,94 @@ def test_the_geometry_says_its_parallax_and_a_dict_carries_it():
     with pytest.raises(holo.InputError, match="vertical view count is zero"):
         hp.with_vertical_views(0)
     assert hp.with_vertical_views(2, cone_rad=0.1).vertical_view_angles_rad == pytest.approx([-0.05, 0.05])
+
+
+def test_each_axis_order_puts_every_sample_where_its_table_says():
+    C, H, E, W, V = shape = full_geometry().shape
+    frame = encoded(shape)
+    assert set(holo.AXIS_ORDERS) == {"holo", "lftoolbox", "olas"}
+    # Light Field Toolbox, LF[t, s, v, u, c]: t the view row, counted downward (against k).
+    lf = holo.to_axes(frame, "lftoolbox")
+    t, s, v, u, c = np.indices(lf.shape)
+    assert lf.shape == (W, V, H, E, C) and np.array_equal(lf, frame[c, v, u, W - 1 - t, s])
+    # OLAS, lightField[My, Mx, Ny, Nx, C]: Mx the view column, counted leftward (against h).
+    ol = holo.to_axes(frame, "olas")
+    my, mx, ny, nx, c = np.indices(ol.shape)
+    assert ol.shape == (W, V, H, E, C) and np.array_equal(ol, frame[c, ny, nx, my, V - 1 - mx])
+    assert np.array_equal(holo.to_axes(frame, "holo"), frame)
+    for order in holo.AXIS_ORDERS:
+        # Views of the same samples, and exact both ways.
+        there = holo.to_axes(frame, order)
+        assert np.shares_memory(there, frame), order
+        assert np.array_equal(holo.from_axes(there, order), frame), order
+        theirs = encoded(there.shape)
+        assert np.array_equal(holo.to_axes(holo.from_axes(theirs, order), order), theirs), order
+
+
+def test_each_axis_order_points_where_its_table_says():
+    # The samples of a frame set to each axis' physical quantity: view directions φ (up) and θ (right), and
+    # the emitters' y and x. Along each of an order's axes they must run as the README's table says.
+    g = full_geometry(vertical_views=3)
+    C, H, E, W, V = g.shape
+    quantities = {
+        "phi": np.array(g.vertical_view_angles_rad)[None, None, None, :, None],
+        "theta": np.array(g.view_angles_rad)[None, None, None, None, :],
+        "y": np.array(g.hololine_y_m)[None, :, None, None, None],
+        "x": np.array(g.emitter_x_m)[None, None, :, None, None],
+    }
+    frames = {name: np.broadcast_to(q, g.shape) for name, q in quantities.items()}
+
+    def along(order, name, axis):
+        a = np.moveaxis(holo.to_axes(frames[name], order), axis, 0)
+        return a.reshape(a.shape[0], -1)[:, 0]
+
+    def rises(x):
+        return bool(np.all(np.diff(x) > 0))
+
+    def falls(x):
+        return bool(np.all(np.diff(x) < 0))
+
+    # [t, s, v, u, c]: t downward, s rightward, v downward, u rightward.
+    assert falls(along("lftoolbox", "phi", 0)) and rises(along("lftoolbox", "theta", 1))
+    assert falls(along("lftoolbox", "y", 2)) and rises(along("lftoolbox", "x", 3))
+    # [My, Mx, Ny, Nx, C]: My upward, Mx leftward, Ny downward, Nx rightward.
+    assert rises(along("olas", "phi", 0)) and falls(along("olas", "theta", 1))
+    assert falls(along("olas", "y", 2)) and rises(along("olas", "x", 3))
+
+
+def test_axis_orders_refuse_what_they_cannot_convert():
+    g = full_geometry()
+    frame = encoded(g.shape)
+    with pytest.raises(holo.InputError, match="'lftoolbox'"):
+        holo.to_axes(frame, "tsvuc")
+    with pytest.raises(holo.InputError, match="3 axes"):
+        holo.to_axes(frame[0, 0], "olas")
+    with pytest.raises(holo.InputError, match="not a numpy array"):
+        holo.from_axes([[1.0]], "olas")
+    # With a geometry, the shape is checked, said in the order's own axes.
+    wrong = np.ones((5, 2, 4, 6, 3), np.float32)
+    with pytest.raises(holo.InputError, match=re.escape("shape (5, 2, 4, 6, 3) [t, s, v, u, c]; the geometry's frames are (2, 5, 4, 6, 3)")):
+        holo.from_axes(wrong, "lftoolbox", g)
+    # A horizontal-parallax frame is one row of views, and comes back with its four axes.
+    hp = holo.open(FIXTURES / "v1.1" / "frames-rgb-f32-zip.holo")
+    f = hp.frame(1)
+    lf = holo.to_axes(f, "lftoolbox")
+    assert lf.shape == (1, hp.geometry.views, hp.geometry.hololines, hp.geometry.emitters, 3)
+    assert np.array_equal(holo.from_axes(lf, "lftoolbox", hp.geometry), f)
+
+
+@pytest.mark.parametrize("order", ["lftoolbox", "olas"])
+def test_a_file_written_from_a_toolbox_ordered_array_reads_back_equal(tmp_path, order):
+    g = full_geometry(vertical_views=3)
+    C, H, E, W, V = g.shape
+    theirs = encoded(holo.to_axes(np.empty(g.shape, np.float32), order).shape)
+    path = tmp_path / f"{order}.holo"
+    holo.write(path, holo.from_axes(theirs, order, g), g, sample_type="f32")
+    assert np.array_equal(holo.to_axes(holo.open(path).frame(0), order), theirs)
+    # Each stored view, as OpenEXR reads it, is the toolbox's picture of that view.
+    for (_, h, k), pixels in openexr_views(path).items():
+        if order == "lftoolbox":
+            want = theirs[W - 1 - k, h]
+        else:
+            want = theirs[k, V - 1 - h]
+        assert np.array_equal(pixels, np.moveaxis(want, -1, 0)), (h, k)
