@@ -13,11 +13,16 @@ display sends in every view direction. This package reads and writes them as num
     images = holo.assemble(frame, mark3)      # the display's frame-buffer images, uint8
     seen = holo.view(frame, mark3, [0.0])     # what an eye at x = 0 sees, [hololine, emitter, channel]
 
+A full-parallax file's frames have five axes, ``[channel, hololine, emitter, vertical view, view]``;
+``to_axes(frame, "lftoolbox")`` and ``from_axes(array, "lftoolbox")`` convert them to and from the light-field
+tools' orders (``AXIS_ORDERS``: the Light Field Toolbox's ``[t, s, v, u, c]``, OLAS's ``[My, Mx, Ny, Nx, C]``).
+
 Heavy calls release the GIL, so other Python threads run meanwhile. Errors are ``holo.HoloError`` or one of
 its kinds: ``FileError`` (the operating system refused), ``FormatError`` (not a readable .holo file) and
 ``InputError`` (an argument or array that does not fit); each message is one sentence naming the file.
 """
 
+from ._axes import AXIS_ORDERS, from_axes, to_axes
 from ._holo import (
     FileError,
     FormatError,
@@ -38,6 +43,7 @@ from ._holo import (
 )
 
 __all__ = [
+    "AXIS_ORDERS",
     "FileError",
     "FormatError",
     "Geometry",
@@ -48,9 +54,11 @@ __all__ = [
     "assemble",
     "check",
     "convert_mesh",
+    "from_axes",
     "open",
     "render_mesh",
     "resample_cameras",
+    "to_axes",
     "validate",
     "view",
     "write",

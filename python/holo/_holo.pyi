@@ -35,7 +35,13 @@ class Geometry:
         """Hololines (rows)."""
     @property
     def views(self) -> int:
-        """Views per emitter."""
+        """Views per emitter (full parallax: horizontal views, V)."""
+    @property
+    def parallax(self) -> str:
+        """"horizontal" (views vary in θ only, toward the viewer line) or "full" (a grid of views, spec §8)."""
+    @property
+    def vertical_views(self) -> Optional[int]:
+        """Full parallax: vertical views per emitter (W); None for horizontal parallax."""
     @property
     def channels(self) -> list[str]:
         """Colour channel names in sample order ("R", "G", "B" or "Y")."""
@@ -43,8 +49,9 @@ class Geometry:
     def wavelengths_m(self) -> list[float]:
         """Each channel's vacuum wavelength, metres."""
     @property
-    def shape(self) -> Tuple[int, int, int, int]:
-        """The shape of one frame's array: (channels, hololines, emitters, views)."""
+    def shape(self) -> Tuple[int, ...]:
+        """The shape of one frame's array: (channels, hololines, emitters, views), or for full parallax
+        (channels, hololines, emitters, vertical_views, views)."""
     @property
     def emitter_pitch_m(self) -> float:
         """Distance between emitters along a hololine, metres."""
@@ -61,8 +68,18 @@ class Geometry:
     def view_angles_rad(self) -> list[float]:
         """Every view's horizontal direction, radians, ascending."""
     @property
+    def vertical_view_angles_rad(self) -> Optional[list[float]]:
+        """Full parallax: every vertical view's direction (φ, from +z toward +y), radians, ascending; None for
+        horizontal parallax."""
+    @property
     def emitter_x_m(self) -> list[float]:
         """x of every emitter's centre, metres."""
+    @property
+    def hololine_y_m(self) -> list[float]:
+        """y of every hololine (full parallax: emitter row), metres, from hololine 0 at the top downward."""
+    def with_vertical_views(self, count: int, cone_rad: Optional[float] = None) -> "Geometry":
+        """This geometry made full parallax with `count` vertical views, tan-spaced and centred on the normal over
+        cone_rad (default: the horizontal views' cone), as `holo convert cameras --vertical-views N` makes it."""
     def to_dict(self) -> dict[str, Any]:
         """Every field, as the .holo spec names them; Geometry.from_dict takes it back."""
     @staticmethod
@@ -86,17 +103,22 @@ class HoloFile:
         """What the header says: version, sample_type, compression, frames, frames_per_second, source,
         software, scale, unit, file_bytes, placement."""
     def frame(self, index: int, dtype: Any = None) -> Frame:
-        """Frame `index` as an array [channel, hololine, emitter, view]; its digest is checked. float32 by
-        default; dtype=numpy.float16 hands back an f16 file's samples as stored, without a float32 pass."""
+        """Frame `index` as an array [channel, hololine, emitter, view] (full parallax: [channel, hololine,
+        emitter, vertical view, view]); its digest is checked. float32 by default; dtype=numpy.float16 hands back
+        an f16 file's samples as stored, without a float32 pass."""
     def region(
         self,
         index: int,
         hololines: Optional[Tuple[int, int]] = None,
         emitters: Optional[Tuple[int, int]] = None,
         dtype: Any = None,
+        *,
+        views: Optional[Tuple[int, int]] = None,
+        vertical_views: Optional[Tuple[int, int]] = None,
     ) -> Frame:
-        """Hololines (first, end) and emitters (first, end) of frame `index`, every channel and view; float32,
-        or float16 with dtype=numpy.float16."""
+        """Hololines, emitters, views and (full parallax) vertical views, each (first, end), default all, of frame
+        `index`, with frame()'s axes; float32, or float16 with dtype=numpy.float16. Only the chunks holding those
+        hololines are decoded, and of a full-parallax file only those views' parts."""
 
 class Layout:
     """A display layout (spec/layouts.md): the geometry the display expects and its frame buffer; checked when made."""
@@ -189,8 +211,8 @@ def write(
     frames_per_second: Optional[float] = None,
     overwrite: bool = False,
 ) -> None:
-    """Write frames to a new .holo file: one frame, an array of frames, a sequence, or an iterator
-    (give frame_count); frames from an iterator are taken one at a time."""
+    """Write frames to a new .holo file: one frame (geometry.shape: five axes for full parallax), an array of
+    frames, a sequence, or an iterator (give frame_count); frames from an iterator are taken one at a time."""
 
 def validate(path: PathLike) -> dict[str, Any]:
     """Check a .holo file against the spec, every frame and digest: {valid, problems, warnings, frames}."""

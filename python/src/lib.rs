@@ -3,7 +3,8 @@
 //!
 //! A thin layer over the library: every call is one library call, with the
 //! GIL released while it works, numpy arrays in and out (samples in the
-//! library's own order, `[channel, hololine, emitter, view]`, so a frame
+//! library's own order, `[channel, hololine, emitter, view]`, or for full
+//! parallax `[channel, hololine, emitter, vertical view, view]`, so a frame
 //! becomes an array without a copy), and the library's errors as Python
 //! exceptions carrying the same one-sentence messages.
 
@@ -11,12 +12,12 @@ use std::borrow::Cow;
 use std::path::PathBuf;
 
 use numpy::{
-    IntoPyArray, PyArray3, PyArray4, PyArrayDescrMethods, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+    IntoPyArray, PyArray3, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyIterator};
+use pyo3::types::{PyDict, PyIterator, PyTuple};
 
 use std::sync::Mutex;
 
@@ -59,6 +60,28 @@ fn to_py(e: holo::Error) -> PyErr {
     }
 }
 
+/// The shape of one frame of `g` as an array: `[channel, hololine, emitter,
+/// view]`, or for full parallax `[channel, hololine, emitter, vertical view,
+/// view]`. Either is the order of a [`holo::Modulation`]'s samples (spec §8,
+/// "In memory": an emitter's views run `k · V + h`), so a frame becomes an
+/// array, and a C-ordered array a frame, without reordering.
+fn frame_shape(g: &holo::Geometry) -> Vec<usize> {
+    let mut shape = vec![g.channels.len(), g.hololines, g.emitters];
+    if let Some(vertical) = &g.vertical_views {
+        shape.push(vertical.count);
+    }
+    shape.push(g.views.count);
+    shape
+}
+
+/// The names of [`frame_shape`]'s axes, for messages.
+fn frame_axes(g: &holo::Geometry) -> &'static str {
+    match g.vertical_views {
+        None => "[channel, hololine, emitter, view]",
+        Some(_) => "[channel, hololine, emitter, vertical view, view]",
+    }
+}
+
 /// The geometry of a modulation texture, in physical units (metres,
 /// radians): what the display's emitters, hololines and views are.
 #[pyclass(module = "holo", frozen)]
@@ -79,10 +102,25 @@ impl Geometry {
     fn hololines(&self) -> usize {
         self.inner.hololines
     }
-    /// Views per emitter.
+    /// Views per emitter (full parallax: horizontal views, `V`).
     #[getter]
     fn views(&self) -> usize {
         self.inner.views.count
+    }
+    /// `"horizontal"` (views vary in `θ` only, toward the viewer line) or
+    /// `"full"` (a grid of views per emitter, spec §8).
+    #[getter]
+    fn parallax(&self) -> &'static str {
+        match self.inner.parallax {
+            holo::geometry::Parallax::Horizontal => "horizontal",
+            holo::geometry::Parallax::Full => "full",
+        }
+    }
+    /// Full parallax: vertical views per emitter (`W`); `None` for
+    /// horizontal parallax.
+    #[getter]
+    fn vertical_views(&self) -> Option<usize> {
+        self.inner.vertical_views.as_ref().map(|v| v.count)
     }
     /// Colour channel names, in sample order (`R`, `G`, `B` or `Y`).
     #[getter]
@@ -94,11 +132,12 @@ impl Geometry {
     fn wavelengths_m(&self) -> Vec<f64> {
         self.inner.channels.iter().map(|c| c.wavelength_m).collect()
     }
-    /// The shape of one frame's array: `(channels, hololines, emitters, views)`.
+    /// The shape of one frame's array: `(channels, hololines, emitters,
+    /// views)`, or for full parallax `(channels, hololines, emitters,
+    /// vertical_views, views)`.
     #[getter]
-    fn shape(&self) -> (usize, usize, usize, usize) {
-        let g = &self.inner;
-        (g.channels.len(), g.hololines, g.emitters, g.views.count)
+    fn shape<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(py, frame_shape(&self.inner))
     }
     /// Distance between emitters along a hololine, metres.
     #[getter]
@@ -125,10 +164,31 @@ impl Geometry {
     fn view_angles_rad(&self) -> Vec<f64> {
         (0..self.inner.views.count).map(|v| self.inner.views.theta_rad(v)).collect()
     }
+    /// Full parallax: every vertical view's direction (`φ`, from `+z`
+    /// toward `+y`), radians, ascending; `None` for horizontal parallax.
+    #[getter]
+    fn vertical_view_angles_rad(&self) -> Option<Vec<f64>> {
+        self.inner.vertical_views.as_ref().map(|v| (0..v.count).map(|k| v.theta_rad(k)).collect())
+    }
     /// `x` of every emitter's centre, metres.
     #[getter]
     fn emitter_x_m(&self) -> Vec<f64> {
         (0..self.inner.emitters).map(|e| self.inner.emitter_x_m(e)).collect()
+    }
+    /// `y` of every hololine (full parallax: emitter row), metres, from
+    /// hololine 0 at the top downward.
+    #[getter]
+    fn hololine_y_m(&self) -> Vec<f64> {
+        (0..self.inner.hololines).map(|j| self.inner.hololine_y_m(j)).collect()
+    }
+    /// This geometry made full parallax (spec §8) with `count` vertical
+    /// views, tan-spaced and centred on the display's normal over `cone_rad`
+    /// from the lowest to the highest (by default the horizontal views' own
+    /// cone), as `holo convert cameras --vertical-views N` makes it; checked
+    /// as `from_dict` is.
+    #[pyo3(signature = (count, cone_rad=None))]
+    fn with_vertical_views(&self, count: usize, cone_rad: Option<f64>) -> PyResult<Geometry> {
+        checked(self.inner.clone().with_centred_vertical_views(count, cone_rad))
     }
     /// Every field, as the `.holo` spec names them (a dict of plain values;
     /// `Geometry.from_dict` takes it back).
@@ -142,25 +202,35 @@ impl Geometry {
         let text: String = py.import("json")?.call_method1("dumps", (fields,))?.extract()?;
         let inner: holo::Geometry =
             serde_json::from_str(&text).map_err(|e| InputError::new_err(format!("the dict is not a geometry: {e}")))?;
-        let problems = inner.frame_problems();
-        if !problems.is_empty() {
-            return Err(InputError::new_err(format!("invalid geometry: {}", problems.join("; "))));
-        }
-        Ok(Geometry { inner })
+        checked(inner)
     }
     fn __eq__(&self, other: &Geometry) -> bool {
         self.inner == other.inner
     }
     fn __repr__(&self) -> String {
         let g = &self.inner;
+        let vertical = match &g.vertical_views {
+            Some(v) => format!(" × {} vertical views", v.count),
+            None => String::new(),
+        };
         format!(
-            "Geometry({} emitters × {} hololines × {} views, channels {:?})",
+            "Geometry({} emitters × {} hololines × {} views{vertical}, channels {:?})",
             g.emitters,
             g.hololines,
             g.views.count,
             self.channels()
         )
     }
+}
+
+/// `inner` for Python if it is valid and a frame of it fits a `.holo` frame
+/// (checked without making one: a huge geometry is refused, not allocated).
+fn checked(inner: holo::Geometry) -> PyResult<Geometry> {
+    let problems = inner.frame_problems();
+    if !problems.is_empty() {
+        return Err(InputError::new_err(format!("invalid geometry: {}", problems.join("; "))));
+    }
+    Ok(Geometry { inner })
 }
 
 /// A `.holo` file opened for reading: its header is read and checked, its
@@ -178,22 +248,20 @@ fn sample_type_name(t: SampleType) -> &'static str {
     }
 }
 
-/// Samples of `g`'s shape as a numpy array `[channel, hololine, emitter,
-/// view]`, without a copy.
-fn samples_array<'py, T: holo::format::FrameSample + numpy::Element>(
+/// Samples of a frame of `g` (or of a region, `g` its part) as a numpy
+/// array of [`frame_shape`], without a copy.
+fn samples_array<'py, T: numpy::Element>(
     py: Python<'py>,
     g: &holo::Geometry,
     samples: Vec<T>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let shape = [g.channels.len(), g.hololines, g.emitters, g.views.count];
-    Ok(samples.into_pyarray(py).reshape(shape)?.into_any())
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
+    samples.into_pyarray(py).reshape(frame_shape(g))
 }
 
 /// A frame's samples as a numpy array, without a copy.
-fn frame_array(py: Python<'_>, m: holo::Modulation) -> PyResult<Bound<'_, PyArray4<f32>>> {
-    let g = m.geometry();
-    let shape = [g.channels.len(), g.hololines, g.emitters, g.views.count];
-    m.into_samples().into_pyarray(py).reshape(shape)
+fn frame_array(py: Python<'_>, m: holo::Modulation) -> PyResult<Bound<'_, PyArrayDyn<f32>>> {
+    let g = m.geometry().clone();
+    samples_array(py, &g, m.into_samples())
 }
 
 /// The element type a read hands back: float32 unless `dtype` (anything
@@ -250,7 +318,8 @@ impl HoloFile {
         Ok(d)
     }
     /// Frame `index` as an array of shape `geometry.shape`, axes `[channel,
-    /// hololine, emitter, view]`; its digest is checked. float32 by default;
+    /// hololine, emitter, view]` (full parallax: `[channel, hololine,
+    /// emitter, vertical view, view]`); its digest is checked. float32 by default;
     /// `dtype=numpy.float16` hands back an f16 file's samples as stored,
     /// without a float32 pass (an f32 file's are rounded; one too large for
     /// float16 is an error).
@@ -264,17 +333,21 @@ impl HoloFile {
         let g = self.inner.geometry();
         if read_dtype_is_f16(py, dtype)? {
             let samples = py.allow_threads(|| self.inner.read_frame_samples::<half::f16>(index)).map_err(to_py)?;
-            samples_array(py, g, samples)
+            Ok(samples_array(py, g, samples)?.into_any())
         } else {
             let samples = py.allow_threads(|| self.inner.read_frame_samples::<f32>(index)).map_err(to_py)?;
-            samples_array(py, g, samples)
+            Ok(samples_array(py, g, samples)?.into_any())
         }
     }
-    /// Part of frame `index`: hololines `hololines = (first, end)` and
-    /// emitters `emitters = (first, end)` (default all), every channel and
-    /// view; an array `[channel, hololine, emitter, view]` of that part,
-    /// float32 or (`dtype=numpy.float16`) float16 as `frame` says.
-    #[pyo3(signature = (index, hololines=None, emitters=None, dtype=None))]
+    /// Part of frame `index`: hololines `hololines = (first, end)`,
+    /// emitters `emitters = (first, end)`, (horizontal) views `views =
+    /// (first, end)` and, full parallax only, vertical views `vertical_views
+    /// = (first, end)` (each by default all), every channel; an array of
+    /// that part with `frame`'s axes, float32 or (`dtype=numpy.float16`)
+    /// float16 as `frame` says. Only the chunks holding those hololines are
+    /// decoded, and of a full-parallax file only those views' parts.
+    #[pyo3(signature = (index, hololines=None, emitters=None, dtype=None, *, views=None, vertical_views=None))]
+    #[allow(clippy::too_many_arguments)]
     fn region<'py>(
         &self,
         py: Python<'py>,
@@ -282,23 +355,39 @@ impl HoloFile {
         hololines: Option<(usize, usize)>,
         emitters: Option<(usize, usize)>,
         dtype: Option<&Bound<'py, PyAny>>,
+        views: Option<(usize, usize)>,
+        vertical_views: Option<(usize, usize)>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let g = self.inner.geometry();
+        if g.vertical_views.is_none() && vertical_views.is_some() {
+            return Err(InputError::new_err(format!(
+                "{}: vertical_views given, but the file is horizontal parallax: it has no vertical views",
+                self.inner.path().display()
+            )));
+        }
         let all = Region::all(g);
+        let range =
+            |given: Option<(usize, usize)>, all: &std::ops::Range<usize>| given.map_or(all.clone(), |(a, b)| a..b);
         let region = Region {
-            hololines: hololines.map_or(all.hololines.clone(), |(a, b)| a..b),
-            emitters: emitters.map_or(all.emitters.clone(), |(a, b)| a..b),
-            ..all
+            hololines: range(hololines, &all.hololines),
+            emitters: range(emitters, &all.emitters),
+            views: range(views, &all.views),
+            vertical_views: range(vertical_views, &all.vertical_views),
         };
-        let mut shape = g.clone();
-        (shape.hololines, shape.emitters) = (region.hololines.len(), region.emitters.len());
+        // The part's own shape, for the array.
+        let mut part = g.clone();
+        (part.hololines, part.emitters, part.views.count) =
+            (region.hololines.len(), region.emitters.len(), region.views.len());
+        if let Some(vertical) = &mut part.vertical_views {
+            vertical.count = region.vertical_views.len();
+        }
         if read_dtype_is_f16(py, dtype)? {
             let samples =
                 py.allow_threads(|| self.inner.read_region_samples::<half::f16>(index, &region)).map_err(to_py)?;
-            samples_array(py, &shape, samples)
+            Ok(samples_array(py, &part, samples)?.into_any())
         } else {
             let samples = py.allow_threads(|| self.inner.read_region_samples::<f32>(index, &region)).map_err(to_py)?;
-            samples_array(py, &shape, samples)
+            Ok(samples_array(py, &part, samples)?.into_any())
         }
     }
     fn __repr__(&self) -> String {
@@ -337,20 +426,21 @@ fn float32_array<'py>(array: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReado
 }
 
 /// A real floating-point array ([`float32_array`]) of exactly `g`'s frame
-/// shape as a modulation (copied).
+/// shape ([`frame_shape`]) as a modulation (copied).
 fn modulation_of(g: &holo::Geometry, array: &Bound<'_, PyAny>, index: usize) -> PyResult<holo::Modulation> {
     let array = float32_array(array, &format!("frame {index}"))?;
-    let want = [g.channels.len(), g.hololines, g.emitters, g.views.count];
+    let want = frame_shape(g);
     if array.shape() != want {
         return Err(InputError::new_err(format!(
-            "frame {index}: an array of shape {:?}; the geometry's frames are {:?} [channel, hololine, emitter, view]",
+            "frame {index}: an array of shape {:?}; the geometry's frames are {:?} {}",
             array.shape(),
-            want
+            want,
+            frame_axes(g)
         )));
     }
     // A contiguous slice is in memory order, which for a Fortran-ordered
-    // array is not [channel, hololine, emitter, view]: only a C-ordered one
-    // is copied as it lies.
+    // array is not the frame's axis order: only a C-ordered one is copied as
+    // it lies.
     let samples = match array.as_slice() {
         Ok(s) if array.is_c_contiguous() => s.to_vec(),
         _ => array.as_array().iter().copied().collect(),
@@ -359,7 +449,8 @@ fn modulation_of(g: &holo::Geometry, array: &Bound<'_, PyAny>, index: usize) -> 
 }
 
 /// Write frames to a new `.holo` file. `frames` is one frame (an array of
-/// `geometry.shape`, float32 or any other real floating-point type, converted), an array of frames (one more leading axis),
+/// `geometry.shape`, float32 or any other real floating-point type, converted;
+/// five axes for a full-parallax geometry), an array of frames (one more leading axis),
 /// a sequence of frames, or an iterator or generator of frames (give
 /// `frame_count`: the file's headers say how many frames follow). Frames from
 /// an iterator are taken one at a time, so a long movie is never in memory.
@@ -405,10 +496,21 @@ fn write(
     let ndim = frames.getattr("ndim").ok().and_then(|n| n.extract::<usize>().ok());
     let items: Vec<Bound<'_, PyAny>>;
     let mut iterator: Option<Bound<'_, PyIterator>> = None;
+    let frame_ndim = frame_shape(g).len();
     let count = match ndim {
-        Some(4) => {
+        Some(n) if n == frame_ndim => {
             items = vec![frames.clone()];
             1
+        }
+        // Fewer axes than a frame: neither a frame nor frames (a
+        // horizontal-parallax frame given for a full-parallax geometry).
+        Some(n) if n < frame_ndim => {
+            let shape: Vec<usize> = frames.getattr("shape")?.extract()?;
+            return Err(InputError::new_err(format!(
+                "frames: an array of shape {shape:?}; the geometry's frames are {:?} {}: give one, or an array of them (one more leading axis)",
+                frame_shape(g),
+                frame_axes(g)
+            )));
         }
         Some(_) => {
             items = frames.try_iter()?.collect::<PyResult<_>>()?;
@@ -761,7 +863,7 @@ fn render_mesh<'py>(
     layout: &Layout,
     colours: Option<Bound<'py, PyAny>>,
     progress: Option<Py<PyAny>>,
-) -> PyResult<Bound<'py, PyArray4<f32>>> {
+) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
     let shape = vertices.shape().to_vec();
     if shape.len() != 2 || shape[1] != 3 {
         return Err(InputError::new_err(format!("vertices: an array of shape {shape:?}; give (n, 3)")));
@@ -858,7 +960,7 @@ fn resample_cameras<'py>(
     metres_per_unit: f64,
     focus_distance: Option<f64>,
     progress: Option<Py<PyAny>>,
-) -> PyResult<(Bound<'py, PyArray4<f32>>, Bound<'py, PyDict>)> {
+) -> PyResult<(Bound<'py, PyArrayDyn<f32>>, Bound<'py, PyDict>)> {
     use holo::cameras::{Camera, ImageSource, Intrinsics, Pose, Rig};
     if pictures.len() != intrinsics.len() || pictures.len() != poses.len() || pictures.is_empty() {
         return Err(InputError::new_err(format!(

@@ -106,6 +106,15 @@ impl HoloFile {
     /// large for f16 is refused).
     pub fn read_frame_samples<T: FrameSample>(&self, index: usize) -> Result<Vec<T>> {
         let frame = self.info.frames.get(index);
+        // A full-parallax frame's view digests cover the stored samples,
+        // which an f32 file's, rounded to f16, no longer are: it is read as
+        // stored, checked, then narrowed.
+        if narrows::<T>(self.info.sample_type) && frame.is_some_and(|f| !f.views.is_empty()) {
+            let narrow: Vec<T> = self.read_frame_samples::<f32>(index)?.into_iter().map(T::from_f32).collect();
+            let g = &self.info.geometry;
+            self.check_samples(index, &Region::all(g), g, &narrow)?;
+            return Ok(narrow);
+        }
         // The digest is taken from the decoded blocks' own bytes as they come
         // (they are the stored rows), not from the samples afterwards.
         // (Blocks hold native-endian samples, the digest little-endian ones.)
@@ -282,22 +291,37 @@ impl HoloFile {
         decoded.unwrap_or_else(|_| {
             Err(Error::invalid(path, format!("frame {index}: a compressed block could not be decoded (it is damaged)")))
         })?;
-        let bad = first_bad(&sub, &out, self.is_lossy(), self.info.sample_type);
-        if let Some((c, j, e, v, value, why)) = bad {
-            let (h, k) = sub.view_of_index(v);
-            return Err(Error::BadSample {
-                path: path.clone(),
-                frame: index,
-                hololine: region.hololines.start + j,
-                emitter: region.emitters.start + e,
-                view: region.views.start + h,
-                vertical_view: g.vertical_views.as_ref().map(|_| region.vertical_views.start + k),
-                channel: g.channels[c].name.clone(),
-                value,
-                why,
-            });
-        }
+        self.check_samples(index, region, &sub, &out)?;
         Ok(out)
+    }
+
+    /// The first sample of `region` of frame `index` (`samples`, laid out as
+    /// a [`Modulation`] of `sub`, the region's geometry) that is not finite,
+    /// or (unless the compression is lossy) negative, as the error naming
+    /// it in the frame.
+    fn check_samples<T: FrameSample>(
+        &self,
+        index: usize,
+        region: &Region,
+        sub: &Geometry,
+        samples: &[T],
+    ) -> Result<()> {
+        let g = &self.info.geometry;
+        let Some((c, j, e, v, value, why)) = first_bad(sub, samples, self.is_lossy(), self.info.sample_type) else {
+            return Ok(());
+        };
+        let (h, k) = sub.view_of_index(v);
+        Err(Error::BadSample {
+            path: self.info.path.clone(),
+            frame: index,
+            hololine: region.hololines.start + j,
+            emitter: region.emitters.start + e,
+            view: region.views.start + h,
+            vertical_view: g.vertical_views.as_ref().map(|_| region.vertical_views.start + k),
+            channel: g.channels[c].name.clone(),
+            value,
+            why,
+        })
     }
 }
 
@@ -319,6 +343,9 @@ pub trait FrameSample: Copy + Send + Sync + 'static {
     /// The value, exactly.
     #[doc(hidden)]
     fn to_f32(self) -> f32;
+    /// The nearest value to `x` (an f32 too large for f16 is infinite).
+    #[doc(hidden)]
+    fn from_f32(x: f32) -> Self;
     /// `+0` for a negative value (a lossy codec's undershoot, spec §3.4).
     #[doc(hidden)]
     fn clamped(self) -> Self;
@@ -359,6 +386,9 @@ impl FrameSample for f32 {
     fn to_f32(self) -> f32 {
         self
     }
+    fn from_f32(x: f32) -> f32 {
+        x
+    }
     fn clamped(self) -> f32 {
         if self < 0.0 {
             0.0
@@ -397,6 +427,9 @@ impl FrameSample for half::f16 {
     }
     fn to_f32(self) -> f32 {
         f32::from(self)
+    }
+    fn from_f32(x: f32) -> half::f16 {
+        half::f16::from_f32(x)
     }
     fn clamped(self) -> half::f16 {
         if self.to_bits() & 0x8000 != 0 {
@@ -440,10 +473,9 @@ fn first_bad<T: FrameSample>(
     let (v, e) = (i % views, (i / views) % g.emitters);
     let j = (i / (views * g.emitters)) % g.hololines;
     let c = i / (views * g.emitters * g.hololines);
-    let narrowed = std::any::TypeId::of::<T>() == std::any::TypeId::of::<half::f16>() && stored == SampleType::F32;
     let why = if x.is_nan() {
         "not a number"
-    } else if x.is_infinite() && narrowed {
+    } else if x.is_infinite() && narrows::<T>(stored) {
         "too large for f16 (read it as f32)"
     } else if x.is_infinite() {
         "infinite"
@@ -451,6 +483,12 @@ fn first_bad<T: FrameSample>(
         "negative (radiance cannot be)"
     };
     Some((c, j, e, v, x, why))
+}
+
+/// Whether samples stored as `stored` are rounded when read as `T` (f32
+/// samples read as f16).
+fn narrows<T: FrameSample>(stored: SampleType) -> bool {
+    std::any::TypeId::of::<T>() == std::any::TypeId::of::<half::f16>() && stored == SampleType::F32
 }
 
 /// The geometry of a region: positions and view angles of what it holds.

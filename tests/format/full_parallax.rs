@@ -177,6 +177,32 @@ fn a_damaged_view_is_named() {
 }
 
 #[test]
+fn an_f32_file_reads_as_f16_rounded_its_views_checked_as_stored() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = geometry(6, 5, 3, 2, true);
+    let m = random(g.clone(), 12);
+    let path = dir.path().join("floats.holo");
+    write(&path, &m, &options(SampleType::F32, Compression::Zip)).unwrap();
+    // Each view's digest covers the stored f32 samples, not their f16 roundings.
+    let halves = HoloFile::open(&path).unwrap().read_frame_samples::<half::f16>(0).unwrap();
+    assert!(halves.iter().zip(m.samples()).all(|(h, &x)| h.to_bits() == half::f16::from_f32(x).to_bits()));
+    // One beyond f16's range is an error naming it, not infinity.
+    let mut big = m.clone();
+    big.set(1, 4, 2, g.view_index(2, 1), 1e6);
+    write(&path, &big, &WriteOptions { overwrite: true, ..options(SampleType::F32, Compression::Zip) }).unwrap();
+    let err = HoloFile::open(&path).unwrap().read_frame_samples::<half::f16>(0).unwrap_err().to_string();
+    assert!(err.contains("too large for f16") && err.contains("hololine 4") && err.contains("view (2 1)"), "{err}");
+    // A damaged view is still found (uncompressed: the last sample of the last view).
+    write(&path, &m, &WriteOptions { overwrite: true, ..options(SampleType::F32, Compression::None) }).unwrap();
+    let mut bytes = std::fs::read(&path).unwrap();
+    let n = bytes.len();
+    bytes[n - 2] ^= 0x01;
+    std::fs::write(&path, &bytes).unwrap();
+    let err = HoloFile::open(&path).unwrap().read_frame_samples::<half::f16>(0).unwrap_err().to_string();
+    assert!(err.contains("digest"), "{err}");
+}
+
+#[test]
 fn lossy_files_are_sealed_with_what_a_reader_decodes() {
     let dir = tempfile::tempdir().unwrap();
     let g = geometry(24, 20, 3, 2, true);
