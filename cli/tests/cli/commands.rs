@@ -1036,7 +1036,7 @@ fn layout_list_names_every_builtin_with_its_parallax_and_full_parallax_layouts_g
     }
     // A pattern in both axes: the vertical view ramp rises from the lowest vertical view to the highest.
     ok(holo(&["pattern", "--layout", "hogels.toml", "--kind", "vertical-view-ramp", "-o", "ramp.holo"], d));
-    let m = holo::read(&d.join("ramp.holo")).unwrap();
+    let m = holo::read(d.join("ramp.holo")).unwrap();
     let g = m.geometry().clone();
     assert_eq!((m.get(0, 3, 5, g.view_index(7, 0)), m.get(0, 3, 5, g.view_index(7, 15))), (0.0, 1.0));
     let o = holo(&["pattern", "--layout", "mark1", "--kind", "vertical-view-ramp", "-o", "q.holo"], d);
