@@ -226,8 +226,8 @@ fn antinous_views_are_recovered_from_the_full_parallax_file() {
         for j in 0..window {
             for e in 0..window {
                 let captured = view.picture.rgb[(first + j) * 512 + first + e];
-                for c in 0..3 {
-                    let d = 255.0 * (srgb_encode(seen.at(j, e, c) as f64) - srgb_encode(captured[c] as f64));
+                for (c, captured) in captured.iter().enumerate() {
+                    let d = 255.0 * (srgb_encode(seen.at(j, e, c) as f64) - srgb_encode(*captured as f64));
                     squared += d * d;
                 }
             }
