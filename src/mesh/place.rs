@@ -7,9 +7,8 @@
 //! depth of field either side of the emitter plane: a point at distance
 //! `Δz` from the emitter plane is drawn by neighbouring emitters at views
 //! `Δθ` apart, so its image blurs over `Δz·Δθ`; beyond `Δz = p/Δθ` (emitter
-//! pitch over view spacing) the blur exceeds one emitter; a full-parallax
-//! geometry takes the shallower of that and the hololine pitch over the
-//! vertical view spacing. The depth is also kept in front of the viewer line. An explicit 4×4 matrix replaces all this.
+//! pitch over view spacing) the blur exceeds one emitter. The depth is also
+//! kept in front of the viewer line. An explicit 4×4 matrix replaces all this.
 
 use super::{Light, Scene};
 use crate::error::{Error, Result};
@@ -72,18 +71,10 @@ pub fn display_volume(g: &Geometry) -> ([f64; 3], [f64; 3]) {
     let x1 = g.emitter_x_m(g.emitters.saturating_sub(1));
     let y0 = g.hololine_y_m(g.hololines.saturating_sub(1));
     let y1 = g.hololine_y_m(0);
-    // A point at this depth blurs over one emitter's pitch between
-    // neighbouring views; full parallax, the shallower of the two axes.
-    let depth_of_field = |pitch_m: f64, views: &crate::geometry::Views| {
-        let count = views.count.max(2) as f64;
-        let (a, b) = (views.first_theta_rad, views.last_theta_rad);
-        let spacing_rad = ((b - a) / (count - 1.0)).abs().max(1e-9);
-        pitch_m / spacing_rad
-    };
-    let mut depth = depth_of_field(g.emitter_pitch_m, &g.views);
-    if let Some(vertical) = &g.vertical_views {
-        depth = depth.min(depth_of_field(g.hololine_pitch_m, vertical));
-    }
+    let views = g.views.count.max(2) as f64;
+    let (a, b) = (g.views.first_theta_rad, g.views.last_theta_rad);
+    let spacing_rad = ((b - a) / (views - 1.0)).abs().max(1e-9);
+    let depth = g.emitter_pitch_m / spacing_rad;
     let z0 = g.emitter_z_m - depth;
     // Keep clear of the viewer line.
     let z1 = (g.emitter_z_m + depth).min(g.emitter_z_m + 0.5 * (g.viewer_distance_m - g.emitter_z_m));
