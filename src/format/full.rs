@@ -93,23 +93,21 @@ pub fn write_frames_in_bands(
                     }
                 };
                 let frame_digests = &mut digests[f * views..(f + 1) * views];
+                let by_view = band_by_view(&band, g, &slots, lines.clone());
+                let per_view = lines.len() * slots.len() * g.emitters;
                 let built: Vec<exr::error::Result<Vec<(usize, Chunk)>>> = {
                     use rayon::prelude::*;
                     frame_digests
                         .par_iter_mut()
+                        .zip(by_view.par_chunks_exact(per_view))
                         .enumerate()
-                        .map(|(v, digest)| {
+                        .map(|(v, (digest, view_band))| {
                             let mut chunks = Vec::new();
                             for y in lines.clone().step_by(lines_per_block) {
                                 let rows = lines_per_block.min(lines.end - y);
-                                let le = view_rows_le(
-                                    |c, j| band.hololine(c, j),
-                                    g,
-                                    &slots,
-                                    v,
-                                    y..y + rows,
-                                    options.sample_type,
-                                );
+                                let row_len = slots.len() * g.emitters;
+                                let first = (y - lines.start) * row_len;
+                                let le = samples_le(&view_band[first..first + rows * row_len], options.sample_type);
                                 digest.update(&le);
                                 let block = UncompressedBlock {
                                     index: BlockIndex {
@@ -176,30 +174,50 @@ fn filled_band(
     Ok(band)
 }
 
-/// Rows `rows` of view `view` as stored (spec §7.1, §8): row by row, channel
-/// by channel in list order, emitter by emitter, little-endian; `line(c, j)`
-/// is colour `c`'s (emitter, view) samples of row `j`.
-fn view_rows_le<'a>(
-    line: impl Fn(usize, usize) -> &'a [f32],
-    g: &Geometry,
-    slots: &[usize],
-    view: usize,
-    rows: std::ops::Range<usize>,
-    sample_type: SampleType,
-) -> Vec<u8> {
-    let views = g.views_per_emitter();
-    let mut out = Vec::with_capacity(rows.len() * slots.len() * g.emitters * sample_type.bytes());
-    for j in rows {
-        for &c in slots {
-            let line = line(c, j);
-            for e in 0..g.emitters {
-                let x = line[e * views + view];
-                match sample_type {
-                    SampleType::F16 => out.extend_from_slice(&half::f16::from_f32(x).to_le_bytes()),
-                    SampleType::F32 => out.extend_from_slice(&x.to_le_bytes()),
+/// Emitter rows `lines` of `band`, view by view as stored (spec §7.1, §8):
+/// for each view (`k·V + h`), row by row, channel by channel in list order
+/// (`slots`), emitter by emitter. In memory an emitter's views are together
+/// (a `V·W` run); a view's samples are one in `V·W` there, so gathering them
+/// a view at a time would touch a cache line per sample. The transpose goes
+/// in tiles of [`TILE_VIEWS`] views × [`TILE_EMITTERS`] emitters that stay
+/// in cache on both sides, blocks of views in parallel.
+fn band_by_view(band: &Band, g: &Geometry, slots: &[usize], lines: std::ops::Range<usize>) -> Vec<f32> {
+    use rayon::prelude::*;
+    let (views, emitters) = (g.views_per_emitter(), g.emitters);
+    let per_view = lines.len() * slots.len() * emitters;
+    let mut out = vec![0f32; views * per_view];
+    out.par_chunks_mut(TILE_VIEWS * per_view).enumerate().for_each(|(block, out)| {
+        let v0 = block * TILE_VIEWS;
+        let v1 = (v0 + TILE_VIEWS).min(views);
+        for (row, j) in lines.clone().enumerate() {
+            for (s, &c) in slots.iter().enumerate() {
+                let line = band.hololine(c, j);
+                let at = (row * slots.len() + s) * emitters;
+                for e0 in (0..emitters).step_by(TILE_EMITTERS) {
+                    let e1 = (e0 + TILE_EMITTERS).min(emitters);
+                    for v in v0..v1 {
+                        let out = &mut out[(v - v0) * per_view + at..][e0..e1];
+                        for (e, o) in (e0..e1).zip(out) {
+                            *o = line[e * views + v];
+                        }
+                    }
                 }
             }
         }
+    });
+    out
+}
+
+/// Views and emitters in a tile of [`band_by_view`]'s transpose.
+const TILE_VIEWS: usize = 32;
+const TILE_EMITTERS: usize = 16;
+
+/// `samples` as stored, little-endian.
+fn samples_le(samples: &[f32], sample_type: SampleType) -> Vec<u8> {
+    let mut out = Vec::with_capacity(samples.len() * sample_type.bytes());
+    match sample_type {
+        SampleType::F16 => samples.iter().for_each(|&x| out.extend_from_slice(&half::f16::from_f32(x).to_le_bytes())),
+        SampleType::F32 => samples.iter().for_each(|&x| out.extend_from_slice(&x.to_le_bytes())),
     }
     out
 }
@@ -230,10 +248,13 @@ fn decoded_digests(path: &Path, g: &Geometry, frame_count: usize, sample_type: S
                     views: h..h + 1,
                     vertical_views: k..k + 1,
                 };
+                // One view: each row's line is its emitters' samples.
                 let band = file.read_decoded(f, &region)?;
-                let rows =
-                    view_rows_le(|c, j| band.hololine(c, j), band.geometry(), &slots, 0, 0..lines.len(), sample_type);
-                digest.update(&rows);
+                let band = &band;
+                let rows: Vec<f32> = (0..lines.len())
+                    .flat_map(|j| slots.iter().flat_map(move |&c| band.hololine(c, j).iter().copied()))
+                    .collect();
+                digest.update(&samples_le(&rows, sample_type));
             }
             out.push(digest.finish());
         }
