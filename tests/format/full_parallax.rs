@@ -176,6 +176,82 @@ fn a_damaged_view_is_named() {
     assert!(err.contains("view (1 2)") && err.contains("digest"), "{err}");
 }
 
+/// Frame 0 of `path` read band by band and put together again.
+fn read_in_bands(path: &std::path::Path, band_rows: usize) -> holo::Result<Modulation> {
+    let file = HoloFile::open(path)?;
+    let g = file.geometry().clone();
+    let mut whole = Modulation::zeros(g.clone())?;
+    let mut next = 0;
+    file.read_frame_in_bands(0, band_rows, |rows, band| {
+        assert_eq!(rows.start, next, "bands in order");
+        next = rows.end;
+        assert_eq!(band.geometry().hololine_top_y_m, g.hololine_y_m(rows.start));
+        for c in 0..g.channels.len() {
+            for (line, j) in rows.clone().enumerate() {
+                let at = whole.index(c, j, 0, 0);
+                let n = band.hololine(c, line).len();
+                whole.samples_mut()[at..at + n].copy_from_slice(band.hololine(c, line));
+            }
+        }
+        Ok(())
+    })?;
+    assert_eq!(next, g.hololines);
+    Ok(whole)
+}
+
+#[test]
+fn a_frame_read_band_by_band_or_a_view_alone_is_the_frame_its_digests_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = random(geometry(9, 5, 2, 3, true), 21);
+    let mut horizontal = random(geometry(9, 5, 4, 1, false), 22);
+    horizontal = Modulation::from_samples(
+        Geometry {
+            vertical_views: None,
+            parallax: holo::geometry::Parallax::Horizontal,
+            ..horizontal.geometry().clone()
+        },
+        horizontal.samples().to_vec(),
+    )
+    .unwrap();
+    for (name, m) in [("full", &full), ("horizontal", &horizontal)] {
+        let path = dir.path().join(format!("{name}.holo"));
+        write(&path, m, &options(SampleType::F32, Compression::None)).unwrap();
+        for band_rows in [1, 4, 9, 100] {
+            assert_eq!(&read_in_bands(&path, band_rows).unwrap(), m, "{name}, bands of {band_rows}");
+        }
+        let file = HoloFile::open(&path).unwrap();
+        let g = m.geometry();
+        for k in 0..g.vertical_view_count() {
+            for h in 0..g.views.count {
+                let view = file.read_view(0, h, k).unwrap();
+                assert_eq!(view.geometry().views_per_emitter(), 1);
+                assert_eq!(view.geometry().views.theta_rad(0), g.views.theta_rad(h));
+                for (c, j, e) in [(0, 0, 0), (g.channels.len() - 1, 8, 4), (0, 3, 2)] {
+                    assert_eq!(view.get(c, j, e, 0), at(m, c, j, e, h, k), "{name} view ({h} {k})");
+                }
+            }
+        }
+        let err = file.read_view(0, g.views.count, 0).unwrap_err().to_string();
+        assert!(err.contains(&format!("view ({} 0) is not one of its", g.views.count)), "{err}");
+        // A flipped bit in the last sample: the bands are all handed on,
+        // then the digest says the frame is damaged.
+        let mut bytes = std::fs::read(&path).unwrap();
+        let n = bytes.len();
+        bytes[n - 2] ^= 0x01;
+        std::fs::write(&path, &bytes).unwrap();
+        let err = read_in_bands(&path, 4).unwrap_err();
+        match name {
+            "full" => assert!(err.to_string().contains("view (1 2)") && err.to_string().contains("digest"), "{err}"),
+            _ => assert!(matches!(err, holo::Error::DigestMismatch { frame: 0, .. }), "{err}"),
+        }
+        if name == "full" {
+            let file = HoloFile::open(&path).unwrap();
+            assert!(file.read_view(0, 1, 2).unwrap_err().to_string().contains("view (1 2)"));
+            file.read_view(0, 0, 2).unwrap();
+        }
+    }
+}
+
 #[test]
 fn lossy_files_are_sealed_with_what_a_reader_decodes() {
     let dir = tempfile::tempdir().unwrap();
