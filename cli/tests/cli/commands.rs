@@ -23,6 +23,8 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["pattern", "--help"],
         &["export-views", "--help"],
         &["import-views", "--help"],
+        &["export-hogels", "--help"],
+        &["import-hogels", "--help"],
         &["demo", "--help"],
         &["assemble", "--help"],
         &["layout", "--help"],
@@ -991,6 +993,46 @@ fn a_full_parallax_file_is_described_validated_and_its_views_exported_by_both_in
     let o = holo(&["export-quilt", file, "-o", "q.png"], d);
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o).contains("does not yet make a quilt"), "{}", text(&o));
+}
+
+#[test]
+fn hogels_go_out_one_png_each_for_a_printer_and_come_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let full = crate::fixture("v1.3/full-frames-rgb-f32-zip.holo");
+    let full = full.to_str().unwrap();
+    // 3 rows × 4 emitters, 2 × 2 views: twelve 2 × 2 pictures.
+    let o = ok(holo(&["export-hogels", full, "--frame", "1", "--white", "200", "-o", "hogels"], d));
+    assert!(text(&o).contains("wrote 12 hogel PNGs and holo-hogels.json"), "{}", text(&o));
+    for name in ["hogel_000_000.png", "hogel_000_003.png", "hogel_002_003.png"] {
+        assert!(d.join("hogels").join(name).exists(), "{name}");
+    }
+    let o = holo(&["export-hogels", full, "-o", "hogels"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("hogels"), "{}", text(&o));
+    ok(holo(&["import-hogels", "hogels", "-o", "back.holo", "--f32"], d));
+    let back = holo::format::read(d.join("back.holo")).unwrap();
+    let original = holo::HoloFile::open(full).unwrap().read_frame(1).unwrap();
+    assert_eq!(back.geometry(), original.geometry());
+    for (a, b) in back.samples().iter().zip(original.samples()) {
+        assert!((a - b).abs() <= 200.0 / 65535.0 * 2.0, "{a} {b}");
+    }
+    // Horizontal parallax: each hogel a strip one pixel tall.
+    let flat = crate::fixture("v1.2/frames-rgb-f32-zip.holo");
+    ok(holo(&["export-hogels", flat.to_str().unwrap(), "--white", "max", "-o", "strips"], d));
+    let png = std::fs::read(d.join("strips/hogel_003_004.png")).unwrap();
+    let picture = decode::decode(std::io::Cursor::new(png)).unwrap();
+    assert_eq!((picture.width, picture.height), (3, 1));
+    ok(holo(&["import-hogels", "strips", "-o", "strips.holo"], d));
+    // A frame the file does not have: one sentence naming it, no folder.
+    let o = holo(&["export-hogels", full, "--frame", "7", "-o", "h7"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("full-frames-rgb-f32-zip.holo") && !d.join("h7").exists(), "{}", text(&o));
+    let o = holo(&["import-hogels", "h7", "-o", "x.holo"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    std::fs::create_dir(d.join("empty")).unwrap();
+    let o = holo(&["import-hogels", "empty", "-o", "x.holo"], d);
+    assert!(text(&o).contains("no holo-hogels.json here") && !d.join("x.holo").exists(), "{}", text(&o));
 }
 
 #[test]
