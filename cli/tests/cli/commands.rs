@@ -25,6 +25,7 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["import-views", "--help"],
         &["export-hogels", "--help"],
         &["import-hogels", "--help"],
+        &["export-hci", "--help"],
         &["demo", "--help"],
         &["assemble", "--help"],
         &["layout", "--help"],
@@ -1033,6 +1034,36 @@ fn hogels_go_out_one_png_each_for_a_printer_and_come_back() {
     std::fs::create_dir(d.join("empty")).unwrap();
     let o = holo(&["import-hogels", "empty", "-o", "x.holo"], d);
     assert!(text(&o).contains("no holo-hogels.json here") && !d.join("x.holo").exists(), "{}", text(&o));
+}
+
+#[test]
+fn a_full_parallax_frame_goes_out_as_an_hci_benchmark_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let full = crate::fixture("v1.3/full-frames-rgb-f32-zip.holo");
+    let full = full.to_str().unwrap();
+    let o = ok(holo(&["export-hci", full, "--frame", "1", "--white", "auto", "-o", "hci"], d));
+    // 2 × 2 views 0.2 rad apart, 490 mm from the viewer: cameras 98.33 mm apart.
+    assert!(
+        text(&o)
+            .contains("wrote 4 cameras (2 × 2, 98.33 mm apart, focused 490 mm away), parameters.cfg and holo-hci.json"),
+        "{}",
+        text(&o)
+    );
+    // What the benchmark's cameras cannot hold is said.
+    assert!(text(&o).contains("warning: the horizontal views are 98.33 mm apart"), "{}", text(&o));
+    for name in ["input_Cam000.png", "input_Cam003.png", "parameters.cfg", "holo-hci.json"] {
+        assert!(d.join("hci").join(name).exists(), "{name}");
+    }
+    let cfg = std::fs::read_to_string(d.join("hci/parameters.cfg")).unwrap();
+    assert!(cfg.contains("num_cams_x = 2\n") && cfg.contains("focus_distance_m = 0.49\n"), "{cfg}");
+    let o = holo(&["export-hci", full, "-o", "hci"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    ok(holo(&["export-hci", full, "-o", "hci", "--force"], d));
+    let flat = crate::fixture("v1.2/frames-rgb-f32-zip.holo");
+    let o = holo(&["export-hci", flat.to_str().unwrap(), "-o", "flat"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("is horizontal parallax (3 views in a row)") && !d.join("flat").exists(), "{}", text(&o));
 }
 
 #[test]
