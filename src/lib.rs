@@ -151,5 +151,5 @@ pub mod views;
 pub use error::{Error, OutputProblem, Result, SetProblem};
 pub use format::{read, write, HoloFile, WriteOptions};
 pub use geometry::Geometry;
-pub use modulation::{Band, Modulation};
+pub use modulation::{full_to_horizontal, rows_beyond_vertical_views, Band, Modulation};
 pub use validate::validate;

@@ -338,3 +338,59 @@ fn parallax_and_vertical_views_must_agree() {
     )
     .is_ok());
 }
+
+#[test]
+fn a_full_parallax_quilt_is_the_quilt_of_the_views_toward_the_viewer_line() {
+    use holo::cameras::quilt::{export_quilt, quilt_from_modulation, QuiltOptions, QuiltSpec};
+    use holo::picture::White;
+    // 12 rows 3 mm apart (±16.5 mm), 4 vertical views over ±0.02 in tan; the
+    // viewer line 2 mm up at 500 mm: the rows' directions toward it run
+    // from −0.029 to +0.037 in tan, beyond the views at both ends.
+    let mut g = Geometry::centred(12, 10, Views::tan_spaced(6, -0.2, 0.2), 3e-3, 2e-3, 0.0, 0.5, rgb_channels())
+        .with_vertical_views(Views::tan_spaced(4, -0.02f64.atan(), 0.02f64.atan()));
+    g.viewer_height_m = 0.002;
+    // Linear in the vertical view k, so the interpolation is exact by hand.
+    let a = |c: usize, j: usize, e: usize, h: usize| 0.1 + 0.01 * (c + j + e + h) as f32;
+    let b = |c: usize, h: usize| 0.05 + 0.001 * (c + h) as f32;
+    let m = Modulation::from_fn(g.clone(), |c, j, e, view| {
+        let (h, k) = g.view_of_index(view);
+        a(c, j, e, h) + b(c, h) * k as f32
+    })
+    .unwrap();
+    // The horizontal-parallax frame by hand: row j's fractional vertical
+    // view is where tan φ_j = (y_v − y_j)/D falls among equal steps of tan.
+    let flat = Geometry { vertical_views: None, parallax: holo::geometry::Parallax::Horizontal, ..g.clone() };
+    let index = |j: usize| ((g.viewer_height_m - g.hololine_y_m(j)) / 0.5 + 0.02) / 0.04 * 3.0;
+    let by_hand = Modulation::from_fn(flat, |c, j, e, h| {
+        let f = index(j);
+        if (-0.5..=3.5).contains(&f) {
+            a(c, j, e, h) + b(c, h) * f.clamp(0.0, 3.0) as f32
+        } else {
+            0.0
+        }
+    })
+    .unwrap();
+    let black: Vec<usize> = (0..12).filter(|&j| !(-0.5..=3.5).contains(&index(j))).collect();
+    assert!(black.contains(&0) && black.contains(&11) && black.len() < 8, "{black:?}");
+    assert_eq!(holo::rows_beyond_vertical_views(&g), black);
+    let converted = holo::full_to_horizontal(&m).unwrap();
+    assert_eq!(converted.geometry(), by_hand.geometry());
+    for (x, y) in converted.samples().iter().zip(by_hand.samples()) {
+        assert!((x - y).abs() < 1e-6, "{x} {y}");
+    }
+    // The file's quilt, read band by band, is the hand-built frame's.
+    let spec =
+        QuiltSpec { columns: 3, rows: 2, tile_width: 30, tile_height: 40, aspect: 0.75, ..QuiltSpec::portrait() };
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("full.holo");
+    write(&path, &m, &options(SampleType::F32, Compression::Zip)).unwrap();
+    let options = QuiltOptions { white: White::Value(1.0), overwrite: false };
+    let report = export_quilt(&path, 0, &spec, &dir.path().join("q.png"), &options).unwrap();
+    assert!(report.warnings.iter().any(|w| w.contains(&format!("{} of 12 emitter rows send no view", black.len()))));
+    let quilt = quilt_from_modulation(&by_hand, &spec).unwrap();
+    let mine = quilt_from_modulation(&converted, &spec).unwrap();
+    for (p, q) in mine.rgb.iter().zip(&quilt.rgb) {
+        assert!((0..3).all(|i| (p[i] - q[i]).abs() < 1e-6), "{p:?} {q:?}");
+    }
+    assert_eq!(std::fs::read(dir.path().join("q.png")).unwrap(), mine.png(1.0).unwrap());
+}

@@ -961,7 +961,7 @@ fn raw_blanking_drops_the_layouts_blanking_gains() {
 }
 
 #[test]
-fn a_full_parallax_file_is_described_validated_and_its_views_exported_by_both_indices() {
+fn a_full_parallax_file_is_described_validated_its_views_exported_by_both_indices_and_quilted() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let file = crate::fixture("v1.3/full-frames-rgb-f32-zip.holo");
@@ -991,9 +991,9 @@ fn a_full_parallax_file_is_described_validated_and_its_views_exported_by_both_in
     let o = holo(&["assemble", file, "-o", "fringes"], d);
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o).contains("is full parallax (2 × 2 views)") && !d.join("fringes").exists(), "{}", text(&o));
-    let o = holo(&["export-quilt", file, "-o", "q.png"], d);
-    assert_eq!(o.status.code(), Some(1));
-    assert!(text(&o).contains("does not yet make a quilt"), "{}", text(&o));
+    // A quilt shows each row's views toward the viewer line.
+    let o = ok(holo(&["export-quilt", file, "-o", "q.png", "--tile", "40x30"], d));
+    assert!(text(&o).contains("a 320×180 quilt of 48 views"), "{}", text(&o));
 }
 
 #[test]
