@@ -35,16 +35,16 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::format::{view_digits, HoloFile, WriteOptions, WriteReport};
+use crate::format::{view_digits, HoloFile};
 use crate::geometry::Geometry;
 use crate::modulation::{Band, Modulation};
 use crate::output::{check_set_output, verify_set, FileSet, SetFile};
 use crate::picture::{encode_png, Tone, White};
-use crate::pipeline::{HoloSink, Run, Source, Warnings};
+use crate::pipeline::{Source, Warnings};
 use crate::progress::Progress;
 use crate::views::{
-    band_rows, folder_manifest, import_tone, malformed, read_manifest, white_of_frame, Picture, PictureChannels,
-    ToneMapping,
+    band_rows, check_frame_and_white, folder_manifest, import_tone, malformed, read_manifest, white_of_frame, Picture,
+    PictureChannels, ToneMapping,
 };
 
 /// Name of the manifest written next to the PNGs.
@@ -187,13 +187,7 @@ pub fn export_hogels_file(
     overwrite: bool,
 ) -> Result<HogelExport> {
     let file = HoloFile::open(holo_path)?;
-    let frames = file.info().frames.len();
-    if frame >= frames {
-        return Err(Error::no_frame(holo_path, frame, frames));
-    }
-    if let Some(problem) = white.problem() {
-        return Err(Error::argument("white level", format!("{}: {problem}", dir.display())));
-    }
+    check_frame_and_white(&file, holo_path, frame, white, dir)?;
     let g = file.geometry();
     // Checked with a stand-in white, before the frame is read for its level.
     ToneMapping { white: 1.0, bits }.tone().map_err(|e| e.naming(dir))?;
@@ -296,7 +290,8 @@ pub fn import_hogels(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Res
 }
 
 /// A folder of hogel pictures as a [`Source`] of one `.holo` frame, read
-/// band by band (the inverse of [`export_hogels_file`]).
+/// band by band (the inverse of [`export_hogels_file`];
+/// [`crate::views::import_pictures_file`] writes it into a `.holo` file).
 pub struct HogelsSource<'a> {
     reader: HogelReader<'a>,
     /// The folder, its manifest and the pictures: the output may be none of them.
@@ -339,20 +334,6 @@ impl Source for HogelsSource<'_> {
         let rows = band.hololines();
         self.reader.band(rows, band.samples_mut())
     }
-}
-
-/// Import the hogels in `dir` for `geometry` into the `.holo` file `output`
-/// (`holo import-hogels`), band by band.
-pub fn import_hogels_file(
-    dir: &Path,
-    geometry: &Geometry,
-    tone: &ToneMapping,
-    output: &Path,
-    options: WriteOptions,
-    progress: &dyn Progress,
-) -> Result<Run<WriteReport>> {
-    let mut source = HogelsSource::new(dir, geometry, tone)?;
-    crate::pipeline::run(&mut source, HoloSink::new(output, geometry, options), None, progress)
 }
 
 #[cfg(test)]

@@ -372,9 +372,40 @@ impl Source for ViewsSource<'_> {
     }
 }
 
-/// Import the pictures in `dir` for `geometry` into the `.holo` file
-/// `output` (`holo import-views`).
-pub fn import_views_file(
+/// The kind of set of pictures a folder holds, each with its manifest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PictureSet {
+    /// One picture per view (`export-views`, [`SIDECAR`]).
+    Views,
+    /// One picture per hogel (`export-hogels`, [`crate::hogels::MANIFEST`]).
+    Hogels,
+}
+
+impl PictureSet {
+    /// The name of its manifest.
+    pub fn manifest(self) -> &'static str {
+        match self {
+            PictureSet::Views => SIDECAR,
+            PictureSet::Hogels => crate::hogels::MANIFEST,
+        }
+    }
+
+    /// The geometry and tone mapping the manifest in `dir` records, when
+    /// there is one (`None`: pictures made elsewhere). A folder whose set's
+    /// replacement was interrupted, or whose manifest is not one, is refused.
+    pub fn folder_manifest(self, dir: &Path) -> Result<Option<(Geometry, ToneMapping)>> {
+        Ok(match self {
+            PictureSet::Views => folder_sidecar(dir)?.map(|s| (s.geometry, s.tone)),
+            PictureSet::Hogels => crate::hogels::folder_hogel_manifest(dir)?.map(|m| (m.geometry, m.tone)),
+        })
+    }
+}
+
+/// Import the pictures of kind `set` in `dir` for `geometry` into the
+/// `.holo` file `output` (`holo import-views`, `holo import-hogels`; the
+/// hogels band by band).
+pub fn import_pictures_file(
+    set: PictureSet,
     dir: &Path,
     geometry: &Geometry,
     tone: &ToneMapping,
@@ -382,8 +413,33 @@ pub fn import_views_file(
     options: WriteOptions,
     progress: &dyn Progress,
 ) -> Result<Run<WriteReport>> {
-    let mut source = ViewsSource::new(dir, geometry, tone);
-    crate::pipeline::run(&mut source, HoloSink::new(output, geometry, options), None, progress)
+    let sink = HoloSink::new(output, geometry, options);
+    match set {
+        PictureSet::Views => crate::pipeline::run(&mut ViewsSource::new(dir, geometry, tone), sink, None, progress),
+        PictureSet::Hogels => {
+            crate::pipeline::run(&mut crate::hogels::HogelsSource::new(dir, geometry, tone)?, sink, None, progress)
+        }
+    }
+}
+
+/// Refuse, naming `path`, a frame the file does not have, and, naming the
+/// output `dir`, a white level no picture can have: what every export of
+/// a file's frame checks before its output.
+pub(crate) fn check_frame_and_white(
+    file: &HoloFile,
+    path: &Path,
+    frame: usize,
+    white: White,
+    dir: &Path,
+) -> Result<()> {
+    let frames = file.info().frames.len();
+    if frame >= frames {
+        return Err(Error::no_frame(path, frame, frames));
+    }
+    if let Some(problem) = white.problem() {
+        return Err(Error::argument("white level", format!("{}: {problem}", dir.display())));
+    }
+    Ok(())
 }
 
 /// A file of a set of pictures that is not what it should be.

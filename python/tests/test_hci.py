@@ -6,7 +6,7 @@ Their `file_io.read_parameters` reads `parameters.cfg` with configparser, sectio
 compared with the view `holo export-views` writes: camera row 0 must be the highest vertical view (the benchmark's
 rows step down, holo's vertical views up), column 0 the leftmost horizontal view.
 
-Only the standard library and the command line (HOLO_CLI, as in test_holo.py): the CI environment has no image
+Only the standard library and the command line (HOLO_CLI, clitool.py): the CI environment has no image
 package, so the PNGs are decoded here (8-bit grey or RGB, the five filters of the PNG specification).
 """
 
@@ -17,14 +17,7 @@ import struct
 import subprocess
 import zlib
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-FIXTURES = ROOT / "fixtures"
-
-
-def cli():
-    path = os.environ.get("HOLO_CLI")
-    assert path, "HOLO_CLI must name the holo command-line tool (e.g. target/debug/holo)"
-    return path
+from clitool import FIXTURES, cli
 
 
 def run(*args):

@@ -53,7 +53,7 @@ use crate::format::{view_digits, HoloFile};
 use crate::geometry::Geometry;
 use crate::output::{check_set_output, FileSet, SetFile};
 use crate::picture::{encode_png, Bits, Colour, Tone, White};
-use crate::views::{white_of_frame, PictureChannels, ToneMapping};
+use crate::views::{check_frame_and_white, white_of_frame, PictureChannels, ToneMapping};
 
 /// The benchmark's parameter file.
 pub const PARAMETERS: &str = "parameters.cfg";
@@ -343,13 +343,7 @@ pub fn export_hci_file(holo_path: &Path, frame: usize, dir: &Path, white: White,
             "has one view; an HCI light field needs two or more along an axis for its baseline",
         ));
     }
-    let frames = file.info().frames.len();
-    if frame >= frames {
-        return Err(Error::no_frame(holo_path, frame, frames));
-    }
-    if let Some(problem) = white.problem() {
-        return Err(Error::argument("white level", format!("{}: {problem}", dir.display())));
-    }
+    check_frame_and_white(&file, holo_path, frame, white, dir)?;
     let count = g.views_per_emitter();
     let names: Vec<String> = (0..count).map(|i| camera_file_name(i, count)).collect();
     let mut set_names = names.clone();

@@ -14,7 +14,7 @@ use crate::roundtrip::random;
 use rand_chacha::ChaCha8Rng;
 
 /// `rows × columns` emitters, `v × w` views.
-fn geometry(rows: usize, columns: usize, v: usize, w: usize, rgb: bool) -> Geometry {
+pub(crate) fn geometry(rows: usize, columns: usize, v: usize, w: usize, rgb: bool) -> Geometry {
     let spread = |n: usize, a: f64| if n > 1 { (-a, a) } else { (0.0, 0.0) };
     let (h0, h1) = spread(v, 0.25);
     let (k0, k1) = spread(w, 0.15);

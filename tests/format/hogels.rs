@@ -5,36 +5,21 @@
 use std::path::Path;
 
 use holo::format::{write, HoloFile, SampleType, WriteOptions};
-use holo::geometry::{mono_channel, rgb_channels, Geometry, ViewSpacing, Views};
+use holo::geometry::{Geometry, Parallax, Views};
 use holo::hogels::{
-    export_hogels, export_hogels_file, hogel_file_names, import_hogels, import_hogels_file, read_hogel_manifest,
-    MANIFEST, ORIENTATION,
+    export_hogels, export_hogels_file, hogel_file_names, import_hogels, read_hogel_manifest, MANIFEST, ORIENTATION,
 };
 use holo::picture::{srgb_encode, Bits, Tone, White};
 use holo::progress::Silent;
-use holo::views::ToneMapping;
+use holo::views::{import_pictures_file, PictureSet, ToneMapping};
 use holo::Modulation;
 
 /// 3 rows × 4 columns of emitters, 3 × 2 views (full parallax) or 3 views.
 fn geometry(full: bool, rgb: bool) -> Geometry {
-    let g = Geometry::centred(
-        3,
-        4,
-        Views::tan_spaced(3, -0.2, 0.2),
-        4e-4,
-        4e-4,
-        0.0,
-        0.5,
-        if rgb { rgb_channels() } else { mono_channel() },
-    );
+    let g = crate::full_parallax::geometry(3, 4, 3, 2, rgb);
     match full {
-        true => g.with_vertical_views(Views {
-            count: 2,
-            first_theta_rad: -0.1,
-            last_theta_rad: 0.1,
-            spacing: ViewSpacing::Sin,
-        }),
-        false => g,
+        true => g,
+        false => Geometry { parallax: Parallax::Horizontal, vertical_views: None, ..g },
     }
 }
 
@@ -57,7 +42,8 @@ fn round_trip(file: &Path, dir: &Path, back: &Path, white: White) -> (ToneMappin
     let export = export_hogels_file(file, 0, dir, white, 16, false).unwrap();
     let manifest = read_hogel_manifest(&dir.join(MANIFEST)).unwrap();
     assert_eq!(manifest.tone, export.tone);
-    import_hogels_file(dir, &manifest.geometry, &manifest.tone, back, options(SampleType::F32), &Silent).unwrap();
+    let (g, tone) = (&manifest.geometry, &manifest.tone);
+    import_pictures_file(PictureSet::Hogels, dir, g, tone, back, options(SampleType::F32), &Silent).unwrap();
     (export.tone, holo::read(back).unwrap())
 }
 
@@ -159,7 +145,7 @@ fn a_mixed_set_or_a_manifest_of_another_orientation_is_refused_naming_the_file()
     export_hogels(&m, &other, &tone, false).unwrap();
     std::fs::remove_file(other.join(MANIFEST)).unwrap();
     let mut wider = g.clone();
-    wider.views = Views::tan_spaced(4, -0.2, 0.2);
+    wider.views = Views::tan_spaced(4, -0.25, 0.25);
     let err = import_hogels(&other, &wider, &tone).unwrap_err().to_string();
     assert!(err.contains("hogel_000_000.png") && err.contains("horizontal × vertical views = 4×2"), "{err}");
 }
