@@ -291,7 +291,7 @@ pub fn import_hogels(dir: &Path, geometry: &Geometry, tone: &ToneMapping) -> Res
 
 /// A folder of hogel pictures as a [`Source`] of one `.holo` frame, read
 /// band by band (the inverse of [`export_hogels_file`];
-/// [`crate::views::import_pictures_file`] writes it into a `.holo` file).
+/// [`crate::pictures::import_pictures_file`] writes it into a `.holo` file).
 pub struct HogelsSource<'a> {
     reader: HogelReader<'a>,
     /// The folder, its manifest and the pictures: the output may be none of them.

@@ -35,8 +35,8 @@
 //! | mesh → modulation | [`mesh::load::SceneSource::open`] → `scene_at`, [`mesh::place::place`], [`mesh::render::render`] | [`mesh::convert::convert_mesh`] |
 //! | camera array → modulation | [`cameras::open_rig`], [`cameras::resample::resample_rig`] | [`cameras::convert::convert_camera_files`] |
 //! | HoloFlick → modulation | [`holoflick::container::HoloFlickReader`] | [`holoflick::convert::convert_holoflick`] |
-//! | test patterns, view pictures | [`pattern::Pattern::render`], [`views::import_views`] | [`pattern::write_pattern`], [`views::import_pictures_file`], [`views::export_views`] |
-//! | hogel pictures (printers) | [`hogels::import_hogels`], [`hogels::export_hogels`] | [`views::import_pictures_file`], [`hogels::export_hogels_file`] |
+//! | test patterns, view pictures | [`pattern::Pattern::render`], [`views::import_views`] | [`pattern::write_pattern`], [`pictures::import_pictures_file`], [`views::export_views`] |
+//! | hogel pictures (printers) | [`hogels::import_hogels`], [`hogels::export_hogels`] | [`pictures::import_pictures_file`], [`hogels::export_hogels_file`] |
 //! | meshes → HoloFlicks | [`holoflick::container::HoloFlickWriter`] | [`holoflick::encode::encode_holoflick`], [`holoflick::tools::pack`] |
 //! | the `.holo` file | [`write()`], [`read()`], [`format::HoloFile::open`] (one frame or region at a time), [`format::write_frames`] (streaming), [`validate()`] | |
 //! | display profiles | [`layout::builtin`] (`mark3`, `mark1`, `mark1-hogel`, `mark2`, `mark4`), [`layout::Layout::load`] (TOML or JSON) | |
@@ -136,6 +136,7 @@ mod modulation;
 pub mod output;
 pub mod pattern;
 pub mod picture;
+pub mod pictures;
 pub mod pipeline;
 pub mod prelude;
 pub mod progress;

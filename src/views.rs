@@ -15,13 +15,13 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::format::{view_digits, HoloFile, WriteOptions, WriteReport};
+use crate::format::{view_digits, HoloFile};
 use crate::geometry::Geometry;
 use crate::modulation::{Band, Modulation};
 use crate::output::{check_set_complete, check_set_output, verify_set, FileSet, SetFile};
 use crate::picture::decode::{decode_png, DecodeError};
 use crate::picture::{encode_png, Bits, Colour, Tone, White};
-use crate::pipeline::{HoloSink, Run, Source, Warnings};
+use crate::pipeline::{Source, Warnings};
 use crate::progress::Progress;
 
 /// Name of the sidecar written next to the PNGs.
@@ -369,56 +369,6 @@ impl Source for ViewsSource<'_> {
         let read = import_views(self.dir, frame.geometry(), self.tone)?;
         frame.samples_mut().copy_from_slice(read.samples());
         Ok(())
-    }
-}
-
-/// The kind of set of pictures a folder holds, each with its manifest.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PictureSet {
-    /// One picture per view (`export-views`, [`SIDECAR`]).
-    Views,
-    /// One picture per hogel (`export-hogels`, [`crate::hogels::MANIFEST`]).
-    Hogels,
-}
-
-impl PictureSet {
-    /// The name of its manifest.
-    pub fn manifest(self) -> &'static str {
-        match self {
-            PictureSet::Views => SIDECAR,
-            PictureSet::Hogels => crate::hogels::MANIFEST,
-        }
-    }
-
-    /// The geometry and tone mapping the manifest in `dir` records, when
-    /// there is one (`None`: pictures made elsewhere). A folder whose set's
-    /// replacement was interrupted, or whose manifest is not one, is refused.
-    pub fn folder_manifest(self, dir: &Path) -> Result<Option<(Geometry, ToneMapping)>> {
-        Ok(match self {
-            PictureSet::Views => folder_sidecar(dir)?.map(|s| (s.geometry, s.tone)),
-            PictureSet::Hogels => crate::hogels::folder_hogel_manifest(dir)?.map(|m| (m.geometry, m.tone)),
-        })
-    }
-}
-
-/// Import the pictures of kind `set` in `dir` for `geometry` into the
-/// `.holo` file `output` (`holo import-views`, `holo import-hogels`; the
-/// hogels band by band).
-pub fn import_pictures_file(
-    set: PictureSet,
-    dir: &Path,
-    geometry: &Geometry,
-    tone: &ToneMapping,
-    output: &Path,
-    options: WriteOptions,
-    progress: &dyn Progress,
-) -> Result<Run<WriteReport>> {
-    let sink = HoloSink::new(output, geometry, options);
-    match set {
-        PictureSet::Views => crate::pipeline::run(&mut ViewsSource::new(dir, geometry, tone), sink, None, progress),
-        PictureSet::Hogels => {
-            crate::pipeline::run(&mut crate::hogels::HogelsSource::new(dir, geometry, tone)?, sink, None, progress)
-        }
     }
 }
 

@@ -10,8 +10,9 @@ use holo::hogels::{
     export_hogels, export_hogels_file, hogel_file_names, import_hogels, read_hogel_manifest, MANIFEST, ORIENTATION,
 };
 use holo::picture::{srgb_encode, Bits, Tone, White};
+use holo::pictures::{import_pictures_file, PictureSet};
 use holo::progress::Silent;
-use holo::views::{import_pictures_file, PictureSet, ToneMapping};
+use holo::views::ToneMapping;
 use holo::Modulation;
 
 /// 3 rows × 4 columns of emitters, 3 × 2 views (full parallax) or 3 views.

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 use holo::hogels::{export_hogels_file, MANIFEST};
-use holo::views::PictureSet;
+use holo::pictures::PictureSet;
 
 use super::{inputs_exist, Outcome};
 use crate::args::{PictureExportArgs, PictureImportArgs};

@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Args;
-use holo::views::{import_pictures_file, PictureSet, ToneMapping, SIDECAR};
+use holo::pictures::{import_pictures_file, PictureSet};
+use holo::views::{ToneMapping, SIDECAR};
 
 use super::{check_output, inputs_exist, wrote, Failure, Outcome};
 use crate::args::{layout_geometry, PictureExportArgs, PictureImportArgs};
