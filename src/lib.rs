@@ -35,7 +35,8 @@
 //! | mesh → modulation | [`mesh::load::SceneSource::open`] → `scene_at`, [`mesh::place::place`], [`mesh::render::render`] | [`mesh::convert::convert_mesh`] |
 //! | camera array → modulation | [`cameras::open_rig`], [`cameras::resample::resample_rig`] | [`cameras::convert::convert_camera_files`] |
 //! | HoloFlick → modulation | [`holoflick::container::HoloFlickReader`] | [`holoflick::convert::convert_holoflick`] |
-//! | test patterns, view pictures | [`pattern::Pattern::render`], [`views::import_views`] | [`pattern::write_pattern`], [`views::import_views_file`], [`views::export_views`] |
+//! | test patterns, view pictures | [`pattern::Pattern::render`], [`views::import_views`] | [`pattern::write_pattern`], [`pictures::import_pictures_file`], [`views::export_views`] |
+//! | hogel pictures (printers) | [`hogels::import_hogels`], [`hogels::export_hogels`] | [`pictures::import_pictures_file`], [`hogels::export_hogels_file`] |
 //! | meshes → HoloFlicks | [`holoflick::container::HoloFlickWriter`] | [`holoflick::encode::encode_holoflick`], [`holoflick::tools::pack`] |
 //! | the `.holo` file | [`write()`], [`read()`], [`format::HoloFile::open`] (one frame or region at a time), [`format::write_frames`] (streaming), [`validate()`] | |
 //! | display profiles | [`layout::builtin`] (`mark3`, `mark1`, `mark1-hogel`, `mark2`, `mark4`), [`layout::Layout::load`] (TOML or JSON) | |
@@ -125,6 +126,7 @@ pub mod farm;
 pub mod format;
 pub mod frame_rate;
 pub mod geometry;
+pub mod hogels;
 pub mod holoflick;
 pub mod layout;
 pub mod math;
@@ -134,6 +136,7 @@ mod modulation;
 pub mod output;
 pub mod pattern;
 pub mod picture;
+pub mod pictures;
 pub mod pipeline;
 pub mod prelude;
 pub mod progress;
@@ -149,5 +152,5 @@ pub mod views;
 pub use error::{Error, OutputProblem, Result, SetProblem};
 pub use format::{read, write, HoloFile, WriteOptions};
 pub use geometry::Geometry;
-pub use modulation::{Band, Modulation};
+pub use modulation::{full_to_horizontal, rows_beyond_vertical_views, Band, Modulation};
 pub use validate::validate;

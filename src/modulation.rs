@@ -6,7 +6,7 @@
 //! an index among an emitter's views.
 
 use crate::error::{Error, Result};
-use crate::geometry::Geometry;
+use crate::geometry::{Geometry, Parallax};
 
 /// One frame of modulation: `samples[((c·H + j)·E + e)·V + v]`, where `V`
 /// is [`Geometry::views_per_emitter`].
@@ -112,6 +112,60 @@ impl Modulation {
     pub fn first_bad_sample(&self) -> Option<(usize, usize, usize, usize, f32, &'static str)> {
         first_bad(&self.geometry, &self.samples, 0..self.geometry.hololines)
     }
+}
+
+/// The horizontal-parallax frame that a full-parallax frame `m` shows a
+/// viewer on its viewer line (height `viewer_height_m` at
+/// `viewer_distance_m`): for emitter row `j` at height `y_j`, the row of
+/// views in the vertical direction toward the viewer line,
+/// `φ_j = atan((y_v − y_j)/(D − z_e))` (the direction of every
+/// horizontal-parallax ray of that row, [`Geometry::ray_slope_y`]), taken
+/// linearly between the two nearest vertical views
+/// ([`crate::geometry::Views::index_at`]). A row whose direction is more than
+/// half a view beyond the first or last vertical view is black: the display
+/// sends no light toward the viewer line there ([`rows_beyond_vertical_views`]).
+/// The geometry is `m`'s without its vertical views; a horizontal-parallax
+/// frame comes back as it is. A band of rows (a region read) is taken as
+/// well: each row by its own height.
+pub fn full_to_horizontal(m: &Modulation) -> Result<Modulation> {
+    let g = m.geometry();
+    if g.vertical_views.is_none() {
+        return Ok(m.clone());
+    }
+    let horizontal = Geometry { parallax: Parallax::Horizontal, vertical_views: None, ..g.clone() };
+    let mut out = Modulation::zeros(horizontal)?;
+    let views = g.views.count;
+    for j in 0..g.hololines {
+        let Some(taps) = viewer_line_taps(g, j) else { continue };
+        for c in 0..g.channels.len() {
+            for e in 0..g.emitters {
+                let from = m.views_of(c, j, e);
+                let at = out.index(c, j, e, 0);
+                for (h, sample) in out.samples[at..at + views].iter_mut().enumerate() {
+                    *sample = taps.iter().map(|&(k, w)| w * from[g.view_index(h, k)]).sum();
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The emitter rows of `g` (full parallax) whose direction toward the
+/// viewer line is more than half a view beyond its vertical views: black in
+/// [`full_to_horizontal`].
+pub fn rows_beyond_vertical_views(g: &Geometry) -> Vec<usize> {
+    match g.vertical_views {
+        None => Vec::new(),
+        Some(_) => (0..g.hololines).filter(|&j| viewer_line_taps(g, j).is_none()).collect(),
+    }
+}
+
+/// The vertical views (index, weight) that row `j` of full-parallax `g`
+/// sends toward the viewer line, or `None` beyond them.
+fn viewer_line_taps(g: &Geometry, j: usize) -> Option<[(usize, f32); 2]> {
+    let vertical = g.vertical_views.as_ref()?;
+    let phi = g.ray_slope_y(g.hololine_y_m(j)).atan();
+    crate::sampling::linear_taps(vertical.index_at(phi), vertical.count)
 }
 
 /// Some consecutive hololines of one frame, every channel: what a converter

@@ -1,5 +1,6 @@
 //! Sampling shared by every renderer and resampler: mesh textures and camera
-//! pictures are read between their texels with the same bilinear blend.
+//! pictures are read between their texels with the same bilinear blend, and
+//! samples between rows, emitters or views with the same linear taps.
 
 /// Bilinear blend of the corners `[top left, top right, bottom left,
 /// bottom right]` at fractions `fx`, `fy`, in one fixed order of

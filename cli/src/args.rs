@@ -584,6 +584,39 @@ impl From<FringeFormatChoice> for holo::assemble::output::FringeFormat {
     }
 }
 
+/// What `export-views` and `export-hogels` take besides the file and the
+/// folder: the frame, how its samples become PNG codes, and whether to
+/// replace a set.
+#[derive(Args)]
+pub struct PictureExportArgs {
+    /// Frame (0-based, in file order).
+    #[arg(long, default_value = "0", value_parser = at_least(0))]
+    pub frame: usize,
+    /// Bits per component.
+    #[arg(long, value_enum, default_value = "16")]
+    pub bits: PngBits,
+    #[arg(long, default_value = "1", value_parser = white(), help = white_help!("the samples are every view of the frame"))]
+    pub white: White,
+    /// Replace existing PNGs.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// What `import-views` and `import-hogels` take besides the folder: the
+/// geometry and white level, when the folder's manifest is not to say
+/// them, and the `.holo` file written.
+#[derive(Args)]
+pub struct PictureImportArgs {
+    /// Geometry: a layout name, a layout profile or a geometry .json (default: the folder's manifest).
+    #[arg(long)]
+    pub geometry: Option<String>,
+    /// Sample value of full white, a positive number (default: the manifest's, else 1).
+    #[arg(long, value_parser = white_number())]
+    pub white: Option<f32>,
+    #[command(flatten)]
+    pub write: WriteArgs,
+}
+
 /// `export-views --bits`: bits per PNG component.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum PngBits {

@@ -5,8 +5,6 @@ Run by .ci/python.sh in a fresh virtual environment: `pip install ./python pytes
 it fail, not skip, without it.
 """
 
-import os
-import pathlib
 import subprocess
 import threading
 import time
@@ -16,15 +14,7 @@ import OpenEXR
 import pytest
 
 import holo
-
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-FIXTURES = ROOT / "fixtures"
-
-
-def cli():
-    path = os.environ.get("HOLO_CLI")
-    assert path, "HOLO_CLI must name the holo command-line tool (e.g. target/debug/holo)"
-    return path
+from clitool import FIXTURES, cli
 
 
 def openexr_frames(path):

@@ -10,6 +10,7 @@
 //! the rig says; [`Rig::metres_per_unit`] converts them to metres.
 
 pub mod convert;
+pub mod hci;
 pub mod resample;
 
 use std::path::PathBuf;

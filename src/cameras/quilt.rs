@@ -37,6 +37,13 @@
 //! tiles are so cut, and the view cone that shows every tile whole
 //! ([`whole_tiles_view_cone_deg`]), at the cost of parallax.
 //!
+//! **Full parallax.** A quilt's cameras all sit on the viewer line, so a
+//! full-parallax file is first made the horizontal-parallax frame it shows
+//! there ([`full_to_horizontal`]): each emitter row's views in the vertical
+//! direction toward the viewer line, linearly between the two nearest
+//! vertical views, read band by band. Rows whose vertical views end more
+//! than half a view short of that direction are black, and said.
+//!
 //! **Presets**: Looking Glass's quilt settings per device, from its
 //! key-concepts page <https://lfdocs.lookingglassfactory.com/keyconcepts/quilts>
 //! as the Looking Glass Blender add-on (Alice/LG, the `pylightio` quilt
@@ -62,8 +69,8 @@ use rayon::prelude::*;
 
 use super::{look_rotation, Camera, ImageSource, Intrinsics, Pose, Rig};
 use crate::error::{Error, Result};
-use crate::geometry::{Geometry, Views};
-use crate::modulation::Modulation;
+use crate::geometry::{Geometry, Parallax, Views};
+use crate::modulation::{full_to_horizontal, rows_beyond_vertical_views, Modulation};
 use crate::picture::{encode_png, Bits, Colour, Tone, White};
 use crate::sampling::linear_taps;
 
@@ -599,6 +606,44 @@ fn partly_black_warning(quilt: &Quilt, g: &Geometry, black_centres: &[usize]) ->
     ))
 }
 
+/// The horizontal-parallax frame that frame `frame` of the full-parallax
+/// `file` shows along its viewer line ([`full_to_horizontal`]), read band
+/// `band_rows` at a time (its digests checked), so memory is the result and
+/// a band, not the full-parallax frame: a quilt's cameras all sit on the
+/// viewer line.
+fn horizontal_frame(file: &crate::format::HoloFile, frame: usize, band_rows: usize) -> Result<Modulation> {
+    let g = file.geometry();
+    let mut out = Modulation::zeros(Geometry { parallax: Parallax::Horizontal, vertical_views: None, ..g.clone() })?;
+    file.read_frame_in_bands(frame, band_rows, |rows, band| {
+        let band = full_to_horizontal(&band)?;
+        for c in 0..g.channels.len() {
+            let line = band.hololine(c, 0).len();
+            let at = out.index(c, rows.start, 0, 0);
+            out.samples_mut()[at..at + rows.len() * line]
+                .copy_from_slice(&band.samples()[c * rows.len() * line..][..rows.len() * line]);
+        }
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// The emitter rows of a full-parallax file that send no view toward the
+/// viewer line, where the quilt's cameras are: black in every tile.
+fn rows_beyond_warning(g: &Geometry) -> Option<String> {
+    let rows = rows_beyond_vertical_views(g);
+    (!rows.is_empty()).then(|| {
+        format!(
+            "{} of {} emitter rows send no view toward the viewer line (height {} mm at {} mm), where the quilt's \
+             cameras are: their vertical views end more than half a view short of it; rows {} are black in every tile",
+            rows.len(),
+            g.hololines,
+            crate::geometry::millimetres_text(g.viewer_height_m),
+            crate::geometry::millimetres_text(g.viewer_distance_m),
+            runs_text(&rows)
+        )
+    })
+}
+
 /// Read frame `frame` of `holo_path` and write its quilt to `out_path` (an
 /// 8-bit sRGB PNG). The output is refused before any work if it exists and
 /// `options.overwrite` is not set, if its folder is missing, or if it is the
@@ -618,17 +663,10 @@ pub fn export_quilt(
     }
     let _claim = crate::output::check_output(out_path, &[holo_path], options.overwrite)?;
     let file = crate::format::HoloFile::open(holo_path)?;
-    if let Some(vertical) = &file.geometry().vertical_views {
-        return Err(Error::unsupported(
-            holo_path,
-            format!(
-                "is full parallax ({} × {} views); holo does not yet make a quilt of it (a quilt is one row of views)",
-                file.geometry().views.count,
-                vertical.count
-            ),
-        ));
-    }
-    let m = file.read_frame(frame)?;
+    let m = match file.geometry().vertical_views {
+        None => file.read_frame(frame)?,
+        Some(_) => horizontal_frame(&file, frame, crate::views::band_rows(file.geometry()))?,
+    };
     let quilt = quilt_from_modulation(&m, spec)?;
     let white = quilt.white_level(options.white);
     quilt.write_png(out_path, white, options.overwrite)?;
@@ -636,6 +674,7 @@ pub fn export_quilt(
     let views = &m.geometry().views;
     let mut warnings = view_cone_warnings(views, spec);
     warnings.extend(partly_black_warning(&quilt, m.geometry(), &black_tiles(views, spec)));
+    warnings.extend(rows_beyond_warning(file.geometry()));
     Ok(QuiltReport {
         path: out_path.to_path_buf(),
         width: quilt.width,
@@ -676,6 +715,20 @@ mod tests {
     fn centre(q: &Quilt, i: usize) -> [f32; 3] {
         let (x, y) = q.spec.tile_origin(i);
         q.rgb[(y + q.spec.tile_height / 2) * q.width + x + q.spec.tile_width / 2]
+    }
+
+    #[test]
+    fn a_full_parallax_frame_read_in_bands_is_its_row_of_views_toward_the_viewer_line() {
+        let g = geometry(Views::tan_spaced(3, -0.2, 0.2)).with_vertical_views(Views::tan_spaced(3, -0.03, 0.03));
+        let m = Modulation::from_fn(g, |c, j, e, v| 0.01 * (1 + c + 2 * j + 3 * e + 5 * v) as f32).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("full.holo");
+        crate::format::write(&path, &m, &crate::format::WriteOptions::default()).unwrap();
+        let file = crate::format::HoloFile::open(&path).unwrap();
+        let whole = full_to_horizontal(&file.read_frame(0).unwrap()).unwrap();
+        for band_rows in [1, 7, 30] {
+            assert_eq!(horizontal_frame(&file, 0, band_rows).unwrap(), whole, "bands of {band_rows}");
+        }
     }
 
     #[test]

@@ -14,7 +14,7 @@ use exr::meta::MetaData;
 use super::channels::{colour_slots, ChannelOrder};
 use half::slice::HalfFloatSliceExt;
 
-use super::digest::{frame_digest, BlockDigest, RowDigest};
+use super::digest::{frame_digest, row_bytes, stored_row, BlockDigest, RowDigest};
 use super::header::{file_info, FileInfo, Positioned};
 use super::{SampleType, MAX_SAMPLES_PER_FRAME};
 use crate::error::{Error, Result};
@@ -168,6 +168,108 @@ impl HoloFile {
             clamp_undershoot(&mut samples);
         }
         Ok(samples)
+    }
+
+    /// Frame `index` a band of `band_rows` hololines (emitter rows) at a
+    /// time, top to bottom, each band handed to `each` with its rows as
+    /// [`HoloFile::read_region`] gives it (every emitter, every view), so
+    /// memory is a band, not the frame. Every digest of the frame (its
+    /// frame digest, or each view's) is taken over the bands as they are read
+    /// and checked after the last: an error then comes after every band was
+    /// handed on, so a caller that makes something of the bands must not keep
+    /// it until this returns `Ok`.
+    pub fn read_frame_in_bands(
+        &self,
+        index: usize,
+        band_rows: usize,
+        mut each: impl FnMut(Range<usize>, Modulation) -> Result<()>,
+    ) -> Result<()> {
+        let info = &self.info;
+        let (g, sample_type) = (&info.geometry, info.sample_type);
+        let frame = info.frames.get(index).ok_or_else(|| Error::no_frame(&info.path, index, info.frames.len()))?;
+        let mut view_digests = (!frame.views.is_empty()).then(|| ViewDigests::new(g, sample_type));
+        let order = ChannelOrder::new(g);
+        let mut row = vec![0u8; row_bytes(g, sample_type)];
+        let mut digest = frame.digest.as_ref().map(|_| RowDigest::default());
+        for top in (0..g.hololines).step_by(band_rows.max(1)) {
+            let rows = top..(top + band_rows.max(1)).min(g.hololines);
+            let region = Region { hololines: rows.clone(), ..Region::all(g) };
+            // As decoded (a lossy file's undershoot included), as the digests are.
+            let mut band = self.read_decoded(index, &region)?;
+            if let Some(digests) = &mut view_digests {
+                digests.push(band.samples(), rows.len());
+            }
+            if let Some(digest) = &mut digest {
+                for line in 0..rows.len() {
+                    stored_row(g, &order, sample_type, |c| band.hololine(c, line), &mut row);
+                    digest.update(&row);
+                }
+            }
+            if self.is_lossy() {
+                clamp_undershoot(band.samples_mut());
+            }
+            each(rows, band)?;
+        }
+        if let Some(digests) = view_digests {
+            digests.check(info, index)?;
+        }
+        if let (Some(stored), Some(digest)) = (&frame.digest, digest) {
+            let computed = digest.finish();
+            if &computed != stored {
+                return Err(Error::DigestMismatch {
+                    path: info.path.clone(),
+                    frame: index,
+                    stored: stored.clone(),
+                    computed,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// View `(h, k)` of frame `index` of a full-parallax file (`k` = 0 for
+    /// horizontal parallax: then every view is read, as one part holds
+    /// them), its digest checked: of a full-parallax file only that view's
+    /// part is read and decoded (spec §8).
+    pub fn read_view(&self, index: usize, h: usize, k: usize) -> Result<Modulation> {
+        let info = &self.info;
+        let g = &info.geometry;
+        let frame = info.frames.get(index).ok_or_else(|| Error::no_frame(&info.path, index, info.frames.len()))?;
+        if h >= g.views.count || k >= g.vertical_view_count() {
+            return Err(Error::argument(
+                "view",
+                format!(
+                    "{}: view ({h} {k}) is not one of its {} × {} views",
+                    info.path.display(),
+                    g.views.count,
+                    g.vertical_view_count()
+                ),
+            ));
+        }
+        let region = Region { views: h..h + 1, vertical_views: k..k + 1, ..Region::all(g) };
+        if frame.views.is_empty() {
+            // One part holds every view: the frame is read, and its digest checked, whole.
+            let m = self.read_frame(index)?;
+            let (rows, emitters) = (g.hololines, g.emitters);
+            let samples = (0..g.channels.len())
+                .flat_map(|c| (0..rows).flat_map(move |j| (0..emitters).map(move |e| (c, j, e))))
+                .map(|(c, j, e)| m.get(c, j, e, g.view_index(h, k)))
+                .collect();
+            return Modulation::from_samples(sub_geometry(g, &region), samples);
+        }
+        let mut view = self.read_decoded(index, &region)?;
+        let mut digest = ViewDigests::new(view.geometry(), info.sample_type);
+        digest.push(view.samples(), g.hololines);
+        let computed = digest.finish().pop().expect("one view");
+        if let Some(stored) = &frame.views[g.view_index(h, k)].digest {
+            if &computed != stored {
+                return Err(view_damaged(&info.path, index, (h, k), stored, &computed));
+            }
+        }
+        if self.is_lossy() {
+            clamp_undershoot(view.samples_mut());
+        }
+        Ok(view)
     }
 
     /// Whether the samples come back from the codec only approximately
@@ -796,24 +898,33 @@ impl ViewDigests {
         }
     }
 
+    /// Every view's digest, in the order of [`Geometry::view_index`].
+    pub(crate) fn finish(self) -> Vec<String> {
+        self.digests.into_iter().map(RowDigest::finish).collect()
+    }
+
     /// Every view's digest against the one its part stores, the first that
     /// differs an error naming the frame and view.
     pub(crate) fn check(self, info: &super::FileInfo, index: usize) -> Result<()> {
         let frame = &info.frames[index];
-        for ((v, digest), view) in self.digests.into_iter().enumerate().zip(&frame.views) {
-            let computed = digest.finish();
+        let g = self.g.clone();
+        for ((v, computed), view) in self.finish().into_iter().enumerate().zip(&frame.views) {
             if let Some(stored) = &view.digest {
                 if &computed != stored {
-                    let (h, k) = self.g.view_of_index(v);
-                    return Err(Error::invalid(
-                        &info.path,
-                        format!(
-                            "frame {index}, view ({h} {k}): the samples do not match their digest (stored {stored}, computed {computed}): the file is damaged"
-                        ),
-                    ));
+                    return Err(view_damaged(&info.path, index, g.view_of_index(v), stored, &computed));
                 }
             }
         }
         Ok(())
     }
+}
+
+/// A view of a full-parallax frame whose samples do not match its digest.
+fn view_damaged(path: &Path, index: usize, (h, k): (usize, usize), stored: &str, computed: &str) -> Error {
+    Error::invalid(
+        path,
+        format!(
+            "frame {index}, view ({h} {k}): the samples do not match their digest (stored {stored}, computed {computed}): the file is damaged"
+        ),
+    )
 }

@@ -48,7 +48,7 @@ pub fn validate_format(path: impl AsRef<Path>) -> Result<Validation> {
                 // A full-parallax frame may be larger than memory: band by band (spec §10).
                 let read = match info.geometry.vertical_views {
                     None => file.read_frame(i).map(drop),
-                    Some(_) => read_in_bands(&file, i),
+                    Some(_) => file.read_frame_in_bands(i, BAND_ROWS, |_, _| Ok(())),
                 };
                 match read {
                     Ok(_) => {}
@@ -69,19 +69,3 @@ pub fn validate_format(path: impl AsRef<Path>) -> Result<Validation> {
 
 /// Emitter rows a full-parallax frame is validated in at a time.
 const BAND_ROWS: usize = 32;
-
-/// Read frame `index` of a full-parallax file band by band, each band's
-/// samples checked as it is read and every view's digest over the whole.
-fn read_in_bands(file: &HoloFile, index: usize) -> Result<()> {
-    let info = file.info();
-    let g = &info.geometry;
-    let mut digests = super::read::ViewDigests::new(g, info.sample_type);
-    for top in (0..g.hololines).step_by(BAND_ROWS) {
-        let lines = top..(top + BAND_ROWS).min(g.hololines);
-        let region = super::Region { hololines: lines.clone(), ..super::Region::all(g) };
-        // As decoded (a lossy file's undershoot included), as the digests are.
-        let band = file.read_decoded(index, &region)?;
-        digests.push(band.samples(), lines.len());
-    }
-    digests.check(info, index)
-}

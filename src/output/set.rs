@@ -16,7 +16,7 @@ use sha2::{Digest, Sha256};
 use super::claim::{Claim, Scope};
 use super::fs::sync_folder;
 use super::interrupt::{forget_folder, register_folder, remove_folder, remove_in_place, Cleanup};
-use super::temporary::AtomicFile;
+use super::temporary::{AtomicFile, ClosedFile};
 use crate::error::{Error, OutputProblem, Result, SetProblem};
 
 /// One file of a set, as its manifest lists it.
@@ -38,7 +38,8 @@ pub struct SetFile {
 pub struct FileSet {
     folder: PathBuf,
     manifest: String,
-    pending: Vec<(SetFile, AtomicFile)>,
+    /// The files written, each closed in its temporary until the commit.
+    pending: Vec<(SetFile, ClosedFile)>,
     /// The folders `create` made (the set's folder and missing parents),
     /// registered to be removed again, while empty, if the set is dropped
     /// or the process interrupted before the commit.
@@ -96,7 +97,7 @@ impl FileSet {
         }
         let mut file = AtomicFile::create_claimed(&self.folder.join(name), None)?;
         fill(&mut file)?;
-        let bytes = file.finish()?;
+        let (file, bytes) = file.close()?;
         let sha256 = file_sha256(file.temporary_path())?;
         self.pending.push((SetFile { name: name.to_string(), bytes, sha256 }, file));
         Ok(&self.pending[self.pending.len() - 1].0)
@@ -124,7 +125,7 @@ impl FileSet {
     ) -> Result<Vec<PathBuf>> {
         let manifest_path = self.folder.join(&self.manifest);
         let pending = std::mem::take(&mut self.pending);
-        let (files, temporaries): (Vec<SetFile>, Vec<AtomicFile>) = pending.into_iter().unzip();
+        let (files, temporaries): (Vec<SetFile>, Vec<ClosedFile>) = pending.into_iter().unzip();
         if !overwrite {
             if manifest_path.exists() {
                 return Err(Error::Output {

@@ -48,6 +48,21 @@ impl Temporary {
     }
 }
 
+impl Temporary {
+    /// Rename it to `destination` (refused when that exists, unless
+    /// `overwrite`); a failed rename leaves it registered, to be removed
+    /// when it is dropped. The folder is not synced.
+    fn rename_into_place(&mut self, destination: &Path, overwrite: bool) -> Result<()> {
+        let id = self.id.take().expect("a temporary is renamed once");
+        let renamed = interrupt::rename_registered(id, &self.path, destination, overwrite);
+        if renamed.is_err() {
+            // Still ours: dropping it removes it.
+            self.id = Some(id);
+        }
+        renamed
+    }
+}
+
 impl Drop for Temporary {
     fn drop(&mut self) {
         if let Some(id) = self.id.take() {
@@ -114,13 +129,18 @@ impl AtomicFile {
     /// Rename the finished temporary to the destination (refused when the
     /// destination exists, unless `overwrite`). The folder is not synced.
     pub(crate) fn rename_into_place(mut self, overwrite: bool) -> Result<()> {
-        let id = self.temp.id.take().expect("a temporary is renamed once");
-        let renamed = interrupt::rename_registered(id, &self.temp.path, &self.destination, overwrite);
-        if renamed.is_err() {
-            // Still ours: dropping `self` removes it.
-            self.temp.id = Some(id);
-        }
-        renamed
+        self.temp.rename_into_place(&self.destination, overwrite)
+    }
+
+    /// Flush and sync the temporary, then close it: its file and buffer
+    /// are let go while it waits to be put in place, so a set of more files
+    /// than the process may hold open (a folder of hogels: tens of
+    /// thousands) can be written. Returns it closed, and its size in bytes.
+    pub(crate) fn close(mut self) -> Result<(ClosedFile, u64)> {
+        let bytes = self.finish()?;
+        let AtomicFile { destination, out, temp, _claim } = self;
+        drop(out);
+        Ok((ClosedFile { destination, temp }, bytes))
     }
 
     /// Flush, sync, rename into place and sync the folder: the file is
@@ -133,6 +153,32 @@ impl AtomicFile {
         self.rename_into_place(overwrite)?;
         sync_folder(folder_of(&destination))?;
         Ok(bytes)
+    }
+}
+
+/// A finished [`AtomicFile`], closed ([`AtomicFile::close`]): its bytes are
+/// synced in its temporary, which is removed when it is dropped unless it
+/// was put in place.
+#[derive(Debug)]
+pub(crate) struct ClosedFile {
+    destination: PathBuf,
+    temp: Temporary,
+}
+
+impl ClosedFile {
+    /// Where the file goes.
+    pub(crate) fn destination(&self) -> &Path {
+        &self.destination
+    }
+
+    /// Where its bytes are until it is put in place.
+    pub(crate) fn temporary_path(&self) -> &Path {
+        &self.temp.path
+    }
+
+    /// [`AtomicFile::rename_into_place`].
+    pub(crate) fn rename_into_place(mut self, overwrite: bool) -> Result<()> {
+        self.temp.rename_into_place(&self.destination, overwrite)
     }
 }
 

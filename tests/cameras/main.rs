@@ -7,6 +7,7 @@
 mod common;
 
 mod ground_truth;
+mod hci_export;
 mod provenance;
 mod read;
 mod real;

@@ -14,7 +14,7 @@ use crate::roundtrip::random;
 use rand_chacha::ChaCha8Rng;
 
 /// `rows × columns` emitters, `v × w` views.
-fn geometry(rows: usize, columns: usize, v: usize, w: usize, rgb: bool) -> Geometry {
+pub(crate) fn geometry(rows: usize, columns: usize, v: usize, w: usize, rgb: bool) -> Geometry {
     let spread = |n: usize, a: f64| if n > 1 { (-a, a) } else { (0.0, 0.0) };
     let (h0, h1) = spread(v, 0.25);
     let (k0, k1) = spread(w, 0.15);
@@ -176,6 +176,82 @@ fn a_damaged_view_is_named() {
     assert!(err.contains("view (1 2)") && err.contains("digest"), "{err}");
 }
 
+/// Frame 0 of `path` read band by band and put together again.
+fn read_in_bands(path: &std::path::Path, band_rows: usize) -> holo::Result<Modulation> {
+    let file = HoloFile::open(path)?;
+    let g = file.geometry().clone();
+    let mut whole = Modulation::zeros(g.clone())?;
+    let mut next = 0;
+    file.read_frame_in_bands(0, band_rows, |rows, band| {
+        assert_eq!(rows.start, next, "bands in order");
+        next = rows.end;
+        assert_eq!(band.geometry().hololine_top_y_m, g.hololine_y_m(rows.start));
+        for c in 0..g.channels.len() {
+            for (line, j) in rows.clone().enumerate() {
+                let at = whole.index(c, j, 0, 0);
+                let n = band.hololine(c, line).len();
+                whole.samples_mut()[at..at + n].copy_from_slice(band.hololine(c, line));
+            }
+        }
+        Ok(())
+    })?;
+    assert_eq!(next, g.hololines);
+    Ok(whole)
+}
+
+#[test]
+fn a_frame_read_band_by_band_or_a_view_alone_is_the_frame_its_digests_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = random(geometry(9, 5, 2, 3, true), 21);
+    let mut horizontal = random(geometry(9, 5, 4, 1, false), 22);
+    horizontal = Modulation::from_samples(
+        Geometry {
+            vertical_views: None,
+            parallax: holo::geometry::Parallax::Horizontal,
+            ..horizontal.geometry().clone()
+        },
+        horizontal.samples().to_vec(),
+    )
+    .unwrap();
+    for (name, m) in [("full", &full), ("horizontal", &horizontal)] {
+        let path = dir.path().join(format!("{name}.holo"));
+        write(&path, m, &options(SampleType::F32, Compression::None)).unwrap();
+        for band_rows in [1, 4, 9, 100] {
+            assert_eq!(&read_in_bands(&path, band_rows).unwrap(), m, "{name}, bands of {band_rows}");
+        }
+        let file = HoloFile::open(&path).unwrap();
+        let g = m.geometry();
+        for k in 0..g.vertical_view_count() {
+            for h in 0..g.views.count {
+                let view = file.read_view(0, h, k).unwrap();
+                assert_eq!(view.geometry().views_per_emitter(), 1);
+                assert_eq!(view.geometry().views.theta_rad(0), g.views.theta_rad(h));
+                for (c, j, e) in [(0, 0, 0), (g.channels.len() - 1, 8, 4), (0, 3, 2)] {
+                    assert_eq!(view.get(c, j, e, 0), at(m, c, j, e, h, k), "{name} view ({h} {k})");
+                }
+            }
+        }
+        let err = file.read_view(0, g.views.count, 0).unwrap_err().to_string();
+        assert!(err.contains(&format!("view ({} 0) is not one of its", g.views.count)), "{err}");
+        // A flipped bit in the last sample: the bands are all handed on,
+        // then the digest says the frame is damaged.
+        let mut bytes = std::fs::read(&path).unwrap();
+        let n = bytes.len();
+        bytes[n - 2] ^= 0x01;
+        std::fs::write(&path, &bytes).unwrap();
+        let err = read_in_bands(&path, 4).unwrap_err();
+        match name {
+            "full" => assert!(err.to_string().contains("view (1 2)") && err.to_string().contains("digest"), "{err}"),
+            _ => assert!(matches!(err, holo::Error::DigestMismatch { frame: 0, .. }), "{err}"),
+        }
+        if name == "full" {
+            let file = HoloFile::open(&path).unwrap();
+            assert!(file.read_view(0, 1, 2).unwrap_err().to_string().contains("view (1 2)"));
+            file.read_view(0, 0, 2).unwrap();
+        }
+    }
+}
+
 #[test]
 fn an_f32_file_reads_as_f16_rounded_its_views_checked_as_stored() {
     let dir = tempfile::tempdir().unwrap();
@@ -287,4 +363,60 @@ fn parallax_and_vertical_views_must_agree() {
         &WriteOptions::default()
     )
     .is_ok());
+}
+
+#[test]
+fn a_full_parallax_quilt_is_the_quilt_of_the_views_toward_the_viewer_line() {
+    use holo::cameras::quilt::{export_quilt, quilt_from_modulation, QuiltOptions, QuiltSpec};
+    use holo::picture::White;
+    // 12 rows 3 mm apart (±16.5 mm), 4 vertical views over ±0.02 in tan; the
+    // viewer line 2 mm up at 500 mm: the rows' directions toward it run
+    // from −0.029 to +0.037 in tan, beyond the views at both ends.
+    let mut g = Geometry::centred(12, 10, Views::tan_spaced(6, -0.2, 0.2), 3e-3, 2e-3, 0.0, 0.5, rgb_channels())
+        .with_vertical_views(Views::tan_spaced(4, -0.02f64.atan(), 0.02f64.atan()));
+    g.viewer_height_m = 0.002;
+    // Linear in the vertical view k, so the interpolation is exact by hand.
+    let a = |c: usize, j: usize, e: usize, h: usize| 0.1 + 0.01 * (c + j + e + h) as f32;
+    let b = |c: usize, h: usize| 0.05 + 0.001 * (c + h) as f32;
+    let m = Modulation::from_fn(g.clone(), |c, j, e, view| {
+        let (h, k) = g.view_of_index(view);
+        a(c, j, e, h) + b(c, h) * k as f32
+    })
+    .unwrap();
+    // The horizontal-parallax frame by hand: row j's fractional vertical
+    // view is where tan φ_j = (y_v − y_j)/D falls among equal steps of tan.
+    let flat = Geometry { vertical_views: None, parallax: holo::geometry::Parallax::Horizontal, ..g.clone() };
+    let index = |j: usize| ((g.viewer_height_m - g.hololine_y_m(j)) / 0.5 + 0.02) / 0.04 * 3.0;
+    let by_hand = Modulation::from_fn(flat, |c, j, e, h| {
+        let f = index(j);
+        if (-0.5..=3.5).contains(&f) {
+            a(c, j, e, h) + b(c, h) * f.clamp(0.0, 3.0) as f32
+        } else {
+            0.0
+        }
+    })
+    .unwrap();
+    let black: Vec<usize> = (0..12).filter(|&j| !(-0.5..=3.5).contains(&index(j))).collect();
+    assert!(black.contains(&0) && black.contains(&11) && black.len() < 8, "{black:?}");
+    assert_eq!(holo::rows_beyond_vertical_views(&g), black);
+    let converted = holo::full_to_horizontal(&m).unwrap();
+    assert_eq!(converted.geometry(), by_hand.geometry());
+    for (x, y) in converted.samples().iter().zip(by_hand.samples()) {
+        assert!((x - y).abs() < 1e-6, "{x} {y}");
+    }
+    // The file's quilt, read band by band, is the hand-built frame's.
+    let spec =
+        QuiltSpec { columns: 3, rows: 2, tile_width: 30, tile_height: 40, aspect: 0.75, ..QuiltSpec::portrait() };
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("full.holo");
+    write(&path, &m, &options(SampleType::F32, Compression::Zip)).unwrap();
+    let options = QuiltOptions { white: White::Value(1.0), overwrite: false };
+    let report = export_quilt(&path, 0, &spec, &dir.path().join("q.png"), &options).unwrap();
+    assert!(report.warnings.iter().any(|w| w.contains(&format!("{} of 12 emitter rows send no view", black.len()))));
+    let quilt = quilt_from_modulation(&by_hand, &spec).unwrap();
+    let mine = quilt_from_modulation(&converted, &spec).unwrap();
+    for (p, q) in mine.rgb.iter().zip(&quilt.rgb) {
+        assert!((0..3).all(|i| (p[i] - q[i]).abs() < 1e-6), "{p:?} {q:?}");
+    }
+    assert_eq!(std::fs::read(dir.path().join("q.png")).unwrap(), mine.png(1.0).unwrap());
 }

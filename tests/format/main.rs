@@ -6,6 +6,7 @@
 
 mod bad_input;
 mod full_parallax;
+mod hogels;
 mod output;
 mod picture;
 mod roundtrip;

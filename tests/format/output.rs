@@ -207,6 +207,31 @@ fn a_set_is_replaced_whole_and_refused_when_it_disagrees() {
 }
 
 #[test]
+fn a_set_may_hold_more_files_than_a_process_may_keep_open() {
+    // A folder of hogels is tens of thousands of files; the set keeps none
+    // of them open while it waits to put them in place.
+    let count = 300;
+    let contents = |i: usize| format!("file {i}").into_bytes();
+    if let Some(folder) = child_folder() {
+        // Under a limit of 64 open files.
+        let bytes: Vec<(String, Vec<u8>)> = (0..count).map(|i| (format!("f{i:03}.bin"), contents(i))).collect();
+        let files: Vec<(&str, &[u8])> = bytes.iter().map(|(n, b)| (n.as_str(), b.as_slice())).collect();
+        commit_set(&folder.join("set"), &files, false).unwrap();
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out =
+        child("a_set_may_hold_more_files_than_a_process_may_keep_open", dir.path(), "ulimit -n 64;").output().unwrap();
+    let said = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success() && said.contains("1 passed"), "the child must pass: {said}");
+    let folder = dir.path().join("set");
+    let files = listed(&folder);
+    assert_eq!(files.len(), count);
+    verify_set(&folder, "set.json", &files, "write it again").unwrap();
+    assert_eq!(std::fs::read(folder.join("f299.bin")).unwrap(), contents(299));
+}
+
+#[test]
 fn a_set_whose_replacement_stops_midway_is_refused_by_every_reader() {
     let dir = tempfile::tempdir().unwrap();
     let folder = dir.path().join("views");

@@ -7,6 +7,8 @@ pub mod convert;
 pub mod demo;
 pub mod farm;
 pub mod frame_job;
+pub mod hci;
+pub mod hogels;
 pub mod holoflick;
 pub mod info;
 pub mod layout;

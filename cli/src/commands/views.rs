@@ -1,15 +1,15 @@
-//! `holo export-views` and `holo import-views`: one PNG per view, and back.
+//! `holo export-views` and `holo import-views`: one PNG per view, and back;
+//! the import of every set of pictures (`import-hogels` too).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Args;
-use holo::views::{import_views_file, ToneMapping, SIDECAR};
-
-use holo::picture::White;
+use holo::pictures::{import_pictures_file, PictureSet};
+use holo::views::{ToneMapping, SIDECAR};
 
 use super::{check_output, inputs_exist, wrote, Failure, Outcome};
-use crate::args::{self, layout_geometry, white_help, PngBits, WriteArgs};
+use crate::args::{layout_geometry, PictureExportArgs, PictureImportArgs};
 use crate::out::say;
 use crate::progress::Reporter;
 
@@ -21,28 +21,20 @@ pub struct ExportViewsArgs {
     /// Folder for the PNGs and holo-views.json (created if needed).
     #[arg(short, long, alias = "out")]
     output: PathBuf,
-    /// Frame (0-based, in file order).
-    #[arg(long, default_value = "0", value_parser = args::at_least(0))]
-    frame: usize,
-    /// Bits per component.
-    #[arg(long, value_enum, default_value = "16")]
-    bits: PngBits,
-    #[arg(long, default_value = "1", value_parser = args::white(), help = white_help!("the samples are every view of the frame"))]
-    white: White,
-    /// Replace existing PNGs.
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    export: PictureExportArgs,
 }
 
 pub fn run_export(a: ExportViewsArgs) -> Outcome {
+    let PictureExportArgs { frame, bits, white, force } = a.export;
     let holo_file = holo::HoloFile::open(&a.file)?;
     let g = holo_file.geometry();
     let names: Vec<String> = (0..g.views_per_emitter()).map(|v| holo::views::view_file_name_of(g, v)).collect();
-    let _claim = holo::output::check_set_output(&a.output, SIDECAR, &names, &[&a.file], a.force)?;
-    let m = holo_file.read_frame(a.frame)?;
-    let white = a.white.level(m.samples().iter().copied());
-    let tone = ToneMapping { white, bits: a.bits.bits() };
-    let written = holo::views::export_views(&m, &a.output, &tone, a.force)?;
+    let _claim = holo::output::check_set_output(&a.output, SIDECAR, &names, &[&a.file], force)?;
+    let m = holo_file.read_frame(frame)?;
+    let white = white.level(m.samples().iter().copied());
+    let tone = ToneMapping { white, bits: bits.bits() };
+    let written = holo::views::export_views(&m, &a.output, &tone, force)?;
     say!("wrote {} view PNGs and {} to {}, white = {white}", written.len() - 1, SIDECAR, a.output.display());
     Ok(ExitCode::SUCCESS)
 }
@@ -50,38 +42,41 @@ pub fn run_export(a: ExportViewsArgs) -> Outcome {
 /// Build a .holo file from a folder of view PNGs (the inverse of export-views).
 #[derive(Args)]
 pub struct ImportViewsArgs {
-    /// Folder holding view_000.png, …
+    /// Folder holding view_000.png, … and holo-views.json
     dir: PathBuf,
-    /// Geometry: a layout name, a layout profile or a geometry .json (default: DIR/holo-views.json).
-    #[arg(long)]
-    geometry: Option<String>,
-    /// Sample value of full white, a positive number (default: the sidecar's, else 1).
-    #[arg(long, value_parser = args::white_number())]
-    white: Option<f32>,
     #[command(flatten)]
-    write: WriteArgs,
+    import: PictureImportArgs,
 }
 
 pub fn run_import(a: ImportViewsArgs) -> Outcome {
-    inputs_exist(&[&a.dir])?;
-    let sidecar = holo::views::folder_sidecar(&a.dir)?;
-    let g = match (&a.geometry, &sidecar) {
+    run_import_set(PictureSet::Views, &a.dir, &a.import)
+}
+
+/// `import-views` and `import-hogels`: the pictures of kind `set` in `dir`
+/// into a `.holo` file, their geometry and tone from the folder's manifest
+/// unless the arguments say them.
+pub(super) fn run_import_set(set: PictureSet, dir: &Path, a: &PictureImportArgs) -> Outcome {
+    let (geometry, white, write) = (a.geometry.as_deref(), a.white, &a.write);
+    inputs_exist(&[dir])?;
+    let manifest = set.folder_manifest(dir)?;
+    let g = match (geometry, &manifest) {
         (Some(name), _) => layout_geometry(name)?,
-        (None, Some(s)) => s.geometry.clone(),
+        (None, Some((g, _))) => g.clone(),
         (None, None) => {
             return Err(Failure(format!(
-                "{}: no {SIDECAR} here; say which geometry with --geometry LAYOUT|FILE.json",
-                a.dir.display()
+                "{}: no {} here; say which geometry with --geometry LAYOUT|FILE.json",
+                dir.display(),
+                set.manifest()
             )))
         }
     };
     // Every file of the folder counts as an input here, not only the pictures.
-    let _claim = check_output(&a.write.output, &[a.dir.as_path()], a.write.force)?;
-    let mut tone = sidecar.map(|s| s.tone).unwrap_or_default();
-    if let Some(w) = a.white {
+    let _claim = check_output(&write.output, &[dir], write.force)?;
+    let mut tone = manifest.map(|(_, tone)| tone).unwrap_or_default();
+    if let Some(w) = white {
         tone.white = w;
     }
-    let options = a.write.options(String::new());
-    let run = import_views_file(&a.dir, &g, &tone, &a.write.output, options, &Reporter::on_stderr())?;
-    wrote(&run.written, &a.write)
+    let options = write.options(String::new());
+    let run = import_pictures_file(set, dir, &g, &tone, &write.output, options, &Reporter::on_stderr())?;
+    wrote(&run.written, write)
 }

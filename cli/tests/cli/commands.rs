@@ -23,6 +23,9 @@ fn help_on_every_command_and_usage_errors_exit_2() {
         &["pattern", "--help"],
         &["export-views", "--help"],
         &["import-views", "--help"],
+        &["export-hogels", "--help"],
+        &["import-hogels", "--help"],
+        &["export-hci", "--help"],
         &["demo", "--help"],
         &["assemble", "--help"],
         &["layout", "--help"],
@@ -958,7 +961,7 @@ fn raw_blanking_drops_the_layouts_blanking_gains() {
 }
 
 #[test]
-fn a_full_parallax_file_is_described_validated_and_its_views_exported_by_both_indices() {
+fn a_full_parallax_file_is_described_validated_quilted_and_its_views_exported_as_pictures_hogels_and_hci() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let file = crate::fixture("v1.3/full-frames-rgb-f32-zip.holo");
@@ -971,26 +974,80 @@ fn a_full_parallax_file_is_described_validated_and_its_views_exported_by_both_in
     assert!(info.contains("vertical      -2.865° … 2.865°, uniform in sin (positive up)"), "{info}");
     assert!(info.contains("a digest for each of 4 views"), "{info}");
     assert!(text(&ok(holo(&["validate", file], d))).contains("valid"));
-    // Every view a picture named by both indices, and back, sample for sample at 16 bits.
-    let o = ok(holo(&["export-views", file, "--frame", "1", "--white", "200", "-o", "views"], d));
-    assert!(text(&o).contains("wrote 4 view PNGs"), "{}", text(&o));
-    for name in ["view_000_000.png", "view_001_000.png", "view_000_001.png", "view_001_001.png"] {
-        assert!(d.join("views").join(name).exists(), "{name}");
-    }
-    ok(holo(&["import-views", "views", "-o", "back.holo", "--f32"], d));
-    let back = holo::format::read(d.join("back.holo")).unwrap();
-    let original = holo::HoloFile::open(file).unwrap().read_frame(1).unwrap();
-    assert_eq!(back.geometry(), original.geometry());
-    for (a, b) in back.samples().iter().zip(original.samples()) {
-        assert!((a - b).abs() <= 200.0 / 65535.0 * 2.0, "{a} {b}");
+    // Every view a picture named by both indices, and every hogel (3 rows ×
+    // 4 emitters) a 2 × 2 picture of its views, for a printer; and back,
+    // sample for sample at 16 bits.
+    let views = ["view_000_000.png", "view_001_000.png", "view_000_001.png", "view_001_001.png"];
+    let hogels = ["hogel_000_000.png", "hogel_000_003.png", "hogel_002_003.png"];
+    for (export, import, folder, said, names) in [
+        ("export-views", "import-views", "views", "wrote 4 view PNGs", &views[..]),
+        ("export-hogels", "import-hogels", "hogels", "wrote 12 hogel PNGs and holo-hogels.json", &hogels[..]),
+    ] {
+        let o = ok(holo(&[export, file, "--frame", "1", "--white", "200", "-o", folder], d));
+        assert!(text(&o).contains(said), "{}", text(&o));
+        for name in names {
+            assert!(d.join(folder).join(name).exists(), "{name}");
+        }
+        let back = format!("{folder}.holo");
+        ok(holo(&[import, folder, "-o", &back, "--f32"], d));
+        let back = holo::format::read(d.join(&back)).unwrap();
+        let original = holo::HoloFile::open(file).unwrap().read_frame(1).unwrap();
+        assert_eq!(back.geometry(), original.geometry());
+        for (a, b) in back.samples().iter().zip(original.samples()) {
+            assert!((a - b).abs() <= 200.0 / 65535.0 * 2.0, "{export}: {a} {b}");
+        }
     }
     // What holo cannot do with it yet is refused, saying why.
     let o = holo(&["assemble", file, "-o", "fringes"], d);
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o).contains("is full parallax (2 × 2 views)") && !d.join("fringes").exists(), "{}", text(&o));
-    let o = holo(&["export-quilt", file, "-o", "q.png"], d);
-    assert_eq!(o.status.code(), Some(1));
-    assert!(text(&o).contains("does not yet make a quilt"), "{}", text(&o));
+    // A quilt shows each row's views toward the viewer line.
+    let o = ok(holo(&["export-quilt", file, "-o", "q.png", "--tile", "40x30"], d));
+    assert!(text(&o).contains("a 320×180 quilt of 48 views"), "{}", text(&o));
+
+    let full = file;
+    let o = holo(&["export-hogels", full, "-o", "hogels"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("hogels"), "{}", text(&o));
+    // Horizontal parallax: each hogel a strip one pixel tall.
+    let flat = crate::fixture("v1.2/frames-rgb-f32-zip.holo");
+    ok(holo(&["export-hogels", flat.to_str().unwrap(), "--white", "max", "-o", "strips"], d));
+    let png = std::fs::read(d.join("strips/hogel_003_004.png")).unwrap();
+    let picture = decode::decode(std::io::Cursor::new(png)).unwrap();
+    assert_eq!((picture.width, picture.height), (3, 1));
+    ok(holo(&["import-hogels", "strips", "-o", "strips.holo"], d));
+    // A frame the file does not have: one sentence naming it, no folder.
+    let o = holo(&["export-hogels", full, "--frame", "7", "-o", "h7"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("full-frames-rgb-f32-zip.holo") && !d.join("h7").exists(), "{}", text(&o));
+    let o = holo(&["import-hogels", "h7", "-o", "x.holo"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    std::fs::create_dir(d.join("empty")).unwrap();
+    let o = holo(&["import-hogels", "empty", "-o", "x.holo"], d);
+    assert!(text(&o).contains("no holo-hogels.json here") && !d.join("x.holo").exists(), "{}", text(&o));
+
+    // As an HCI benchmark folder.
+    let o = ok(holo(&["export-hci", full, "--frame", "1", "--white", "auto", "-o", "hci"], d));
+    // 2 × 2 views 0.2 rad apart, 490 mm from the viewer: cameras 98.33 mm apart.
+    assert!(
+        text(&o)
+            .contains("wrote 4 cameras (2 × 2, 98.33 mm apart, focused 490 mm away), parameters.cfg and holo-hci.json"),
+        "{}",
+        text(&o)
+    );
+    // What the benchmark's cameras cannot hold is said.
+    assert!(text(&o).contains("warning: the horizontal views are 98.33 mm apart"), "{}", text(&o));
+    for name in ["input_Cam000.png", "input_Cam003.png", "parameters.cfg", "holo-hci.json"] {
+        assert!(d.join("hci").join(name).exists(), "{name}");
+    }
+    let cfg = std::fs::read_to_string(d.join("hci/parameters.cfg")).unwrap();
+    assert!(cfg.contains("num_cams_x = 2\n") && cfg.contains("focus_distance_m = 0.49\n"), "{cfg}");
+    let o = holo(&["export-hci", full, "-o", "hci"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    ok(holo(&["export-hci", full, "-o", "hci", "--force"], d));
+    let o = holo(&["export-hci", flat.to_str().unwrap(), "-o", "flat"], d);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("is horizontal parallax (3 views in a row)") && !d.join("flat").exists(), "{}", text(&o));
 }
 
 #[test]
