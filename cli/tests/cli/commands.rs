@@ -310,6 +310,9 @@ fn demo_runs_and_says_where_its_files_are() {
     assert!(std::fs::read(d.join("demo.holo")).unwrap() != earlier);
     assert!(d.join(".holo-demo").is_file(), "the folder is marked as the demo's");
     assert!(holo::validate(d.join("demo.holo")).unwrap().is_valid());
+    let full = holo::HoloFile::open(d.join("demo-full-parallax.holo")).unwrap();
+    assert_eq!(full.geometry().vertical_view_count(), 9);
+    assert!(holo::validate(d.join("demo-full-parallax.holo")).unwrap().is_valid());
     let movie = holo::HoloFile::open(d.join("movie/cube.holo")).unwrap();
     assert_eq!(movie.info().frames.len(), 3);
 
@@ -325,6 +328,8 @@ fn demo_runs_and_says_where_its_files_are() {
         "fringe.png",
         "eyes.png",
         "eyes-moving.png",
+        "demo-full-parallax.holo",
+        "eyes-full-parallax.png",
         "movie/cube.hflk",
         "movie/frames.png",
     ] {
@@ -354,8 +359,10 @@ fn demo_runs_and_says_where_its_files_are() {
     let physical = (g.emitters as f64 * g.emitter_pitch_m) / (g.hololines as f64 * g.hololine_pitch_m);
     let (sw, sh, sheet) = png_frames(&d.join("eyes.png"));
     let (mw, mh, movie_frames) = png_frames(&d.join("movie/frames.png"));
+    let (fw, fh, full) = png_frames(&d.join("eyes-full-parallax.png"));
     for (what, frame, w, h, count) in [
         ("eyes.png", &sheet[0], sw, sh, 9),
+        ("eyes-full-parallax.png", &full[0], fw, fh, 3),
         ("eyes-moving.png", &moving[0], w, h, 1),
         ("movie/frames.png", &movie_frames[0], mw, mh, 3),
     ] {
@@ -368,14 +375,15 @@ fn demo_runs_and_says_where_its_files_are() {
                 "{what}: the display at ({x}, {y}) is {bw} × {bh} pixels, {aspect:.3} wide for its height, not {physical:.3}"
             );
         }
-        if what == "eyes.png" {
-            // The contact sheet's first and last tiles see the cow differently.
+        if what == "eyes.png" || what == "eyes-full-parallax.png" {
+            // The contact sheet's first and last tiles see the cow differently
+            // (full parallax: from above and from below).
             let (a, b) = (outlines[0], outlines[count - 1]);
             let tile = |(x, y, _, _): (usize, usize, usize, usize)| -> Vec<u8> {
                 (0..a.3).flat_map(|yy| (0..a.2).flat_map(move |xx| rgb(frame, w, x + xx, y + yy))).collect()
             };
             let n = differ(&tile(a), &tile(b));
-            assert!(n > a.2 * a.3 / 50, "the leftmost and rightmost eyes' tiles differ in {n} values");
+            assert!(n > a.2 * a.3 / 50, "{what}: the first and last eyes' tiles differ in {n} values");
         }
     }
 

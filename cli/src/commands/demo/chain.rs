@@ -32,6 +32,7 @@ use holo::Result;
 use super::canvas::{self, Canvas};
 use super::eyes::{contact_sheet, labelled, PUPIL_M};
 use super::fringe;
+use super::full_parallax::{demo_full_parallax, DemoFullParallax};
 use super::movie::{self, DemoMovie};
 
 /// What `holo demo` made.
@@ -77,6 +78,8 @@ pub struct Demo {
     pub moving_eyes_x_mm: Vec<f64>,
     /// Seconds spent simulating what the eyes see.
     pub view_seconds: f64,
+    /// The full-parallax step: the cow with vertical views, seen from above and below.
+    pub full_parallax: DemoFullParallax,
     /// The movie path: an animated scene through a HoloFlick.
     pub movie: DemoMovie,
     /// Seconds for the whole demo.
@@ -148,8 +151,17 @@ pub fn demo(dir: impl AsRef<Path>, progress: &dyn Progress) -> Result<Demo> {
 
 /// What the demo writes into its folder: an earlier demo's files of these
 /// names are replaced.
-const WRITES: [&str; 7] =
-    ["spot", "demo.holo", "demo_qs8x6a0.75.png", "fringe.png", "eyes.png", "eyes-moving.png", "movie"];
+const WRITES: [&str; 9] = [
+    "spot",
+    "demo.holo",
+    "demo_qs8x6a0.75.png",
+    "fringe.png",
+    "eyes.png",
+    "eyes-moving.png",
+    "demo-full-parallax.holo",
+    "eyes-full-parallax.png",
+    "movie",
+];
 
 /// The file that marks a folder as the demo's own: a later demo writes over
 /// its files there.
@@ -183,7 +195,8 @@ fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
     let mut options = ConvertOptions::default();
     options.write.overwrite = true;
     // Turn the cow to show its side and face.
-    options.scene.placement.rotate_deg = [0.0, -60.0, 0.0];
+    let rotate_deg = [0.0, -60.0, 0.0];
+    options.scene.placement.rotate_deg = rotate_deg;
     let started = Instant::now();
     let converted = convert_mesh(&scene, g, &holo_file, &options, &Labelled::new(progress, "mesh"))?;
     let convert_seconds = started.elapsed().as_secs_f64();
@@ -222,6 +235,7 @@ fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
     let eyes_moving = dir.join("eyes-moving.png");
     holo::output::write_bytes_beside(&eyes_moving, &canvas::apng(&frames, SWEEP_FRAME_SECONDS, 0)?, true)?;
 
+    let full_parallax = demo_full_parallax(dir, &scene, g, rotate_deg, progress)?;
     let movie = movie::demo_movie(&dir.join("movie"), &layout, &Labelled::new(progress, "movie"))?;
     let fb = &layout.fringe.as_ref().expect("Mark III has a fringe side").frame_buffer;
     let mm = |x: &f64| x * 1e3;
@@ -246,6 +260,7 @@ fn demo_in(dir: &Path, progress: &dyn Progress) -> Result<Demo> {
         moving_eyes_x_mm: order.iter().map(|&k| mm(&eyes_x_m[k])).collect(),
         eyes_moving,
         view_seconds,
+        full_parallax,
         movie,
         seconds: started_demo.elapsed().as_secs_f64(),
     })

@@ -10,6 +10,7 @@ mod chain;
 mod eyes;
 pub mod font;
 mod fringe;
+mod full_parallax;
 mod movie;
 mod text;
 

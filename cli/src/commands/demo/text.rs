@@ -49,6 +49,24 @@ impl fmt::Display for Demo {
             self.eyes_moving.display(),
             self.moving_eyes_x_mm.len()
         )?;
+        let fp = &self.full_parallax;
+        let [rows, columns, views_h, views_v] = fp.size;
+        writeln!(f, "Full parallax (a hogel per emitter: views up and down as well):")?;
+        writeln!(
+            f,
+            "  {}: the cow with {views_h} × {views_v} views of {rows} rows × {columns} emitters, rendered and written in {:.2} s",
+            fp.holo_file.display(),
+            fp.convert_seconds
+        )?;
+        let heights: Vec<String> = fp.eyes_y_mm.iter().map(|y| format!("{y:+.0}")).collect();
+        writeln!(
+            f,
+            "  {}: what eyes {:.0} mm away at y = {} mm see of its rays ({:.2} s)",
+            fp.eyes_sheet.display(),
+            fp.eye_distance_mm,
+            heights.join(", "),
+            fp.view_seconds
+        )?;
         let rate =
             m.frames_per_second.map_or(String::new(), |(n, d)| format!(" at {}", frame_rate_text(n.into(), d.into())));
         writeln!(f, "The movie:")?;
