@@ -134,6 +134,7 @@ mod memory;
 pub mod mesh;
 mod modulation;
 pub mod output;
+pub mod parallax;
 pub mod pattern;
 pub mod picture;
 pub mod pictures;

@@ -335,12 +335,12 @@ fn missing_file(name: &str) -> Result<(), Failure> {
 /// `convert cameras`): the file made full parallax (spec §8).
 #[derive(Args, Clone, Debug, Default)]
 pub struct VerticalViewsArgs {
-    /// Full parallax: this many vertical views per emitter besides the layout's horizontal ones
-    /// (spec §8); 2 to 64.
+    /// Full parallax: this many vertical views per emitter besides the horizontal ones (spec §8);
+    /// 2 to 64.
     #[arg(long = "vertical-views", value_name = "N", value_parser = whole(2, 64))]
     pub vertical_views: Option<usize>,
     /// Full parallax: degrees from the lowest vertical view to the highest, centred on the
-    /// display's normal (default: the layout's horizontal view cone).
+    /// display's normal (default: the horizontal views' cone).
     #[arg(long = "vertical-cone", value_name = "DEG", requires = "vertical_views", value_parser = angle_below_180_degrees())]
     pub vertical_cone_deg: Option<f64>,
 }

@@ -420,3 +420,58 @@ fn a_full_parallax_quilt_is_the_quilt_of_the_views_toward_the_viewer_line() {
     }
     assert_eq!(std::fs::read(dir.path().join("q.png")).unwrap(), mine.png(1.0).unwrap());
 }
+
+/// `holo resample`: a full-parallax file made horizontal is, frame by frame
+/// (a movie of two), what `full_to_horizontal` makes of each, with its
+/// black rows said; a horizontal-parallax file made full has every vertical
+/// view a copy of its views, said as such, and back again it is itself.
+#[test]
+fn resampling_between_full_and_horizontal_parallax() {
+    use holo::parallax::resample_parallax;
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = geometry(7, 9, 5, 4, true);
+    g.viewer_height_m = 0.0005;
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    let frames: Vec<Modulation> =
+        (0..2).map(|_| Modulation::from_fn(g.clone(), |_, _, _, _| rng.gen_range(0.05f32..1.0)).unwrap()).collect();
+    let full = dir.path().join("full.holo");
+    write_frames(&full, &g, 2, &options(SampleType::F32, Compression::Zip), |f| Ok(Cow::Borrowed(&frames[f]))).unwrap();
+    let flat_path = dir.path().join("flat.holo");
+    let o = options(SampleType::F32, Compression::Zip);
+    let run = resample_parallax(&full, None, &flat_path, o.clone(), &holo::progress::Silent).unwrap();
+    let flat = HoloFile::open(&flat_path).unwrap();
+    assert!(flat.geometry().vertical_views.is_none());
+    assert_eq!(flat.info().frames.len(), 2);
+    for (i, m) in frames.iter().enumerate() {
+        assert_eq!(flat.read_frame(i).unwrap(), holo::full_to_horizontal(m).unwrap(), "frame {i}");
+    }
+    assert_eq!(run.warnings.is_empty(), holo::rows_beyond_vertical_views(&g).is_empty(), "{:?}", run.warnings);
+    // Horizontal → full: replication, said.
+    let vertical = Views::tan_spaced(3, -0.1, 0.1);
+    let again = dir.path().join("again.holo");
+    let run =
+        resample_parallax(&flat_path, Some(vertical.clone()), &again, o.clone(), &holo::progress::Silent).unwrap();
+    assert!(run.warnings.iter().any(|w| w.contains("copies")), "{:?}", run.warnings);
+    let again = HoloFile::open(&again).unwrap();
+    assert_eq!(again.geometry().vertical_views, Some(vertical));
+    let (replicated, original) = (again.read_frame(1).unwrap(), flat.read_frame(1).unwrap());
+    let a = replicated.geometry().clone();
+    for (c, j, e) in [(0, 0, 0), (2, 6, 8), (1, 3, 4)] {
+        for h in 0..5 {
+            for k in 0..3 {
+                assert_eq!(replicated.get(c, j, e, a.view_index(h, k)), original.get(c, j, e, h));
+            }
+        }
+    }
+    // Asking for the parallax a file has is refused, naming it.
+    let e = resample_parallax(
+        &full,
+        Some(Views::tan_spaced(3, -0.1, 0.1)),
+        &dir.path().join("x.holo"),
+        o,
+        &holo::progress::Silent,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("full.holo") && e.contains("full parallax already"), "{e}");
+}

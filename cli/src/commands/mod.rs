@@ -15,6 +15,7 @@ pub mod layout;
 pub mod pattern;
 pub mod quilt;
 pub mod recorded;
+pub mod resample;
 pub mod validate;
 pub mod view;
 pub mod views;
