@@ -2,7 +2,8 @@
 //! 96 views) of a ~500-triangle and a ~37k-triangle model with the fast EPI
 //! rasteriser, the reference ray caster in the same run on a band of
 //! hololines (its time scaled up to a frame, labelled so), and a table of
-//! supersampling factor against run time and error.
+//! supersampling factor against run time and error; the same fast against
+//! reference for full parallax (Mark III's emitters with 9 vertical views).
 //! `cargo bench --bench mesh` (`-- --test`: one quick pass, as CI runs it).
 //!
 //! The models: the bundled 500-triangle textured Spot, the 37k-triangle
@@ -278,6 +279,7 @@ fn tables(quick: bool) {
             );
         }
     }
+    full_parallax_table(runs);
     // Supersampling: error against the fast path at 8 × 8 with 8 lines per
     // hololine on the band (the fast path equals the reference within the
     // tests' bounds, and that much of the reference would take minutes).
@@ -368,6 +370,51 @@ fn tables(quick: bool) {
     println!();
 }
 
+/// Mark III's emitters with [`FULL_PARALLAX_VERTICAL_VIEWS`] vertical views
+/// over its horizontal cone: the geometry of the full-parallax rows.
+fn mark3_full_parallax() -> Geometry {
+    holo::layout::mark3().geometry.with_centred_vertical_views(FULL_PARALLAX_VERTICAL_VIEWS, None)
+}
+
+/// Vertical views of [`mark3_full_parallax`] (as the demo's full-parallax step).
+const FULL_PARALLAX_VERTICAL_VIEWS: usize = 9;
+
+/// Full parallax: the fast path against the reference on a band, as for
+/// horizontal parallax (each emitter row and vertical view a plane of rays).
+fn full_parallax_table(runs: usize) {
+    let g = mark3_full_parallax();
+    const BAND: usize = 8;
+    let scale = g.hololines as f64 / BAND as f64;
+    let b = band(&g, BAND);
+    println!(
+        "\n## Full parallax: Mark III's emitters, {} × {} views, fast path against the reference ray caster",
+        g.views.count,
+        g.vertical_view_count()
+    );
+    println!("Reference: a band of {BAND} central rows, its time × {scale:.0} = per frame. Best of {runs}. ss: sub-rays across each emitter and each view in both directions.\n");
+    println!("| model | triangles | ss | fast s/frame | reference s/frame (band × {scale:.0}) | fast/reference speed-up | fast vs reference on the band: mean abs diff / mean, samples off >1% of peak |");
+    println!("|---|---|---|---|---|---|---|");
+    let mut reused = Modulation::zeros(g.clone()).expect("frame");
+    reused.samples_mut().fill(0.0);
+    for which in [Model::Spot, Model::Small] {
+        let Some(scene) = model(which, &g) else { continue };
+        for ss in [1, 2] {
+            let fast = time(runs, || frame_into(&scene, &options(ss, Engine::Fast), &mut reused));
+            let mut reference_band = None;
+            let reference =
+                time(runs, || reference_band = Some(frame(&scene, &b, &options(ss, Engine::Reference)))) * scale;
+            let (mean, off) = error(&frame(&scene, &b, &options(ss, Engine::Fast)), &reference_band.unwrap());
+            println!(
+                "| {} | {} | {ss}×{ss} | {fast:.2} | {reference:.1} | {:.0}× | {mean:.1e}, {:.3}% |",
+                which.label(),
+                scene.triangle_count(),
+                reference / fast,
+                off * 100.0
+            );
+        }
+    }
+}
+
 fn bench(c: &mut Criterion) {
     let quick = std::env::args().any(|a| a == "--test");
     tables(quick);
@@ -387,6 +434,23 @@ fn bench(c: &mut Criterion) {
         // Not a frame: 8 hololines of 440 (so its "elements/s" are bands, ×55 for frames).
         let b = band(&g, 8);
         group.bench_function("reference_band_of_8_hololines_ss1", |bch| {
+            bch.iter(|| frame(&scene, &b, &options(1, Engine::Reference)))
+        });
+        group.finish();
+    }
+    let g = mark3_full_parallax();
+    if let Some(scene) = model(Model::Spot, &g) {
+        let mut group = c.benchmark_group("mark3_full_parallax_mesh_spot");
+        group.sample_size(10).measurement_time(std::time::Duration::from_secs(20));
+        group.throughput(Throughput::Elements(1));
+        let mut reused = Modulation::zeros(g.clone()).expect("frame");
+        reused.samples_mut().fill(0.0);
+        group.bench_function("fast_frame_ss1", |bch| {
+            bch.iter(|| frame_into(&scene, &options(1, Engine::Fast), &mut reused))
+        });
+        // Not a frame: 8 rows of 440 (×55 for frames).
+        let b = band(&g, 8);
+        group.bench_function("reference_band_of_8_rows_ss1", |bch| {
             bch.iter(|| frame(&scene, &b, &options(1, Engine::Reference)))
         });
         group.finish();

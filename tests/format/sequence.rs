@@ -120,3 +120,31 @@ fn a_frame_found_good_is_trusted_until_it_changes() {
     drop(file);
     assert!(matches!(checked_frame_state(&output, 4, false), FrameState::Damaged { .. }));
 }
+
+/// A farm splits a full-parallax movie by frame as a horizontal-parallax one:
+/// its members read by number and join into one file, every view's digest kept.
+#[test]
+fn a_full_parallax_sequence_joins_with_every_views_digest() {
+    let dir = tempfile::tempdir().unwrap();
+    let name = dir.path().join("shot.holo");
+    let g = geometry(5).with_vertical_views(Views::tan_spaced(3, -0.1, 0.1));
+    let frames: Vec<Modulation> = (0..3).map(|i| random(g.clone(), 20 + i)).collect();
+    for (i, m) in frames.iter().enumerate() {
+        member(&name, i, m);
+    }
+    check_sequence(&name, 0..3).unwrap();
+    let joined = dir.path().join("joined.holo");
+    join_sequence(&name, 0..3, &joined, false).unwrap();
+    let file = HoloFile::open(&joined).unwrap();
+    assert_eq!(file.geometry(), &g);
+    for i in 0..3 {
+        let alone = HoloFile::open(member_path(&name, i)).unwrap();
+        let views = |f: &HoloFile, n: usize| -> Vec<Option<String>> {
+            f.info().frames[n].views.iter().map(|v| v.digest.clone()).collect()
+        };
+        assert_eq!(views(&file, i), views(&alone, 0), "frame {i}");
+        assert!(views(&file, i).iter().all(Option::is_some));
+        assert_eq!(file.read_frame(i).unwrap().samples(), alone.read_frame(0).unwrap().samples());
+    }
+    assert!(holo::validate(&joined).unwrap().is_valid());
+}
