@@ -355,6 +355,17 @@ impl Geometry {
         let reach = reach.iter().flatten().copied();
         (reach.clone().fold(f64::INFINITY, f64::min), reach.fold(f64::NEG_INFINITY, f64::max))
     }
+    /// Full parallax: the heights `(y_min, y_max)` in metres that the views
+    /// reach at distance `z_m`: where the rays of the top and bottom emitter
+    /// rows in the lowest and highest vertical views cross it. `None` for
+    /// horizontal parallax, whose rays all reach the viewer line's height.
+    pub fn vertical_reach_at_m(&self, z_m: f64) -> Option<(f64, f64)> {
+        let vertical = self.vertical_views.as_ref()?;
+        let (last_j, last_w) = (self.hololines.saturating_sub(1), vertical.count.saturating_sub(1));
+        let reach = [0, last_j].map(|j| [0, last_w].map(|w| self.ray(j, 0, self.view_index(0, w)).at_z(z_m)[1]));
+        let reach = reach.iter().flatten().copied();
+        Some((reach.clone().fold(f64::INFINITY, f64::min), reach.fold(f64::NEG_INFINITY, f64::max)))
+    }
     /// Samples in one frame (all channels).
     pub fn samples_per_frame(&self) -> u64 {
         // Saturating: a hostile geometry's product must not wrap to something small.

@@ -291,20 +291,6 @@ impl BlankingArg {
     }
 }
 
-/// [`layout_geometry`] for a command that makes horizontal parallax only
-/// (`command`, as typed after `holo`): a full-parallax layout is refused,
-/// saying which command takes it.
-pub fn horizontal_layout_geometry(name: &str, command: &str) -> Result<Geometry, Failure> {
-    let g = layout_geometry(name)?;
-    match &g.vertical_views {
-        None => Ok(g),
-        Some(vertical) => Err(Failure(format!(
-            "layout {name} is full parallax ({} × {} views); `holo {command}` makes horizontal parallax only so far (`holo convert mesh`, `convert cameras` and `pattern` take it)",
-            g.views.count, vertical.count
-        ))),
-    }
-}
-
 /// The geometry of a layout, or of a geometry JSON file (`holo-views.json`).
 pub fn layout_geometry(name: &str) -> Result<Geometry, Failure> {
     missing_file(name)?;

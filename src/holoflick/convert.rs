@@ -125,10 +125,12 @@ pub struct HoloFlickConvertReport {
 }
 
 /// The box of the display's viewing zone: every point of the viewer line a
-/// view reaches (spec/holo-format.md §1), as a flat box.
+/// view reaches (spec/holo-format.md §1), as a flat box; for full parallax
+/// the rectangle at the viewer's distance that the views reach.
 fn viewing_zone(g: &Geometry) -> ([f64; 3], [f64; 3]) {
     let (lo, hi) = g.viewer_line_reach_m();
-    ([lo, g.viewer_height_m, g.viewer_distance_m], [hi, g.viewer_height_m, g.viewer_distance_m])
+    let (y_lo, y_hi) = g.vertical_reach_at_m(g.viewer_distance_m).unwrap_or((g.viewer_height_m, g.viewer_height_m));
+    ([lo, y_lo, g.viewer_distance_m], [hi, y_hi, g.viewer_distance_m])
 }
 
 fn couch_holds(c: &ViewerCouch, lo: [f64; 3], hi: [f64; 3]) -> bool {

@@ -87,15 +87,22 @@ pub struct HoloFlickEncodeReport {
 }
 
 /// The couch for a display: its viewing zone (the viewer line's reach),
-/// widened by the display's height and a little depth.
+/// widened by the display's height and a little depth; for full parallax
+/// the rectangle the views reach at the viewer's distance, widened alike
+/// (Deering's viewer couch is a region of eye positions; a full-parallax
+/// display's eyes move up and down as well).
 pub fn display_couch(g: &Geometry) -> ViewerCouch {
     let d = g.viewer_distance_m - g.emitter_z_m;
     let (lo, hi) = g.viewer_line_reach_m();
     let height = (g.hololine_y_m(0) - g.hololine_y_m(g.hololines.saturating_sub(1))).abs() + g.hololine_pitch_m;
     let margin = 0.05 * d.abs().max(1e-3);
+    let (y_lo, y_hi) = match g.vertical_reach_at_m(g.viewer_distance_m) {
+        Some((y_lo, y_hi)) => (y_lo - margin, y_hi + margin),
+        None => (g.viewer_height_m - height, g.viewer_height_m + height),
+    };
     ViewerCouch {
-        min_m: [lo - margin, g.viewer_height_m - height, g.viewer_distance_m - margin],
-        max_m: [hi + margin, g.viewer_height_m + height, g.viewer_distance_m + margin],
+        min_m: [lo - margin, y_lo, g.viewer_distance_m - margin],
+        max_m: [hi + margin, y_hi, g.viewer_distance_m + margin],
     }
 }
 

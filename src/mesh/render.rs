@@ -183,14 +183,20 @@ fn run(engine: &dyn HololineRenderer, rays: &Rays, frame: &mut Modulation, progr
                 let mut mean: Vec<Vec<f32>> = scratch.clone();
                 let share = 1.0 / (per_hololine * per_vertical) as f32;
                 for w in 0..w_count {
-                    mean.iter_mut().for_each(|r| r.fill(0.0));
-                    for u in 0..per_vertical {
-                        for t in 0..per_hololine {
-                            let plane = (w * per_vertical + u) * n + j * per_hololine + t;
-                            let mut sub: Vec<&mut [f32]> = scratch.iter_mut().map(|r| r.as_mut_slice()).collect();
-                            stats += engine.render_hololine(plane, &mut sub);
-                            for (m, sub) in mean.iter_mut().zip(&scratch) {
-                                m.iter_mut().zip(sub).for_each(|(a, b)| *a += share * b);
+                    if per_hololine * per_vertical == 1 {
+                        // One plane a sample: drawn straight into `mean`.
+                        let mut sub: Vec<&mut [f32]> = mean.iter_mut().map(|r| r.as_mut_slice()).collect();
+                        stats += engine.render_hololine(w * n + j, &mut sub);
+                    } else {
+                        mean.iter_mut().for_each(|r| r.fill(0.0));
+                        for u in 0..per_vertical {
+                            for t in 0..per_hololine {
+                                let plane = (w * per_vertical + u) * n + j * per_hololine + t;
+                                let mut sub: Vec<&mut [f32]> = scratch.iter_mut().map(|r| r.as_mut_slice()).collect();
+                                stats += engine.render_hololine(plane, &mut sub);
+                                for (m, sub) in mean.iter_mut().zip(&scratch) {
+                                    m.iter_mut().zip(sub).for_each(|(a, b)| *a += share * b);
+                                }
                             }
                         }
                     }

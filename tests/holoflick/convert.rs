@@ -141,18 +141,35 @@ fn unseen_objects_are_skipped_and_key_frame_objects_decoded_once() {
 #[test]
 #[ignore = "slow: the full run takes it (README, Development)"]
 fn encoded_movies_convert_like_the_mesh() {
-    use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
-    use holo::mesh::convert::{convert_mesh, ConvertOptions};
-    let g = Geometry::centred(
+    encoded_movie_against_the_mesh(&encoded_display(48));
+}
+
+/// The same in full parallax: the viewer couch a rectangle of eyes, the
+/// micropolygons' specular lobes drawn per view in both directions.
+#[test]
+#[ignore = "slow: the full run takes it (README, Development)"]
+fn encoded_full_parallax_movies_convert_like_the_mesh() {
+    let g = encoded_display(24).with_vertical_views(Views::tan_spaced(6, -10f64.to_radians(), 10f64.to_radians()));
+    encoded_movie_against_the_mesh(&g);
+}
+
+/// 40 × 96 emitters of 0.5 mm, `views` over ±15°, the viewer at 500 mm.
+fn encoded_display(views: usize) -> Geometry {
+    Geometry::centred(
         40,
         96,
-        Views::tan_spaced(48, -15f64.to_radians(), 15f64.to_radians()),
+        Views::tan_spaced(views, -15f64.to_radians(), 15f64.to_radians()),
         0.5e-3,
         0.5e-3,
         0.0,
         0.5,
         rgb_channels(),
-    );
+    )
+}
+
+fn encoded_movie_against_the_mesh(g: &Geometry) {
+    use holo::holoflick::encode::{encode_holoflick, HoloFlickEncodeOptions};
+    use holo::mesh::convert::{convert_mesh, ConvertOptions};
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     // A glTF-like scene with a specular material: Spot as OBJ with its MTL.
@@ -166,7 +183,7 @@ fn encoded_movies_convert_like_the_mesh() {
         },
         ..ConvertOptions::default()
     };
-    let direct = convert_mesh(&spot, &g, &d.join("direct.holo"), &mesh_options, &holo::progress::Silent).unwrap();
+    let direct = convert_mesh(&spot, g, &d.join("direct.holo"), &mesh_options, &holo::progress::Silent).unwrap();
     let truth = holo::format::read(&direct.path).unwrap();
     println!("micropolygon (× display resolution) | micropolygons | bytes | error vs convert mesh");
     let mut errors = Vec::new();
@@ -174,7 +191,7 @@ fn encoded_movies_convert_like_the_mesh() {
         let hflk = d.join(format!("spot-{factor}.hflk"));
         let enc = encode_holoflick(
             &spot,
-            &g,
+            g,
             &hflk,
             &HoloFlickEncodeOptions { micropolygon: factor, ..HoloFlickEncodeOptions::default() },
             &holo::progress::Silent,
@@ -183,7 +200,7 @@ fn encoded_movies_convert_like_the_mesh() {
         let out = d.join(format!("spot-{factor}.holo"));
         let conv = convert_holoflick(
             &hflk,
-            &g,
+            g,
             &out,
             &HoloFlickConvertOptions { render: render.clone(), ..HoloFlickConvertOptions::default() },
             &holo::progress::Silent,

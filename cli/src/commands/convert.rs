@@ -24,8 +24,8 @@ use holo::pipeline::decide;
 use super::frame_job::{Decided, FrameJob};
 use super::{check_output, inputs_exist, Failure, Outcome};
 use crate::args::{
-    self, horizontal_layout_geometry, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice,
-    PlacementArgs, SpecularChoice, WriteArgs,
+    self, layout_geometry, layout_help, BlendChoice, FramingChoice, ParallaxChoice, PlacementArgs, SpecularChoice,
+    WriteArgs,
 };
 use crate::out::{note, say, warn};
 use crate::progress::Reporter;
@@ -94,6 +94,8 @@ pub struct HoloflickArgs {
     /// Fit the content to the display even when it was made for it.
     #[arg(long)]
     fit: bool,
+    #[command(flatten)]
+    vertical: args::VerticalViewsArgs,
     /// A row-major 4x4 matrix (16 numbers, world to display metres) placing the content instead of
     /// deciding on the first frame converted (what holo farm gives every chunk).
     #[arg(long, value_name = "16 NUMBERS", value_parser = args::matrix(), allow_hyphen_values = true)]
@@ -101,7 +103,7 @@ pub struct HoloflickArgs {
 }
 
 fn holoflick(a: HoloflickArgs) -> Outcome {
-    let g = horizontal_layout_geometry(&a.target.layout, "convert holoflick")?;
+    let g = a.vertical.geometry(&a.target.layout)?;
     inputs_exist(&[&a.file])?;
     let _claim = check_output(&a.target.write.output, &[&a.file, Path::new(&a.target.layout)], a.target.write.force)?;
     let options = holoflick_options(&a);
@@ -469,7 +471,7 @@ impl FrameJob for HoloflickArgs {
     }
 
     fn decide(&self) -> Result<Decided, Failure> {
-        let g = horizontal_layout_geometry(&self.target.layout, "convert holoflick")?;
+        let g = self.vertical.geometry(&self.target.layout)?;
         let options = holoflick_options(self);
         let mut source = HoloFlickSource::open(&self.file, &g, &options)?;
         let (frames, placement) = decide(&mut source, self.frames.clone())?;

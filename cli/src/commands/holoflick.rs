@@ -13,7 +13,7 @@ use holo::holoflick::tools::{info, pack, unpack, PackOptions, PackReport};
 use holo::mesh::convert::SceneFramesOptions;
 
 use super::{check_output, inputs_exist, Outcome};
-use crate::args::{self, horizontal_layout_geometry, layout_help, PlacementArgs};
+use crate::args::{self, layout_help, PlacementArgs};
 use crate::out::{put, say, warn};
 use crate::progress::Reporter;
 
@@ -171,11 +171,13 @@ pub struct EncodeArgs {
     #[command(flatten)]
     placement: PlacementArgs,
     #[command(flatten)]
+    vertical: args::VerticalViewsArgs,
+    #[command(flatten)]
     movie: MovieArgs,
 }
 
 fn run_encode(a: EncodeArgs) -> Outcome {
-    let g = horizontal_layout_geometry(&a.layout, "holoflick encode")?;
+    let g = a.vertical.geometry(&a.layout)?;
     inputs_exist(&[&a.scene])?;
     let _claim = check_output(&a.output, &[&a.scene, Path::new(&a.layout)], a.movie.force)?;
     let m = &a.movie;
