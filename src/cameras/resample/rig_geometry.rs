@@ -178,7 +178,12 @@ impl RigGeometry {
                 Surface::Directions { centre } => direction_coords(normalized(sub(c, *centre)), &rotation),
             })
             .collect();
-        let cameras_on_surface = Interpolator::new(&points, rig)?;
+        let mut cameras_on_surface = Interpolator::new(&points, rig)?;
+        if g.vertical_views.is_some() && matches!(surface, Surface::Plane { .. }) {
+            // Full parallax: an eye at an outer camera reads rays on both
+            // sides of it; those beyond take the outer cameras' light.
+            cameras_on_surface.cover_half_a_spacing_beyond();
+        }
         refuse_a_rail_off_the_horizontal(rig, g, &surface, &cameras_on_surface, x_d)?;
         // Placement: the focus point at the middle of the emitter plane, and
         // by default the cameras as far from it as the viewer line is from

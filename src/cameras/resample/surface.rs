@@ -140,8 +140,40 @@ pub(super) enum Interpolator {
     Single,
     /// Cameras on a line: their coordinate along `axis` from `origin`, sorted, with camera indices.
     Line { origin: [f64; 2], axis: [f64; 2], sorted: Vec<(f64, usize)> },
-    /// Scattered: the Delaunay triangulation; vertex `k` is camera `cameras[k]`.
-    Triangles { triangulation: DelaunayTriangulation<Point2<f64>>, cameras: Vec<usize> },
+    /// Scattered: the Delaunay triangulation; vertex `k` is camera `cameras[k]`;
+    /// `margin`: how far beyond the cameras a ray still takes their light.
+    Triangles { triangulation: DelaunayTriangulation<Point2<f64>>, cameras: Vec<usize>, margin: Option<Margin> },
+}
+
+/// A planar grid's cover beyond its outer cameras (full parallax): each
+/// camera stands for the rays within half the cameras' spacing of it, as each
+/// view and emitter of a file stands for ±½ of its own
+/// (`sampling::linear_taps`), so a ray landing up to half a spacing beyond
+/// the cameras' rectangle takes the outer cameras' light instead of none.
+/// Without it, an eye at an outer camera reads between a captured ray and a
+/// black one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Margin {
+    lo: [f64; 2],
+    hi: [f64; 2],
+    half_spacing: f64,
+}
+
+impl Margin {
+    /// `q` moved onto the cameras' rectangle when it lies within half a
+    /// spacing outside it, along each axis; as it is otherwise.
+    fn clamp(&self, q: [f64; 2]) -> [f64; 2] {
+        let mut out = q;
+        for k in 0..2 {
+            if q[k] < self.lo[k] && q[k] >= self.lo[k] - self.half_spacing {
+                out[k] = self.lo[k];
+            }
+            if q[k] > self.hi[k] && q[k] <= self.hi[k] + self.half_spacing {
+                out[k] = self.hi[k];
+            }
+        }
+        out
+    }
 }
 
 /// The coordinate of `p` along the line through `origin` with unit
@@ -179,6 +211,7 @@ impl Interpolator {
         scratch: &mut Scratch,
     ) {
         out.clear();
+        let q = self.covered(q);
         match self {
             Interpolator::Single => out.push((0, 1.0)),
             Interpolator::Line { origin, axis, sorted } => {
@@ -191,7 +224,7 @@ impl Interpolator {
                     }
                 }
             }
-            Interpolator::Triangles { triangulation, cameras } => {
+            Interpolator::Triangles { triangulation, cameras, .. } => {
                 if blend == Blend::NaturalNeighbour {
                     return self.weights(q, blend, out, scratch);
                 }
@@ -295,12 +328,48 @@ impl Interpolator {
             }
             cameras.push(i);
         }
-        Ok(Interpolator::Triangles { triangulation, cameras })
+        Ok(Interpolator::Triangles { triangulation, cameras, margin: None })
+    }
+
+    /// Let rays up to half the cameras' spacing beyond their rectangle take
+    /// the outer cameras' light ([`Margin`]; scattered cameras only). The
+    /// spacing is the median distance from a camera to its nearest.
+    pub(super) fn cover_half_a_spacing_beyond(&mut self) {
+        let Interpolator::Triangles { triangulation, margin, .. } = self else { return };
+        let points: Vec<[f64; 2]> = triangulation.vertices().map(|v| [v.position().x, v.position().y]).collect();
+        let mut nearest: Vec<f64> = points
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                let others = points.iter().enumerate().filter(|&(j, _)| j != i);
+                others
+                    .map(|(_, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt())
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .collect();
+        nearest.sort_by(f64::total_cmp);
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in &points {
+            for k in 0..2 {
+                (lo[k], hi[k]) = (lo[k].min(p[k]), hi[k].max(p[k]));
+            }
+        }
+        *margin = Some(Margin { lo, hi, half_spacing: 0.5 * nearest[nearest.len() / 2] });
+    }
+
+    /// `q` as the weights take it: moved onto the cameras' rectangle within
+    /// the [`Margin`], if there is one.
+    fn covered(&self, q: [f64; 2]) -> [f64; 2] {
+        match self {
+            Interpolator::Triangles { margin: Some(m), .. } => m.clamp(q),
+            _ => q,
+        }
     }
 
     /// Camera weights at `q` (summing to 1), empty outside the cameras' hull.
     pub(super) fn weights(&self, q: [f64; 2], blend: Blend, out: &mut Vec<(usize, f64)>, scratch: &mut Scratch) {
         out.clear();
+        let q = self.covered(q);
         match self {
             Interpolator::Single => out.push((0, 1.0)),
             Interpolator::Line { origin, axis, sorted } => {
@@ -313,7 +382,7 @@ impl Interpolator {
                 let i = sorted.partition_point(|&(x, _)| x <= s).saturating_sub(1).min(sorted.len() - 2);
                 pair_weights(sorted[i], sorted[i + 1], s, blend, out);
             }
-            Interpolator::Triangles { triangulation, cameras } => {
+            Interpolator::Triangles { triangulation, cameras, .. } => {
                 let p = Point2::new(q[0], q[1]);
                 if !(q[0].is_finite() && q[1].is_finite()) {
                     return;
@@ -367,5 +436,22 @@ impl Interpolator {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Margin;
+
+    /// Half a spacing beyond the rectangle, along each axis (corners too),
+    /// moves onto it; further out, or inside, stays where it is.
+    #[test]
+    fn a_margin_covers_half_a_spacing_beyond_the_cameras() {
+        let m = Margin { lo: [-4.0, -4.0], hi: [4.0, 4.0], half_spacing: 0.5 };
+        assert_eq!(m.clamp([4.3, 0.7]), [4.0, 0.7]);
+        assert_eq!(m.clamp([-4.5, 4.49]), [-4.0, 4.0]);
+        assert_eq!(m.clamp([4.51, 0.0]), [4.51, 0.0]);
+        assert_eq!(m.clamp([1.25, -3.9]), [1.25, -3.9]);
+        assert_eq!(m.clamp([-4.2, -7.0]), [-4.0, -7.0]);
     }
 }
