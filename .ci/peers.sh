@@ -13,6 +13,8 @@
 #                    part layout (spec §8), the worked examples' samples, and
 #                    every part's statistics as both libraries decode it; and
 #                    exrheader lists each full-parallax part's holo.view.
+#   a capture        HCI antinous (9 x 9) converted full parallax by the CLI, read
+#                    by holo validate, exrheader, Python OpenEXR and oiiotool.
 #   OpenEXR -> holo  openexr_peer.py writes .holo files with OpenEXR alone, and
 #                    re-encodes holo's files through OpenEXR; examples/peer_read.rs
 #                    (HoloFile::open, validate, read_frame) must read them back
@@ -249,6 +251,40 @@ if cargo build --release -q -p holo-cli 2>/dev/null && [ -x "$examples/../holo" 
     done
 else
     info "the holo CLI does not build or has no 'validate' yet: checked with examples/peer_read only"
+fi
+
+# --- a real capture in full parallax: HCI antinous, 9 x 9 cameras -------------
+# Converted by the holo CLI (the rig as spec'd in tests/cameras/real.rs: the folder
+# has no parameters.cfg), then read by holo validate, exrheader, Python OpenEXR and
+# oiiotool as the frozen vectors are (seals, every view's digest, the part layout).
+
+data=${HOLO_SHARED_DATA:-$root/../shared/data}
+antinous="$data/lightfield_hci_antinous_9x9"
+holo_cli="$examples/../holo"
+if [ -d "$antinous" ] && [ -x "$holo_cli" ]; then
+    mkdir -p "$work/antinous"
+    a_out="$work/antinous/antinous-9x9.holo"
+    if out=$("$holo_cli" convert cameras "$antinous" --layout pluto2-hogels --baseline 0.06 --focal-px 1462.857 \
+        --focus 6.9 -o "$a_out" 2>&1); then
+        pass "holo convert cameras antinous (9 x 9) to pluto2-hogels: $(echo "$out" | head -n 1)"
+    else
+        fail "holo convert cameras antinous: $out"
+    fi
+    if out=$("$holo_cli" validate "$a_out" 2>&1); then pass "holo validate antinous-9x9.holo"; else
+        fail "holo validate antinous-9x9.holo: $out"; fi
+    out="$work/exrheader.antinous.txt"
+    if exrheader "$a_out" >"$out" 2>&1; then
+        parts=$(grep -c '^holo.view (type v2i)' "$out" || true)
+        if [ "$parts" -eq 256 ]; then pass "exrheader antinous-9x9.holo: its 256 views, each a part with holo.view"; else
+            fail "exrheader antinous-9x9.holo: holo.view in $parts part(s), 256 expected"; fi
+    else
+        fail "exrheader antinous-9x9.holo: exit status non-zero: $(head -n 3 "$out")"
+    fi
+    run_counted "openexr_peer.py vectors antinous" "$py" tests/peer/openexr_peer.py vectors "$work/antinous"
+elif [ "${HOLO_REQUIRE_DATA:-}" = 1 ]; then
+    fail "the HCI antinous capture ($antinous) or the holo CLI ($holo_cli) is missing and HOLO_REQUIRE_DATA=1"
+else
+    info "SKIPPED the antinous capture: $antinous not present"
 fi
 
 # --- Java 3D 1.5.2 compressed geometry (.cg) and Google Draco -------------------
