@@ -265,7 +265,7 @@ if [ -d "$antinous" ] && [ -x "$holo_cli" ]; then
     mkdir -p "$work/antinous"
     a_out="$work/antinous/antinous-9x9.holo"
     if out=$("$holo_cli" convert cameras "$antinous" --layout pluto2-hogels --baseline 0.06 --focal-px 1462.857 \
-        --focus 6.9 -o "$a_out" 2>&1); then
+        --focus 6.9 --taps 2 -o "$a_out" 2>&1); then
         pass "holo convert cameras antinous (9 x 9) to pluto2-hogels: $(echo "$out" | head -n 1)"
     else
         fail "holo convert cameras antinous: $out"
