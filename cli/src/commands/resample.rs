@@ -38,14 +38,7 @@ pub fn run(a: ResampleArgs) -> Outcome {
     let file = holo::HoloFile::open(&a.input)?;
     let g = file.geometry().clone();
     drop(file);
-    let already = match (a.parallax, &g.vertical_views) {
-        (ParallaxChoice::Horizontal, None) => Some("horizontal parallax already"),
-        (ParallaxChoice::Full, Some(_)) => Some("full parallax already"),
-        _ => None,
-    };
-    if let Some(what) = already {
-        return Err(Failure(format!("{}: the file has {what}", a.input.display())));
-    }
+    // A file that has the parallax asked for is refused by the library, naming it.
     let vertical = match (a.parallax, a.vertical.vertical_views) {
         (ParallaxChoice::Horizontal, None) => None,
         (ParallaxChoice::Horizontal, Some(_)) => return Err(Failure("--vertical-views is for --parallax full".into())),
