@@ -50,6 +50,18 @@ impl Simd {
         }
     }
 
+    /// F16C (with AVX, which its 256-bit forms need) may be used.
+    pub(crate) fn f16c(self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        {
+            self.vectors() && std::arch::is_x86_feature_detected!("f16c") && std::arch::is_x86_feature_detected!("avx")
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            false
+        }
+    }
+
     /// SSSE3 may be used.
     pub(crate) fn ssse3(self) -> bool {
         #[cfg(target_arch = "x86_64")]

@@ -119,7 +119,7 @@ impl BlockDigest {
             .name("holo-digest".into())
             .spawn(move || {
                 for (top, count, data) in blocks {
-                    rows.push(top, count, data);
+                    rows.push(top, count, data.into());
                 }
                 rows.finish()
             })
@@ -144,6 +144,63 @@ impl BlockDigest {
     }
 }
 
+/// One decoded block of a part: (part, first display row, rows, its bytes).
+pub(crate) type PartBlock<'a> = (usize, usize, usize, &'a [u8]);
+
+/// The digests of a full-parallax frame's view parts (spec §8, §7.1) from
+/// their decoded blocks, as [`BlockDigest`] takes a frame's: each part's rows
+/// hashed in order as its blocks come (one that comes early waits), the
+/// parts of a batch side by side on every core. Hashing the blocks' own
+/// bytes spares gathering each view's samples back out of the frame, a
+/// cache line per sample.
+pub(crate) struct PartDigests {
+    parts: Vec<std::sync::Mutex<OrderedRows>>,
+}
+
+impl PartDigests {
+    /// One digest per part, each part's data window in `windows`; its rows
+    /// are the colours of `g`'s emitters.
+    pub(crate) fn new(g: &Geometry, sample_type: SampleType, windows: impl Iterator<Item = super::Window>) -> Self {
+        let colours = super::channels::colour_slots(g).len();
+        let parts = windows
+            .map(|window| {
+                std::sync::Mutex::new(OrderedRows {
+                    digest: RowDigest::default(),
+                    next: 0,
+                    rows: g.hololines,
+                    window,
+                    channels: colours,
+                    emitters: g.emitters,
+                    bytes: sample_type.bytes(),
+                    waiting: Default::default(),
+                    row: vec![0; colours * g.emitters * sample_type.bytes()],
+                })
+            })
+            .collect();
+        PartDigests { parts }
+    }
+
+    /// A batch of decoded blocks, in any order.
+    pub(crate) fn push_batch(&self, blocks: &mut [PartBlock<'_>]) {
+        use rayon::prelude::*;
+        blocks.sort_unstable_by_key(|&(part, top, _, _)| (part, top));
+        let groups: Vec<&[PartBlock<'_>]> = blocks.chunk_by(|a, b| a.0 == b.0).collect();
+        groups.par_iter().for_each(|group| {
+            let Some(rows) = self.parts.get(group[0].0) else { return };
+            // A poisoned lock (a panic elsewhere) leaves a digest that does not match.
+            let Ok(mut rows) = rows.lock() else { return };
+            for &(_, top, count, data) in group.iter() {
+                rows.push(top, count, data.into());
+            }
+        });
+    }
+
+    /// Each part's digest text, in part order.
+    pub(crate) fn finish(self) -> Vec<String> {
+        self.parts.into_iter().map(|rows| rows.into_inner().map(OrderedRows::finish).unwrap_or_default()).collect()
+    }
+}
+
 /// The rows of a frame hashed in order (see [`BlockDigest`]).
 struct OrderedRows {
     digest: RowDigest,
@@ -164,15 +221,22 @@ struct OrderedRows {
 }
 
 impl OrderedRows {
-    fn push(&mut self, top: usize, rows: usize, data: Vec<u8>) {
-        self.waiting.insert(top, (rows, data));
+    fn push(&mut self, top: usize, rows: usize, data: std::borrow::Cow<'_, [u8]>) {
         self.zero_rows_until(self.window.y.min(self.rows));
+        if top == self.next {
+            self.hash_block(rows, &data);
+        } else {
+            self.waiting.insert(top, (rows, data.into_owned()));
+        }
         while let Some((rows, data)) = self.waiting.remove(&self.next) {
             self.hash_block(rows, &data);
         }
     }
 
     fn zero_rows_until(&mut self, end: usize) {
+        if self.next >= end {
+            return;
+        }
         self.row.fill(0);
         while self.next < end {
             self.digest.update(&self.row);

@@ -12,9 +12,8 @@ use exr::block::{BlockIndex, UncompressedBlock};
 use exr::meta::MetaData;
 
 use super::channels::{colour_slots, ChannelOrder};
-use half::slice::HalfFloatSliceExt;
 
-use super::digest::{frame_digest, row_bytes, stored_row, BlockDigest, RowDigest};
+use super::digest::{frame_digest, row_bytes, stored_row, BlockDigest, PartBlock, PartDigests, RowDigest};
 use super::header::{file_info, FileInfo, Positioned};
 use super::{SampleType, MAX_SAMPLES_PER_FRAME};
 use crate::error::{Error, Result};
@@ -122,10 +121,18 @@ impl HoloFile {
         let mut digest = frame
             .filter(|f| f.digest.is_some() && from_blocks)
             .map(|f| BlockDigest::new(&self.info.geometry, self.info.sample_type, f.data_window));
-        let mut samples: Vec<T> = self.read_blocks(index, &Region::all(&self.info.geometry), digest.as_mut())?;
+        // A full-parallax frame's views' digests likewise, from each part's blocks.
+        let view_digests = frame.filter(|f| !f.views.is_empty() && cfg!(target_endian = "little")).map(|f| {
+            PartDigests::new(&self.info.geometry, self.info.sample_type, f.views.iter().map(|v| v.data_window))
+        });
+        let mut samples: Vec<T> =
+            self.read_blocks(index, &Region::all(&self.info.geometry), digest.as_mut(), view_digests.as_ref())?;
         let frame = &self.info.frames[index];
         if !frame.views.is_empty() {
-            self.check_view_digests(index, &samples)?;
+            match view_digests {
+                Some(digests) => self.check_part_digests(index, digests.finish())?,
+                None => self.check_view_digests(index, &samples)?,
+            }
         }
         if let Some(stored) = &frame.digest {
             let computed = match digest.and_then(BlockDigest::finish) {
@@ -163,7 +170,7 @@ impl HoloFile {
     /// [`HoloFile::read_frame_samples`]), in the order of a [`Modulation`] of
     /// the region.
     pub fn read_region_samples<T: FrameSample>(&self, index: usize, region: &Region) -> Result<Vec<T>> {
-        let mut samples = self.read_blocks(index, region, None)?;
+        let mut samples = self.read_blocks(index, region, None, None)?;
         if self.is_lossy() {
             clamp_undershoot(&mut samples);
         }
@@ -187,7 +194,13 @@ impl HoloFile {
         let info = &self.info;
         let (g, sample_type) = (&info.geometry, info.sample_type);
         let frame = info.frames.get(index).ok_or_else(|| Error::no_frame(&info.path, index, info.frames.len()))?;
-        let mut view_digests = (!frame.views.is_empty()).then(|| ViewDigests::new(g, sample_type));
+        // A full-parallax frame's views' digests from their parts' blocks (on
+        // a little-endian machine, where they are the stored bytes), else
+        // from the samples.
+        let from_blocks = !frame.views.is_empty() && cfg!(target_endian = "little");
+        let part_digests =
+            from_blocks.then(|| PartDigests::new(g, sample_type, frame.views.iter().map(|v| v.data_window)));
+        let mut view_digests = (!frame.views.is_empty() && !from_blocks).then(|| ViewDigests::new(g, sample_type));
         let order = ChannelOrder::new(g);
         let mut row = vec![0u8; row_bytes(g, sample_type)];
         let mut digest = frame.digest.as_ref().map(|_| RowDigest::default());
@@ -195,7 +208,8 @@ impl HoloFile {
             let rows = top..(top + band_rows.max(1)).min(g.hololines);
             let region = Region { hololines: rows.clone(), ..Region::all(g) };
             // As decoded (a lossy file's undershoot included), as the digests are.
-            let mut band = self.read_decoded(index, &region)?;
+            let samples = self.read_blocks::<f32>(index, &region, None, part_digests.as_ref())?;
+            let mut band = Modulation::from_samples(sub_geometry(g, &region), samples)?;
             if let Some(digests) = &mut view_digests {
                 digests.push(band.samples(), rows.len());
             }
@@ -212,6 +226,9 @@ impl HoloFile {
         }
         if let Some(digests) = view_digests {
             digests.check(info, index)?;
+        }
+        if let Some(digests) = part_digests {
+            self.check_part_digests(index, digests.finish())?;
         }
         if let (Some(stored), Some(digest)) = (&frame.digest, digest) {
             let computed = digest.finish();
@@ -285,8 +302,22 @@ impl HoloFile {
     /// (for measuring a codec; [`HoloFile::read_region`] is what a reader
     /// wants).
     pub fn read_decoded(&self, index: usize, region: &Region) -> Result<Modulation> {
-        let samples = self.read_blocks::<f32>(index, region, None)?;
+        let samples = self.read_blocks::<f32>(index, region, None, None)?;
         Modulation::from_samples(sub_geometry(&self.info.geometry, region), samples)
+    }
+
+    /// Each view's digest (spec §8, §7.1), computed from its part's blocks
+    /// (in the order of the frame's views), against the one stored.
+    fn check_part_digests(&self, index: usize, computed: Vec<String>) -> Result<()> {
+        let (g, frame) = (&self.info.geometry, &self.info.frames[index]);
+        for (v, (computed, view)) in computed.iter().zip(&frame.views).enumerate() {
+            if let Some(stored) = &view.digest {
+                if computed != stored {
+                    return Err(view_damaged(&self.info.path, index, g.view_of_index(v), stored, computed));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Each view's digest (spec §8, §7.1) against the samples of a whole
@@ -298,13 +329,15 @@ impl HoloFile {
     }
 
     /// The samples of a region as decoded (see [`HoloFile::read_decoded`]),
-    /// handing every decoded block's bytes to `digest` too (whole frames
-    /// only).
+    /// handing every decoded block's bytes to `digest` (a horizontal-parallax
+    /// frame's) or `view_digests` (a full-parallax frame's views) too (whole
+    /// frames only).
     fn read_blocks<T: FrameSample>(
         &self,
         index: usize,
         region: &Region,
         mut digest: Option<&mut BlockDigest>,
+        view_digests: Option<&PartDigests>,
     ) -> Result<Vec<T>> {
         let path = &self.info.path;
         let g = &self.info.geometry;
@@ -354,33 +387,39 @@ impl HoloFile {
         let wanted = Wanted::new(g, frame, region);
         let wanted_rows = region.hololines.clone();
         let colours = colour_slots(g);
-        let mut place = |block: UncompressedBlock| -> Result<()> {
-            let Some(part) = wanted.part(block.index.layer) else { return Ok(()) };
-            let dw = part.window;
-            let st = self.info.sample_type;
-            match part.sub_view {
-                None => {
-                    let target = |slot| {
-                        let (v, c) = order.pair_at(slot);
-                        region.views.contains(&v).then(|| (c, v - region.views.start))
-                    };
-                    place_block(&mut out, &sub, &block, order.len(), target, st, dw.x, dw.y, region)
+        let st = self.info.sample_type;
+        let mut place = |blocks: Vec<UncompressedBlock>| -> Result<()> {
+            if !frame.views.is_empty() {
+                // Full parallax: a part per view, placed a batch at a time.
+                let blocks: Vec<(&WantedPart, UncompressedBlock)> =
+                    blocks.into_iter().filter_map(|b| Some((wanted.part(b.index.layer)?, b))).collect();
+                if let Some(digests) = view_digests {
+                    let mut rows: Vec<PartBlock<'_>> = blocks
+                        .iter()
+                        .map(|(part, b)| {
+                            let top = part.window.y + b.index.pixel_position.1;
+                            // A whole frame's: each part's index among the region's views is its view's.
+                            let view = part.sub_view.unwrap_or(usize::MAX);
+                            (view, top, b.index.pixel_size.1, b.data.as_slice())
+                        })
+                        .collect();
+                    digests.push_batch(&mut rows);
                 }
-                Some(v) => place_block(
-                    &mut out,
-                    &sub,
-                    &block,
-                    colours.len(),
-                    |slot| Some((colours[slot], v)),
-                    st,
-                    dw.x,
-                    dw.y,
-                    region,
-                ),
+                return place_view_blocks(&mut out, &sub, &blocks, &colours, st, region)
+                    .map_err(|problem| Error::invalid(path, problem));
             }
-            .map_err(|problem| Error::invalid(path, problem))?;
-            if let Some(digest) = digest.as_deref_mut() {
-                digest.push(dw.y + block.index.pixel_position.1, block.index.pixel_size.1, block.data);
+            for block in blocks {
+                let Some(part) = wanted.part(block.index.layer) else { continue };
+                let dw = part.window;
+                let target = |slot| {
+                    let (v, c) = order.pair_at(slot);
+                    region.views.contains(&v).then(|| (c, v - region.views.start))
+                };
+                place_block(&mut out, &sub, &block, order.len(), target, st, dw.x, dw.y, region)
+                    .map_err(|problem| Error::invalid(path, problem))?;
+                if let Some(digest) = digest.as_deref_mut() {
+                    digest.push(dw.y + block.index.pixel_position.1, block.index.pixel_size.1, block.data);
+                }
             }
             Ok(())
         };
@@ -435,10 +474,13 @@ pub trait FrameSample: Copy + Send + Sync + 'static {
     #[doc(hidden)]
     fn zeroed(len: usize) -> Vec<Self>;
     /// Stored samples (native-endian bytes of `stored`) into every
-    /// `stride`-th place of `dest`, from its first; `scratch` is the
-    /// caller's, reused from run to run.
+    /// `stride`-th place of `dest`, from its first.
     #[doc(hidden)]
-    fn scatter(run: &[u8], stored: SampleType, dest: &mut [Self], stride: usize, scratch: &mut Vec<f32>);
+    fn scatter(run: &[u8], stored: SampleType, dest: &mut [Self], stride: usize);
+    /// Stored samples (native-endian bytes of `stored`) into `dest`, one
+    /// for one.
+    #[doc(hidden)]
+    fn convert(run: &[u8], stored: SampleType, dest: &mut [Self]);
     /// Finite and not negative (`-0` allowed); with `lossy`, only finite.
     #[doc(hidden)]
     fn is_good(self, lossy: bool) -> bool;
@@ -457,25 +499,37 @@ impl FrameSample for f32 {
     fn zeroed(len: usize) -> Vec<f32> {
         crate::memory::zeroed_f32(len)
     }
-    fn scatter(run: &[u8], stored: SampleType, dest: &mut [f32], stride: usize, scratch: &mut Vec<f32>) {
-        let values: &[f32] = match stored {
+    fn convert(run: &[u8], stored: SampleType, dest: &mut [f32]) {
+        match stored {
+            SampleType::F16 => halves_to_f32(run, dest, crate::simd::Simd::Detect),
+            SampleType::F32 => {
+                for (b, d) in run.chunks_exact(4).zip(dest) {
+                    *d = f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
+                }
+            }
+        }
+    }
+    fn scatter(run: &[u8], stored: SampleType, dest: &mut [f32], stride: usize) {
+        let mut dest = dest.iter_mut().step_by(stride);
+        match stored {
             SampleType::F16 => {
-                // Converted as a slice (F16C where the processor has it),
-                // then spread with the stride.
-                let halves: Vec<half::f16> =
-                    run.chunks_exact(2).map(|b| half::f16::from_ne_bytes([b[0], b[1]])).collect();
-                scratch.resize(halves.len(), 0.0);
-                halves.convert_to_f32_slice(scratch);
-                scratch
+                // Converted a piece at a time on the stack, then spread
+                // with the stride.
+                const AT_ONCE: usize = 64;
+                let mut floats = [0f32; AT_ONCE];
+                for piece in run.chunks(2 * AT_ONCE) {
+                    let n = piece.len() / 2;
+                    halves_to_f32(piece, &mut floats[..n], crate::simd::Simd::Detect);
+                    for (x, d) in floats[..n].iter().zip(dest.by_ref()) {
+                        *d = *x;
+                    }
+                }
             }
             SampleType::F32 => {
-                scratch.clear();
-                scratch.extend(run.chunks_exact(4).map(|b| f32::from_ne_bytes([b[0], b[1], b[2], b[3]])));
-                scratch
+                for (b, d) in run.chunks_exact(4).zip(dest) {
+                    *d = f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
+                }
             }
-        };
-        for (x, d) in values.iter().zip(dest.iter_mut().step_by(stride)) {
-            *d = *x;
         }
     }
     fn is_good(self, lossy: bool) -> bool {
@@ -504,7 +558,21 @@ impl FrameSample for half::f16 {
     fn zeroed(len: usize) -> Vec<half::f16> {
         crate::memory::zeroed_f16(len)
     }
-    fn scatter(run: &[u8], stored: SampleType, dest: &mut [half::f16], stride: usize, _: &mut Vec<f32>) {
+    fn convert(run: &[u8], stored: SampleType, dest: &mut [half::f16]) {
+        match stored {
+            SampleType::F16 => {
+                for (b, d) in run.chunks_exact(2).zip(dest) {
+                    *d = half::f16::from_ne_bytes([b[0], b[1]]);
+                }
+            }
+            SampleType::F32 => {
+                for (b, d) in run.chunks_exact(4).zip(dest) {
+                    *d = half::f16::from_f32(f32::from_ne_bytes([b[0], b[1], b[2], b[3]]));
+                }
+            }
+        }
+    }
+    fn scatter(run: &[u8], stored: SampleType, dest: &mut [half::f16], stride: usize) {
         // Straight from the stored bytes to their places: no pass through f32.
         let dest = dest.iter_mut().step_by(stride);
         match stored {
@@ -540,6 +608,43 @@ impl FrameSample for half::f16 {
             self
         }
     }
+}
+
+/// Native-endian f16 samples (`run`, two bytes each) into `dest`, one for
+/// one (the shorter decides): eight at a time by F16C where `simd` allows
+/// it (half's slice conversion spends more on its short-slice handling
+/// than on converting runs of a few dozen samples), else one by one.
+fn halves_to_f32(run: &[u8], dest: &mut [f32], simd: crate::simd::Simd) {
+    let n = dest.len().min(run.len() / 2);
+    let mut done = 0;
+    #[cfg(target_arch = "x86_64")]
+    if simd.f16c() {
+        // SAFETY: F16C and AVX are present (checked just above).
+        done = unsafe { halves_to_f32_f16c(&run[..2 * n], &mut dest[..n]) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = simd;
+    for (b, d) in run[2 * done..2 * n].chunks_exact(2).zip(&mut dest[done..n]) {
+        *d = half::f16::from_ne_bytes([b[0], b[1]]).to_f32();
+    }
+}
+
+/// The whole groups of eight of [`halves_to_f32`]; returns how many samples
+/// it converted. Callers guarantee `run.len() == 2 · dest.len()`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "f16c,avx")]
+unsafe fn halves_to_f32_f16c(run: &[u8], dest: &mut [f32]) -> usize {
+    use std::arch::x86_64::{__m128i, _mm256_cvtph_ps, _mm256_storeu_ps, _mm_loadu_si128};
+    let groups = dest.len() / 8;
+    for g in 0..groups {
+        // SAFETY: the load reads 16 bytes at 16g <= run.len() - 16, the store
+        // writes 8 floats at 8g <= dest.len() - 8.
+        unsafe {
+            let halves = _mm_loadu_si128(run.as_ptr().add(16 * g).cast::<__m128i>());
+            _mm256_storeu_ps(dest.as_mut_ptr().add(8 * g), _mm256_cvtph_ps(halves));
+        }
+    }
+    8 * groups
 }
 
 /// Negative samples set to +0: the undershoot a lossy codec (B44's 4×4
@@ -654,15 +759,15 @@ impl Container {
     }
 
     /// Decode the chunks of the `wanted` parts that hold rows `rows`
-    /// (absolute), handing each decoded block to `place`: in file order
-    /// within a batch, the batches decoded on every core for a file of a
-    /// megabyte or more.
+    /// (absolute), handing each batch of decoded blocks to `place`, in file
+    /// order, the batches decoded on every core for a file of a megabyte or
+    /// more.
     fn decode(
         &self,
         path: &Path,
         wanted: &Wanted,
         rows: &Range<usize>,
-        place: &mut dyn FnMut(UncompressedBlock) -> Result<()>,
+        place: &mut dyn FnMut(Vec<UncompressedBlock>) -> Result<()>,
     ) -> Result<()> {
         let damaged = |what: String| Error::invalid(path, format!("{what}: the file is damaged"));
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
@@ -741,15 +846,13 @@ impl Container {
                     }
                     Ok(decoded)
                 };
-                let decoded: Vec<Result<UncompressedBlock>> = if parallel && batch.len() > 1 {
+                let decoded: Result<Vec<UncompressedBlock>> = if parallel && batch.len() > 1 {
                     use rayon::prelude::*;
                     std::mem::take(&mut batch).into_par_iter().map(decode).collect()
                 } else {
                     std::mem::take(&mut batch).into_iter().map(decode).collect()
                 };
-                for block in decoded {
-                    place(block?)?;
-                }
+                place(decoded?)?;
                 batch_bytes = 0;
             }
         }
@@ -827,7 +930,6 @@ fn place_block<T: FrameSample>(
     }
     let (views, emitters_out, hololines_out) = (sub.views_per_emitter(), sub.emitters, sub.hololines);
     let (e_lo, e_hi) = (region.emitters.start.max(bx), region.emitters.end.min(bx + w));
-    let mut scratch = Vec::with_capacity(w);
     let mut at = 0;
     for line in 0..h {
         let j = by + line;
@@ -841,11 +943,125 @@ fn place_block<T: FrameSample>(
             // The wanted run of this channel's row, spread with the view stride.
             let first = e_lo - region.emitters.start;
             let run = &row[(e_lo - bx) * bytes..(e_hi - bx) * bytes];
-            T::scatter(run, sample_type, &mut dest[first * views + vv..], views, &mut scratch);
+            T::scatter(run, sample_type, &mut dest[first * views + vv..], views);
         }
     }
     Ok(())
 }
+
+/// Place a batch of decoded blocks of full-parallax view parts (each
+/// block's channels the colours, `colours` their channel indices) into
+/// `out`, the region's samples laid out as a [`Modulation`] of `sub`.
+///
+/// In `out` a view's samples lie one in `V·W` apart, so placing block after
+/// block would bring in a cache line per sample, once for every view. The
+/// batch is placed output line by output line instead (one colour of one
+/// emitter row: every emitter's views), lines in parallel: a line takes
+/// the runs of every block that holds its row while it stays in cache.
+fn place_view_blocks<T: FrameSample>(
+    out: &mut [T],
+    sub: &Geometry,
+    blocks: &[(&WantedPart, UncompressedBlock)],
+    colours: &[usize],
+    sample_type: SampleType,
+    region: &Region,
+) -> std::result::Result<(), String> {
+    use rayon::prelude::*;
+    let bytes = sample_type.bytes();
+    let views = sub.views_per_emitter();
+    let line_len = sub.emitters * views;
+    // (output line, block, first byte of the block's row of that colour).
+    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+    for (i, (part, block)) in blocks.iter().enumerate() {
+        let (w, h) = (block.index.pixel_size.0, block.index.pixel_size.1);
+        let expected = w * h * colours.len() * bytes;
+        if block.data.len() != expected {
+            return Err(format!("a block holds {} bytes where {expected} were expected", block.data.len()));
+        }
+        if !matches!(part.sub_view, Some(v) if v < views) {
+            continue;
+        }
+        let by = block.index.pixel_position.1 + part.window.y;
+        for line in 0..h {
+            let j = by + line;
+            if !region.hololines.contains(&j) {
+                continue;
+            }
+            for (slot, &c) in colours.iter().enumerate() {
+                let out_line = c * sub.hololines + j - region.hololines.start;
+                runs.push((out_line, i, (line * colours.len() + slot) * w * bytes));
+            }
+        }
+    }
+    let (Some(first), Some(last)) = (runs.iter().map(|r| r.0).min(), runs.iter().map(|r| r.0).max()) else {
+        return Ok(());
+    };
+    // By output line (a counting sort: the batch comes block by block).
+    let mut starts = vec![0usize; last - first + 2];
+    for r in &runs {
+        starts[r.0 - first + 1] += 1;
+    }
+    for l in 1..starts.len() {
+        starts[l] += starts[l - 1];
+    }
+    let mut by_line = vec![(0, 0, 0); runs.len()];
+    let mut next = starts.clone();
+    for r in runs {
+        by_line[next[r.0 - first]] = r;
+        next[r.0 - first] += 1;
+    }
+    let lines = &mut out[first * line_len..(last + 1) * line_len];
+    let scratch = || (vec![None; views], T::zeroed(0));
+    lines.par_chunks_mut(line_len).enumerate().for_each_init(scratch, |(by_view, values), (l, dest)| {
+        let (from, to) = (starts[l], starts[l + 1]);
+        // Each view's run of this line, converted: where in `values` it
+        // starts, and the emitters (of the region) it holds.
+        let by_view: &mut Vec<Option<(usize, Range<usize>)>> = by_view;
+        by_view.fill(None);
+        values.clear();
+        for &(_, i, at) in &by_line[from..to] {
+            let (part, block) = &blocks[i];
+            let (bx, w) = (block.index.pixel_position.0 + part.window.x, block.index.pixel_size.0);
+            let (e_lo, e_hi) = (region.emitters.start.max(bx), region.emitters.end.min(bx + w));
+            if e_lo < e_hi {
+                let start = values.len();
+                values.resize(start + e_hi - e_lo, T::from_f32(0.0));
+                T::convert(
+                    &block.data[at + (e_lo - bx) * bytes..at + (e_hi - bx) * bytes],
+                    sample_type,
+                    &mut values[start..],
+                );
+                let held = e_lo - region.emitters.start..e_hi - region.emitters.start;
+                by_view[part.sub_view.unwrap_or_default()] = Some((start, held));
+            }
+        }
+        // Tiles of emitters × views: the tile's part of the line (a few
+        // dozen cache lines) is written whole while it is in L1.
+        for e0 in (0..sub.emitters).step_by(TILE_EMITTERS) {
+            let e1 = (e0 + TILE_EMITTERS).min(sub.emitters);
+            for v0 in (0..views).step_by(TILE_VIEWS) {
+                for (v, run) in by_view.iter().enumerate().take((v0 + TILE_VIEWS).min(views)).skip(v0) {
+                    let Some((start, held)) = run else { continue };
+                    let (lo, hi) = (e0.max(held.start), e1.min(held.end));
+                    if lo >= hi {
+                        continue;
+                    }
+                    let run = &values[start + lo - held.start..];
+                    for (e, x) in (lo..hi).zip(run) {
+                        dest[e * views + v] = *x;
+                    }
+                }
+            }
+        }
+    });
+    Ok(())
+}
+
+/// Emitters and views in a tile of [`place_view_blocks`]. An emitter's
+/// views lie `V·W` samples apart, often a power of two: more than eight
+/// such rows of a tile would share the L1 sets their lines map to.
+const TILE_EMITTERS: usize = 8;
+const TILE_VIEWS: usize = 64;
 
 /// The digests of a full-parallax frame's views (spec §8, §7.1), fed emitter
 /// row after emitter row (a whole frame, or band by band): each row's stored
@@ -927,4 +1143,215 @@ fn view_damaged(path: &Path, index: usize, (h, k): (usize, usize), stored: &str,
             "frame {index}, view ({h} {k}): the samples do not match their digest (stored {stored}, computed {computed}): the file is damaged"
         ),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::Window;
+    use crate::geometry::{rgb_channels, Views};
+    use rand::seq::SliceRandom;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// A random full-parallax frame of `rows × emitters` and 11 × 6 views
+    /// (not powers of two), each view lit only inside its own random window
+    /// (as a writer that shrinks data windows stores it), with the windows.
+    fn frame(rng: &mut ChaCha8Rng, rows: usize, emitters: usize) -> (Modulation, Vec<Window>) {
+        let views = |count| Views { count, first_theta_rad: -0.2, last_theta_rad: 0.2, spacing: ViewSpacing::Tan };
+        let g = Geometry::centred(rows, emitters, views(11), 5e-4, 5e-4, 0.0, 0.5, rgb_channels())
+            .with_vertical_views(views(6));
+        let windows: Vec<Window> = (0..g.views_per_emitter())
+            .map(|_| {
+                let (x, y) = (rng.gen_range(0..emitters / 3), rng.gen_range(0..rows / 3));
+                let width = rng.gen_range(1..=emitters - x);
+                let height = rng.gen_range(1..=rows - y);
+                Window { x, y, width, height }
+            })
+            .collect();
+        let m = Modulation::from_fn(g, |_, j, e, v| {
+            let w = windows[v];
+            let inside = (w.x..w.x + w.width).contains(&e) && (w.y..w.y + w.height).contains(&j);
+            if inside {
+                // f16 values, so f16 and f32 storage hold them exactly.
+                half::f16::from_f32(rng.gen_range(0.0..4.0)).to_f32()
+            } else {
+                0.0
+            }
+        })
+        .unwrap();
+        (m, windows)
+    }
+
+    /// Each view's blocks as a file holds them: its window's rows, `lines`
+    /// at a time, colour after colour, native-endian samples of `st`.
+    fn blocks(m: &Modulation, windows: &[Window], lines: usize, st: SampleType) -> Vec<(usize, UncompressedBlock)> {
+        let colours = colour_slots(m.geometry());
+        let mut out = Vec::new();
+        for (v, w) in windows.iter().enumerate() {
+            for top in (w.y..w.y + w.height).step_by(lines) {
+                let rows = lines.min(w.y + w.height - top);
+                let mut data = Vec::new();
+                for j in top..top + rows {
+                    for &c in &colours {
+                        for e in w.x..w.x + w.width {
+                            let x = m.get(c, j, e, v);
+                            match st {
+                                SampleType::F16 => data.extend_from_slice(&half::f16::from_f32(x).to_ne_bytes()),
+                                SampleType::F32 => data.extend_from_slice(&x.to_ne_bytes()),
+                            }
+                        }
+                    }
+                }
+                let index = BlockIndex {
+                    layer: v,
+                    pixel_position: exr::math::Vec2(0, top - w.y),
+                    pixel_size: exr::math::Vec2(w.width, rows),
+                    level: exr::math::Vec2(0, 0),
+                };
+                out.push((v, UncompressedBlock { index, data }));
+            }
+        }
+        out
+    }
+
+    /// The batched, tiled placement of full-parallax blocks equals placing
+    /// them one by one ([`place_block`], the straightforward reference) and
+    /// the samples themselves, for random windows, regions, block orders and
+    /// batches, both stored types and both read types.
+    #[test]
+    fn view_blocks_placed_in_batches_are_the_blocks_placed_one_by_one() {
+        let mut rng = ChaCha8Rng::seed_from_u64(17);
+        let mut lit_rounds = 0;
+        for round in 0..24 {
+            let (rows, emitters) = (rng.gen_range(3..40), rng.gen_range(3..50));
+            let (m, windows) = frame(&mut rng, rows, emitters);
+            let g = m.geometry().clone();
+            let st = if round % 2 == 0 { SampleType::F16 } else { SampleType::F32 };
+            let mut all = blocks(&m, &windows, [1, 16, 32][round % 3], st);
+            all.shuffle(&mut rng);
+            let pick = |rng: &mut ChaCha8Rng, n: usize| {
+                let a = rng.gen_range(0..n);
+                a..rng.gen_range(a + 1..=n)
+            };
+            let region = if round < 2 {
+                Region::all(&g)
+            } else {
+                Region {
+                    hololines: pick(&mut rng, g.hololines),
+                    emitters: pick(&mut rng, g.emitters),
+                    views: pick(&mut rng, g.views.count),
+                    vertical_views: pick(&mut rng, g.vertical_view_count()),
+                }
+            };
+            let sub = sub_geometry(&g, &region);
+            let colours = colour_slots(&g);
+            // The region's views, as `Wanted` names them.
+            let part_of = |v: usize| {
+                let (h, k) = g.view_of_index(v);
+                let inside = region.views.contains(&h) && region.vertical_views.contains(&k);
+                inside.then(|| WantedPart {
+                    window: windows[v],
+                    sub_view: Some((k - region.vertical_views.start) * region.views.len() + h - region.views.start),
+                })
+            };
+            let wanted: Vec<(WantedPart, &UncompressedBlock)> =
+                all.iter().filter_map(|(v, b)| Some((part_of(*v)?, b))).collect();
+            let len = sub.samples_per_frame() as usize;
+            let (mut fast, mut reference) = (vec![0f32; len], vec![0f32; len]);
+            // In two batches, split at random.
+            let split = rng.gen_range(0..=wanted.len());
+            for batch in [&wanted[..split], &wanted[split..]] {
+                let batch: Vec<(&WantedPart, UncompressedBlock)> = batch
+                    .iter()
+                    .map(|(p, b)| (p, UncompressedBlock { index: b.index, data: b.data.clone() }))
+                    .collect();
+                place_view_blocks(&mut fast, &sub, &batch, &colours, st, &region).unwrap();
+            }
+            for (part, block) in &wanted {
+                let v = part.sub_view.unwrap();
+                let w = part.window;
+                place_block(
+                    &mut reference,
+                    &sub,
+                    block,
+                    colours.len(),
+                    |s| Some((colours[s], v)),
+                    st,
+                    w.x,
+                    w.y,
+                    &region,
+                )
+                .unwrap();
+            }
+            let direct: Vec<f32> = Modulation::from_fn(sub.clone(), |c, j, e, v| {
+                let (h, k) = sub.view_of_index(v);
+                let v = g.view_index(region.views.start + h, region.vertical_views.start + k);
+                m.get(c, region.hololines.start + j, region.emitters.start + e, v)
+            })
+            .unwrap()
+            .samples()
+            .to_vec();
+            lit_rounds += usize::from(direct.iter().any(|&x| x > 0.0));
+            assert_eq!(fast, reference, "round {round}");
+            assert_eq!(fast, direct, "round {round}");
+            // Read as f16: the same values.
+            let mut halves = vec![half::f16::ZERO; len];
+            for batch in [&wanted[..split], &wanted[split..]] {
+                let batch: Vec<(&WantedPart, UncompressedBlock)> = batch
+                    .iter()
+                    .map(|(p, b)| (p, UncompressedBlock { index: b.index, data: b.data.clone() }))
+                    .collect();
+                place_view_blocks(&mut halves, &sub, &batch, &colours, st, &region).unwrap();
+            }
+            assert!(halves.iter().map(|h| h.to_f32()).eq(fast.iter().copied()), "round {round}");
+        }
+        assert!(lit_rounds >= 10, "only {lit_rounds} regions held lit samples");
+    }
+
+    /// Each view's digest taken from its part's blocks, in any order and any
+    /// batches, is the digest of its samples (spec §8, §7.1) as
+    /// [`ViewDigests`] takes it from the frame.
+    #[test]
+    fn view_digests_from_blocks_are_the_digests_of_the_samples() {
+        let mut rng = ChaCha8Rng::seed_from_u64(23);
+        for round in 0..6 {
+            let (rows, emitters) = (rng.gen_range(3..40), rng.gen_range(3..50));
+            let (m, windows) = frame(&mut rng, rows, emitters);
+            let g = m.geometry().clone();
+            let st = if round % 2 == 0 { SampleType::F16 } else { SampleType::F32 };
+            let mut all = blocks(&m, &windows, [1, 16, 32][round % 3], st);
+            all.shuffle(&mut rng);
+            let digests = PartDigests::new(&g, st, windows.iter().copied());
+            for batch in all.chunks(rng.gen_range(1..=all.len())) {
+                let mut rows: Vec<PartBlock<'_>> = batch
+                    .iter()
+                    .map(|(v, b)| {
+                        let top = windows[*v].y + b.index.pixel_position.1;
+                        (*v, top, b.index.pixel_size.1, b.data.as_slice())
+                    })
+                    .collect();
+                digests.push_batch(&mut rows);
+            }
+            let mut reference = ViewDigests::new(&g, st);
+            reference.push(m.samples(), g.hololines);
+            assert_eq!(digests.finish(), reference.finish(), "round {round}");
+        }
+    }
+
+    /// F16C's conversion is the portable one, for every f16 value.
+    #[test]
+    fn halves_convert_alike_with_and_without_f16c() {
+        let bytes: Vec<u8> = (0..=u16::MAX).flat_map(|b| b.to_ne_bytes()).collect();
+        let (mut vector, mut portable) = (vec![0f32; 1 << 16], vec![0f32; 1 << 16]);
+        // Odd lengths too: the groups of eight and the rest.
+        for n in [1 << 16, 13, 8, 7] {
+            halves_to_f32(&bytes[..2 * n], &mut vector[..n], crate::simd::Simd::Detect);
+            halves_to_f32(&bytes[..2 * n], &mut portable[..n], crate::simd::Simd::Portable);
+            for (i, (a, b)) in vector[..n].iter().zip(&portable[..n]).enumerate() {
+                assert!(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()), "{i:#06x}: {a} {b}");
+                assert!(a.is_nan() || *a == half::f16::from_bits(i as u16).to_f32());
+            }
+        }
+    }
 }
