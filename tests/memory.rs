@@ -4,6 +4,7 @@
 //! - `convert cameras` holds the pictures and a band of hololines, while
 //!   resampling a whole frame in memory needs at least the frame; the banded
 //!   conversion writes exactly the frame the whole-frame resampler makes.
+//!   Full parallax too: a band of emitter rows with all their views.
 //! - A full-parallax file (spec §8) is written, validated and read by the
 //!   view band by band of emitter rows.
 //!
@@ -101,11 +102,21 @@ fn rig_and_views() -> (Rig, Vec<CameraView>) {
 #[test]
 #[ignore = "slow: the full run takes it (README, Development)"]
 fn streamed_work_holds_a_band_not_the_frame() {
-    converting_cameras_holds_a_band();
+    converting_cameras_holds_a_band(display);
+    converting_cameras_holds_a_band(full_parallax_display);
     full_parallax_files_stream_by_bands();
 }
 
-fn converting_cameras_holds_a_band() {
+/// [`display`]'s rows, 64 emitters, 12 views across and 6 up and down:
+/// a full-parallax display whose frames (21 and 42 MB in f32) dwarf a band.
+fn full_parallax_display(hololines: usize) -> Geometry {
+    let mut g = display(hololines);
+    g.emitters = 64;
+    g.views = Views::tan_spaced(12, -15f64.to_radians(), 15f64.to_radians());
+    g.with_vertical_views(Views::tan_spaced(6, -10f64.to_radians(), 10f64.to_radians()))
+}
+
+fn converting_cameras_holds_a_band(display: fn(usize) -> Geometry) {
     let (rig, views) = rig_and_views();
     let dir = tempfile::tempdir().unwrap();
     let resample = CameraOptions { blend: Blend::Nearest, emitter_taps: Some(1), ..CameraOptions::default() };
@@ -131,7 +142,9 @@ fn converting_cameras_holds_a_band() {
             .unwrap()
         });
         println!(
-            "{hololines} hololines: frame {:.1} MB, banded conversion peak heap {:.1} MB",
+            "{hololines} hololines, {} × {} views: frame {:.1} MB, banded conversion peak heap {:.1} MB",
+            g.views.count,
+            g.vertical_view_count(),
             frame_bytes as f64 / 1e6,
             peak as f64 / 1e6
         );
