@@ -112,6 +112,13 @@ impl<'a> Steps<'a> {
         Steps { progress, done: AtomicU64::new(0) }
     }
 
+    /// Go on with the phase already begun on `progress`, `done` steps of it
+    /// done (a frame rendered band by band: each band's steps follow the
+    /// last's).
+    pub fn continuing(progress: &'a dyn Progress, done: usize) -> Self {
+        Steps { progress, done: AtomicU64::new(done as u64) }
+    }
+
     /// Whether the reporter's caller wants the work stopped.
     pub fn cancelled(&self) -> bool {
         self.progress.cancelled()

@@ -4,7 +4,8 @@
 //! - `convert cameras` holds the pictures and a band of hololines, while
 //!   resampling a whole frame in memory needs at least the frame; the banded
 //!   conversion writes exactly the frame the whole-frame resampler makes.
-//!   Full parallax too: a band of emitter rows with all their views.
+//!   Full parallax too: a band of emitter rows with all their views; and
+//!   `convert mesh`, whose full-parallax frames are rendered band by band.
 //! - A full-parallax file (spec §8) is written, validated and read by the
 //!   view band by band of emitter rows.
 //!
@@ -104,7 +105,63 @@ fn rig_and_views() -> (Rig, Vec<CameraView>) {
 fn streamed_work_holds_a_band_not_the_frame() {
     converting_cameras_holds_a_band(display);
     converting_cameras_holds_a_band(full_parallax_display);
+    converting_a_mesh_to_full_parallax_holds_a_band();
     full_parallax_files_stream_by_bands();
+}
+
+/// `convert mesh` to full parallax renders and writes a band of emitter
+/// rows at a time: its peak heap is the scene (Spot and its texture) and a
+/// band, not the frame, and the file is the whole-frame render.
+fn converting_a_mesh_to_full_parallax_holds_a_band() {
+    use holo::mesh::convert::{convert_mesh, ConvertOptions};
+    use holo::mesh::load::SceneSource;
+    use holo::mesh::place::apply;
+    use holo::mesh::render::{render, RenderOptions, Supersample};
+    use holo::mesh::shade::Lighting;
+    let scene_path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/mesh/spot/spot.obj");
+    let dir = tempfile::tempdir().unwrap();
+    let mut options = ConvertOptions::default();
+    options.render.supersample = Supersample::new(1, 1);
+    options.write.sample_type = SampleType::F32;
+    let geometry = |rows| {
+        let mut g = full_parallax_display(rows);
+        g.emitters = 96;
+        g
+    };
+    // What the scene itself holds (Spot's texture): the fixed part.
+    let (_, scene_peak) = peak_during(|| SceneSource::open(&scene_path).unwrap().scene_at(0.0).unwrap());
+    println!("spot: the scene read and posed, peak heap {:.1} MB", scene_peak as f64 / 1e6);
+    let mut peaks = Vec::new();
+    for rows in [384, 768] {
+        let g = geometry(rows);
+        let frame_bytes = g.samples_per_frame() as usize * 4;
+        let out = dir.path().join(format!("spot-{rows}.holo"));
+        let (report, peak) =
+            peak_during(|| convert_mesh(&scene_path, &g, &out, &options, &holo::progress::Silent).unwrap());
+        println!(
+            "spot, {rows} rows × 96 × 12 × 6 views: frame {:.1} MB, banded conversion peak heap {:.1} MB",
+            frame_bytes as f64 / 1e6,
+            peak as f64 / 1e6
+        );
+        peaks.push(peak);
+        // The whole frame rendered at once, placed and lit as the conversion was.
+        let mut scene = SceneSource::open(&scene_path).unwrap().scene_at(0.0).unwrap();
+        apply(&mut scene, &report.placed.matrix);
+        let lighting = Lighting { lights: report.lights.clone(), model: options.render.lighting.model };
+        let whole_options =
+            RenderOptions { supersample: options.render.supersample, ..RenderOptions::lit_exactly(lighting) };
+        let (whole, _) = render(&scene, &g, &whole_options, &holo::progress::Silent).unwrap();
+        let lit = whole.samples().iter().filter(|&&x| x > 0.0).count() as f64 / whole.samples().len() as f64;
+        println!("  {:.1} % of the samples lit", 100.0 * lit);
+        assert!(lit > 0.01, "Spot is seen");
+        assert!(holo::format::read(&out).unwrap() == whole, "banded conversion differs from the whole frame");
+    }
+    let frame_growth = (geometry(768).samples_per_frame() - geometry(384).samples_per_frame()) as f64 * 4.0;
+    let growth = peaks[1] as f64 - peaks[0] as f64;
+    assert!(growth < 0.05 * frame_growth, "peak grew by {growth} bytes for {frame_growth} more bytes of frame");
+    let frame_bytes = geometry(768).samples_per_frame() as usize * 4;
+    let above_scene = peaks[1].saturating_sub(scene_peak);
+    assert!(above_scene < frame_bytes / 4, "peak {above_scene} bytes beside the scene for a frame of {frame_bytes}");
 }
 
 /// [`display`]'s rows, 64 emitters, 12 views across and 6 up and down:

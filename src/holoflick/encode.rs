@@ -191,11 +191,11 @@ impl SceneStage for Encode<'_> {
         )
     }
 
-    fn make(&mut self, _: usize, index: usize, scene: Scene, frame: &mut Frame, stages: &dyn Progress) -> Result<()> {
+    fn make(&mut self, _: usize, index: usize, scene: &Scene, frame: &mut Frame, stages: &dyn Progress) -> Result<()> {
         let o = self.options;
         // Baked with the lights a render of the scene uses, as `convert mesh`
         // lights it.
-        let lights = RenderOptions::default().lighting_for(&scene).lights;
+        let lights = RenderOptions::default().lighting_for(scene).lights;
         // Directional and ambient light without shadows is affine across a
         // flat untextured triangle: such triangles need no dicing.
         let affine_shading =
@@ -203,7 +203,7 @@ impl SceneStage for Encode<'_> {
         let dice = DiceOptions { smooth: o.smooth, affine_shading, ..DiceOptions::default() };
         let bake = BakeOptions { shadows: o.shadows };
         let (micro, specular_lights, micro_report) =
-            micropolygons(&scene, &lights, &*self.budget, &dice, &bake, stages)?;
+            micropolygons(scene, &lights, &*self.budget, &dice, &bake, stages)?;
         self.micropolygons += micro_report.dice.triangles_out;
         self.shadowed += micro_report.bake.shadowed;
         let is_key = self.keys.start_frame(index, o.key_interval);

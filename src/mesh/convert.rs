@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use super::load::SceneSource;
 use super::place::{apply, place, Placed, Placement};
-use super::render::{render_into, RenderOptions, RenderStats};
+use super::render::{render_band_into, RenderOptions, RenderStats};
 use super::{Light, Scene};
 use crate::error::{Error, Result};
 use crate::format::{ConversionRecord, RecordHead, WriteOptions, WriteReport};
@@ -135,12 +135,20 @@ pub trait SceneStage {
         let _ = scene;
         None
     }
-    /// Make frame `number` of `scene`; `index` is its place in the run.
+    /// Make a single frame of `geometry` a band of this many hololines at a
+    /// time ([`Source::band_hololines`]); `None`, the default, makes whole
+    /// frames.
+    fn band_hololines(&self, geometry: &Geometry) -> Option<usize> {
+        let _ = geometry;
+        None
+    }
+    /// Make frame `number` of `scene`; `index` is its place in the run
+    /// (with bands, the band `frame` holds of it).
     fn make(
         &mut self,
         number: usize,
         index: usize,
-        scene: Scene,
+        scene: &Scene,
         frame: &mut Self::Frame,
         progress: &dyn Progress,
     ) -> Result<()>;
@@ -164,6 +172,9 @@ pub struct SceneFrames<'a, S> {
     options: SceneFramesOptions,
     /// The first frame of the run, kept from placement until it is made.
     first: Option<(usize, Scene)>,
+    /// The scene of the frame being made band by band, kept for its
+    /// next band.
+    banded: Option<(usize, Scene)>,
     first_number: usize,
     placed: Option<Placed>,
     /// Time spent reading and posing scenes inside [`Source::render`].
@@ -190,6 +201,7 @@ impl<'a, S: SceneStage> SceneFrames<'a, S> {
             geometry,
             options: options.clone(),
             first: None,
+            banded: None,
             first_number: 0,
             placed: None,
             decoding: std::time::Duration::ZERO,
@@ -249,6 +261,10 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
         Some(self.stage.frame_rate(self.options.frames_per_second))
     }
 
+    fn band_hololines(&self) -> Option<usize> {
+        self.stage.band_hololines(self.geometry)
+    }
+
     fn place(&mut self, frames: &Range<usize>, warnings: &mut Warnings) -> Result<()> {
         let mut scene = self.scene_at(frames.start as f64 / self.options.frames_per_second)?;
         let placed = place(&mut scene, self.geometry, &self.options.placement)?;
@@ -287,9 +303,11 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
         warnings: &mut Warnings,
     ) -> Result<()> {
         let decoding = std::time::Instant::now();
-        let scene = match self.first.take() {
+        let scene = match (self.first.take(), self.banded.take()) {
             // Its warnings were taken at placement.
-            Some((n, scene)) if n == number => scene,
+            (Some((n, scene)), _) if n == number => scene,
+            // The next band of the frame being made.
+            (_, Some((n, scene))) if n == number => scene,
             _ => {
                 let placed = self
                     .placed
@@ -302,7 +320,11 @@ impl<S: SceneStage> Source for SceneFrames<'_, S> {
             }
         };
         self.decoding += decoding.elapsed();
-        self.stage.make(number, number - self.first_number, scene, frame, progress)
+        let made = self.stage.make(number, number - self.first_number, &scene, frame, progress);
+        if self.stage.band_hololines(self.geometry).is_some() {
+            self.banded = Some((number, scene));
+        }
+        made
     }
 }
 
@@ -315,7 +337,7 @@ struct First {
     lights: Vec<Light>,
 }
 
-/// Scenes rendered into `.holo` frames by the mesh renderer ([`render_into`]).
+/// Scenes rendered into `.holo` frames by the mesh renderer ([`render_band_into`]).
 #[derive(Debug)]
 pub struct MeshRender {
     render: RenderOptions,
@@ -369,10 +391,23 @@ impl SceneStage for MeshRender {
         Some(ConvertOptions { scene: scene.clone(), render: self.render.clone(), write: WriteOptions::default() })
     }
 
-    fn make(&mut self, number: usize, _: usize, scene: Scene, frame: &mut Band, progress: &dyn Progress) -> Result<()> {
+    /// Full-parallax frames, `V·W` samples an emitter, by bands: a band of
+    /// emitter rows and all their views is what memory holds (as
+    /// `convert cameras` does). Horizontal parallax renders whole frames.
+    fn band_hololines(&self, geometry: &Geometry) -> Option<usize> {
+        geometry.vertical_views.as_ref().map(|_| 4 * rayon::current_num_threads().max(4))
+    }
+
+    fn make(
+        &mut self,
+        number: usize,
+        _: usize,
+        scene: &Scene,
+        frame: &mut Band,
+        progress: &dyn Progress,
+    ) -> Result<()> {
         let progress = Labelled::new(progress, format!("frame {number}"));
-        let render = &self.render;
-        self.stats += frame.as_frame(|m| render_into(&scene, render, &progress, m))??;
+        self.stats += render_band_into(scene, &self.render, &progress, frame)?;
         Ok(())
     }
 }

@@ -20,7 +20,7 @@ use super::shade::Lighting;
 use super::Scene;
 use crate::error::{Error, Result};
 use crate::geometry::{channel_weights, Geometry};
-use crate::modulation::Modulation;
+use crate::modulation::{Band, Modulation};
 use crate::progress::{Progress, Steps};
 
 /// Which renderer.
@@ -124,6 +124,31 @@ pub fn render_into(
     frame: &mut Modulation,
 ) -> Result<RenderStats> {
     let geometry = &frame.geometry().clone();
+    render_rows(scene, options, progress, geometry, 0..geometry.hololines, frame.samples_mut())
+}
+
+/// [`render_into`] a band of a frame's hololines (emitter rows): exactly
+/// the samples the whole frame's render has there, so a frame far larger
+/// than memory is rendered and written band by band.
+pub fn render_band_into(
+    scene: &Scene,
+    options: &RenderOptions,
+    progress: &dyn Progress,
+    band: &mut Band,
+) -> Result<RenderStats> {
+    let (geometry, rows) = (band.geometry().clone(), band.hololines());
+    render_rows(scene, options, progress, &geometry, rows, band.samples_mut())
+}
+
+/// Rows `band` of a frame of `geometry`, into their `samples`.
+fn render_rows(
+    scene: &Scene,
+    options: &RenderOptions,
+    progress: &dyn Progress,
+    geometry: &Geometry,
+    band: std::ops::Range<usize>,
+    samples: &mut [f32],
+) -> Result<RenderStats> {
     let rays = Rays::new(geometry, options.supersample)?;
     if let Some(problem) = scene.problem() {
         return Err(Error::scene(&scene.source, problem));
@@ -139,8 +164,8 @@ pub fn render_into(
     let weights = channel_weights(&names);
     let shading = Shading { scene, lighting: &lighting, weights: &weights, rays: &rays, geometry };
     let stats = match options.engine {
-        Engine::Fast => run(&super::epi::EpiRenderer::new(shading), &rays, frame, progress),
-        Engine::Reference => run(&super::trace::TraceRenderer::new(shading), &rays, frame, progress),
+        Engine::Fast => run(&super::epi::EpiRenderer::new(shading), &rays, geometry, band, samples, progress),
+        Engine::Reference => run(&super::trace::TraceRenderer::new(shading), &rays, geometry, band, samples, progress),
     };
     if progress.cancelled() {
         return Err(Error::Cancelled);
@@ -151,22 +176,34 @@ pub fn render_into(
 /// Every hololine of `frame` from `engine`, drawing the planes of `rays`
 /// ([`Rays::plane`]): a sample is the mean over its hololine's
 /// sub-hololines and, for full parallax, its vertical view's sub-views.
-fn run(engine: &dyn HololineRenderer, rays: &Rays, frame: &mut Modulation, progress: &dyn Progress) -> RenderStats {
-    let g = frame.geometry();
-    let (h, e, v, c, w_count) = (g.hololines, g.emitters, g.views.count, g.channels.len(), g.vertical_view_count());
+fn run(
+    engine: &dyn HololineRenderer,
+    rays: &Rays,
+    g: &Geometry,
+    band: std::ops::Range<usize>,
+    samples: &mut [f32],
+    progress: &dyn Progress,
+) -> RenderStats {
+    let (h, e, v, c, w_count) = (band.len(), g.emitters, g.views.count, g.channels.len(), g.vertical_view_count());
     let (per_hololine, n) = (rays.supersample.hololine, rays.sub_hololines());
     // Sub-views per vertical view: the plane families of one vertical view.
     let per_vertical = rays.plane_families() / w_count;
-    let steps = Steps::begin(progress, "hololines", h);
-    // Each hololine's rows, one per channel: the samples are (C, H, E × V·W).
-    // The engines write straight into them when a sample is one plane's.
+    // A frame's hololines are one phase, whether rendered whole or by bands.
+    let steps = match band.start {
+        0 => Steps::begin(progress, "hololines", g.hololines),
+        done => Steps::continuing(progress, done),
+    };
+    // Each hololine's rows, one per channel: the samples are (C, H, E × V·W)
+    // over the band's H rows. The engines write straight into them when a
+    // sample is one plane's.
     let mut rows: Vec<Vec<&mut [f32]>> = (0..h).map(|_| Vec::with_capacity(c)).collect();
-    for (i, row) in frame.samples_mut().chunks_exact_mut(e * v * w_count).enumerate() {
+    for (i, row) in samples.chunks_exact_mut(e * v * w_count).enumerate() {
         rows[i % h].push(row);
     }
     rows.into_par_iter()
         .enumerate()
-        .map(|(j, mut rows)| {
+        .map(|(i, mut rows)| {
+            let j = band.start + i;
             // A cancelled render skips what is left; its caller returns
             // `Error::Cancelled` and the frame is never written.
             if steps.cancelled() {
