@@ -125,6 +125,11 @@ impl<'a> HogelWriter<'a> {
                 .map_err(|err| err.naming(&folder.join(&name)))?;
                 Ok((name, png))
             })
+            // Every item, then the first failure in order: rayon's own collect
+            // into a Result returns whichever fails first in time, and an
+            // error should name the same file every run.
+            .collect::<Vec<Result<_>>>()
+            .into_iter()
             .collect::<Result<_>>()?;
         for (name, png) in pngs {
             self.set.add_bytes(&name, &png)?;
@@ -267,6 +272,11 @@ impl<'a> HogelReader<'a> {
                 }
                 Ok(out)
             })
+            // Every item, then the first failure in order: rayon's own collect
+            // into a Result returns whichever fails first in time, and an
+            // error should name the same file every run.
+            .collect::<Vec<Result<_>>>()
+            .into_iter()
             .collect::<Result<_>>()?;
         for ((j, e), hogel) in hogels.into_iter().zip(read) {
             for c in 0..g.channels.len() {

@@ -91,6 +91,11 @@ fn convert(
             loaded.step();
             view
         })
+        // Every item, then the first failure in order: rayon's own collect
+        // into a Result returns whichever fails first in time, and an
+        // error should name the same file every run.
+        .collect::<Vec<Result<_>>>()
+        .into_iter()
         .collect::<Result<_>>()?;
     for (cam, view) in rig.cameras.iter().zip(&views) {
         if view.picture.size() != (cam.width, cam.height) {
